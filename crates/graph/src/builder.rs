@@ -1,0 +1,277 @@
+//! Declare phase: [`GraphBuilder`] creates virtual resources and passes.
+//!
+//! Methods are infallible so declaring reads like the pipeline it describes; misuse that can
+//! only be seen here (a write to a stale version) is recorded and reported by compile, which
+//! also checks everything that needs the whole graph. Writes return the next version's handle.
+
+use std::sync::Arc;
+
+use crate::custom::CustomPass;
+use crate::declaration::*;
+use crate::error::GraphError;
+use crate::resource::*;
+
+/// Builds a [`GraphDecl`].
+#[derive(Default)]
+pub struct GraphBuilder {
+    decl: GraphDecl,
+}
+
+/// Both halves of a history (ping-pong) texture: read `previous`, write `current`.
+#[derive(Clone, Copy, Debug)]
+pub struct HistoryTexture {
+    pub previous: TextureHandle,
+    pub current: TextureHandle,
+}
+
+impl GraphBuilder {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn add_resource(&mut self, name: &str, kind: ResourceKind, origin: ResourceOrigin) -> u32 {
+        self.decl.resources.push(ResourceDecl { name: name.to_string(), kind, origin, exported: false, writers: Vec::new() });
+        (self.decl.resources.len() - 1) as u32
+    }
+
+    /// A transient texture owned by the graph; it must be written before it is read.
+    pub fn create_texture(&mut self, name: &str, desc: TextureDesc) -> TextureHandle {
+        Handle::new(self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::Transient), 0)
+    }
+    /// A texture provided by the caller at execution (`Executor::import_texture`).
+    pub fn import_texture(&mut self, name: &str, desc: TextureDesc) -> TextureHandle {
+        Handle::new(self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::Imported), 0)
+    }
+    /// A transient buffer owned by the graph.
+    pub fn create_buffer(&mut self, name: &str, desc: BufferDesc) -> BufferHandle {
+        Handle::new(self.add_resource(name, ResourceKind::Buffer(desc), ResourceOrigin::Transient), 0)
+    }
+    /// A buffer provided by the caller at execution.
+    pub fn import_buffer(&mut self, name: &str, desc: BufferDesc) -> BufferHandle {
+        Handle::new(self.add_resource(name, ResourceKind::Buffer(desc), ResourceOrigin::Imported), 0)
+    }
+    /// A persistent texture: `previous` holds last frame's value (check
+    /// `Executor::history_valid`), `current` must be written this frame and becomes next
+    /// frame's `previous`.
+    pub fn history_texture(&mut self, name: &str, desc: TextureDesc) -> HistoryTexture {
+        let prev = self.add_resource(&format!("{name}.previous"), ResourceKind::Texture(desc), ResourceOrigin::HistoryPrevious { history: name.to_string() });
+        let cur = self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::HistoryCurrent { history: name.to_string() });
+        HistoryTexture { previous: Handle::new(prev, 0), current: Handle::new(cur, 0) }
+    }
+    /// Requests `handle`'s resource as an output: passes that contribute to its final version
+    /// are kept, the rest may be culled. Read it back with `Executor::read_texture`.
+    pub fn export(&mut self, handle: TextureHandle) {
+        if let Some(r) = self.decl.resources.get_mut(handle.id as usize) {
+            r.exported = true;
+        }
+    }
+    /// Descriptor of a texture handle of this builder.
+    pub fn texture_desc(&self, handle: TextureHandle) -> Option<TextureDesc> {
+        self.decl.resources.get(handle.id as usize).and_then(|r| r.texture_desc().copied())
+    }
+
+    fn add_pass(&mut self, name: &str, kind: PassKind) -> PassBuilder<'_> {
+        self.decl.passes.push(PassDecl { name: name.to_string(), kind, textures: Vec::new(), buffers: Vec::new(), uniforms: Vec::new(), side_effect: false });
+        let id = PassId(self.decl.passes.len() - 1);
+        PassBuilder { graph: self, id }
+    }
+    /// A compute pass running `entry` of the WGSL file `shader` (relative to the shader root).
+    pub fn compute_pass(&mut self, name: &str, shader: &str, entry: &str) -> PassBuilder<'_> {
+        self.add_pass(name, PassKind::Compute { shader: shader.to_string(), entry: entry.to_string(), dispatch: None })
+    }
+    /// A render pass drawing one full-screen triangle into its colour attachments.
+    pub fn fullscreen_pass(&mut self, name: &str, shader: &str, vertex: &str, fragment: &str) -> PassBuilder<'_> {
+        self.add_pass(name, PassKind::Fullscreen { shader: shader.to_string(), vertex: vertex.to_string(), fragment: fragment.to_string() })
+    }
+    /// A pass whose commands user code records.
+    pub fn custom_pass(&mut self, name: &str, pass: impl CustomPass + 'static) -> PassBuilder<'_> {
+        self.add_pass(name, PassKind::Custom(Arc::new(pass)))
+    }
+    /// Copies `src` into `dst` (same size and format); returns `dst`'s new version.
+    pub fn copy_pass(&mut self, name: &str, src: TextureHandle, dst: TextureHandle) -> TextureHandle {
+        let mut p = self.add_pass(name, PassKind::Copy);
+        p.use_texture(None, TextureAccess::CopySrc, src, None);
+        p.use_texture(None, TextureAccess::CopyDst, dst, None).unwrap_or(dst)
+    }
+    /// Reopens a declared pass to add uses (passes may be declared before their inputs exist).
+    pub fn pass(&mut self, id: PassId) -> PassBuilder<'_> {
+        PassBuilder { graph: self, id }
+    }
+
+    /// Finishes declaring.
+    pub fn build(self) -> GraphDecl {
+        self.decl
+    }
+}
+
+/// Adds uses to one pass. Reads return `&mut Self`; writes return the new version's handle.
+pub struct PassBuilder<'a> {
+    graph: &'a mut GraphBuilder,
+    id: PassId,
+}
+
+impl PassBuilder<'_> {
+    pub fn id(&self) -> PassId {
+        self.id
+    }
+    fn decl(&mut self) -> &mut PassDecl {
+        &mut self.graph.decl.passes[self.id.0]
+    }
+
+    /// Records a use; returns the written version for writing accesses.
+    fn use_texture(&mut self, binding: Option<&str>, access: TextureAccess, handle: TextureHandle, mip: Option<u32>) -> Option<TextureHandle> {
+        let pass_name = self.decl().name.clone();
+        let Some(res) = self.graph.decl.resources.get_mut(handle.id as usize) else {
+            self.graph.decl.errors.push(GraphError::InvalidPass { pass: pass_name, message: format!("texture handle {handle:?} does not belong to this graph") });
+            return None;
+        };
+        let mips = res.texture_desc().map(|d| d.mip_levels).unwrap_or(1);
+        let mut read = access.reads().then_some(handle);
+        let mut written = None;
+        if access.writes() {
+            if handle.version != res.latest_version() {
+                let first = res.producer(handle.version + 1).map(|p| p.0).unwrap_or(0);
+                let first = self.graph.decl.passes.get(first).map(|p| p.name.clone()).unwrap_or_default();
+                let resource = self.graph.decl.resources[handle.id as usize].name.clone();
+                self.graph.decl.errors.push(GraphError::ConflictingWrites { resource, first, second: pass_name });
+            }
+            let res = &mut self.graph.decl.resources[handle.id as usize];
+            // A write that keeps part of the old contents also depends on them.
+            let partial = mip.is_some() && mips > 1;
+            let loads = matches!(access, TextureAccess::ColorAttachment | TextureAccess::DepthAttachment) && handle.version > 0;
+            if partial || loads {
+                read = Some(handle);
+            }
+            res.writers.push(self.id);
+            written = Some(Handle::new(handle.id, res.latest_version()));
+        }
+        self.decl().textures.push(TextureUse { binding: binding.map(str::to_string), access, read, written, mip });
+        written
+    }
+
+    fn write(&mut self, binding: Option<&str>, access: TextureAccess, handle: TextureHandle, mip: Option<u32>) -> TextureHandle {
+        self.use_texture(binding, access, handle, mip).unwrap_or(handle)
+    }
+
+    /// Reads `handle` through the WGSL `texture_2d` global `binding` (all mips).
+    pub fn sample(&mut self, binding: &str, handle: TextureHandle) -> &mut Self {
+        self.use_texture(Some(binding), TextureAccess::Sampled, handle, None);
+        self
+    }
+    /// Reads one mip level of `handle` through `binding`.
+    pub fn sample_mip(&mut self, binding: &str, handle: TextureHandle, mip: u32) -> &mut Self {
+        self.use_texture(Some(binding), TextureAccess::Sampled, handle, Some(mip));
+        self
+    }
+    /// Reads `handle` through a read-only storage texture global.
+    pub fn read_storage(&mut self, binding: &str, handle: TextureHandle) -> &mut Self {
+        self.use_texture(Some(binding), TextureAccess::StorageRead, handle, None);
+        self
+    }
+    /// Writes `handle` through a write-only storage texture global.
+    pub fn write_storage(&mut self, binding: &str, handle: TextureHandle) -> TextureHandle {
+        self.write(Some(binding), TextureAccess::StorageWrite, handle, None)
+    }
+    /// Writes mip `mip` of `handle` through a write-only storage texture global.
+    pub fn write_storage_mip(&mut self, binding: &str, handle: TextureHandle, mip: u32) -> TextureHandle {
+        self.write(Some(binding), TextureAccess::StorageWrite, handle, Some(mip))
+    }
+    /// Updates `handle` in place through a read-write storage texture global.
+    pub fn read_write_storage(&mut self, binding: &str, handle: TextureHandle) -> TextureHandle {
+        self.write(Some(binding), TextureAccess::StorageReadWrite, handle, None)
+    }
+    /// Renders into `handle` as the next colour attachment (cleared to 0 on its first write,
+    /// loaded afterwards).
+    pub fn color_attachment(&mut self, handle: TextureHandle) -> TextureHandle {
+        self.write(None, TextureAccess::ColorAttachment, handle, None)
+    }
+    /// Depth-tests and writes `handle` (cleared to the far value on its first write).
+    pub fn depth_attachment(&mut self, handle: TextureHandle) -> TextureHandle {
+        self.write(None, TextureAccess::DepthAttachment, handle, None)
+    }
+    /// Depth-tests against `handle` without writing it.
+    pub fn depth_read(&mut self, handle: TextureHandle) -> &mut Self {
+        self.use_texture(None, TextureAccess::DepthRead, handle, None);
+        self
+    }
+    /// Declares a read a custom pass performs in its own way (e.g. a copy source).
+    pub fn read_texture(&mut self, access: TextureAccess, handle: TextureHandle) -> &mut Self {
+        if access.writes() {
+            self.write(None, access, handle, None);
+        } else {
+            self.use_texture(None, access, handle, None);
+        }
+        self
+    }
+    /// Declares a write a custom pass performs in its own way.
+    pub fn write_texture(&mut self, access: TextureAccess, handle: TextureHandle) -> TextureHandle {
+        self.write(None, access, handle, None)
+    }
+
+    fn use_buffer(&mut self, binding: Option<&str>, access: BufferAccess, handle: BufferHandle) -> BufferHandle {
+        let pass_name = self.decl().name.clone();
+        let Some(res) = self.graph.decl.resources.get_mut(handle.id as usize) else {
+            self.graph.decl.errors.push(GraphError::InvalidPass { pass: pass_name, message: format!("buffer handle {handle:?} does not belong to this graph") });
+            return handle;
+        };
+        let mut written = None;
+        if access.writes() {
+            if handle.version != res.latest_version() {
+                let resource = res.name.clone();
+                let first = res.producer(handle.version + 1).map(|p| self.graph.decl.passes[p.0].name.clone()).unwrap_or_default();
+                self.graph.decl.errors.push(GraphError::ConflictingWrites { resource, first, second: pass_name });
+            }
+            let res = &mut self.graph.decl.resources[handle.id as usize];
+            res.writers.push(self.id);
+            written = Some(Handle::new(handle.id, res.latest_version()));
+        }
+        let read = access.reads().then_some(handle);
+        self.decl().buffers.push(BufferUse { binding: binding.map(str::to_string), access, read, written });
+        written.unwrap_or(handle)
+    }
+    /// Reads a buffer through a uniform or read-only storage global.
+    pub fn read_buffer(&mut self, binding: &str, access: BufferAccess, handle: BufferHandle) -> &mut Self {
+        self.use_buffer(Some(binding), access, handle);
+        self
+    }
+    /// Writes a buffer through a storage global; returns the new version.
+    pub fn write_buffer(&mut self, binding: &str, handle: BufferHandle) -> BufferHandle {
+        self.use_buffer(Some(binding), BufferAccess::StorageWrite, handle)
+    }
+
+    /// A uniform block bound to `binding` with initial contents; rewrite it per frame with
+    /// `Executor::write_uniform`.
+    pub fn uniform(&mut self, binding: &str, bytes: &[u8]) -> UniformHandle {
+        let id = self.id;
+        self.graph.decl.uniforms.push(UniformDecl { pass: id, binding: binding.to_string(), initial: bytes.to_vec() });
+        let handle = UniformHandle(self.graph.decl.uniforms.len() - 1);
+        self.decl().uniforms.push(handle);
+        handle
+    }
+
+    /// Runs one compute thread per texel of `handle` (at the mip this pass writes, if any).
+    pub fn dispatch_over(&mut self, handle: TextureHandle) -> &mut Self {
+        let size = self.graph.texture_desc(handle).map(|d| d.size).unwrap_or(SizeClass::FULL);
+        let mip = self.decl().textures.iter().rev().find(|u| u.resource() == handle.id as usize).and_then(|u| u.mip).unwrap_or(0);
+        self.set_dispatch(Dispatch::Threads { size, mip })
+    }
+    /// Runs one compute thread per texel of a size class.
+    pub fn dispatch_size(&mut self, size: SizeClass) -> &mut Self {
+        self.set_dispatch(Dispatch::Threads { size, mip: 0 })
+    }
+    /// Explicit workgroup counts.
+    pub fn dispatch_workgroups(&mut self, x: u32, y: u32, z: u32) -> &mut Self {
+        self.set_dispatch(Dispatch::Workgroups([x, y, z]))
+    }
+    fn set_dispatch(&mut self, d: Dispatch) -> &mut Self {
+        if let PassKind::Compute { dispatch, .. } = &mut self.decl().kind {
+            *dispatch = Some(d);
+        }
+        self
+    }
+    /// Keeps the pass even when no output depends on it.
+    pub fn side_effect(&mut self) -> &mut Self {
+        self.decl().side_effect = true;
+        self
+    }
+}

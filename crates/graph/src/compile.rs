@@ -1,0 +1,324 @@
+//! Compile phase: pure, no GPU. Validates a declaration, orders its passes, culls what no
+//! output needs, and plans resource lifetimes and physical reuse.
+//!
+//! Invariants of a [`CompiledGraph`]: `order` respects every producer-to-consumer and
+//! write-after-read edge and is stable by declaration order; a kept pass reaches an exported
+//! resource, a history write or a side effect; resources sharing a physical texture have
+//! disjoint lifetimes. Plans are cached by the declaration's structure hash.
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
+use std::sync::Arc;
+
+use petgraph::graph::{DiGraph, NodeIndex};
+use petgraph::visit::{Dfs, Reversed};
+
+use crate::declaration::*;
+use crate::error::{GraphError, GraphResult};
+use crate::lifetime::{plan_lifetimes, Lifetime, PhysicalTexture};
+use crate::resource::TextureAccess;
+use crate::shader::{ShaderLibrary, ShaderModuleInfo};
+use crate::shader_check::check_pass_shader;
+
+/// Compile options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CompileOptions {
+    /// Let resources with equal descriptors and disjoint lifetimes share a physical texture.
+    pub reuse: bool,
+}
+
+impl Default for CompileOptions {
+    fn default() -> Self {
+        Self { reuse: true }
+    }
+}
+
+/// Why a pass was culled.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CulledPass {
+    pub pass: PassId,
+    pub reason: String,
+}
+
+/// The result of compile: an execution plan.
+#[derive(Debug)]
+pub struct CompiledGraph {
+    pub decl: Arc<GraphDecl>,
+    pub hash: u64,
+    pub options: CompileOptions,
+    /// Kept passes in execution order.
+    pub order: Vec<PassId>,
+    pub culled: Vec<CulledPass>,
+    /// Dependency edges (producer, consumer) between passes, culled ones included.
+    pub edges: Vec<(PassId, PassId)>,
+    /// Per resource: first and last position in `order` that uses it (`None` when unused).
+    pub lifetimes: Vec<Option<Lifetime>>,
+    /// Physical textures of transient resources.
+    pub physical: Vec<PhysicalTexture>,
+    /// Per resource: its physical texture, for transient textures that are used.
+    pub slot_of: Vec<Option<usize>>,
+    /// Per resource: the union of the usages its uses need.
+    pub usage: Vec<wgpu::TextureUsages>,
+    /// Per pass: the reflected shader, for compute and full-screen passes.
+    pub shaders: Vec<Option<Arc<ShaderModuleInfo>>>,
+}
+
+impl CompiledGraph {
+    pub fn is_kept(&self, pass: PassId) -> bool {
+        self.order.contains(&pass)
+    }
+    pub fn pass_names(&self) -> Vec<&str> {
+        self.order.iter().map(|p| self.decl.passes[p.0].name.as_str()).collect()
+    }
+    pub fn culled_names(&self) -> Vec<&str> {
+        self.culled.iter().map(|c| self.decl.passes[c.pass.0].name.as_str()).collect()
+    }
+}
+
+/// Compiles declarations, caching plans by structure hash so an unchanged graph costs a hash.
+#[derive(Default)]
+pub struct GraphCompiler {
+    cache: HashMap<(u64, CompileOptions), Arc<CompiledGraph>>,
+    compiles: usize,
+}
+
+impl GraphCompiler {
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// How many times a plan was actually built (cache misses).
+    pub fn compile_count(&self) -> usize {
+        self.compiles
+    }
+    /// The cached plan for `decl`, compiling it on a miss.
+    pub fn compile(&mut self, decl: GraphDecl, shaders: &ShaderLibrary, options: CompileOptions) -> GraphResult<Arc<CompiledGraph>> {
+        let key = (decl.structure_hash(), options);
+        if let Some(plan) = self.cache.get(&key) {
+            return Ok(plan.clone());
+        }
+        let plan = Arc::new(compile(decl, shaders, options)?);
+        self.compiles += 1;
+        self.cache.insert(key, plan.clone());
+        Ok(plan)
+    }
+}
+
+fn pass_name(decl: &GraphDecl, p: PassId) -> String {
+    decl.passes[p.0].name.clone()
+}
+
+/// Every (read handle, writing?) use of a pass as (resource, version read, version written).
+fn pass_uses(pass: &PassDecl) -> impl Iterator<Item = (usize, Option<u32>, Option<u32>)> + '_ {
+    let t = pass.textures.iter().map(|u| (u.resource(), u.read.map(|h| h.version), u.written.map(|h| h.version)));
+    let b = pass.buffers.iter().map(|u| (u.read.or(u.written).map(|h| h.id as usize).unwrap_or(0), u.read.map(|h| h.version), u.written.map(|h| h.version)));
+    t.chain(b)
+}
+
+/// Checks a declaration and builds its plan. Pure: reads shader files, touches no GPU.
+pub fn compile(decl: GraphDecl, shaders: &ShaderLibrary, options: CompileOptions) -> GraphResult<CompiledGraph> {
+    if let Some(e) = decl.errors.first() {
+        return Err(e.clone());
+    }
+    let hash = decl.structure_hash();
+    validate_reads(&decl)?;
+    validate_attachments(&decl)?;
+
+    // Dependency graph: producer -> consumer (read after write), reader -> next writer
+    // (write after read), writer -> next writer (write after write).
+    let mut g: DiGraph<PassId, bool> = DiGraph::with_capacity(decl.passes.len(), decl.passes.len() * 2);
+    let nodes: Vec<NodeIndex> = (0..decl.passes.len()).map(|i| g.add_node(PassId(i))).collect();
+    let mut edges = Vec::new();
+    for (pi, pass) in decl.passes.iter().enumerate() {
+        for (r, read, written) in pass_uses(pass) {
+            let res = &decl.resources[r];
+            if let Some(v) = read {
+                if let Some(p) = res.producer(v).filter(|p| p.0 != pi) {
+                    add_dependency(&mut g, nodes[p.0], nodes[pi], true);
+                    edges.push((p, PassId(pi)));
+                }
+                if let Some(next) = res.producer(v + 1).filter(|p| p.0 != pi) {
+                    add_dependency(&mut g, nodes[pi], nodes[next.0], false);
+                }
+            }
+            if let Some(w) = written {
+                if let Some(prev) = res.producer(w - 1).filter(|p| p.0 != pi) {
+                    add_dependency(&mut g, nodes[prev.0], nodes[pi], false);
+                }
+            }
+        }
+    }
+    if let Err(cycle) = petgraph::algo::toposort(&g, None) {
+        return Err(GraphError::Cycle { pass: pass_name(&decl, g[cycle.node_id()]) });
+    }
+
+    let kept = needed_passes(&decl, &g, &nodes);
+    let order = stable_order(&g, &nodes, &kept);
+    let culled = (0..decl.passes.len())
+        .filter(|&i| !kept[i])
+        .map(|i| CulledPass { pass: PassId(i), reason: "no exported output, history write or side effect depends on it".into() })
+        .collect();
+
+    let mut pass_shaders = vec![None; decl.passes.len()];
+    for &p in &order {
+        pass_shaders[p.0] = check_pass_shader(&decl, p, shaders)?;
+    }
+    let plan = plan_lifetimes(&decl, &order, options.reuse);
+    edges.sort();
+    edges.dedup();
+    Ok(CompiledGraph {
+        hash,
+        options,
+        order,
+        culled,
+        edges,
+        lifetimes: plan.lifetimes,
+        physical: plan.physical,
+        slot_of: plan.slot_of,
+        usage: plan.usage,
+        shaders: pass_shaders,
+        decl: Arc::new(decl),
+    })
+}
+
+/// Adds an ordering edge; `data` marks a read-after-write edge, which also makes `from` needed
+/// by `to`. A pair keeps one edge, which is a data edge if any of its reasons is.
+fn add_dependency(g: &mut DiGraph<PassId, bool>, from: NodeIndex, to: NodeIndex, data: bool) {
+    match g.find_edge(from, to) {
+        Some(e) => g[e] |= data,
+        None => {
+            g.add_edge(from, to, data);
+        }
+    }
+}
+
+fn validate_reads(decl: &GraphDecl) -> GraphResult<()> {
+    for pass in &decl.passes {
+        for (r, read, _) in pass_uses(pass) {
+            let Some(res) = decl.resources.get(r) else {
+                return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("uses resource #{r}, which this graph does not have") });
+            };
+            if let Some(v) = read {
+                if v > res.latest_version() {
+                    return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("reads `{}` version {v}, which was never produced", res.name) });
+                }
+                if v == 0 && !res.readable_before_write() {
+                    return Err(GraphError::ReadOfUnwritten { pass: pass.name.clone(), resource: res.name.clone() });
+                }
+            }
+        }
+    }
+    for res in &decl.resources {
+        if let ResourceOrigin::HistoryPrevious { history } = &res.origin {
+            let read = decl.passes.iter().any(|p| pass_uses(p).any(|(r, rd, _)| rd.is_some() && decl.resources[r].name == res.name));
+            let written = decl.resources.iter().any(|c| matches!(&c.origin, ResourceOrigin::HistoryCurrent { history: h } if h == history) && c.latest_version() > 0);
+            if read && !written {
+                return Err(GraphError::HistoryNeverWritten { resource: history.clone() });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Attachments of one render pass must share a size, mip counts must be respected, depth
+/// attachments must have depth formats and colour attachments must not.
+fn validate_attachments(decl: &GraphDecl) -> GraphResult<()> {
+    for pass in &decl.passes {
+        let mut first: Option<(String, crate::SizeClass)> = None;
+        for u in &pass.textures {
+            let res = &decl.resources[u.resource()];
+            let Some(desc) = res.texture_desc() else {
+                return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("`{}` is a buffer, used as a texture", res.name) });
+            };
+            if let Some(m) = u.mip.filter(|&m| m >= desc.mip_levels) {
+                return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("mip {m} of `{}`, which has {} mip levels (allowed 0..{})", res.name, desc.mip_levels, desc.mip_levels) });
+            }
+            let is_depth = desc.format.is_depth_stencil_format();
+            match u.access {
+                TextureAccess::DepthAttachment | TextureAccess::DepthRead if !is_depth => {
+                    return Err(GraphError::FormatMismatch { pass: pass.name.clone(), resource: res.name.clone(), expected: "a depth format".into(), found: desc.format })
+                }
+                TextureAccess::ColorAttachment | TextureAccess::StorageRead | TextureAccess::StorageWrite | TextureAccess::StorageReadWrite if is_depth => {
+                    return Err(GraphError::FormatMismatch { pass: pass.name.clone(), resource: res.name.clone(), expected: "a colour format".into(), found: desc.format })
+                }
+                _ => {}
+            }
+            if matches!(u.access, TextureAccess::ColorAttachment | TextureAccess::DepthAttachment | TextureAccess::DepthRead) {
+                match &first {
+                    None => first = Some((res.name.clone(), desc.size)),
+                    Some((name, size)) if *size != desc.size => {
+                        return Err(GraphError::SizeMismatch { pass: pass.name.clone(), resource: res.name.clone(), expected: format!("{size} (the size of `{name}`)"), found: desc.size.to_string() })
+                    }
+                    _ => {}
+                }
+            }
+        }
+        if matches!(pass.kind, PassKind::Copy) {
+            let src = pass.textures.iter().find(|u| u.access == TextureAccess::CopySrc);
+            let dst = pass.textures.iter().find(|u| u.access == TextureAccess::CopyDst);
+            if let (Some(s), Some(d)) = (src, dst) {
+                let (rs, rd) = (&decl.resources[s.resource()], &decl.resources[d.resource()]);
+                let (ds, dd) = (rs.texture_desc().copied(), rd.texture_desc().copied());
+                if let (Some(ds), Some(dd)) = (ds, dd) {
+                    if ds.size != dd.size {
+                        return Err(GraphError::SizeMismatch { pass: pass.name.clone(), resource: rd.name.clone(), expected: format!("{} (the size of `{}`)", ds.size, rs.name), found: dd.size.to_string() });
+                    }
+                    if ds.format != dd.format {
+                        return Err(GraphError::FormatMismatch { pass: pass.name.clone(), resource: rd.name.clone(), expected: format!("{:?} (the format of `{}`)", ds.format, rs.name), found: dd.format });
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Passes from which an exported resource's final version, a history write or a side effect is
+/// reachable along read-after-write edges.
+fn needed_passes(decl: &GraphDecl, g: &DiGraph<PassId, bool>, nodes: &[NodeIndex]) -> Vec<bool> {
+    let mut kept = vec![false; decl.passes.len()];
+    let mut roots: Vec<usize> = decl.passes.iter().enumerate().filter(|(_, p)| p.side_effect).map(|(i, _)| i).collect();
+    for res in &decl.resources {
+        let is_root = res.exported || matches!(res.origin, ResourceOrigin::HistoryCurrent { .. });
+        if let Some(p) = res.writers.last().filter(|_| is_root) {
+            roots.push(p.0);
+        }
+    }
+    // Only data edges (weight true) make a pass needed; ordering edges do not.
+    let data = petgraph::visit::EdgeFiltered::from_fn(g, |e| *e.weight());
+    let reversed = Reversed(&data);
+    for r in roots {
+        let mut dfs = Dfs::new(reversed, nodes[r]);
+        while let Some(n) = dfs.next(reversed) {
+            kept[g[n].0] = true;
+        }
+    }
+    kept
+}
+
+/// Kahn's algorithm taking the lowest declaration index first: a topological order that keeps
+/// declaration order wherever the edges allow.
+fn stable_order(g: &DiGraph<PassId, bool>, nodes: &[NodeIndex], kept: &[bool]) -> Vec<PassId> {
+    let n = nodes.len();
+    let mut indegree = vec![0usize; n];
+    for e in g.raw_edges() {
+        let (a, b) = (g[e.source()].0, g[e.target()].0);
+        if kept[a] && kept[b] {
+            indegree[b] += 1;
+        }
+    }
+    let mut ready: BinaryHeap<Reverse<usize>> = (0..n).filter(|&i| kept[i] && indegree[i] == 0).map(Reverse).collect();
+    let mut order = Vec::with_capacity(n);
+    while let Some(Reverse(i)) = ready.pop() {
+        order.push(PassId(i));
+        for m in g.neighbors(nodes[i]) {
+            let j = g[m].0;
+            if kept[j] {
+                indegree[j] -= 1;
+                if indegree[j] == 0 {
+                    ready.push(Reverse(j));
+                }
+            }
+        }
+    }
+    order
+}

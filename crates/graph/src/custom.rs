@@ -1,0 +1,87 @@
+//! Custom passes: user code that records its own commands (e.g. drawing meshes).
+//!
+//! A custom pass still declares every read and write through the builder, so ordering, culling
+//! and reuse treat it like any other pass; at execution it is handed the physical textures of
+//! exactly the resources it declared.
+
+use crate::declaration::PassDecl;
+use crate::error::{GraphError, GraphResult};
+use crate::resource::{Extent, TextureHandle};
+
+/// A physical texture bound to a resource for this frame. Cloning is cheap (reference counts).
+#[derive(Clone, Debug)]
+pub struct BoundTexture {
+    pub texture: wgpu::Texture,
+    /// A view of all mip levels.
+    pub view: wgpu::TextureView,
+    /// One view per mip level.
+    pub mip_views: std::sync::Arc<[wgpu::TextureView]>,
+    pub extent: Extent,
+    /// Identifies the physical texture in bind-group caches.
+    pub serial: u64,
+}
+
+impl BoundTexture {
+    /// The view of one mip level, or of all levels.
+    pub fn view_of(&self, mip: Option<u32>) -> &wgpu::TextureView {
+        mip.and_then(|m| self.mip_views.get(m as usize)).unwrap_or(&self.view)
+    }
+}
+
+/// Commands recorded by user code.
+pub trait CustomPass: Send + Sync {
+    /// A short name of what the pass does (enters the plan's hash with `cache_key`).
+    fn kind_name(&self) -> &str;
+    /// Changes when the pass's behaviour changes in a way the plan should notice.
+    fn cache_key(&self) -> u64 {
+        0
+    }
+    /// Records the pass's commands.
+    fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()>;
+}
+
+/// What a custom pass sees while recording.
+pub struct PassContext<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub encoder: &'a mut wgpu::CommandEncoder,
+    /// The graph's output size this frame.
+    pub output: Extent,
+    pub(crate) pass: &'a PassDecl,
+    pub(crate) textures: &'a [Option<BoundTexture>],
+}
+
+impl PassContext<'_> {
+    fn bound(&self, handle: TextureHandle) -> GraphResult<&BoundTexture> {
+        let declared = self.pass.textures.iter().any(|u| u.resource() == handle.resource_index());
+        let missing = |message: &str| GraphError::MissingResource { resource: format!("{handle:?}"), message: format!("{message} (pass `{}`)", self.pass.name) };
+        if !declared {
+            return Err(missing("the pass did not declare this texture"));
+        }
+        self.textures.get(handle.resource_index()).and_then(Option::as_ref).ok_or_else(|| missing("not allocated this frame"))
+    }
+    /// The view of a texture this pass declared.
+    pub fn view(&self, handle: TextureHandle) -> GraphResult<&wgpu::TextureView> {
+        Ok(&self.bound(handle)?.view)
+    }
+    /// The texture this pass declared.
+    pub fn texture(&self, handle: TextureHandle) -> GraphResult<&wgpu::Texture> {
+        Ok(&self.bound(handle)?.texture)
+    }
+    /// The concrete size of a texture this pass declared.
+    pub fn extent(&self, handle: TextureHandle) -> GraphResult<Extent> {
+        Ok(self.bound(handle)?.extent)
+    }
+}
+
+/// A pass that records nothing: for GPU-free tests and for sketching a graph's shape.
+pub struct NoopPass;
+
+impl CustomPass for NoopPass {
+    fn kind_name(&self) -> &str {
+        "noop"
+    }
+    fn record(&self, _ctx: &mut PassContext<'_>) -> GraphResult<()> {
+        Ok(())
+    }
+}

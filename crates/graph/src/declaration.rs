@@ -1,0 +1,215 @@
+//! The declaration: pure data describing resources and passes, produced by [`GraphBuilder`].
+//!
+//! A declaration is what compile consumes and what its cache is keyed by. It holds no GPU
+//! object; custom passes are trait objects whose identity (name and `cache_key`) enters the hash.
+//! Invariant: `ResourceDecl::writers[v]` is the pass that produced version `v + 1`.
+//!
+//! [`GraphBuilder`]: crate::GraphBuilder
+
+use std::hash::{Hash, Hasher};
+use std::sync::Arc;
+
+use crate::custom::CustomPass;
+use crate::error::GraphError;
+use crate::resource::{BufferAccess, BufferDesc, BufferHandle, SizeClass, TextureAccess, TextureDesc, TextureHandle};
+
+/// Index of a pass in its declaration (declaration order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct PassId(pub(crate) usize);
+
+impl PassId {
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
+/// Index of a uniform block in a declaration; its bytes can be rewritten every frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct UniformHandle(pub(crate) usize);
+
+/// Where a resource's contents come from and how long they live.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum ResourceOrigin {
+    /// Created and owned by the graph for this frame; may share a physical texture.
+    Transient,
+    /// Provided by the user (e.g. a g-buffer rendered elsewhere); version 0 is readable.
+    Imported,
+    /// Last frame's value of history `history`; version 0 is readable.
+    HistoryPrevious { history: String },
+    /// This frame's value of history `history`; must be written.
+    HistoryCurrent { history: String },
+}
+
+/// Texture or buffer, with its descriptor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ResourceKind {
+    Texture(TextureDesc),
+    Buffer(BufferDesc),
+}
+
+/// One virtual resource and the passes that wrote each of its versions.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ResourceDecl {
+    pub name: String,
+    pub kind: ResourceKind,
+    pub origin: ResourceOrigin,
+    /// Requested as an output: kept alive to the end of the frame and readable afterwards.
+    pub exported: bool,
+    pub(crate) writers: Vec<PassId>,
+}
+
+impl ResourceDecl {
+    /// The texture descriptor, if this is a texture.
+    pub fn texture_desc(&self) -> Option<&TextureDesc> {
+        match &self.kind {
+            ResourceKind::Texture(d) => Some(d),
+            ResourceKind::Buffer(_) => None,
+        }
+    }
+    /// The newest version (0 when never written).
+    pub fn latest_version(&self) -> u32 {
+        self.writers.len() as u32
+    }
+    /// The pass that produced `version`, `None` for version 0.
+    pub fn producer(&self, version: u32) -> Option<PassId> {
+        version.checked_sub(1).and_then(|v| self.writers.get(v as usize).copied())
+    }
+    /// True when version 0 holds data before any pass runs.
+    pub fn readable_before_write(&self) -> bool {
+        matches!(self.origin, ResourceOrigin::Imported | ResourceOrigin::HistoryPrevious { .. })
+    }
+}
+
+/// One use of a texture by a pass. A write that keeps part of the old contents (read-write
+/// storage, a single mip of a mipped texture, an attachment that loads) also reads the previous
+/// version, so `read` and `written` are both set.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct TextureUse {
+    /// The WGSL global this use binds to (`None` for attachments and copies).
+    pub binding: Option<String>,
+    pub access: TextureAccess,
+    pub read: Option<TextureHandle>,
+    pub written: Option<TextureHandle>,
+    /// A single mip level, or all levels when `None`.
+    pub mip: Option<u32>,
+}
+
+impl TextureUse {
+    pub fn resource(&self) -> usize {
+        self.read.or(self.written).map(|h| h.id as usize).unwrap_or(0)
+    }
+}
+
+/// One use of a buffer by a pass.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct BufferUse {
+    pub binding: Option<String>,
+    pub access: BufferAccess,
+    pub read: Option<BufferHandle>,
+    pub written: Option<BufferHandle>,
+}
+
+/// A uniform block owned by a pass: bound to `binding`, contents set per frame.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UniformDecl {
+    pub pass: PassId,
+    pub binding: String,
+    pub initial: Vec<u8>,
+}
+
+/// How many threads a compute pass runs; workgroup counts come from the shader's
+/// `@workgroup_size`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Dispatch {
+    /// One thread per texel of a size class at a mip level.
+    Threads { size: SizeClass, mip: u32 },
+    /// Explicit workgroup counts.
+    Workgroups([u32; 3]),
+}
+
+/// What a pass records.
+#[derive(Clone)]
+pub enum PassKind {
+    /// A compute shader entry point from a WGSL file.
+    Compute { shader: String, entry: String, dispatch: Option<Dispatch> },
+    /// A full-screen triangle drawn into the colour attachments.
+    Fullscreen { shader: String, vertex: String, fragment: String },
+    /// A texture-to-texture copy of the pass's `CopySrc` into its `CopyDst`.
+    Copy,
+    /// User code recording its own commands.
+    Custom(Arc<dyn CustomPass>),
+}
+
+impl std::fmt::Debug for PassKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PassKind::Compute { shader, entry, .. } => write!(f, "compute {shader}:{entry}"),
+            PassKind::Fullscreen { shader, fragment, .. } => write!(f, "fullscreen {shader}:{fragment}"),
+            PassKind::Copy => write!(f, "copy"),
+            PassKind::Custom(c) => write!(f, "custom {}", c.kind_name()),
+        }
+    }
+}
+
+impl Hash for PassKind {
+    fn hash<H: Hasher>(&self, h: &mut H) {
+        match self {
+            PassKind::Compute { shader, entry, dispatch } => (0u8, shader, entry, dispatch).hash(h),
+            PassKind::Fullscreen { shader, vertex, fragment } => (1u8, shader, vertex, fragment).hash(h),
+            PassKind::Copy => 2u8.hash(h),
+            PassKind::Custom(c) => (3u8, c.kind_name(), c.cache_key()).hash(h),
+        }
+    }
+}
+
+/// One pass: what it records and what it reads and writes.
+#[derive(Clone, Debug)]
+pub struct PassDecl {
+    pub name: String,
+    pub kind: PassKind,
+    pub textures: Vec<TextureUse>,
+    pub buffers: Vec<BufferUse>,
+    pub uniforms: Vec<UniformHandle>,
+    /// Kept even when no output needs it (e.g. it writes to the CPU or a swapchain).
+    pub side_effect: bool,
+}
+
+impl PassDecl {
+    pub fn is_raster(&self) -> bool {
+        matches!(self.kind, PassKind::Fullscreen { .. })
+            || self.textures.iter().any(|u| matches!(u.access, TextureAccess::ColorAttachment | TextureAccess::DepthAttachment | TextureAccess::DepthRead))
+    }
+}
+
+/// A whole declaration, ready to compile.
+#[derive(Clone, Debug, Default)]
+pub struct GraphDecl {
+    pub resources: Vec<ResourceDecl>,
+    pub passes: Vec<PassDecl>,
+    pub uniforms: Vec<UniformDecl>,
+    /// Misuse found while declaring (e.g. conflicting writes); compile reports the first.
+    pub(crate) errors: Vec<GraphError>,
+}
+
+impl GraphDecl {
+    /// Hash of the structure (resources, passes, uses, shaders), not of uniform contents:
+    /// two frames that only change uniforms share one compiled plan.
+    pub fn structure_hash(&self) -> u64 {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        self.resources.hash(&mut h);
+        for p in &self.passes {
+            (&p.name, &p.kind, &p.textures, &p.buffers, &p.uniforms, p.side_effect).hash(&mut h);
+        }
+        for u in &self.uniforms {
+            (u.pass, &u.binding, u.initial.len()).hash(&mut h);
+        }
+        self.errors.len().hash(&mut h);
+        h.finish()
+    }
+    pub fn pass_by_name(&self, name: &str) -> Option<PassId> {
+        self.passes.iter().position(|p| p.name == name).map(PassId)
+    }
+    pub fn resource_by_name(&self, name: &str) -> Option<usize> {
+        self.resources.iter().position(|r| r.name == name)
+    }
+}

@@ -1,0 +1,98 @@
+//! The wgpu device the graph executes on, and how to get one.
+//!
+//! Only the Vulkan backend is compiled in (a real GPU or Mesa's lavapipe). Optional features
+//! (timestamps, filterable 32-bit floats, adapter-specific storage formats) are requested when
+//! the adapter has them. Validation errors raised outside an error scope are collected, so a
+//! test can assert that a whole run produced none.
+
+use std::sync::{Arc, Mutex};
+
+use crate::error::{GraphError, GraphResult};
+
+/// Device, queue and what they can do.
+pub struct GpuContext {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub features: wgpu::Features,
+    errors: Arc<Mutex<Vec<String>>>,
+}
+
+impl GpuContext {
+    /// The first Vulkan adapter, or [`GraphError::NoAdapter`] with the fix.
+    pub fn new() -> GraphResult<Self> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> GraphResult<Self> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::VULKAN;
+        desc.flags = wgpu::InstanceFlags::from_env_or_default();
+        let instance = wgpu::Instance::new(desc);
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions { power_preference: wgpu::PowerPreference::HighPerformance, force_fallback_adapter: false, compatible_surface: None, ..Default::default() })
+            .await
+            .map_err(|e| GraphError::NoAdapter { detail: e.to_string() })?;
+        let wanted = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::FLOAT32_FILTERABLE
+            | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+        let features = adapter.features() & wanted;
+        let limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor { label: Some("aograph"), required_features: features, required_limits: limits, ..Default::default() })
+            .await
+            .map_err(|e| GraphError::NoAdapter { detail: format!("the adapter refused a device: {e}") })?;
+        let errors: Arc<Mutex<Vec<String>>> = Arc::default();
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        let info = adapter.get_info();
+        Ok(Self { adapter, device, queue, info, features, errors })
+    }
+
+    /// True when GPU timestamps can be written between passes.
+    pub fn has_timestamps(&self) -> bool {
+        self.features.contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    }
+
+    /// True on a CPU (software) device such as lavapipe: its times are CPU times.
+    pub fn is_software(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
+    /// "name (backend, device type)".
+    pub fn describe(&self) -> String {
+        format!("{} ({:?}, {:?})", self.info.name, self.info.backend, self.info.device_type)
+    }
+
+    /// Validation errors collected since the last call.
+    pub fn take_errors(&self) -> Vec<String> {
+        self.errors.lock().map(|mut v| std::mem::take(&mut *v)).unwrap_or_default()
+    }
+
+    /// Blocks until the GPU has finished all submitted work.
+    pub fn wait_idle(&self) -> GraphResult<()> {
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| GraphError::Gpu(e.to_string()))
+    }
+}
+
+/// For tests: a device, `None` (with a printed reason) when there is none and
+/// `AOGRAPH_REQUIRE_GPU` is unset; an error when it is set, so CI cannot skip GPU tests.
+pub fn test_gpu() -> Option<Arc<GpuContext>> {
+    static GPU: std::sync::OnceLock<Result<Arc<GpuContext>, GraphError>> = std::sync::OnceLock::new();
+    match GPU.get_or_init(|| GpuContext::new().map(Arc::new)) {
+        Ok(g) => Some(g.clone()),
+        Err(e) => {
+            if std::env::var_os("AOGRAPH_REQUIRE_GPU").is_some_and(|v| v != "0") {
+                panic!("AOGRAPH_REQUIRE_GPU is set but no GPU device is available: {e}");
+            }
+            eprintln!("SKIPPED: GPU test skipped, no adapter ({e}); set AOGRAPH_REQUIRE_GPU=1 to make this an error");
+            None
+        }
+    }
+}
