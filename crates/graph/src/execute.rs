@@ -256,7 +256,7 @@ impl Executor {
                     let previous = &pair.textures[1 - pair.current].bound;
                     if matches!(res.origin, ResourceOrigin::HistoryPrevious { .. }) {
                         if !valid {
-                            encoder.clear_texture(&previous.texture, &wgpu::ImageSubresourceRange::default());
+                            clear_texture(&self.gpu, encoder, &previous.texture);
                         }
                         previous.clone()
                     } else {
@@ -345,7 +345,11 @@ impl Executor {
         for (pos, p) in plan.order.iter().enumerate() {
             let name = &plan.decl.passes[p.0].name;
             let started = Instant::now();
-            encoder.push_debug_group(name);
+            // Debug groups only where the driver survives them (see `GpuContext::debug_groups`).
+            let outer_group = self.gpu.debug_groups();
+            if outer_group {
+                encoder.push_debug_group(name);
+            }
             if let (true, Some(ts)) = (gpu_timing, &self.timestamps) {
                 encoder.write_timestamp(ts.set(), 2 * pos as u32);
             }
@@ -353,7 +357,9 @@ impl Executor {
             if let (true, Some(ts)) = (gpu_timing, &self.timestamps) {
                 encoder.write_timestamp(ts.set(), 2 * pos as u32 + 1);
             }
-            encoder.pop_debug_group();
+            if outer_group {
+                encoder.pop_debug_group();
+            }
             if !gpu_timing {
                 let done = std::mem::replace(&mut encoder, device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("aograph frame") }));
                 self.gpu.queue.submit([done.finish()]);
@@ -492,6 +498,26 @@ impl Executor {
         }
         let t = self.frame.get(r).and_then(Option::as_ref).ok_or_else(|| GraphError::MissingResource { resource: res.name.clone(), message: "not produced by the last frame (was it culled, or has no frame run?)".into() })?;
         read_texture(&self.gpu.device, &self.gpu.queue, &t.texture, mip)
+    }
+}
+
+/// Zeroes a texture: with `clear_texture` where the device has it, else by uploading zeros
+/// (only on frames where a history is invalid, so the upload is rare).
+fn clear_texture(gpu: &GpuContext, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) {
+    if gpu.features.contains(wgpu::Features::CLEAR_TEXTURE) {
+        encoder.clear_texture(texture, &wgpu::ImageSubresourceRange::default());
+        return;
+    }
+    for mip in 0..texture.mip_level_count() {
+        let e = Extent::new(texture.width(), texture.height()).mip(mip);
+        let row = e.width * crate::resource::texel_bytes(texture.format()) as u32;
+        let zeros = vec![0u8; (row * e.height) as usize];
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo { texture, mip_level: mip, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+            &zeros,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(e.height) },
+            wgpu::Extent3d { width: e.width, height: e.height, depth_or_array_layers: 1 },
+        );
     }
 }
 

@@ -37,7 +37,8 @@ impl GpuContext {
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
             | wgpu::Features::FLOAT32_FILTERABLE
-            | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+            | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+            | wgpu::Features::CLEAR_TEXTURE;
         let features = adapter.features() & wanted;
         let limits = wgpu::Limits::default().using_resolution(adapter.limits());
         let (device, queue) = adapter
@@ -58,6 +59,17 @@ impl GpuContext {
     /// True when GPU timestamps can be written between passes.
     pub fn has_timestamps(&self) -> bool {
         self.features.contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    }
+
+    /// Whether passes are wrapped in debug groups. Mesa's lavapipe (llvmpipe driver, as in
+    /// Debian 12's Mesa 22.3) crashes in `vkCmdBeginDebugUtilsLabelEXT` once a render pass has
+    /// been recorded, so there passes are labelled only through their own descriptors.
+    /// `AOGRAPH_DEBUG_GROUPS=1` forces them on.
+    pub fn debug_groups(&self) -> bool {
+        if std::env::var_os("AOGRAPH_DEBUG_GROUPS").is_some_and(|v| v == "1") {
+            return true;
+        }
+        !self.info.driver.to_ascii_lowercase().contains("llvmpipe")
     }
 
     /// True on a CPU (software) device such as lavapipe: its times are CPU times.

@@ -1,0 +1,315 @@
+//! GPU tests of execution on a real wgpu device (lavapipe where there is no GPU): results read
+//! back and compared with a CPU computation of the same arithmetic, history across frames,
+//! resize and reset invalidation, reuse on/off equivalence, timings and pool stability.
+//! Each test skips (saying so) only when no adapter exists and AOGRAPH_REQUIRE_GPU is unset.
+
+use std::sync::Arc;
+
+use aograph_graph::*;
+use wgpu::TextureFormat::R32Float;
+
+const PATTERN: &str = r#"
+@vertex
+fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+@fragment
+fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
+    let x = u32(p.x);
+    let y = u32(p.y);
+    return vec4<f32>(f32((x * 3u + y * 5u) % 17u) / 16.0, 0.0, 0.0, 1.0);
+}
+"#;
+
+const BLUR: &str = r#"
+@group(0) @binding(0) var src: texture_2d<f32>;
+@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(src);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let xl = max(i32(id.x) - 1, 0);
+    let xr = min(i32(id.x) + 1, i32(size.x) - 1);
+    let a = textureLoad(src, vec2<i32>(xl, i32(id.y)), 0).r;
+    let b = textureLoad(src, vec2<i32>(id.xy), 0).r;
+    let c = textureLoad(src, vec2<i32>(xr, i32(id.y)), 0).r;
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>((a + 2.0 * b + c) * 0.25, 0.0, 0.0, 0.0));
+}
+"#;
+
+const SCALE: &str = r#"
+struct Params { scale: f32, offset: f32, pad0: f32, pad1: f32 }
+@group(0) @binding(0) var src: texture_2d<f32>;
+@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
+@group(0) @binding(2) var<uniform> params: Params;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(src);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let v = textureLoad(src, vec2<i32>(id.xy), 0).r;
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(v * params.scale + params.offset, 0.0, 0.0, 0.0));
+}
+"#;
+
+const ACCUMULATE: &str = r#"
+@group(0) @binding(0) var previous: texture_2d<f32>;
+@group(0) @binding(1) var current: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(previous);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let v = textureLoad(previous, vec2<i32>(id.xy), 0).r;
+    textureStore(current, vec2<i32>(id.xy), vec4<f32>(v + 1.0, 0.0, 0.0, 0.0));
+}
+"#;
+
+fn shaders() -> ShaderLibrary {
+    let lib = ShaderLibrary::inline_only();
+    lib.add_inline("pattern.wgsl", PATTERN);
+    lib.add_inline("blur.wgsl", BLUR);
+    lib.add_inline("scale.wgsl", SCALE);
+    lib.add_inline("accumulate.wgsl", ACCUMULATE);
+    lib
+}
+
+fn params(scale: f32, offset: f32) -> Vec<u8> {
+    [scale, offset, 0.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect()
+}
+
+fn pattern(x: u32, y: u32) -> f32 {
+    ((x * 3 + y * 5) % 17) as f32 / 16.0
+}
+
+/// CPU version of the three-pass graph below.
+fn expected(w: u32, h: u32, scale: f32, offset: f32) -> Vec<f32> {
+    let mut out = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let (xl, xr) = (x.saturating_sub(1), (x + 1).min(w - 1));
+            let blurred = (pattern(xl, y) + 2.0 * pattern(x, y) + pattern(xr, y)) * 0.25;
+            out.push(blurred * scale + offset);
+        }
+    }
+    out
+}
+
+fn render_blur_scale(b: &mut GraphBuilder) -> (TextureHandle, UniformHandle) {
+    let desc = TextureDesc::new(R32Float, SizeClass::FULL);
+    let img = b.create_texture("pattern", desc);
+    let img = b.fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs").color_attachment(img);
+    let tmp = b.create_texture("blurred", desc);
+    let mut blur = b.compute_pass("blur", "blur.wgsl", "main");
+    blur.sample("src", img);
+    let tmp = blur.write_storage("dst", tmp);
+    blur.dispatch_over(tmp);
+    let out = b.create_texture("result", desc);
+    let mut scale = b.compute_pass("scale", "scale.wgsl", "main");
+    scale.sample("src", tmp);
+    let u = scale.uniform("params", &params(2.0, 1.0));
+    let out = scale.write_storage("dst", out);
+    scale.dispatch_over(out);
+    b.export(out);
+    (out, u)
+}
+
+#[test]
+fn render_blur_and_compute_match_cpu_arithmetic() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut b = GraphBuilder::new();
+    let (out, uniform) = render_blur_scale(&mut b);
+    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).expect("compiles"));
+    let mut exec = Executor::new(gpu.clone());
+    let size = Extent::new(64, 48);
+    exec.execute(&plan, size).expect("first frame");
+    let got = exec.read_texture(&plan, out).unwrap().to_f32().unwrap();
+    assert_eq!(got, expected(64, 48, 2.0, 1.0), "values are multiples of 1/64, so GPU and CPU agree exactly");
+
+    // Per-frame uniform update, same plan.
+    exec.write_uniform(&plan, uniform, &params(-1.0, 0.5)).unwrap();
+    exec.execute(&plan, size).unwrap();
+    let got = exec.read_texture(&plan, out).unwrap().to_f32().unwrap();
+    assert_eq!(got, expected(64, 48, -1.0, 0.5));
+    assert!(gpu.take_errors().is_empty());
+}
+
+#[test]
+fn odd_output_sizes_are_covered_by_dispatch() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut b = GraphBuilder::new();
+    let (out, _) = render_blur_scale(&mut b);
+    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+    let mut exec = Executor::new(gpu);
+    for (w, h) in [(1, 1), (2, 3), (97, 61)] {
+        exec.execute(&plan, Extent::new(w, h)).unwrap();
+        let got = exec.read_texture(&plan, out).unwrap().to_f32().unwrap();
+        assert_eq!(got, expected(w, h, 2.0, 1.0), "{w}x{h}");
+    }
+}
+
+fn accumulate_graph() -> (Arc<CompiledGraph>, TextureHandle) {
+    let mut b = GraphBuilder::new();
+    let hist = b.history_texture("count", TextureDesc::new(R32Float, SizeClass::FULL));
+    let mut p = b.compute_pass("accumulate", "accumulate.wgsl", "main");
+    p.sample("previous", hist.previous);
+    let cur = p.write_storage("current", hist.current);
+    p.dispatch_over(cur);
+    (Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap()), cur)
+}
+
+fn all_equal(exec: &Executor, plan: &CompiledGraph, h: TextureHandle, v: f32) -> bool {
+    exec.read_texture(plan, h).unwrap().to_f32().unwrap().iter().all(|&x| x == v)
+}
+
+#[test]
+fn history_is_invalid_on_first_frame_then_reads_previous_values() {
+    let Some(gpu) = test_gpu() else { return };
+    let (plan, cur) = accumulate_graph();
+    let mut exec = Executor::new(gpu);
+    let size = Extent::new(32, 32);
+    assert!(!exec.history_valid(&plan, "count", size), "first frame has no history");
+    exec.execute(&plan, size).unwrap();
+    assert!(all_equal(&exec, &plan, cur, 1.0), "invalid previous reads as zero");
+    for frame in 2..=3 {
+        assert!(exec.history_valid(&plan, "count", size));
+        exec.execute(&plan, size).unwrap();
+        assert!(all_equal(&exec, &plan, cur, frame as f32), "frame {frame} adds to the previous value");
+    }
+}
+
+#[test]
+fn resize_and_reset_invalidate_history() {
+    let Some(gpu) = test_gpu() else { return };
+    let (plan, cur) = accumulate_graph();
+    let mut exec = Executor::new(gpu);
+    for _ in 0..3 {
+        exec.execute(&plan, Extent::new(32, 32)).unwrap();
+    }
+    assert!(all_equal(&exec, &plan, cur, 3.0));
+    let resized = Extent::new(40, 24);
+    assert!(!exec.history_valid(&plan, "count", resized), "a resize invalidates");
+    exec.execute(&plan, resized).unwrap();
+    assert!(all_equal(&exec, &plan, cur, 1.0));
+    exec.execute(&plan, resized).unwrap();
+    assert!(all_equal(&exec, &plan, cur, 2.0));
+    exec.reset_history();
+    assert!(!exec.history_valid(&plan, "count", resized), "a reset (camera cut) invalidates");
+    exec.execute(&plan, resized).unwrap();
+    assert!(all_equal(&exec, &plan, cur, 1.0), "nothing from before the cut survives");
+}
+
+/// A chain of blurs through same-descriptor intermediates: reuse folds them into two textures.
+fn blur_chain(b: &mut GraphBuilder, n: usize) -> TextureHandle {
+    let desc = TextureDesc::new(R32Float, SizeClass::FULL);
+    let img = b.create_texture("pattern", desc);
+    let mut cur = b.fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs").color_attachment(img);
+    for i in 0..n {
+        let t = b.create_texture(&format!("blur{i}"), desc);
+        let mut p = b.compute_pass(&format!("blur{i}"), "blur.wgsl", "main");
+        p.sample("src", cur);
+        cur = p.write_storage("dst", t);
+        p.dispatch_over(cur);
+    }
+    b.export(cur);
+    cur
+}
+
+#[test]
+fn reuse_on_and_off_give_identical_images() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut images = Vec::new();
+    let mut physical = Vec::new();
+    for reuse in [true, false] {
+        let mut b = GraphBuilder::new();
+        let out = blur_chain(&mut b, 6);
+        let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions { reuse }).unwrap());
+        physical.push(plan.physical.len());
+        let mut exec = Executor::new(gpu.clone());
+        exec.execute(&plan, Extent::new(50, 30)).unwrap();
+        images.push(exec.read_texture(&plan, out).unwrap().bytes);
+    }
+    assert_eq!(images[0], images[1]);
+    assert!(physical[0] < physical[1], "reuse {} textures, without {}", physical[0], physical[1]);
+}
+
+#[test]
+fn timings_name_every_pass_from_both_sources() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut b = GraphBuilder::new();
+    blur_chain(&mut b, 3);
+    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+    let mut exec = Executor::new(gpu.clone());
+    for cpu in [false, true] {
+        exec.force_cpu_timing(cpu);
+        exec.execute(&plan, Extent::new(64, 64)).unwrap();
+        let t = exec.timings().unwrap().clone();
+        assert_eq!(t.passes.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(), ["pattern", "blur0", "blur1", "blur2"]);
+        assert!(t.passes.iter().all(|(_, ms)| ms.is_finite() && *ms >= 0.0));
+        let expected = if cpu || !gpu.has_timestamps() { TimingSource::CpuWall } else { TimingSource::GpuTimestamps };
+        assert_eq!(t.source, Some(expected));
+        assert!(t.table().contains("blur2") && t.table().contains("total"));
+    }
+}
+
+#[test]
+fn pool_does_not_grow_across_resizes() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut b = GraphBuilder::new();
+    blur_chain(&mut b, 4);
+    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+    let mut exec = Executor::new(gpu);
+    exec.execute(&plan, Extent::new(16, 16)).unwrap();
+    let steady = exec.pool_texture_count();
+    for i in 0..40u32 {
+        let size = if (i / 5) % 2 == 0 { Extent::new(16, 16) } else { Extent::new(24, 8) };
+        exec.execute(&plan, size).unwrap();
+        assert!(exec.pool_texture_count() <= steady * 2, "frame {i}: pool holds {}", exec.pool_texture_count());
+        if i % 5 != 0 {
+            assert_eq!(exec.pool_texture_count(), steady, "frame {i}: steady state");
+        }
+    }
+}
+
+#[test]
+fn zero_size_output_is_an_error_not_a_panic() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut b = GraphBuilder::new();
+    blur_chain(&mut b, 1);
+    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+    let mut exec = Executor::new(gpu);
+    let err = exec.execute(&plan, Extent::new(0, 8)).unwrap_err();
+    assert!(err.to_string().contains("output size"), "{err}");
+}
+
+#[test]
+fn missing_import_is_reported_by_name() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut b = GraphBuilder::new();
+    let src = b.import_texture("gbuffer.depth", TextureDesc::new(R32Float, SizeClass::FULL));
+    let out = b.create_texture("out", TextureDesc::new(R32Float, SizeClass::FULL));
+    let mut p = b.compute_pass("blur", "blur.wgsl", "main");
+    p.sample("src", src);
+    let out = p.write_storage("dst", out);
+    p.dispatch_over(out);
+    b.export(out);
+    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+    let mut exec = Executor::new(gpu.clone());
+    let err = exec.execute(&plan, Extent::new(8, 8)).unwrap_err();
+    assert!(err.to_string().contains("gbuffer.depth"), "{err}");
+    // With the import provided, the blur of a constant image is that constant.
+    let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d { width: 8, height: 8, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let data: Vec<u8> = (0..64).flat_map(|_| 0.75f32.to_le_bytes()).collect();
+    gpu.queue.write_texture(tex.as_image_copy(), &data, wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(32), rows_per_image: None }, tex.size());
+    exec.import_texture("gbuffer.depth", tex);
+    exec.execute(&plan, Extent::new(8, 8)).unwrap();
+    assert!(exec.read_texture(&plan, out).unwrap().to_f32().unwrap().iter().all(|&v| v == 0.75));
+}
