@@ -1,1 +1,118 @@
-fn main() {}
+//! The `aograph` command line: parse arguments, run one command, print errors a user can act on.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use aograph::commands::{self, RenderArgs};
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "aograph", version, about = "Render-graph SSAO techniques on wgpu, measured against a ray-traced reference")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args, Clone, Debug, Default)]
+struct Common {
+    /// Config file (TOML; see configs/reference.toml for every key).
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Scene: a procedural name (columns, plane, ...) or a .gltf/.glb file.
+    #[arg(long)]
+    scene: Option<String>,
+    /// AO technique (see `aograph techniques`).
+    #[arg(long)]
+    technique: Option<String>,
+    /// Output width in pixels.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Output height in pixels.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Shared AO radius R in world units.
+    #[arg(long)]
+    radius: Option<f32>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene with a technique: writes ao.png, shaded.png and timings.txt.
+    Render {
+        #[command(flatten)]
+        common: Common,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// Number of frames to render (animated scenes move; temporal techniques converge).
+        #[arg(long)]
+        frames: Option<u32>,
+        /// Write every frame (ao_0000.png, ...) instead of only the last.
+        #[arg(long)]
+        every: bool,
+    },
+    /// Print the compiled plan of a config (or its Graphviz DOT with --dot).
+    Graph {
+        #[command(flatten)]
+        common: Common,
+        /// Print DOT instead of the text summary.
+        #[arg(long)]
+        dot: bool,
+    },
+    /// List the techniques with their parameters, defaults and allowed ranges.
+    Techniques,
+    /// Ray-trace the reference AO of a scene.
+    Reference {
+        #[command(flatten)]
+        common: Common,
+        /// Rays per pixel.
+        #[arg(long)]
+        rays: Option<u32>,
+        /// binary or obscurance.
+        #[arg(long)]
+        mode: Option<String>,
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Procedural scenes.
+    Scene {
+        #[command(subcommand)]
+        action: SceneAction,
+    },
+}
+
+#[derive(Subcommand)]
+enum SceneAction {
+    /// Export a procedural scene as .glb.
+    Export { name: String, file: PathBuf },
+    /// List the procedural scenes.
+    List,
+}
+
+impl Common {
+    fn into_args(self) -> commands::CommonArgs {
+        commands::CommonArgs { config: self.config, scene: self.scene, technique: self.technique, width: self.width, height: self.height, radius: self.radius }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render { common, out, frames, every } => commands::render(&RenderArgs { common: common.into_args(), out, frames, every }),
+        Command::Graph { common, dot } => commands::graph(&common.into_args(), dot),
+        Command::Techniques => commands::techniques(),
+        Command::Reference { common, rays, mode, out } => commands::reference(&common.into_args(), rays, mode.as_deref(), &out),
+        Command::Scene { action: SceneAction::Export { name, file } } => commands::scene_export(&name, &file),
+        Command::Scene { action: SceneAction::List } => {
+            println!("{}", aograph_scene::PROCEDURAL_SCENE_NAMES.join("\n"));
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -137,7 +137,7 @@ impl PassBuilder<'_> {
             }
             let res = &mut self.graph.decl.resources[handle.id as usize];
             // A write that keeps part of the old contents also depends on them.
-            let partial = mip.is_some() && mips > 1;
+            let partial = mip.is_some() && mips > 1 && (handle.version > 0 || res.readable_before_write());
             let loads = matches!(access, TextureAccess::ColorAttachment | TextureAccess::DepthAttachment) && handle.version > 0;
             if partial || loads {
                 read = Some(handle);

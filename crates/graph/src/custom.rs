@@ -6,7 +6,7 @@
 
 use crate::declaration::PassDecl;
 use crate::error::{GraphError, GraphResult};
-use crate::resource::{Extent, TextureHandle};
+use crate::resource::{BufferHandle, Extent, TextureHandle};
 
 /// A physical texture bound to a resource for this frame. Cloning is cheap (reference counts).
 #[derive(Clone, Debug)]
@@ -49,6 +49,9 @@ pub struct PassContext<'a> {
     pub output: Extent,
     pub(crate) pass: &'a PassDecl,
     pub(crate) textures: &'a [Option<BoundTexture>],
+    pub(crate) buffers: &'a [Option<wgpu::Buffer>],
+    pub(crate) shaders: &'a crate::shader::ShaderLibrary,
+    pub(crate) features: wgpu::Features,
 }
 
 impl PassContext<'_> {
@@ -67,6 +70,24 @@ impl PassContext<'_> {
     /// The texture this pass declared.
     pub fn texture(&self, handle: TextureHandle) -> GraphResult<&wgpu::Texture> {
         Ok(&self.bound(handle)?.texture)
+    }
+    /// A buffer this pass declared (e.g. the imported view block).
+    pub fn buffer(&self, handle: BufferHandle) -> GraphResult<&wgpu::Buffer> {
+        let declared = self.pass.buffers.iter().any(|u| u.read.or(u.written).is_some_and(|h| h.id == handle.id));
+        let missing = |message: &str| GraphError::MissingResource { resource: format!("{handle:?}"), message: format!("{message} (pass `{}`)", self.pass.name) };
+        if !declared {
+            return Err(missing("the pass did not declare this buffer"));
+        }
+        self.buffers.get(handle.resource_index()).and_then(Option::as_ref).ok_or_else(|| missing("not bound this frame"))
+    }
+    /// The shader library of the executor (custom passes load their WGSL through it, so it is
+    /// validated and its includes expanded like every other shader).
+    pub fn shaders(&self) -> &crate::shader::ShaderLibrary {
+        self.shaders
+    }
+    /// Features of the device (e.g. whether 32-bit floats are filterable).
+    pub fn features(&self) -> wgpu::Features {
+        self.features
     }
     /// The concrete size of a texture this pass declared.
     pub fn extent(&self, handle: TextureHandle) -> GraphResult<Extent> {

@@ -192,8 +192,9 @@ pub struct GraphDecl {
 }
 
 impl GraphDecl {
-    /// Hash of the structure (resources, passes, uses, shaders), not of uniform contents:
-    /// two frames that only change uniforms share one compiled plan.
+    /// Hash of everything declared: resources, passes, uses, shaders and uniforms' initial
+    /// contents (so a changed parameter takes effect). Per-frame data goes through
+    /// `Executor::write_uniform` or an imported buffer and never changes the hash.
     pub fn structure_hash(&self) -> u64 {
         let mut h = std::collections::hash_map::DefaultHasher::new();
         self.resources.hash(&mut h);
@@ -201,7 +202,7 @@ impl GraphDecl {
             (&p.name, &p.kind, &p.textures, &p.buffers, &p.uniforms, p.side_effect).hash(&mut h);
         }
         for u in &self.uniforms {
-            (u.pass, &u.binding, u.initial.len()).hash(&mut h);
+            (u.pass, &u.binding, &u.initial).hash(&mut h);
         }
         self.errors.len().hash(&mut h);
         h.finish()

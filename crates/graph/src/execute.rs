@@ -20,7 +20,7 @@ use crate::pipeline::{create_pipeline, PassPipeline};
 use crate::pool::{PoolKey, PooledTexture, TexturePool};
 use crate::readback::{read_texture, TextureReadback};
 use crate::resource::{Extent, TextureAccess, TextureHandle};
-use crate::shader::ShaderBindingKind;
+use crate::shader::{ShaderBindingKind, ShaderLibrary};
 use crate::timing::{PassTimings, TimestampQueries, TimingSource};
 
 /// GPU objects that belong to one plan: pipelines, uniform buffers, transient buffers and
@@ -36,6 +36,7 @@ struct PlanState {
 /// Runs compiled plans on a device.
 pub struct Executor {
     gpu: Arc<GpuContext>,
+    shaders: Arc<ShaderLibrary>,
     pool: TexturePool,
     history: HistoryStore,
     imports: HashMap<String, BoundTexture>,
@@ -57,6 +58,13 @@ pub struct Executor {
 }
 
 impl Executor {
+    /// An executor whose custom passes load shaders from `shaders`.
+    pub fn with_shaders(gpu: Arc<GpuContext>, shaders: Arc<ShaderLibrary>) -> Self {
+        let mut e = Self::new(gpu);
+        e.shaders = shaders;
+        e
+    }
+
     pub fn new(gpu: Arc<GpuContext>) -> Self {
         let sampler = |filter| {
             gpu.device.create_sampler(&wgpu::SamplerDescriptor {
@@ -71,6 +79,7 @@ impl Executor {
         let (linear, nearest) = (sampler(wgpu::FilterMode::Linear), sampler(wgpu::FilterMode::Nearest));
         Self {
             gpu,
+            shaders: Arc::new(ShaderLibrary::inline_only()),
             pool: TexturePool::default(),
             history: HistoryStore::default(),
             imports: HashMap::new(),
@@ -129,6 +138,14 @@ impl Executor {
         let Some(desc) = r.texture_desc() else { return false };
         let key = PoolKey { format: desc.format, extent: desc.size.resolve(output), mip_levels: desc.mip_levels, usage: wgpu::TextureUsages::empty() };
         self.history.is_valid(name, &key)
+    }
+    /// Whether every history of `plan` will be valid in its next frame at `output` (what a
+    /// technique with one history writes into the view block's `frame.y`).
+    pub fn all_history_valid(&self, plan: &CompiledGraph, output: Extent) -> bool {
+        plan.decl.resources.iter().all(|r| match &r.origin {
+            ResourceOrigin::HistoryCurrent { history } => self.history_valid(plan, history, output),
+            _ => true,
+        })
     }
     /// Textures the pool holds (lent to the current frame or free). History and imported
     /// textures are not counted.
@@ -456,7 +473,7 @@ impl Executor {
                 }
             }
             (PassKind::Custom(custom), _) => {
-                let mut ctx = PassContext { device: &self.gpu.device, queue: &self.gpu.queue, encoder, output: self.output, pass, textures: &self.frame };
+                let mut ctx = PassContext { device: &self.gpu.device, queue: &self.gpu.queue, encoder, output: self.output, pass, textures: &self.frame, buffers: &self.frame_buffers, shaders: &self.shaders, features: self.gpu.features };
                 custom.record(&mut ctx)?;
             }
             _ => return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: "no pipeline could be created for this pass".into() }),

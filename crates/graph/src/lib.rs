@@ -13,6 +13,7 @@ mod declaration;
 mod dot;
 mod error;
 mod execute;
+mod gbuffer_channels;
 mod gpu;
 mod history;
 mod lifetime;
@@ -25,6 +26,7 @@ mod shader;
 mod shader_check;
 mod summary;
 mod timing;
+mod view;
 
 pub use builder::{GraphBuilder, HistoryTexture, PassBuilder};
 pub use compile::{compile, CompileOptions, CompiledGraph, CulledPass, GraphCompiler};
@@ -33,6 +35,7 @@ pub use declaration::{BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind
 pub use dot::to_dot;
 pub use error::{GraphError, GraphResult};
 pub use execute::Executor;
+pub use gbuffer_channels::{GBufferChannel, GBufferChannels, GBufferTextures};
 pub use gpu::{test_gpu, GpuContext};
 pub use lifetime::{texture_bytes, Lifetime, PhysicalTexture};
 pub use plugin::{check_range, parse_params, GraphConfig, GraphPlugin, OutputConfig, ParamSpec, PluginConfig, PluginIo, PluginRegistry};
@@ -42,4 +45,5 @@ pub use resource::{texel_bytes, Buffer, BufferAccess, BufferDesc, BufferHandle, 
 pub use shader::{ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo};
 pub use summary::summary;
 pub use timing::{PassTimings, TimingSource};
+pub use view::{Mat4Cols, ViewUniforms, VIEW_BUFFER};
 pub use wgpu;

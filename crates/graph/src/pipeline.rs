@@ -23,7 +23,7 @@ impl PassPipeline {
     }
 }
 
-fn binding_type(kind: &ShaderBindingKind, format: Option<wgpu::TextureFormat>, features: wgpu::Features) -> wgpu::BindingType {
+pub(crate) fn binding_type(kind: &ShaderBindingKind, format: Option<wgpu::TextureFormat>, features: wgpu::Features) -> wgpu::BindingType {
     match kind {
         ShaderBindingKind::SampledTexture { depth, scalar } => {
             let sample_type = match (depth, scalar) {

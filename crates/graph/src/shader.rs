@@ -60,6 +60,17 @@ impl ShaderModuleInfo {
     pub fn binding(&self, name: &str) -> Option<&ShaderBinding> {
         self.bindings.iter().find(|b| b.name == name)
     }
+    /// Bind group layout entries reflected from the module, by group, for passes that build
+    /// their own pipelines. `format_of` names the texture format bound to a global, which
+    /// decides whether a float texture is declared filterable.
+    pub fn layout_entries(&self, visibility: wgpu::ShaderStages, features: wgpu::Features, format_of: impl Fn(&str) -> Option<wgpu::TextureFormat>) -> Vec<(u32, Vec<wgpu::BindGroupLayoutEntry>)> {
+        let mut groups: std::collections::BTreeMap<u32, Vec<wgpu::BindGroupLayoutEntry>> = Default::default();
+        for b in &self.bindings {
+            let ty = crate::pipeline::binding_type(&b.kind, format_of(&b.name), features);
+            groups.entry(b.group).or_default().push(wgpu::BindGroupLayoutEntry { binding: b.binding, visibility, ty, count: None });
+        }
+        groups.into_iter().collect()
+    }
 }
 
 /// Loads shaders from a root directory (and inline sources registered by name), caching the

@@ -1,0 +1,1 @@
+//! Shared AO building blocks (subgraphs any technique composes).

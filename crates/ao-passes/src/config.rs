@@ -1,0 +1,124 @@
+//! The `[ao]` config section: which technique, the shared radius, the intermediate format and
+//! one `[ao.<technique>]` table of parameters per technique.
+//!
+//! Swapping techniques changes only `technique = "..."`; the other tables may stay. Unknown
+//! keys are rejected with the nearest valid key suggested.
+
+use std::collections::BTreeMap;
+
+use crate::error::{AoError, AoResult};
+use crate::registry::TechniqueRegistry;
+
+/// Default technique when the config names none.
+pub const DEFAULT_TECHNIQUE: &str = "pyramid-hbao";
+
+/// Format of intermediate AO textures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntermediateFormat {
+    R32Float,
+    R16Float,
+}
+
+impl IntermediateFormat {
+    pub fn wgpu(self) -> wgpu::TextureFormat {
+        match self {
+            Self::R32Float => wgpu::TextureFormat::R32Float,
+            Self::R16Float => wgpu::TextureFormat::R16Float,
+        }
+    }
+    pub fn parse(s: &str) -> AoResult<Self> {
+        match s {
+            "r32float" => Ok(Self::R32Float),
+            "r16float" => Ok(Self::R16Float),
+            _ => Err(AoError::Config(format!("intermediate_format = \"{s}\": allowed \"r32float\" or \"r16float\""))),
+        }
+    }
+}
+
+/// The parsed `[ao]` section.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AoConfig {
+    pub technique: String,
+    /// Shared world-space radius R (> 0).
+    pub radius: f32,
+    pub intermediate_format: IntermediateFormat,
+    /// `[ao.<technique>]` tables.
+    pub params: BTreeMap<String, toml::Table>,
+}
+
+impl Default for AoConfig {
+    fn default() -> Self {
+        Self { technique: DEFAULT_TECHNIQUE.into(), radius: 1.0, intermediate_format: IntermediateFormat::R32Float, params: BTreeMap::new() }
+    }
+}
+
+/// The candidate closest to `word` by edit distance, if any is reasonably close.
+pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    fn distance(a: &str, b: &str) -> usize {
+        let b: Vec<char> = b.chars().collect();
+        let mut row: Vec<usize> = (0..=b.len()).collect();
+        for (i, ca) in a.chars().enumerate() {
+            let mut prev = row[0];
+            row[0] = i + 1;
+            for (j, cb) in b.iter().enumerate() {
+                let cur = row[j + 1];
+                row[j + 1] = (prev + (ca != *cb) as usize).min(row[j] + 1).min(cur + 1);
+                prev = cur;
+            }
+        }
+        row[b.len()]
+    }
+    candidates.into_iter().map(|c| (distance(word, c), c)).filter(|(d, c)| *d <= (c.len().max(3) / 2).max(2)).min().map(|(_, c)| c)
+}
+
+/// "unknown key `x` in [section]; did you mean `y`? allowed: ..."
+pub fn unknown_key(section: &str, key: &str, allowed: &[&str]) -> String {
+    let hint = nearest(key, allowed.iter().copied()).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
+    format!("unknown key `{key}` in [{section}]{hint} (allowed: {})", allowed.join(", "))
+}
+
+impl AoConfig {
+    /// Parses an `[ao]` table and validates it against the registry (technique name, radius,
+    /// and every technique table that is present).
+    pub fn from_table(t: &toml::Table, registry: &TechniqueRegistry) -> AoResult<Self> {
+        let mut c = Self::default();
+        let names = registry.names();
+        for (k, v) in t {
+            match (k.as_str(), v) {
+                ("technique", toml::Value::String(s)) => c.technique = s.clone(),
+                ("technique", _) => return Err(AoError::Config("`technique` must be a string naming a technique".into())),
+                ("radius", v) => {
+                    c.radius = v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| AoError::Config("`radius` must be a number (world units)".into()))? as f32;
+                }
+                ("intermediate_format", toml::Value::String(s)) => c.intermediate_format = IntermediateFormat::parse(s)?,
+                (name, toml::Value::Table(params)) if names.iter().any(|n| n == name) => {
+                    c.params.insert(name.to_string(), params.clone());
+                }
+                (name, _) => {
+                    let mut allowed = vec!["technique", "radius", "intermediate_format"];
+                    allowed.extend(names.iter().map(String::as_str));
+                    return Err(AoError::Config(unknown_key("ao", name, &allowed)));
+                }
+            }
+        }
+        c.validate(registry)?;
+        Ok(c)
+    }
+
+    /// Checks the technique exists, the radius is usable and every technique table parses.
+    pub fn validate(&self, registry: &TechniqueRegistry) -> AoResult<()> {
+        registry.get(&self.technique)?;
+        if !(self.radius.is_finite() && self.radius > 0.0) {
+            return Err(AoError::InvalidParameter { technique: "ao".into(), name: "radius".into(), value: self.radius.to_string(), allowed: "a finite number greater than 0 (world units)".into() });
+        }
+        for (name, params) in &self.params {
+            registry.get(name)?.check(params)?;
+        }
+        Ok(())
+    }
+
+    /// Parameters of `technique` (empty: all defaults).
+    pub fn params_for(&self, technique: &str) -> toml::Table {
+        self.params.get(technique).cloned().unwrap_or_default()
+    }
+}

@@ -1,0 +1,141 @@
+//! The `AoTechnique` plugin interface.
+//!
+//! A technique is a typed parameter struct (serde, `deny_unknown_fields`, defaults from the
+//! paper), a validation with allowed ranges, the g-buffer channels it reads, and a build step
+//! that adds its passes to the graph and returns the accessibility texture (R32Float, full
+//! output size, 1 = unoccluded). [`DynAoTechnique`] is the object-safe face the registry holds;
+//! every typed technique gets it for free.
+
+use aograph_graph::{BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, ParamSpec, SizeClass, TextureDesc, TextureHandle};
+use serde::de::DeserializeOwned;
+use serde::Deserialize;
+use serde::Serialize;
+
+use crate::error::{AoError, AoResult};
+
+/// Format of every technique's accessibility output.
+pub const ACCESSIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// What a technique's build step sees.
+pub struct AoBuildContext<'a> {
+    pub builder: &'a mut GraphBuilder,
+    pub gbuffer: GBufferTextures,
+    /// The imported per-frame `View` uniform buffer (shaders/common/view.wgsl).
+    pub view: BufferHandle,
+    /// The shared world-space AO radius R.
+    pub radius: f32,
+    /// Format of intermediate AO textures (R32Float, or R16Float to save bandwidth).
+    pub intermediate_format: wgpu::TextureFormat,
+    /// Name of the technique being built, for error messages.
+    pub technique: &'static str,
+}
+
+impl AoBuildContext<'_> {
+    /// The g-buffer channel `c`, or an error naming the technique and the channel.
+    pub fn channel(&self, c: GBufferChannel) -> AoResult<TextureHandle> {
+        self.gbuffer.get(c).ok_or_else(|| AoError::MissingChannel { technique: self.technique.into(), channel: c.name().into() })
+    }
+    /// A new full-size accessibility texture.
+    pub fn accessibility_texture(&mut self, name: &str) -> TextureHandle {
+        self.builder.create_texture(name, TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL))
+    }
+    /// A new intermediate texture at `size` in the intermediate format.
+    pub fn intermediate(&mut self, name: &str, size: SizeClass) -> TextureHandle {
+        let f = self.intermediate_format;
+        self.builder.create_texture(name, TextureDesc::new(f, size))
+    }
+}
+
+/// What a technique produces.
+#[derive(Clone, Debug)]
+pub struct AoOutput {
+    /// Accessibility in [0, 1], 1 = unoccluded, full output size.
+    pub accessibility: TextureHandle,
+    /// Further named outputs (e.g. SSDO's radiance).
+    pub extra: Vec<(String, TextureHandle)>,
+}
+
+impl AoOutput {
+    pub fn new(accessibility: TextureHandle) -> Self {
+        Self { accessibility, extra: Vec::new() }
+    }
+}
+
+/// A technique with a typed parameter struct.
+pub trait AoTechnique: Send + Sync + 'static {
+    type Params: Serialize + DeserializeOwned + Default + Clone + std::fmt::Debug;
+    /// The registry name (`[ao] technique = "..."`).
+    fn name(&self) -> &'static str;
+    fn description(&self) -> &'static str;
+    /// Every parameter with its allowed range and meaning (defaults come from `Params`).
+    fn param_specs(&self) -> Vec<ParamSpec>;
+    fn validate(&self, params: &Self::Params) -> AoResult<()>;
+    /// The g-buffer channels the technique reads.
+    fn channels(&self, params: &Self::Params) -> GBufferChannels;
+    /// True when the technique keeps history between frames.
+    fn is_temporal(&self, _params: &Self::Params) -> bool {
+        false
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, params: &Self::Params) -> AoResult<AoOutput>;
+}
+
+/// The object-safe face of a technique, taking parameters as a TOML table.
+pub trait DynAoTechnique: Send + Sync {
+    fn name(&self) -> &'static str;
+    fn description(&self) -> &'static str;
+    /// Parameters with defaults filled in from the parameter struct.
+    fn parameters(&self) -> Vec<ParamSpec>;
+    /// Parses and validates `params` (unknown keys and out-of-range values are errors).
+    fn check(&self, params: &toml::Table) -> AoResult<()>;
+    fn channels(&self, params: &toml::Table) -> AoResult<GBufferChannels>;
+    fn is_temporal(&self, params: &toml::Table) -> AoResult<bool>;
+    fn build(&self, ctx: &mut AoBuildContext<'_>, params: &toml::Table) -> AoResult<AoOutput>;
+}
+
+fn parse<T: AoTechnique>(t: &T, params: &toml::Table) -> AoResult<T::Params> {
+    let p: T::Params = T::Params::deserialize(toml::Value::Table(params.clone())).map_err(|e| {
+        let allowed: Vec<&str> = t.param_specs().iter().map(|s| s.name).collect();
+        AoError::Config(format!("[ao.{}]: {} (parameters: {})", t.name(), e.to_string().trim(), allowed.join(", ")))
+    })?;
+    t.validate(&p)?;
+    Ok(p)
+}
+
+impl<T: AoTechnique> DynAoTechnique for T {
+    fn name(&self) -> &'static str {
+        AoTechnique::name(self)
+    }
+    fn description(&self) -> &'static str {
+        AoTechnique::description(self)
+    }
+    fn parameters(&self) -> Vec<ParamSpec> {
+        let defaults = toml::Value::try_from(T::Params::default()).ok();
+        self.param_specs()
+            .into_iter()
+            .map(|mut s| {
+                if let Some(v) = defaults.as_ref().and_then(|d| d.get(s.name)) {
+                    s.default = v.to_string();
+                }
+                s
+            })
+            .collect()
+    }
+    fn check(&self, params: &toml::Table) -> AoResult<()> {
+        parse(self, params).map(|_| ())
+    }
+    fn channels(&self, params: &toml::Table) -> AoResult<GBufferChannels> {
+        Ok(AoTechnique::channels(self, &parse(self, params)?))
+    }
+    fn is_temporal(&self, params: &toml::Table) -> AoResult<bool> {
+        Ok(AoTechnique::is_temporal(self, &parse(self, params)?))
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, params: &toml::Table) -> AoResult<AoOutput> {
+        let p = parse(self, params)?;
+        AoTechnique::build(self, ctx, &p)
+    }
+}
+
+/// A `ParamSpec` with the default left for [`DynAoTechnique::parameters`] to fill.
+pub fn spec(name: &'static str, allowed: &str, doc: &'static str) -> ParamSpec {
+    ParamSpec { name, default: String::new(), allowed: allowed.to_string(), doc }
+}

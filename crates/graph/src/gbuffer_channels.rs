@@ -1,0 +1,130 @@
+//! G-buffer channels: the small type the g-buffer node (aograph-scene) and the techniques
+//! (aograph-ao) share without depending on each other. A technique states which channels it
+//! reads; the g-buffer node writes only those.
+
+use crate::resource::TextureHandle;
+
+/// One g-buffer channel and its format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum GBufferChannel {
+    /// Hardware depth (Depth32Float), as rasterised.
+    Depth,
+    /// Linear view depth (R32Float), positive, in scene units; 0 marks sky.
+    LinearDepth,
+    /// View-space unit normals (Rgba16Float, xyz; w = 1 on geometry, 0 on sky).
+    Normals,
+    /// View-space positions (Rgba32Float, xyz; w = 1 on geometry, 0 on sky).
+    Positions,
+    /// Base colour (Rgba8Unorm).
+    Albedo,
+    /// Directly lit radiance: albedo * light * max(0, n.l), unshadowed (Rgba16Float).
+    DirectLight,
+    /// Screen-space motion to the previous frame in UV units (Rg32Float): prev_uv = uv + m.
+    Motion,
+}
+
+impl GBufferChannel {
+    pub const ALL: [GBufferChannel; 7] = [Self::Depth, Self::LinearDepth, Self::Normals, Self::Positions, Self::Albedo, Self::DirectLight, Self::Motion];
+    pub fn format(self) -> wgpu::TextureFormat {
+        use wgpu::TextureFormat as F;
+        match self {
+            Self::Depth => F::Depth32Float,
+            Self::LinearDepth => F::R32Float,
+            Self::Normals => F::Rgba16Float,
+            Self::Positions => F::Rgba32Float,
+            Self::Albedo => F::Rgba8Unorm,
+            Self::DirectLight => F::Rgba16Float,
+            Self::Motion => F::Rg32Float,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Depth => "depth",
+            Self::LinearDepth => "linear_depth",
+            Self::Normals => "normals",
+            Self::Positions => "positions",
+            Self::Albedo => "albedo",
+            Self::DirectLight => "direct_light",
+            Self::Motion => "motion",
+        }
+    }
+    fn bit(self) -> u8 {
+        1 << (self as u8)
+    }
+}
+
+/// A set of channels, plus whether normals are flat (face) normals.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct GBufferChannels {
+    bits: u8,
+    /// Normals are per-face (MSSAO needs them) rather than interpolated.
+    pub face_normals: bool,
+}
+
+impl GBufferChannels {
+    pub fn none() -> Self {
+        Self::default()
+    }
+    pub fn of(channels: &[GBufferChannel]) -> Self {
+        channels.iter().fold(Self::default(), |s, c| s.with(*c))
+    }
+    pub fn with(mut self, c: GBufferChannel) -> Self {
+        self.bits |= c.bit();
+        self
+    }
+    pub fn without(mut self, c: GBufferChannel) -> Self {
+        self.bits &= !c.bit();
+        self
+    }
+    pub fn with_face_normals(mut self) -> Self {
+        self.face_normals = true;
+        self.with(GBufferChannel::Normals)
+    }
+    pub fn contains(&self, c: GBufferChannel) -> bool {
+        self.bits & c.bit() != 0
+    }
+    pub fn union(self, o: Self) -> Self {
+        Self { bits: self.bits | o.bits, face_normals: self.face_normals || o.face_normals }
+    }
+    pub fn iter(&self) -> impl Iterator<Item = GBufferChannel> + '_ {
+        GBufferChannel::ALL.into_iter().filter(|c| self.contains(*c))
+    }
+}
+
+/// Handles of the channels a g-buffer node wrote (None for channels not requested).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GBufferTextures {
+    pub depth: Option<TextureHandle>,
+    pub linear_depth: Option<TextureHandle>,
+    pub normals: Option<TextureHandle>,
+    pub positions: Option<TextureHandle>,
+    pub albedo: Option<TextureHandle>,
+    pub direct_light: Option<TextureHandle>,
+    pub motion: Option<TextureHandle>,
+}
+
+impl GBufferTextures {
+    pub fn get(&self, c: GBufferChannel) -> Option<TextureHandle> {
+        match c {
+            GBufferChannel::Depth => self.depth,
+            GBufferChannel::LinearDepth => self.linear_depth,
+            GBufferChannel::Normals => self.normals,
+            GBufferChannel::Positions => self.positions,
+            GBufferChannel::Albedo => self.albedo,
+            GBufferChannel::DirectLight => self.direct_light,
+            GBufferChannel::Motion => self.motion,
+        }
+    }
+    pub fn set(&mut self, c: GBufferChannel, h: TextureHandle) {
+        let slot = match c {
+            GBufferChannel::Depth => &mut self.depth,
+            GBufferChannel::LinearDepth => &mut self.linear_depth,
+            GBufferChannel::Normals => &mut self.normals,
+            GBufferChannel::Positions => &mut self.positions,
+            GBufferChannel::Albedo => &mut self.albedo,
+            GBufferChannel::DirectLight => &mut self.direct_light,
+            GBufferChannel::Motion => &mut self.motion,
+        };
+        *slot = Some(h);
+    }
+}

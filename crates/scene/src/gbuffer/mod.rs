@@ -1,0 +1,66 @@
+//! The g-buffer node: a graph plugin that rasterises the scene and writes only the channels
+//! downstream passes requested (see `GBufferChannel`). Hardware depth is always rasterised
+//! (into a transient texture unless `Depth` is requested); every other channel exists only
+//! when asked for, so a depth-only technique's plan has no normal, colour or motion attachment.
+//! Motion vectors are requested only for scenes that move.
+
+mod raster;
+
+use std::sync::{Arc, Mutex};
+
+use aograph_graph::{BufferAccess, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, SizeClass, TextureDesc};
+
+use crate::model::Scene;
+pub use raster::GBufferRaster;
+
+/// Per-frame inputs of the g-buffer: scene time now and at the previous frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GBufferFrame {
+    pub time: f32,
+    pub prev_time: f32,
+}
+
+/// Shared handle to set the g-buffer's frame time from the render loop.
+#[derive(Clone, Default)]
+pub struct GBufferClock(Arc<Mutex<GBufferFrame>>);
+
+impl GBufferClock {
+    pub fn set(&self, frame: GBufferFrame) {
+        if let Ok(mut f) = self.0.lock() {
+            *f = frame;
+        }
+    }
+    pub fn get(&self) -> GBufferFrame {
+        self.0.lock().map(|f| *f).unwrap_or_default()
+    }
+}
+
+/// Which channels to write: what the consumers asked for, pruned by what the scene needs
+/// (a static scene gets no motion vectors: every motion would be zero).
+pub fn required_channels(requested: GBufferChannels, scene: &Scene) -> GBufferChannels {
+    if scene.is_static() { requested.without(GBufferChannel::Motion) } else { requested }
+}
+
+/// Declares the g-buffer pass. `view` is the imported `View` uniform buffer. Returns the
+/// handles of the channels written (others are `None`).
+pub fn add_gbuffer(builder: &mut GraphBuilder, scene: Arc<Scene>, channels: GBufferChannels, view: BufferHandle, clock: GBufferClock) -> GBufferTextures {
+    let mut out = GBufferTextures::default();
+    let depth_desc = TextureDesc::new(GBufferChannel::Depth.format(), SizeClass::FULL);
+    let depth = builder.create_texture(if channels.contains(GBufferChannel::Depth) { "gbuffer.depth" } else { "gbuffer.zbuffer" }, depth_desc);
+    let mut targets = Vec::new();
+    for c in channels.iter().filter(|c| *c != GBufferChannel::Depth) {
+        let h = builder.create_texture(&format!("gbuffer.{}", c.name()), TextureDesc::new(c.format(), SizeClass::FULL));
+        targets.push((c, h));
+    }
+    let raster = GBufferRaster::new(scene, channels, targets.clone(), depth, view, clock);
+    let mut pass = builder.custom_pass("gbuffer", raster);
+    pass.read_buffer("view", BufferAccess::Uniform, view);
+    let depth = pass.depth_attachment(depth);
+    for (c, h) in targets {
+        out.set(c, pass.color_attachment(h));
+    }
+    if channels.contains(GBufferChannel::Depth) {
+        out.depth = Some(depth);
+    }
+    out
+}

@@ -1,0 +1,53 @@
+// The per-frame view block (Rust mirror: aograph_graph::ViewUniforms). Right-handed view space,
+// camera looking down -Z, linear depth = -z_view > 0; linear depth 0 marks sky.
+struct View {
+    view: mat4x4<f32>,
+    proj: mat4x4<f32>,
+    inv_proj: mat4x4<f32>,
+    inv_view: mat4x4<f32>,
+    prev_view_proj: mat4x4<f32>,
+    view_to_prev_clip: mat4x4<f32>,
+    // width, height, 1/width, 1/height
+    viewport: vec4<f32>,
+    // near, far (0 = infinite), reversed_z, orthographic
+    near_far: vec4<f32>,
+    // frame index, history valid, camera cut, unused
+    frame: vec4<u32>,
+    // time, dt, unused, unused
+    time: vec4<f32>,
+}
+
+// Pixel centre of integer pixel `p` in UV (0..1, y down).
+fn pixel_uv(p: vec2<i32>, view: View) -> vec2<f32> {
+    return (vec2<f32>(p) + 0.5) * view.viewport.zw;
+}
+
+// View-space position of the surface at `uv` with linear depth `z` (> 0).
+fn view_position(uv: vec2<f32>, z: f32, view: View) -> vec3<f32> {
+    let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    if (view.near_far.w > 0.5) {
+        // Orthographic: x and y do not depend on depth.
+        let p = view.inv_proj * vec4<f32>(ndc, 0.5, 1.0);
+        return vec3<f32>(p.x / p.w, p.y / p.w, -z);
+    }
+    // Perspective: the ray through the pixel, scaled to depth z.
+    let p = view.inv_proj * vec4<f32>(ndc, 1.0, 1.0);
+    let dir = p.xyz / p.w;
+    return dir * (z / max(-dir.z, 1e-30));
+}
+
+// UV of a view-space point (y down).
+fn project_uv(p: vec3<f32>, view: View) -> vec2<f32> {
+    let c = view.proj * vec4<f32>(p, 1.0);
+    let ndc = c.xy / max(abs(c.w), 1e-30) * sign(c.w + 1e-30);
+    return vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+}
+
+// Pixels covered by a view-space length `r` at linear depth `z` (along the image's y axis).
+fn pixels_per_unit(z: f32, view: View) -> f32 {
+    let scale = view.proj[1][1] * 0.5 * view.viewport.y;
+    if (view.near_far.w > 0.5) {
+        return scale;
+    }
+    return scale / max(z, 1e-30);
+}

@@ -1,0 +1,88 @@
+//! The commands behind the `aograph` binary, callable from tests. Each resolves the config
+//! (file, then flags), does its work and prints where its files went.
+
+mod graph;
+mod reference;
+mod render;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use aograph_ao::TechniqueRegistry;
+use aograph_graph::GpuContext;
+
+pub use graph::graph;
+pub use reference::reference;
+pub use render::{render, RenderArgs};
+
+use crate::config::{check_size, AppConfig, SceneSource};
+use crate::error::{AppError, AppResult};
+
+/// Flags shared by several commands; each overrides the config file.
+#[derive(Clone, Debug, Default)]
+pub struct CommonArgs {
+    pub config: Option<PathBuf>,
+    pub scene: Option<String>,
+    pub technique: Option<String>,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub radius: Option<f32>,
+}
+
+impl CommonArgs {
+    /// The config file (or defaults) with the flags applied, validated.
+    pub fn resolve(&self, registry: &TechniqueRegistry) -> AppResult<AppConfig> {
+        let mut c = match &self.config {
+            Some(p) => AppConfig::load(p, registry)?,
+            None => AppConfig::default(),
+        };
+        if let Some(s) = &self.scene {
+            c.scene = SceneSource::parse(s);
+        }
+        if let Some(t) = &self.technique {
+            registry.get(t)?;
+            c.ao.technique = t.clone();
+        }
+        if let Some(w) = self.width {
+            check_size("--width", w)?;
+            c.width = w;
+        }
+        if let Some(h) = self.height {
+            check_size("--height", h)?;
+            c.height = h;
+        }
+        if let Some(r) = self.radius {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(AppError::InvalidArgument { name: "--radius".into(), value: r.to_string(), allowed: "a finite number greater than 0 (world units)".into() });
+            }
+            c.ao.radius = r;
+        }
+        c.validate(registry)?;
+        Ok(c)
+    }
+}
+
+/// The GPU, or an error that says how to get one.
+pub fn gpu() -> AppResult<Arc<GpuContext>> {
+    Ok(Arc::new(GpuContext::new()?))
+}
+
+/// `aograph techniques`.
+pub fn techniques() -> AppResult<()> {
+    let registry = TechniqueRegistry::with_builtins();
+    for t in registry.iter() {
+        println!("{}: {}", t.name(), t.description());
+        for p in t.parameters() {
+            println!("    {:<22} default {:<10} allowed {:<24} {}", p.name, p.default, p.allowed, p.doc);
+        }
+    }
+    Ok(())
+}
+
+/// `aograph scene export NAME FILE`.
+pub fn scene_export(name: &str, file: &std::path::Path) -> AppResult<()> {
+    let scene = aograph_scene::procedural_scene(name)?;
+    aograph_scene::export_glb(&scene, file)?;
+    println!("wrote {}", file.display());
+    Ok(())
+}

@@ -1,0 +1,183 @@
+//! The application config: one TOML schema (annotated in configs/reference.toml) covering the
+//! scene, output size, AO technique and parameters, and the reference. Unknown keys are
+//! rejected with the nearest valid key suggested; values are range-checked with the allowed
+//! range in the message. CLI flags override the file and are checked the same way.
+
+use std::path::{Path, PathBuf};
+
+use aograph_ao::{unknown_key, AoConfig, TechniqueRegistry};
+use aograph_scene::ReferenceMode;
+
+/// The scene rendered when none is given.
+pub const DEFAULT_SCENE: &str = "columns";
+
+use crate::error::{AppError, AppResult};
+
+/// Where the scene comes from: a procedural name or a glTF file.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SceneSource {
+    Procedural(String),
+    File(PathBuf),
+}
+
+impl SceneSource {
+    /// A name containing a path separator or ending in .gltf/.glb is a file; anything else is
+    /// a procedural scene name.
+    pub fn parse(s: &str) -> Self {
+        let lower = s.to_ascii_lowercase();
+        if lower.ends_with(".gltf") || lower.ends_with(".glb") || s.contains('/') || s.contains('\\') {
+            SceneSource::File(PathBuf::from(s))
+        } else {
+            SceneSource::Procedural(s.to_string())
+        }
+    }
+    pub fn label(&self) -> String {
+        match self {
+            SceneSource::Procedural(n) => n.clone(),
+            SceneSource::File(p) => p.display().to_string(),
+        }
+    }
+}
+
+/// Everything `aograph render` and friends need.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AppConfig {
+    pub scene: SceneSource,
+    pub width: u32,
+    pub height: u32,
+    pub ao: AoConfig,
+    pub reference_rays: u32,
+    pub reference_mode: ReferenceMode,
+    /// Frames to render (temporal techniques converge over frames).
+    pub frames: u32,
+    /// Seconds of scene time per frame (0 = a still frame).
+    pub frame_time: f32,
+}
+
+impl Default for AppConfig {
+    fn default() -> Self {
+        Self { scene: SceneSource::Procedural(DEFAULT_SCENE.into()), width: 1280, height: 720, ao: AoConfig::default(), reference_rays: 256, reference_mode: ReferenceMode::Binary, frames: 1, frame_time: 1.0 / 30.0 }
+    }
+}
+
+const TOP_KEYS: &[&str] = &["scene", "output", "ao", "reference", "render"];
+const SCENE_KEYS: &[&str] = &["name", "file"];
+const OUTPUT_KEYS: &[&str] = &["width", "height"];
+const REFERENCE_KEYS: &[&str] = &["rays", "mode"];
+const RENDER_KEYS: &[&str] = &["frames", "frame_time"];
+
+/// Largest output side accepted (wgpu's default 2D texture limit).
+pub const MAX_SIDE: u32 = 8192;
+
+fn err(path: &str, message: String) -> AppError {
+    AppError::Config { path: path.into(), message }
+}
+
+fn table<'a>(path: &str, v: &'a toml::Value, section: &str) -> AppResult<&'a toml::Table> {
+    v.as_table().ok_or_else(|| err(path, format!("[{section}] must be a table")))
+}
+
+fn uint(path: &str, key: &str, v: &toml::Value, lo: u32, hi: u32) -> AppResult<u32> {
+    let i = v.as_integer().ok_or_else(|| err(path, format!("`{key}` must be an integer")))?;
+    if i < lo as i64 || i > hi as i64 {
+        return Err(err(path, format!("`{key}` = {i} is out of range (allowed {lo} to {hi})")));
+    }
+    Ok(i as u32)
+}
+
+impl AppConfig {
+    /// Reads and validates a config file.
+    pub fn load(path: &Path, registry: &TechniqueRegistry) -> AppResult<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| AppError::io("read config", path, e))?;
+        Self::parse(&text, &path.display().to_string(), registry)
+    }
+
+    /// Parses config text; `path` names it in messages.
+    pub fn parse(text: &str, path: &str, registry: &TechniqueRegistry) -> AppResult<Self> {
+        let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| err(path, e.to_string().trim().to_string()))?;
+        let mut c = AppConfig::default();
+        for (k, v) in &doc {
+            match k.as_str() {
+                "scene" => {
+                    for (sk, sv) in table(path, v, "scene")? {
+                        let s = sv.as_str().ok_or_else(|| err(path, format!("[scene] `{sk}` must be a string")))?;
+                        c.scene = match sk.as_str() {
+                            "name" => SceneSource::Procedural(s.to_string()),
+                            "file" => SceneSource::File(resolve(path, s)),
+                            _ => return Err(err(path, unknown_key("scene", sk, SCENE_KEYS))),
+                        };
+                    }
+                }
+                "output" => {
+                    for (ok, ov) in table(path, v, "output")? {
+                        match ok.as_str() {
+                            "width" => c.width = uint(path, "width", ov, 1, MAX_SIDE)?,
+                            "height" => c.height = uint(path, "height", ov, 1, MAX_SIDE)?,
+                            _ => return Err(err(path, unknown_key("output", ok, OUTPUT_KEYS))),
+                        }
+                    }
+                }
+                "ao" => c.ao = AoConfig::from_table(table(path, v, "ao")?, registry).map_err(|e| err(path, e.to_string()))?,
+                "reference" => {
+                    for (rk, rv) in table(path, v, "reference")? {
+                        match rk.as_str() {
+                            "rays" => c.reference_rays = uint(path, "rays", rv, 1, 1 << 20)?,
+                            "mode" => c.reference_mode = parse_mode(rv.as_str().unwrap_or("")).map_err(|m| err(path, m))?,
+                            _ => return Err(err(path, unknown_key("reference", rk, REFERENCE_KEYS))),
+                        }
+                    }
+                }
+                "render" => {
+                    for (rk, rv) in table(path, v, "render")? {
+                        match rk.as_str() {
+                            "frames" => c.frames = uint(path, "frames", rv, 1, 1_000_000)?,
+                            "frame_time" => {
+                                let f = rv.as_float().or_else(|| rv.as_integer().map(|i| i as f64)).ok_or_else(|| err(path, "`frame_time` must be a number of seconds".into()))?;
+                                if !(f.is_finite() && (0.0..=10.0).contains(&f)) {
+                                    return Err(err(path, format!("`frame_time` = {f} is out of range (allowed 0 to 10 seconds)")));
+                                }
+                                c.frame_time = f as f32;
+                            }
+                            _ => return Err(err(path, unknown_key("render", rk, RENDER_KEYS))),
+                        }
+                    }
+                }
+                _ => return Err(err(path, unknown_key("top level", k, TOP_KEYS))),
+            }
+        }
+        Ok(c)
+    }
+
+    /// Checks values that flags may also set.
+    pub fn validate(&self, registry: &TechniqueRegistry) -> AppResult<()> {
+        check_size("--width", self.width)?;
+        check_size("--height", self.height)?;
+        self.ao.validate(registry)?;
+        Ok(())
+    }
+}
+
+/// Output sides must be 1..=MAX_SIDE.
+pub fn check_size(name: &str, v: u32) -> AppResult<()> {
+    if v == 0 || v > MAX_SIDE {
+        return Err(AppError::InvalidArgument { name: name.into(), value: v.to_string(), allowed: format!("1 to {MAX_SIDE} pixels") });
+    }
+    Ok(())
+}
+
+pub fn parse_mode(s: &str) -> Result<ReferenceMode, String> {
+    match s {
+        "binary" => Ok(ReferenceMode::Binary),
+        "obscurance" => Ok(ReferenceMode::Obscurance),
+        _ => Err(format!("reference mode `{s}` is not known (allowed: binary, obscurance)")),
+    }
+}
+
+/// A scene file path in a config is relative to the config file.
+fn resolve(config_path: &str, file: &str) -> PathBuf {
+    let p = PathBuf::from(file);
+    if p.is_absolute() {
+        return p;
+    }
+    Path::new(config_path).parent().map(|d| d.join(&p)).unwrap_or(p)
+}

@@ -1,0 +1,90 @@
+//! The frame graph aograph renders: the imported `View` block, the g-buffer (only the channels
+//! the technique and the requested outputs need), the chosen AO technique, and optionally the
+//! shading pass. Which channels exist is decided here, from the technique's declaration, the
+//! outputs asked for and the scene's traits.
+
+use std::sync::Arc;
+
+use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
+use aograph_graph::{BufferDesc, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle, ViewUniforms, VIEW_BUFFER};
+use aograph_scene::gbuffer::{add_gbuffer, required_channels, GBufferClock};
+use aograph_scene::Scene;
+
+use crate::error::AppResult;
+
+/// Which outputs besides accessibility a run wants.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameOutputs {
+    /// shaded.png: albedo * ambient * AO + direct light.
+    pub shaded: bool,
+    /// The g-buffer's view-space positions and normals, read back for the reference.
+    pub surfaces: bool,
+    /// Linear depth, read back (depth image, edge bands).
+    pub linear_depth: bool,
+}
+
+/// A declared frame graph and the handles a caller reads.
+pub struct FrameGraph {
+    pub decl: GraphDecl,
+    pub ao: TextureHandle,
+    pub shaded: Option<TextureHandle>,
+    pub gbuffer: GBufferTextures,
+    pub channels: GBufferChannels,
+    pub extra: Vec<(String, TextureHandle)>,
+    pub clock: GBufferClock,
+    pub temporal: bool,
+}
+
+/// Declares the whole frame for `scene` with the `[ao]` config.
+pub fn build_frame_graph(registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &AoConfig, outputs: FrameOutputs) -> AppResult<FrameGraph> {
+    let technique = registry.get(&ao.technique)?;
+    let params = ao.params_for(&ao.technique);
+    let mut requested = technique.channels(&params)?;
+    if outputs.shaded {
+        requested = requested.with(GBufferChannel::Albedo).with(GBufferChannel::DirectLight);
+    }
+    if outputs.surfaces {
+        requested = requested.with(GBufferChannel::Positions).with(GBufferChannel::Normals);
+    }
+    if outputs.linear_depth {
+        requested = requested.with(GBufferChannel::LinearDepth);
+    }
+    let channels = required_channels(requested, &scene);
+    let mut b = GraphBuilder::new();
+    let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+    let clock = GBufferClock::default();
+    let gbuffer = add_gbuffer(&mut b, scene.clone(), channels, view, clock.clone());
+    let mut ctx = AoBuildContext { builder: &mut b, gbuffer, view, radius: ao.radius, intermediate_format: ao.intermediate_format.wgpu(), technique: technique.name() };
+    let out = technique.build(&mut ctx, &params)?;
+    let temporal = technique.is_temporal(&params)?;
+    b.export(out.accessibility);
+    for (_, h) in &out.extra {
+        b.export(*h);
+    }
+    let shaded = if outputs.shaded { Some(add_shading(&mut b, &gbuffer, out.accessibility, &scene, view)?) } else { None };
+    if outputs.surfaces {
+        gbuffer.positions.into_iter().chain(gbuffer.normals).for_each(|h| b.export(h));
+    }
+    if outputs.linear_depth {
+        gbuffer.linear_depth.into_iter().for_each(|h| b.export(h));
+    }
+    Ok(FrameGraph { decl: b.build(), ao: out.accessibility, shaded, gbuffer, channels, extra: out.extra, clock, temporal })
+}
+
+/// shaded = albedo * ambient * accessibility + direct light, in sRGB-encoded 8-bit.
+fn add_shading(b: &mut GraphBuilder, g: &GBufferTextures, ao: TextureHandle, scene: &Scene, view: aograph_graph::BufferHandle) -> AppResult<TextureHandle> {
+    let (Some(albedo), Some(direct)) = (g.albedo, g.direct_light) else {
+        return Err(aograph_ao::AoError::MissingChannel { technique: "shading".into(), channel: "albedo/direct_light".into() }.into());
+    };
+    let out = b.create_texture("shaded", TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL));
+    let mut p = b.compute_pass("shade", "render/shade.wgsl", "main");
+    p.sample("albedo", albedo).sample("direct_light", direct).sample("ao", ao);
+    p.read_buffer("view", aograph_graph::BufferAccess::Uniform, view);
+    let a = scene.ambient;
+    let bytes: Vec<u8> = [a[0], a[1], a[2], 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+    p.uniform("ambient", &bytes);
+    let out = p.write_storage("shaded", out);
+    p.dispatch_over(out);
+    b.export(out);
+    Ok(out)
+}

@@ -1,0 +1,22 @@
+//! aograph's application layer: config, the frame graph (g-buffer + technique + shading), the
+//! renderer, image output and the commands behind the `aograph` binary.
+
+pub mod commands;
+pub mod config;
+pub mod error;
+pub mod frame_graph;
+pub mod images;
+pub mod renderer;
+
+pub use config::{AppConfig, SceneSource};
+pub use error::{AppError, AppResult};
+pub use frame_graph::{build_frame_graph, FrameGraph, FrameOutputs};
+pub use renderer::{shader_dir, shader_library, Renderer};
+
+/// Loads a scene by procedural name or glTF path.
+pub fn load_scene(source: &SceneSource) -> AppResult<aograph_scene::Scene> {
+    Ok(match source {
+        SceneSource::Procedural(name) => aograph_scene::procedural_scene(name)?,
+        SceneSource::File(path) => aograph_scene::load_scene(path)?,
+    })
+}

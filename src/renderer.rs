@@ -1,0 +1,170 @@
+//! Renders frames of a scene with one AO technique: owns the device, the executor and the
+//! compiled frame graph, writes the `View` block and the g-buffer clock each frame, and reads
+//! outputs back. Camera cuts and resizes invalidate history through the executor.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_graph::{CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphCompiler, PassTimings, ShaderLibrary, TextureHandle, VIEW_BUFFER};
+use aograph_scene::gbuffer::GBufferFrame;
+use aograph_scene::view_block::{view_uniforms, ViewFrame};
+use aograph_scene::{Camera, Scene, SurfaceBuffer};
+use glam::{Mat4, Vec3};
+
+use crate::error::{AppError, AppResult};
+use crate::frame_graph::{build_frame_graph, FrameGraph, FrameOutputs};
+
+/// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
+pub fn shader_dir() -> PathBuf {
+    std::env::var_os("AOGRAPH_SHADERS").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders")))
+}
+
+/// A shader library over [`shader_dir`].
+pub fn shader_library() -> Arc<ShaderLibrary> {
+    Arc::new(ShaderLibrary::new(shader_dir()))
+}
+
+/// One scene, one technique, frames on demand.
+pub struct Renderer {
+    pub gpu: Arc<GpuContext>,
+    pub exec: Executor,
+    pub plan: Arc<CompiledGraph>,
+    pub graph: FrameGraph,
+    pub scene: Arc<Scene>,
+    pub output: Extent,
+    view_buffer: wgpu::Buffer,
+    frame_index: u32,
+    prev: Option<(f32, Camera)>,
+    cut: bool,
+    time: f32,
+}
+
+impl Renderer {
+    pub fn new(gpu: Arc<GpuContext>, shaders: Arc<ShaderLibrary>, registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &AoConfig, outputs: FrameOutputs, output: Extent) -> AppResult<Self> {
+        Self::with_options(gpu, shaders, registry, scene, ao, outputs, output, CompileOptions::default())
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_options(gpu: Arc<GpuContext>, shaders: Arc<ShaderLibrary>, registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &AoConfig, outputs: FrameOutputs, output: Extent, options: CompileOptions) -> AppResult<Self> {
+        crate::config::check_size("width", output.width)?;
+        crate::config::check_size("height", output.height)?;
+        let graph = build_frame_graph(registry, scene.clone(), ao, outputs)?;
+        let plan = GraphCompiler::new().compile(graph.decl.clone(), &shaders, options)?;
+        let mut exec = Executor::with_shaders(gpu.clone(), shaders);
+        let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("view"),
+            size: std::mem::size_of::<aograph_graph::ViewUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
+        Ok(Self { gpu, exec, plan, graph, scene, output, view_buffer, frame_index: 0, prev: None, cut: false, time: 0.0 })
+    }
+
+    /// Marks a camera cut: the next frame starts with no history.
+    pub fn cut(&mut self) {
+        self.cut = true;
+        self.prev = None;
+        self.exec.reset_history();
+    }
+
+    /// Changes the output size (history is invalidated by the executor).
+    pub fn resize(&mut self, output: Extent) -> AppResult<()> {
+        crate::config::check_size("width", output.width)?;
+        crate::config::check_size("height", output.height)?;
+        self.output = output;
+        Ok(())
+    }
+
+    /// Renders the frame at scene time `time` (seconds).
+    pub fn render(&mut self, time: f32) -> AppResult<()> {
+        let camera = self.scene.camera_at(time);
+        self.render_with_camera(time, camera)
+    }
+
+    /// Renders the frame at `time` seen from `camera` (overriding the scene's camera path).
+    pub fn render_with_camera(&mut self, time: f32, camera: Camera) -> AppResult<()> {
+        let (prev_time, prev_camera) = self.prev.unwrap_or((time, camera));
+        let history_valid = self.exec.all_history_valid(&self.plan, self.output);
+        let view = view_uniforms(&ViewFrame {
+            camera,
+            prev_camera,
+            output: self.output,
+            frame_index: self.frame_index,
+            history_valid: history_valid && !self.cut,
+            camera_cut: self.cut,
+            time,
+            dt: time - prev_time,
+        });
+        self.gpu.queue.write_buffer(&self.view_buffer, 0, view.bytes());
+        self.graph.clock.set(GBufferFrame { time, prev_time });
+        self.exec.execute(&self.plan, self.output)?;
+        self.prev = Some((time, camera));
+        self.cut = false;
+        self.time = time;
+        self.frame_index = self.frame_index.wrapping_add(1);
+        Ok(())
+    }
+
+    fn read_channel(&self, h: Option<TextureHandle>, what: &str) -> AppResult<aograph_graph::TextureReadback> {
+        let h = h.ok_or_else(|| AppError::InvalidArgument { name: what.into(), value: "not requested".into(), allowed: "request it in FrameOutputs".into() })?;
+        Ok(self.exec.read_texture(&self.plan, h)?)
+    }
+
+    /// Accessibility of the last frame, row-major, top row first.
+    pub fn read_ao(&self) -> AppResult<Vec<f32>> {
+        Ok(self.read_channel(Some(self.graph.ao), "ao")?.channel(0)?)
+    }
+
+    /// An extra output of the technique (e.g. SSDO's radiance) as RGBA floats.
+    pub fn read_extra(&self, name: &str) -> AppResult<Vec<f32>> {
+        let h = self.graph.extra.iter().find(|(n, _)| n == name).map(|(_, h)| *h);
+        Ok(self.read_channel(h, name)?.to_f32()?)
+    }
+
+    /// shaded.png's pixels (RGBA8, sRGB-encoded).
+    pub fn read_shaded(&self) -> AppResult<Vec<u8>> {
+        Ok(self.read_channel(self.graph.shaded, "shaded")?.bytes)
+    }
+
+    /// Linear depth of the last frame (0 = sky).
+    pub fn read_linear_depth(&self) -> AppResult<Vec<f32>> {
+        Ok(self.read_channel(self.graph.gbuffer.linear_depth, "linear_depth")?.channel(0)?)
+    }
+
+    /// World-space points and normals of the last frame from the g-buffer, for the reference.
+    pub fn surfaces(&self) -> AppResult<SurfaceBuffer> {
+        let pos = self.read_channel(self.graph.gbuffer.positions, "positions")?.to_f32()?;
+        let nrm = self.read_channel(self.graph.gbuffer.normals, "normals")?.to_f32()?;
+        let inv_view: Mat4 = self.scene.camera_at(self.time).view().inverse();
+        let camera = self.prev.map(|(_, c)| c);
+        let inv_view = camera.map(|c| c.view().inverse()).unwrap_or(inv_view);
+        let n = (self.output.width * self.output.height) as usize;
+        let mut s = SurfaceBuffer { width: self.output.width, height: self.output.height, points: Vec::with_capacity(n), normals: Vec::with_capacity(n), valid: Vec::with_capacity(n) };
+        for i in 0..n {
+            let p = &pos[i * 4..i * 4 + 4];
+            let q = &nrm[i * 4..i * 4 + 4];
+            let valid = p[3] > 0.5;
+            s.points.push(inv_view.transform_point3(Vec3::new(p[0], p[1], p[2])));
+            s.normals.push(inv_view.transform_vector3(Vec3::new(q[0], q[1], q[2])).normalize_or_zero());
+            s.valid.push(valid);
+        }
+        Ok(s)
+    }
+
+    /// Per-pass times of the last frame.
+    pub fn timings(&mut self) -> AppResult<PassTimings> {
+        Ok(self.exec.timings()?.clone())
+    }
+
+    /// Scene time of the last rendered frame.
+    pub fn time(&self) -> f32 {
+        self.time
+    }
+
+    /// The camera of the last rendered frame.
+    pub fn camera(&self) -> Camera {
+        self.prev.map(|(_, c)| c).unwrap_or_else(|| self.scene.camera_at(self.time))
+    }
+}
