@@ -12,7 +12,7 @@ use aograph_ao::TechniqueRegistry;
 use aograph_graph::GpuContext;
 
 pub use graph::graph;
-pub use reference::reference;
+pub use reference::{reference, trace_for};
 pub use render::{render, RenderArgs};
 
 use crate::config::{check_size, AppConfig, SceneSource};
