@@ -94,7 +94,13 @@ impl GraphBuilder {
         p.use_texture(None, TextureAccess::CopyDst, dst, None).unwrap_or(dst)
     }
     /// Reopens a declared pass to add uses (passes may be declared before their inputs exist).
+    /// A `PassId` of another graph is recorded as an error (reported by compile) and gets a
+    /// stand-in pass, so misuse never panics.
     pub fn pass(&mut self, id: PassId) -> PassBuilder<'_> {
+        if id.0 >= self.decl.passes.len() {
+            self.decl.errors.push(GraphError::InvalidPass { pass: format!("#{}", id.0), message: "this pass id does not belong to this graph".into() });
+            return self.add_pass(&format!("invalid pass #{}", id.0), PassKind::Custom(Arc::new(crate::custom::NoopPass)));
+        }
         PassBuilder { graph: self, id }
     }
 

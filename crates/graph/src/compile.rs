@@ -296,27 +296,26 @@ fn needed_passes(decl: &GraphDecl, g: &DiGraph<PassId, bool>, nodes: &[NodeIndex
 }
 
 /// Kahn's algorithm taking the lowest declaration index first: a topological order that keeps
-/// declaration order wherever the edges allow.
+/// declaration order wherever the edges allow. It runs over all passes and emits the kept ones:
+/// a culled pass still relays ordering (a reader of version v must precede a kept writer of
+/// v+2 when the writer of v+1 is culled).
 fn stable_order(g: &DiGraph<PassId, bool>, nodes: &[NodeIndex], kept: &[bool]) -> Vec<PassId> {
     let n = nodes.len();
     let mut indegree = vec![0usize; n];
     for e in g.raw_edges() {
-        let (a, b) = (g[e.source()].0, g[e.target()].0);
-        if kept[a] && kept[b] {
-            indegree[b] += 1;
-        }
+        indegree[g[e.target()].0] += 1;
     }
-    let mut ready: BinaryHeap<Reverse<usize>> = (0..n).filter(|&i| kept[i] && indegree[i] == 0).map(Reverse).collect();
+    let mut ready: BinaryHeap<Reverse<usize>> = (0..n).filter(|&i| indegree[i] == 0).map(Reverse).collect();
     let mut order = Vec::with_capacity(n);
     while let Some(Reverse(i)) = ready.pop() {
-        order.push(PassId(i));
+        if kept[i] {
+            order.push(PassId(i));
+        }
         for m in g.neighbors(nodes[i]) {
             let j = g[m].0;
-            if kept[j] {
-                indegree[j] -= 1;
-                if indegree[j] == 0 {
-                    ready.push(Reverse(j));
-                }
+            indegree[j] -= 1;
+            if indegree[j] == 0 {
+                ready.push(Reverse(j));
             }
         }
     }

@@ -192,3 +192,36 @@ fn compute_and_fullscreen_passes_get_their_reflected_shader() {
     assert_eq!(plan.shaders[1].as_ref().map(|s| s.name.as_str()), Some("show.wgsl"));
     assert!(plan.shaders[2].is_none(), "custom passes have no shader");
 }
+
+#[test]
+fn reader_of_old_version_runs_before_a_later_kept_overwrite_when_the_next_writer_is_culled() {
+    // w1 writes v1, w2 overwrites it (v2, culled: w3 overwrites again), w3 writes v3 (exported).
+    // `late` is declared last but reads v1: it must run before w3 although its direct
+    // write-after-read successor w2 is culled.
+    let mut b = GraphBuilder::new();
+    let t = b.create_texture("t", desc());
+    let v1 = b.custom_pass("w1", NoopPass).write_storage("out", t);
+    let v2 = b.custom_pass("w2", NoopPass).write_storage("out", v1);
+    let v3 = b.custom_pass("w3", NoopPass).write_storage("out", v2);
+    b.custom_pass("late", NoopPass).sample("old", v1).side_effect();
+    b.export(v3);
+    let plan = compile_ok(b);
+    assert_eq!(plan.culled_names(), vec!["w2"]);
+    assert_eq!(plan.pass_names(), vec!["w1", "late", "w3"]);
+}
+
+#[test]
+fn in_place_update_after_culled_overwrites_still_follows_the_stale_reader() {
+    // Like above but the kept overwrite is an in-place update of a culled pass's version chain.
+    let mut b = GraphBuilder::new();
+    let t = b.create_texture("t", desc());
+    let v1 = b.custom_pass("w1", NoopPass).write_storage("out", t);
+    let v2 = b.custom_pass("w2", NoopPass).write_storage("out", v1);
+    let v3 = b.custom_pass("w3", NoopPass).write_storage("out", v2);
+    let v4 = b.custom_pass("rw", NoopPass).read_write_storage("rw", v3);
+    b.custom_pass("late", NoopPass).sample("old", v1).side_effect();
+    b.export(v4);
+    let plan = compile_ok(b);
+    assert_eq!(plan.culled_names(), vec!["w2"]);
+    assert_eq!(plan.pass_names(), vec!["w1", "late", "w3", "rw"]);
+}

@@ -252,3 +252,19 @@ fn dispatch_over_uses_the_size_class_and_mip_written() {
         other => panic!("expected compute, got {other:?}"),
     }
 }
+
+#[test]
+fn first_mip_write_of_a_fresh_transient_reads_nothing_but_of_an_import_keeps_it() {
+    let mut b = GraphBuilder::new();
+    let t = b.create_texture("fresh", rgba(SizeClass::FULL).with_mips(3));
+    let imp = b.import_texture("imported", rgba(SizeClass::FULL).with_mips(3));
+    {
+        let mut p = b.custom_pass("p", NoopPass);
+        p.write_storage_mip("a", t, 0);
+        p.write_storage_mip("b", imp, 1);
+    }
+    let decl = b.build();
+    let uses = &decl.passes[0].textures;
+    assert_eq!(uses[0].read, None, "version 0 of a transient holds nothing to keep");
+    assert_eq!(uses[1].read, Some(imp), "other mips of an import are kept, so it is read");
+}
