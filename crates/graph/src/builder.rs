@@ -28,6 +28,11 @@ impl GraphBuilder {
     pub fn new() -> Self {
         Self::default()
     }
+    /// Continues declaring on top of an existing declaration (e.g. to add user passes after a
+    /// frame graph built elsewhere); its handles stay valid.
+    pub fn from_decl(decl: GraphDecl) -> Self {
+        Self { decl }
+    }
 
     fn add_resource(&mut self, name: &str, kind: ResourceKind, origin: ResourceOrigin) -> u32 {
         self.decl.resources.push(ResourceDecl { name: name.to_string(), kind, origin, exported: false, writers: Vec::new() });
