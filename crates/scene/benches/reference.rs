@@ -1,0 +1,58 @@
+//! Ray throughput of the CPU reference on the default `columns` scene.
+//!
+//! Measures one reference tile (default 128x128 pixels x 64 rays, binary mode, R = 1) and
+//! reports rays per second (criterion's "elements/s"; only rays from valid, non-sky pixels are
+//! counted). Change the tile with AOGRAPH_BENCH_SIZE (pixels per side) and AOGRAPH_BENCH_RAYS.
+//! A full 512x512 x 256 run is the ignored test `columns_full_resolution_throughput`.
+
+use aograph_scene::reference::ProgressMode;
+use aograph_scene::{
+    ReferenceMode, ReferenceParams, TriangleBvh, primary_hits, procedural_scene, trace_reference,
+};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use std::hint::black_box;
+
+fn env_u32(name: &str, default: u32) -> u32 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .filter(|&v| v > 0)
+        .unwrap_or(default)
+}
+
+fn reference_throughput(c: &mut Criterion) {
+    let size = env_u32("AOGRAPH_BENCH_SIZE", 128);
+    let rays = env_u32("AOGRAPH_BENCH_RAYS", 64);
+    let scene = procedural_scene("columns").expect("columns is a built-in scene");
+    let triangles = scene.world_triangles(0.0);
+    let bvh = TriangleBvh::new(&triangles);
+    let surfaces = primary_hits(&scene, &scene.camera, size, size, 0.0);
+    let params = ReferenceParams {
+        radius: 1.0,
+        rays_per_pixel: rays,
+        mode: ReferenceMode::Binary,
+        progress: ProgressMode::Never,
+    };
+    let mut group = c.benchmark_group("reference");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(
+        surfaces.valid_count() as u64 * u64::from(rays),
+    ));
+    group.bench_function(format!("columns_{size}x{size}x{rays}_binary"), |b| {
+        b.iter(|| trace_reference(black_box(&bvh), black_box(&surfaces), &params))
+    });
+    let obscurance = ReferenceParams {
+        mode: ReferenceMode::Obscurance,
+        ..params
+    };
+    group.bench_function(format!("columns_{size}x{size}x{rays}_obscurance"), |b| {
+        b.iter(|| trace_reference(black_box(&bvh), black_box(&surfaces), &obscurance))
+    });
+    group.finish();
+    c.bench_function("bvh_build_columns", |b| {
+        b.iter(|| TriangleBvh::new(black_box(&triangles)))
+    });
+}
+
+criterion_group!(benches, reference_throughput);
+criterion_main!(benches);

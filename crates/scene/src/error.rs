@@ -1,0 +1,105 @@
+//! The crate's one error type, [`SceneError`].
+//!
+//! Invariant: every variant that comes from a file names that file, and every message says what
+//! is wrong in words a user can act on (which file, which mesh or vertex, which parameter and the
+//! allowed range). Nothing in this crate panics on user input; it returns one of these instead.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong when loading, building, exporting or ray tracing a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file does not exist.
+    #[error("scene file {path} does not exist (check the path and the working directory)")]
+    MissingFile { path: PathBuf },
+
+    /// Reading or writing a file failed for a reason other than its absence.
+    #[error("could not {action} {path}: {source}")]
+    Io {
+        action: &'static str,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// The glTF JSON could not be parsed.
+    #[error("{path} is not valid glTF JSON: {message}")]
+    MalformedJson { path: PathBuf, message: String },
+
+    /// The file parsed but breaks the glTF 2.0 rules (bad .glb header, dangling index, ...).
+    #[error("{path} is not a valid glTF 2.0 file: {message}")]
+    InvalidGltf { path: PathBuf, message: String },
+
+    /// An external buffer (.bin) the glTF refers to could not be found.
+    #[error(
+        "{path} refers to buffer file \"{uri}\", which does not exist at {resolved} \
+         (copy the .bin file next to the .gltf)"
+    )]
+    MissingBuffer {
+        path: PathBuf,
+        uri: String,
+        resolved: PathBuf,
+    },
+
+    /// A vertex position is NaN or infinite.
+    #[error(
+        "{path}: mesh \"{mesh}\" has a non-finite (NaN or infinite) position at vertex {vertex}"
+    )]
+    NonFiniteVertex {
+        path: PathBuf,
+        mesh: String,
+        vertex: usize,
+    },
+
+    /// The file holds no triangle at all, so there is nothing to render.
+    #[error(
+        "{path} contains no triangles (its scene has no triangle meshes; points and lines are \
+         skipped)"
+    )]
+    EmptyScene { path: PathBuf },
+
+    /// A procedural scene name that is not in the registry.
+    #[error("unknown procedural scene \"{name}\"; known scenes: {known}")]
+    UnknownScene { name: String, known: String },
+
+    /// A numeric parameter outside its allowed range.
+    #[error("invalid parameter {name} = {value}: must be {allowed}")]
+    InvalidParameter {
+        name: &'static str,
+        value: String,
+        allowed: &'static str,
+    },
+
+    /// Per-pixel input buffers whose lengths do not match the image size.
+    #[error("{what} has {actual} entries but the image is {width}x{height} ({expected} pixels)")]
+    InputSizeMismatch {
+        what: &'static str,
+        width: u32,
+        height: u32,
+        expected: usize,
+        actual: usize,
+    },
+
+    /// A raw reference image file that is truncated or not in the AOREF32 format.
+    #[error("{path} is not a valid AOREF32 reference image: {reason}")]
+    BadReferenceFile { path: PathBuf, reason: String },
+
+    /// PNG encoding failed.
+    #[error("could not write PNG {path}: {message}")]
+    Png { path: PathBuf, message: String },
+}
+
+impl SceneError {
+    /// An [`SceneError::Io`] for `path`, with `action` such as "read" or "write".
+    pub(crate) fn io(
+        action: &'static str,
+        path: impl Into<PathBuf>,
+        source: std::io::Error,
+    ) -> Self {
+        SceneError::Io {
+            action,
+            path: path.into(),
+            source,
+        }
+    }
+}

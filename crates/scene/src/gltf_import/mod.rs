@@ -1,0 +1,392 @@
+//! glTF 2.0 import: `.gltf` (embedded base64 or external buffers) and `.glb` into a [`Scene`].
+//!
+//! What is read: the default scene (else the first; else every root node), the node hierarchy
+//! with parent transforms accumulated, triangle primitives (positions, normals, indices or
+//! none), base colour factors, the first camera node met in a depth-first walk (its world
+//! transform places the camera), and translation/rotation/scale node animations of the first
+//! clip (as instance and camera animations).
+//! What is not: images and textures (never loaded; missing image files only cause a warning,
+//! since AO needs no textures), skinning (skinned meshes are placed in their bind pose by their
+//! node's transform), morph targets, lights. Non-triangle primitives (points, lines, line loops,
+//! line strips) are skipped with a warning; triangle strips and fans are converted to lists.
+//! Warnings go to stderr from [`load_scene`]; [`import_gltf`] returns them instead.
+//! Without a camera in the file, the camera frames the scene's bounding box (see
+//! [`Camera::framing`]). Invariant: a returned scene has at least one triangle, finite
+//! positions and in-range indices; anything else is a [`SceneError`] naming the file.
+
+mod accessor_check;
+mod buffers;
+mod node_animation;
+mod primitive_reader;
+
+use crate::animation::{AnimatedTransform, Animation, TrsKeyframes};
+use crate::camera::{Camera, CameraMotion, Projection};
+use crate::error::SceneError;
+use crate::model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, Scene};
+use glam::{Mat4, Vec3};
+use primitive_reader::PrimitiveOutcome;
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+/// A scene read from a glTF file and the warnings met on the way.
+#[derive(Clone, Debug)]
+pub struct GltfImport {
+    pub scene: Scene,
+    /// Things skipped or approximated, one sentence each (without the file name).
+    pub warnings: Vec<String>,
+}
+
+/// Loads a glTF 2.0 file (`.gltf` or `.glb`), printing warnings to stderr.
+pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+    let path = path.as_ref();
+    let import = import_gltf(path)?;
+    for warning in &import.warnings {
+        eprintln!("warning: {}: {warning}", path.display());
+    }
+    Ok(import.scene)
+}
+
+/// Upper bound on instances made by walking the node graph (guards against malicious files
+/// where nodes are shared by many parents).
+const MAX_INSTANCES: usize = 1_000_000;
+
+/// Loads a glTF 2.0 file and returns the scene with its warnings.
+pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
+    let path = path.as_ref();
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(SceneError::MissingFile {
+                path: path.to_owned(),
+            });
+        }
+        Err(e) => return Err(SceneError::io("read", path, e)),
+    };
+    // Validation happens in `from_json`, after a check of the one index gltf-json 1.4's
+    // validator dereferences without a bounds check (it would panic on a bad POSITION index).
+    let unvalidated =
+        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
+    check_attribute_indices(path, unvalidated.document.as_json())?;
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(unvalidated.document.into_json())
+            .map_err(|e| parse_error(path, e))?,
+        blob: unvalidated.blob,
+    };
+    let buffers = buffers::load_buffers(path, &gltf.document, gltf.blob.clone())?;
+    let mut warnings = Vec::new();
+    let missing = buffers::missing_images(path, &gltf.document);
+    if !missing.is_empty() {
+        warnings.push(format!(
+            "{} referenced image file(s) not found ({}); AO needs no textures, continuing",
+            missing.len(),
+            missing.join(", ")
+        ));
+    }
+    let (animated_nodes, animation_warnings) =
+        node_animation::read_node_animations(&gltf.document, &buffers);
+    warnings.extend(animation_warnings);
+
+    let mut walk = NodeWalk {
+        path,
+        buffers: &buffers,
+        animated_nodes: &animated_nodes,
+        materials: gltf
+            .document
+            .materials()
+            .map(|m| Material {
+                base_color: m.pbr_metallic_roughness().base_color_factor(),
+            })
+            .collect(),
+        default_material: None,
+        meshes: Vec::new(),
+        mesh_map: HashMap::new(),
+        instances: Vec::new(),
+        camera: None,
+        warnings,
+        node_count: gltf.document.nodes().count(),
+    };
+    let roots: Vec<gltf::Node<'_>> = match gltf
+        .document
+        .default_scene()
+        .or_else(|| gltf.document.scenes().next())
+    {
+        Some(scene) => scene.nodes().collect(),
+        None => root_nodes(&gltf.document),
+    };
+    for root in roots {
+        walk.visit(&root, &[], 0)?;
+    }
+
+    let NodeWalk {
+        meshes,
+        instances,
+        materials,
+        camera,
+        warnings,
+        ..
+    } = walk;
+    let mut scene = Scene {
+        meshes,
+        materials,
+        instances,
+        // Replaced below, once the bounds are known.
+        camera: Camera::framing(&crate::bounds::Aabb::EMPTY),
+        camera_motion: None,
+        light: DirectionalLight::default(),
+        ambient: DEFAULT_AMBIENT,
+    };
+    if scene.triangle_count() == 0 {
+        return Err(SceneError::EmptyScene {
+            path: path.to_owned(),
+        });
+    }
+    match camera {
+        Some((camera, motion)) => {
+            scene.camera = camera;
+            scene.camera_motion = motion;
+        }
+        None => scene.camera = Camera::framing(&scene.bounds()),
+    }
+    Ok(GltfImport { scene, warnings })
+}
+
+/// Maps a gltf parse error to the matching [`SceneError`].
+fn parse_error(path: &Path, error: gltf::Error) -> SceneError {
+    let path = path.to_owned();
+    match error {
+        gltf::Error::Deserialize(e) => SceneError::MalformedJson {
+            path,
+            message: e.to_string(),
+        },
+        gltf::Error::Validation(errors) => {
+            let shown: Vec<String> = errors
+                .iter()
+                .take(5)
+                .map(|(json_path, e)| format!("{json_path}: {e}"))
+                .collect();
+            let more = errors.len().saturating_sub(shown.len());
+            let suffix = if more > 0 {
+                format!(" (and {more} more)")
+            } else {
+                String::new()
+            };
+            SceneError::InvalidGltf {
+                path,
+                message: format!("{}{suffix}", shown.join("; ")),
+            }
+        }
+        gltf::Error::Binary(e) => SceneError::InvalidGltf {
+            path,
+            message: format!("bad .glb container: {e}"),
+        },
+        other => SceneError::InvalidGltf {
+            path,
+            message: other.to_string(),
+        },
+    }
+}
+
+/// Every mesh attribute must name an existing accessor.
+fn check_attribute_indices(path: &Path, root: &gltf::json::Root) -> Result<(), SceneError> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for index in primitive.attributes.values() {
+                if index.value() >= root.accessors.len() {
+                    return Err(SceneError::InvalidGltf {
+                        path: path.to_owned(),
+                        message: format!(
+                            "mesh {m} primitive {p} refers to accessor {}, but the file has {}",
+                            index.value(),
+                            root.accessors.len()
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Nodes that are nobody's child (used when the file has no scene).
+fn root_nodes(document: &gltf::Document) -> Vec<gltf::Node<'_>> {
+    let mut is_child = vec![false; document.nodes().count()];
+    for node in document.nodes() {
+        for child in node.children() {
+            if let Some(flag) = is_child.get_mut(child.index()) {
+                *flag = true;
+            }
+        }
+    }
+    document
+        .nodes()
+        .filter(|n| !is_child.get(n.index()).copied().unwrap_or(false))
+        .collect()
+}
+
+/// One entry of the path from a root to a node: its local transform, animated or not.
+#[derive(Clone)]
+enum ChainLink {
+    Static(Mat4),
+    Animated(TrsKeyframes),
+}
+
+/// Parent-first chain of local transforms as an [`Animation`] if any link moves (adjacent
+/// static links are multiplied together), else the fixed world matrix.
+fn chain_transform(chain: &[ChainLink]) -> Result<Animation, Mat4> {
+    let mut layers = Vec::new();
+    let mut fixed = Mat4::IDENTITY;
+    for link in chain {
+        match link {
+            ChainLink::Static(m) => fixed *= *m,
+            ChainLink::Animated(keys) => {
+                if fixed != Mat4::IDENTITY {
+                    layers.push(AnimatedTransform::Static(fixed));
+                }
+                fixed = Mat4::IDENTITY;
+                layers.push(AnimatedTransform::Keyframes(keys.clone()));
+            }
+        }
+    }
+    if layers.is_empty() {
+        return Err(fixed);
+    }
+    if fixed != Mat4::IDENTITY {
+        layers.push(AnimatedTransform::Static(fixed));
+    }
+    Ok(Animation::new(layers))
+}
+
+/// State of the depth-first walk over the node hierarchy.
+struct NodeWalk<'a> {
+    path: &'a Path,
+    buffers: &'a [gltf::buffer::Data],
+    animated_nodes: &'a BTreeMap<usize, TrsKeyframes>,
+    materials: Vec<Material>,
+    default_material: Option<usize>,
+    meshes: Vec<Mesh>,
+    /// glTF mesh index -> indices of the meshes made from its primitives.
+    mesh_map: HashMap<usize, Vec<usize>>,
+    instances: Vec<Instance>,
+    camera: Option<(Camera, Option<CameraMotion>)>,
+    warnings: Vec<String>,
+    node_count: usize,
+}
+
+impl NodeWalk<'_> {
+    fn invalid(&self, message: String) -> SceneError {
+        SceneError::InvalidGltf {
+            path: self.path.to_owned(),
+            message,
+        }
+    }
+
+    fn visit(
+        &mut self,
+        node: &gltf::Node<'_>,
+        parents: &[ChainLink],
+        depth: usize,
+    ) -> Result<(), SceneError> {
+        if depth > self.node_count {
+            return Err(self.invalid(format!(
+                "the node hierarchy has a cycle through node {}",
+                node.index()
+            )));
+        }
+        let mut chain = parents.to_vec();
+        chain.push(match self.animated_nodes.get(&node.index()) {
+            Some(keys) => ChainLink::Animated(keys.clone()),
+            None => ChainLink::Static(Mat4::from_cols_array_2d(&node.transform().matrix())),
+        });
+        if let Some(mesh) = node.mesh() {
+            let meshes = self.meshes_of(&mesh)?;
+            if self.instances.len() + meshes.len() > MAX_INSTANCES {
+                return Err(self.invalid(format!(
+                    "the node hierarchy makes more than {MAX_INSTANCES} mesh instances"
+                )));
+            }
+            for index in meshes {
+                self.instances.push(match chain_transform(&chain) {
+                    Ok(animation) => Instance::animated(index, animation),
+                    Err(matrix) => Instance::fixed(index, matrix),
+                });
+            }
+        }
+        if let (None, Some(camera)) = (&self.camera, node.camera()) {
+            self.camera = Some(camera_from_node(&camera, &chain));
+        }
+        for child in node.children() {
+            self.visit(&child, &chain, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    /// Indices of the scene meshes made from glTF mesh `mesh`, reading it on first use.
+    fn meshes_of(&mut self, mesh: &gltf::Mesh<'_>) -> Result<Vec<usize>, SceneError> {
+        if let Some(known) = self.mesh_map.get(&mesh.index()) {
+            return Ok(known.clone());
+        }
+        let name = mesh
+            .name()
+            .map_or_else(|| format!("mesh {}", mesh.index()), str::to_owned);
+        let mut made = Vec::new();
+        for primitive in mesh.primitives() {
+            let material = match primitive.material().index() {
+                Some(i) if i < self.materials.len() => i,
+                _ => *self.default_material.get_or_insert_with(|| {
+                    self.materials.push(Material::default());
+                    self.materials.len() - 1
+                }),
+            };
+            match primitive_reader::read_primitive(
+                self.path,
+                self.buffers,
+                &name,
+                &primitive,
+                material,
+            )? {
+                PrimitiveOutcome::Mesh(m) => {
+                    self.meshes.push(m);
+                    made.push(self.meshes.len() - 1);
+                }
+                PrimitiveOutcome::Skipped(reason) => self.warnings.push(reason),
+            }
+        }
+        self.mesh_map.insert(mesh.index(), made.clone());
+        Ok(made)
+    }
+}
+
+/// The scene camera for a glTF camera at the end of `chain`.
+fn camera_from_node(
+    camera: &gltf::Camera<'_>,
+    chain: &[ChainLink],
+) -> (Camera, Option<CameraMotion>) {
+    let projection = match camera.projection() {
+        gltf::camera::Projection::Perspective(p) => Projection::Perspective {
+            fov_y: p.yfov(),
+            near: p.znear(),
+            far: p.zfar().unwrap_or(f32::INFINITY),
+            reversed_z_infinite: p.zfar().is_none(),
+        },
+        gltf::camera::Projection::Orthographic(o) => Projection::Orthographic {
+            height: 2.0 * o.ymag().abs(),
+            near: o.znear(),
+            far: o.zfar(),
+        },
+    };
+    let base = Camera {
+        position: Vec3::ZERO,
+        target: Vec3::NEG_Z,
+        up: Vec3::Y,
+        projection,
+    };
+    let (animation, motion) = match chain_transform(chain) {
+        Ok(animation) => (animation.clone(), Some(CameraMotion::Node(animation))),
+        Err(matrix) => (
+            Animation::new(vec![AnimatedTransform::Static(matrix)]),
+            None,
+        ),
+    };
+    let camera = CameraMotion::Node(animation).camera_at(&base, 0.0);
+    (camera, motion)
+}

@@ -1,0 +1,137 @@
+//! Reads glTF node animations (translation, rotation, scale channels) into per-node
+//! [`TrsKeyframes`].
+//!
+//! Choices: only the file's first animation clip is used (files with several clips usually hold
+//! alternatives such as walk and run, which are not meant to play together); LINEAR and STEP
+//! are kept; CUBICSPLINE keeps its key values and drops the tangents, i.e. it is played back
+//! linearly (a warning says so); morph-target weight channels are ignored with a warning.
+//! Invariant: every returned track passed [`Track::new`]'s checks (matching lengths, sorted
+//! finite times); channels that fail them are dropped with a warning, never a panic.
+
+use super::accessor_check::{KEY_ROTATIONS, KEY_TIMES, KEY_VECTORS, check_accessor};
+use crate::animation::{Interpolation, Track, TrsKeyframes};
+use glam::{Quat, Vec3};
+use gltf::animation::Interpolation as GltfInterpolation;
+use gltf::animation::Property;
+use gltf::animation::util::ReadOutputs;
+use std::collections::BTreeMap;
+
+/// The unit quaternion of glTF `[x, y, z, w]` (identity if it has no usable length).
+fn unit_quat(xyzw: [f32; 4]) -> Quat {
+    glam::Vec4::from_array(xyzw)
+        .try_normalize()
+        .map_or(Quat::IDENTITY, Quat::from_vec4)
+}
+
+/// The rest pose of `node` as keyframes without tracks.
+fn rest_keyframes(node: &gltf::Node<'_>) -> TrsKeyframes {
+    let (t, r, s) = node.transform().decomposed();
+    TrsKeyframes {
+        rest_translation: Vec3::from_array(t),
+        rest_rotation: unit_quat(r),
+        rest_scale: Vec3::from_array(s),
+        translation: None,
+        rotation: None,
+        scale: None,
+    }
+}
+
+/// CUBICSPLINE outputs are (in-tangent, value, out-tangent) triples: keep the values.
+fn key_values<T: Copy>(values: Vec<T>, cubic: bool) -> Vec<T> {
+    if cubic {
+        values.chunks_exact(3).map(|triple| triple[1]).collect()
+    } else {
+        values
+    }
+}
+
+/// Keyframes of every animated node of the first animation, by node index, plus warnings.
+pub(super) fn read_node_animations(
+    document: &gltf::Document,
+    buffers: &[gltf::buffer::Data],
+) -> (BTreeMap<usize, TrsKeyframes>, Vec<String>) {
+    let mut nodes: BTreeMap<usize, TrsKeyframes> = BTreeMap::new();
+    let mut warnings = Vec::new();
+    let Some(animation) = document.animations().next() else {
+        return (nodes, warnings);
+    };
+    let extra_clips = document.animations().count() - 1;
+    if extra_clips > 0 {
+        warnings.push(format!(
+            "the file has {} animations; only the first (\"{}\") is played",
+            extra_clips + 1,
+            animation.name().unwrap_or("unnamed")
+        ));
+    }
+    let mut cubic_warned = false;
+    for channel in animation.channels() {
+        let node = channel.target().node();
+        let label = format!(
+            "animation channel {} (node {})",
+            channel.index(),
+            node.index()
+        );
+        let output_shape = match channel.target().property() {
+            Property::Translation | Property::Scale => &KEY_VECTORS,
+            Property::Rotation => &KEY_ROTATIONS,
+            Property::MorphTargetWeights => {
+                warnings.push(format!(
+                    "{label}: morph target weights are not supported: ignored"
+                ));
+                continue;
+            }
+        };
+        let checked = check_accessor(&channel.sampler().input(), buffers, &KEY_TIMES)
+            .and_then(|()| check_accessor(&channel.sampler().output(), buffers, output_shape));
+        if let Err(problem) = checked {
+            warnings.push(format!("{label}: {problem}: ignored"));
+            continue;
+        }
+        let reader = channel.reader(|buffer| buffers.get(buffer.index()).map(|d| &d.0[..]));
+        let (Some(inputs), Some(outputs)) = (reader.read_inputs(), reader.read_outputs()) else {
+            warnings.push(format!("{label}: keyframes could not be read: ignored"));
+            continue;
+        };
+        let times: Vec<f32> = inputs.collect();
+        let (interpolation, cubic) = match channel.sampler().interpolation() {
+            GltfInterpolation::Linear => (Interpolation::Linear, false),
+            GltfInterpolation::Step => (Interpolation::Step, false),
+            GltfInterpolation::CubicSpline => (Interpolation::Linear, true),
+        };
+        if cubic && !cubic_warned {
+            warnings
+                .push("CUBICSPLINE animation is played back linearly (tangents ignored)".into());
+            cubic_warned = true;
+        }
+        let entry = nodes
+            .entry(node.index())
+            .or_insert_with(|| rest_keyframes(&node));
+        let ok = match outputs {
+            ReadOutputs::Translations(values) => {
+                let values = key_values(values.map(Vec3::from_array).collect(), cubic);
+                entry.translation = Track::new(times, values, interpolation);
+                entry.translation.is_some()
+            }
+            ReadOutputs::Scales(values) => {
+                let values = key_values(values.map(Vec3::from_array).collect(), cubic);
+                entry.scale = Track::new(times, values, interpolation);
+                entry.scale.is_some()
+            }
+            ReadOutputs::Rotations(values) => {
+                let values = values.into_f32().map(unit_quat).collect();
+                entry.rotation = Track::new(times, key_values(values, cubic), interpolation);
+                entry.rotation.is_some()
+            }
+            ReadOutputs::MorphTargetWeights(_) => true,
+        };
+        if !ok {
+            warnings.push(format!(
+                "{label}: key times and values do not match or times are not increasing: ignored"
+            ));
+        }
+    }
+    nodes.retain(|_, keys| {
+        keys.translation.is_some() || keys.rotation.is_some() || keys.scale.is_some()
+    });
+    (nodes, warnings)
+}

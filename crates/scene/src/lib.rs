@@ -1,0 +1,35 @@
+//! aograph scenes: the scene model, glTF 2.0 import and export, procedural test scenes, and the
+//! CPU ray-traced ambient-occlusion reference every screen-space technique is measured against.
+//!
+//! Conventions shared with the rest of aograph (see DESIGN.md, "AO conventions"): world units
+//! are scene units, right-handed with +Y up, counter-clockwise front faces; accessibility is in
+//! [0, 1] with 1 = unoccluded; sky pixels get exactly 1; nothing returns NaN or infinity.
+
+pub mod animation;
+mod atomic_file;
+pub mod bounds;
+pub mod camera;
+pub mod error;
+pub mod gbuffer;
+pub mod gltf_export;
+pub mod gltf_import;
+pub mod model;
+pub mod primitives;
+pub mod procedural;
+pub mod reference;
+pub mod scene_builder;
+pub mod view_block;
+
+pub use animation::{AnimatedTransform, Animation, Interpolation, Track, TrsKeyframes};
+pub use bounds::Aabb;
+pub use camera::{Camera, CameraMotion, CameraRay, Projection};
+pub use error::SceneError;
+pub use gltf_export::export_glb;
+pub use gltf_import::{GltfImport, import_gltf, load_scene};
+pub use model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, Scene};
+pub use procedural::{PROCEDURAL_SCENE_NAMES, procedural_scene};
+pub use reference::{
+    CacheKey, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer,
+    TriangleBvh, primary_hits, trace_reference,
+};
+pub use scene_builder::SceneBuilder;

@@ -1,0 +1,280 @@
+//! The scene model: meshes, materials, instances, light, camera, and the queries the renderer
+//! and the reference ray tracer ask of them.
+//!
+//! Invariants the loaders and procedural builders keep (and the queries tolerate when a caller
+//! breaks them): mesh indices form a triangle list (`indices.len() % 3 == 0`) whose entries are
+//! below `positions.len()`; `normals` is empty or has one unit normal per position; positions are
+//! finite; `Instance::transform` equals the instance's transform at t = 0. Queries skip
+//! out-of-range indices and instances instead of panicking.
+
+use crate::animation::Animation;
+use crate::bounds::Aabb;
+use crate::camera::{Camera, CameraMotion};
+use glam::{Mat4, Vec3};
+
+/// An indexed triangle mesh in its own (object) space.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Mesh {
+    /// A human-readable name, used in messages.
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    /// One unit normal per position (may be empty for geometry only used by the ray tracer).
+    pub normals: Vec<Vec3>,
+    /// Triangle list, counter-clockwise front faces.
+    pub indices: Vec<u32>,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+}
+
+impl Mesh {
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Triangles in object space; triangles with an out-of-range index are skipped.
+    pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        self.indices.chunks_exact(3).filter_map(|tri| {
+            let a = *self.positions.get(tri[0] as usize)?;
+            let b = *self.positions.get(tri[1] as usize)?;
+            let c = *self.positions.get(tri[2] as usize)?;
+            Some([a, b, c])
+        })
+    }
+
+    /// Object-space bounds of the referenced vertices.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.triangles().flatten())
+    }
+}
+
+/// Surface appearance; AO needs none of it, shading and SSDO use the colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Linear RGBA base colour.
+    pub base_color: [f32; 4],
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            base_color: [0.8, 0.8, 0.8, 1.0],
+        }
+    }
+}
+
+/// One placement of a mesh in the world.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// Index into [`Scene::meshes`].
+    pub mesh: usize,
+    /// Object-to-world transform at t = 0 (the only one when `animation` is `None`).
+    pub transform: Mat4,
+    /// Object-to-world transform over time, if the instance moves.
+    pub animation: Option<Animation>,
+}
+
+impl Instance {
+    /// A static instance.
+    pub fn fixed(mesh: usize, transform: Mat4) -> Instance {
+        Instance {
+            mesh,
+            transform,
+            animation: None,
+        }
+    }
+
+    /// An animated instance; `transform` is set to the animation's t = 0 pose.
+    pub fn animated(mesh: usize, animation: Animation) -> Instance {
+        Instance {
+            mesh,
+            transform: animation.matrix_at(0.0),
+            animation: Some(animation),
+        }
+    }
+
+    /// Object-to-world transform at time `t` (seconds).
+    pub fn transform_at(&self, t: f32) -> Mat4 {
+        match &self.animation {
+            Some(animation) => animation.matrix_at(t),
+            None => self.transform,
+        }
+    }
+
+    /// True when the transform changes over time.
+    pub fn is_moving(&self) -> bool {
+        self.animation.as_ref().is_some_and(Animation::is_moving)
+    }
+}
+
+/// A light infinitely far away.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionalLight {
+    /// Unit direction the light travels in (from the light towards the scene).
+    pub direction: Vec3,
+    /// Linear RGB colour.
+    pub color: [f32; 3],
+    /// Multiplier on `color` (illuminance, arbitrary units).
+    pub intensity: f32,
+}
+
+impl Default for DirectionalLight {
+    /// Warm white sunlight from above, slightly from the front left.
+    fn default() -> Self {
+        DirectionalLight {
+            direction: Vec3::new(0.35, -1.0, -0.45).normalize(),
+            color: [1.0, 0.96, 0.9],
+            intensity: 3.0,
+        }
+    }
+}
+
+/// Ambient light applied everywhere (the term AO darkens).
+pub const DEFAULT_AMBIENT: [f32; 3] = [0.25, 0.27, 0.3];
+
+/// Everything needed to render a frame and to ray trace its reference.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub instances: Vec<Instance>,
+    /// The camera at t = 0.
+    pub camera: Camera,
+    /// How the camera moves, if it does.
+    pub camera_motion: Option<CameraMotion>,
+    pub light: DirectionalLight,
+    /// Linear RGB ambient light.
+    pub ambient: [f32; 3],
+}
+
+impl Scene {
+    /// The camera at time `t` (seconds).
+    pub fn camera_at(&self, t: f32) -> Camera {
+        match &self.camera_motion {
+            Some(motion) => motion.camera_at(&self.camera, t),
+            None => self.camera,
+        }
+    }
+
+    /// True when some instance or the camera moves over time.
+    pub fn is_animated(&self) -> bool {
+        self.instances.iter().any(Instance::is_moving)
+            || self
+                .camera_motion
+                .as_ref()
+                .is_some_and(CameraMotion::is_moving)
+    }
+
+    /// True when nothing moves: no moving instance and no moving camera (so no motion vectors
+    /// are needed and one reference image serves every frame).
+    pub fn is_static(&self) -> bool {
+        !self.is_animated()
+    }
+
+    /// Longest animation cycle or keyframe range in seconds (0 for a static scene).
+    pub fn duration(&self) -> f32 {
+        let instances = self
+            .instances
+            .iter()
+            .filter_map(|i| i.animation.as_ref().map(Animation::duration));
+        let camera = match &self.camera_motion {
+            Some(CameraMotion::Orbit { period, .. }) => period.max(0.0),
+            Some(CameraMotion::Node(animation)) => animation.duration(),
+            None => 0.0,
+        };
+        instances.fold(camera, f32::max)
+    }
+
+    /// World-space bounds at t = 0.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds_at(0.0)
+    }
+
+    /// World-space bounds at time `t`.
+    pub fn bounds_at(&self, t: f32) -> Aabb {
+        self.instances
+            .iter()
+            .filter_map(|instance| {
+                let mesh = self.meshes.get(instance.mesh)?;
+                Some(mesh.bounds().transformed(&instance.transform_at(t)))
+            })
+            .fold(Aabb::EMPTY, Aabb::union)
+    }
+
+    /// Number of triangles over all instances.
+    pub fn triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .filter_map(|instance| self.meshes.get(instance.mesh))
+            .map(Mesh::triangle_count)
+            .sum()
+    }
+
+    /// Every instance's triangles in world space at time `t`, for the reference ray tracer.
+    pub fn world_triangles(&self, t: f32) -> Vec<[Vec3; 3]> {
+        let mut out = Vec::with_capacity(self.triangle_count());
+        for instance in &self.instances {
+            let Some(mesh) = self.meshes.get(instance.mesh) else {
+                continue;
+            };
+            let m = instance.transform_at(t);
+            out.extend(
+                mesh.triangles()
+                    .map(|tri| tri.map(|p| m.transform_point3(p))),
+            );
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::animation::AnimatedTransform;
+
+    fn one_triangle_scene(animation: Option<Animation>) -> Scene {
+        let mesh = Mesh {
+            name: "tri".into(),
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            normals: vec![Vec3::Z; 3],
+            indices: vec![0, 1, 2, 0, 1, 7],
+            material: 0,
+        };
+        let instance = match animation {
+            Some(a) => Instance::animated(0, a),
+            None => Instance::fixed(0, Mat4::from_translation(Vec3::Z)),
+        };
+        Scene {
+            meshes: vec![mesh],
+            materials: vec![Material::default()],
+            instances: vec![instance, Instance::fixed(5, Mat4::IDENTITY)],
+            camera: Camera::perspective(Vec3::Z * 5.0, Vec3::ZERO, 1.0, 0.1, 100.0),
+            camera_motion: None,
+            light: DirectionalLight::default(),
+            ambient: DEFAULT_AMBIENT,
+        }
+    }
+
+    #[test]
+    fn world_triangles_skip_bad_indices_and_missing_meshes() {
+        let scene = one_triangle_scene(None);
+        let tris = scene.world_triangles(0.0);
+        assert_eq!(tris.len(), 1);
+        assert_eq!(tris[0][1], Vec3::new(1.0, 0.0, 1.0));
+        assert!(scene.is_static());
+    }
+
+    #[test]
+    fn moving_instance_makes_scene_animated() {
+        let animation = Animation::new(vec![AnimatedTransform::Oscillate {
+            from: Vec3::ZERO,
+            to: Vec3::X,
+            period: 2.0,
+        }]);
+        let scene = one_triangle_scene(Some(animation));
+        assert!(!scene.is_static());
+        let moved = scene.world_triangles(1.0);
+        assert!((moved[0][0] - Vec3::X).length() < 1e-5);
+        assert_eq!(scene.instances[0].transform, Mat4::IDENTITY);
+    }
+}

@@ -1,0 +1,90 @@
+//! The ray-traced AO reference: cosine-weighted rays against the real geometry from the same
+//! per-pixel points and normals the screen-space techniques see.
+//!
+//! Definition (DESIGN.md, "AO conventions"): A(p) = (1/pi) * integral over the hemisphere of
+//! V(p, w) cos(theta) dw. Binary mode: V = 0 when a ray hits geometry within the radius R, so
+//! with cosine-weighted rays A is the fraction of rays that escape. Obscurance mode: a hit at
+//! distance d contributes occlusion rho(d) = 1 - min(1, (d/R)^2) (MSSAO's Eq. 4), so
+//! A = 1 - mean(hit ? rho(d) : 0). Invalid (sky) pixels get exactly A = 1 and error 0.
+//! Invariants: results are deterministic (same input, same image, bit for bit, whatever the
+//! thread count) and every output value is finite and in [0, 1].
+
+mod bvh;
+mod cache;
+mod output;
+mod primary;
+mod progress;
+mod sampling;
+mod tracer;
+
+pub use bvh::{RayHitRecord, TriangleBvh};
+pub use cache::{CacheKey, ReferenceCache};
+pub use output::{
+    RAW_MAGIC, RawF32Image, ReferenceImage, read_raw_f32, write_png16, write_raw_f32,
+};
+pub use primary::{primary_hits, primary_hits_with_bvh};
+pub use progress::ProgressMode;
+pub use sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
+pub use tracer::{offset_epsilon, trace_reference};
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// How a ray hit turns into occlusion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReferenceMode {
+    /// A hit within R occludes fully.
+    #[default]
+    Binary,
+    /// A hit at distance d occludes by rho(d) = 1 - min(1, (d/R)^2).
+    Obscurance,
+}
+
+/// Parameters of a reference run.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ReferenceParams {
+    /// World-space AO radius R shared with the techniques (> 0).
+    pub radius: f32,
+    /// Rays per pixel (>= 1; powers of two stratify best).
+    pub rays_per_pixel: u32,
+    pub mode: ReferenceMode,
+    /// Whether to draw a progress bar on stderr. Not part of the cache key.
+    pub progress: ProgressMode,
+}
+
+impl Default for ReferenceParams {
+    fn default() -> Self {
+        ReferenceParams {
+            radius: 1.0,
+            rays_per_pixel: 256,
+            mode: ReferenceMode::Binary,
+            progress: ProgressMode::Auto,
+        }
+    }
+}
+
+/// Per-pixel world-space surface points and normals, row-major, top row first: a g-buffer
+/// read back from the GPU or the CPU [`primary_hits`]. `valid[i] == false` marks sky.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct SurfaceBuffer {
+    pub width: u32,
+    pub height: u32,
+    pub points: Vec<Vec3>,
+    /// Unit normals facing the viewer.
+    pub normals: Vec<Vec3>,
+    pub valid: Vec<bool>,
+}
+
+impl SurfaceBuffer {
+    /// Number of pixels (width * height).
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// Number of valid (non-sky) pixels.
+    pub fn valid_count(&self) -> usize {
+        self.valid.iter().filter(|&&v| v).count()
+    }
+}

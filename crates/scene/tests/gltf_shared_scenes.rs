@@ -1,0 +1,122 @@
+//! Every glTF file in the project's shared scene folder loads with the expected triangle count.
+
+use aograph_scene::{Projection, import_gltf, load_scene};
+use std::path::{Path, PathBuf};
+
+fn scenes_dir() -> PathBuf {
+    let dir = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/scenes"
+    ));
+    assert!(
+        dir.is_dir(),
+        "the shared test scenes are missing: expected them in {} (the project's shared/scenes \
+         folder, beside the repository)",
+        dir.display()
+    );
+    dir.to_owned()
+}
+
+/// (file, expected triangles, relative tolerance) from shared/scenes/README.md.
+const EXPECTED: &[(&str, usize, f64)] = &[
+    ("teapot.gltf", 9_128, 0.0),
+    ("suzanne.gltf", 15_744, 0.0),
+    ("chinesedragon.gltf", 100_960, 0.0),
+    ("CesiumMan.glb", 4_700, 0.1),
+    ("FlightHelmet/FlightHelmet.gltf", 94_722, 0.0),
+];
+
+#[test]
+fn every_shared_scene_loads_with_its_triangle_count() {
+    let dir = scenes_dir();
+    for &(file, expected, tolerance) in EXPECTED {
+        let scene = load_scene(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let count = scene.triangle_count();
+        let off = (count as f64 - expected as f64).abs() / expected as f64;
+        assert!(
+            off <= tolerance,
+            "{file}: {count} triangles, README says {expected}"
+        );
+        let bounds = scene.bounds();
+        assert!(
+            !bounds.is_empty() && bounds.min.is_finite() && bounds.max.is_finite(),
+            "{file}"
+        );
+        // No camera in these files: the framing camera looks at the centre from 1.5 diagonals.
+        let distance = scene.camera.position.distance(bounds.centre());
+        assert!(
+            (distance / bounds.diagonal() - 1.5).abs() < 1e-3,
+            "{file}: camera at {distance}"
+        );
+        assert!(matches!(
+            scene.camera.projection,
+            Projection::Perspective { .. }
+        ));
+        for mesh in &scene.meshes {
+            assert_eq!(
+                mesh.normals.len(),
+                mesh.positions.len(),
+                "{file}: {}",
+                mesh.name
+            );
+            assert!(
+                mesh.indices
+                    .iter()
+                    .all(|&i| (i as usize) < mesh.positions.len())
+            );
+        }
+    }
+}
+
+#[test]
+fn every_file_in_the_shared_folder_is_covered() {
+    let dir = scenes_dir();
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(&dir)
+        .unwrap()
+        .chain(std::fs::read_dir(dir.join("FlightHelmet")).unwrap())
+    {
+        let path = entry.unwrap().path();
+        if matches!(
+            path.extension().and_then(|e| e.to_str()),
+            Some("gltf" | "glb")
+        ) {
+            found.push(
+                path.strip_prefix(&dir)
+                    .unwrap()
+                    .to_string_lossy()
+                    .replace('\\', "/"),
+            );
+        }
+    }
+    for file in &found {
+        assert!(
+            EXPECTED.iter().any(|(name, ..)| name == file),
+            "{file} is in shared/scenes but has no expected triangle count here"
+        );
+    }
+}
+
+#[test]
+fn flight_helmet_warns_about_its_missing_images_and_still_loads() {
+    let import = import_gltf(scenes_dir().join("FlightHelmet/FlightHelmet.gltf")).unwrap();
+    let warning = import
+        .warnings
+        .iter()
+        .find(|w| w.contains("image"))
+        .expect("a warning about the missing images");
+    assert!(warning.starts_with("15 referenced image"), "{warning}");
+    assert_eq!(import.scene.meshes.len(), 5, "FlightHelmet has five meshes");
+}
+
+#[test]
+fn cesium_man_is_upright_in_its_bind_pose() {
+    let scene = load_scene(scenes_dir().join("CesiumMan.glb")).unwrap();
+    let size = scene.bounds().size();
+    // The model is authored Z-up with a root rotation to glTF's Y-up: it should be taller than
+    // it is deep.
+    assert!(
+        size.y > size.z && size.y > 1.0 && size.y < 2.5,
+        "bounds size {size}"
+    );
+}
