@@ -33,7 +33,7 @@ pub enum SceneError {
     /// An external buffer (.bin) the glTF refers to could not be found.
     #[error(
         "{path} refers to buffer file \"{uri}\", which does not exist at {resolved} \
-         (copy the .bin file next to the .gltf)"
+         (put the file there, or fix the buffer's \"uri\" in the glTF)"
     )]
     MissingBuffer {
         path: PathBuf,
@@ -57,6 +57,10 @@ pub enum SceneError {
          skipped)"
     )]
     EmptyScene { path: PathBuf },
+
+    /// The scene cannot be written as glTF (non-finite position, index out of range, ...).
+    #[error("cannot export the scene to {path}: {message}")]
+    Export { path: PathBuf, message: String },
 
     /// A procedural scene name that is not in the registry.
     #[error("unknown procedural scene \"{name}\"; known scenes: {known}")]

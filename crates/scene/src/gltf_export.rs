@@ -132,27 +132,27 @@ fn mesh_json(layout: &mut BinLayout, mesh: &Mesh, material_count: usize) -> Opti
 
 /// Checks that `scene` can be written: finite positions and indices in range.
 fn check_exportable(scene: &Scene, path: &Path) -> Result<(), SceneError> {
+    let refuse = |message: String| SceneError::Export {
+        path: path.to_owned(),
+        message,
+    };
     for mesh in &scene.meshes {
         if let Some(vertex) = mesh.positions.iter().position(|p| !p.is_finite()) {
-            return Err(SceneError::NonFiniteVertex {
-                path: path.to_owned(),
-                mesh: mesh.name.clone(),
-                vertex,
-            });
+            return Err(refuse(format!(
+                "mesh \"{}\" has a non-finite position at vertex {vertex}",
+                mesh.name
+            )));
         }
         if let Some(bad) = mesh
             .indices
             .iter()
             .find(|&&i| i as usize >= mesh.positions.len())
         {
-            return Err(SceneError::InvalidGltf {
-                path: path.to_owned(),
-                message: format!(
-                    "cannot export mesh \"{}\": index {bad} is out of range ({} vertices)",
-                    mesh.name,
-                    mesh.positions.len()
-                ),
-            });
+            return Err(refuse(format!(
+                "mesh \"{}\" has index {bad}, past its {} vertices",
+                mesh.name,
+                mesh.positions.len()
+            )));
         }
     }
     Ok(())
@@ -211,7 +211,7 @@ pub fn glb_bytes(scene: &Scene, path_for_errors: &Path) -> Result<Vec<u8>, Scene
     if !materials.is_empty() {
         root["materials"] = json!(materials);
     }
-    let mut json_chunk = serde_json::to_vec(&root).map_err(|e| SceneError::InvalidGltf {
+    let mut json_chunk = serde_json::to_vec(&root).map_err(|e| SceneError::Export {
         path: path_for_errors.to_owned(),
         message: format!("could not serialise the glTF JSON: {e}"),
     })?;

@@ -259,3 +259,135 @@ fn scene_without_triangles_is_an_empty_scene_error() {
         "{message}"
     );
 }
+
+/// Appends `floats` to `bin` as a new buffer view and accessor of `kind` ("SCALAR", "VEC3",
+/// "VEC4"); returns the accessor index.
+fn push_float_accessor(
+    json: &mut Value,
+    bin: &mut Vec<u8>,
+    floats: &[f32],
+    kind: &str,
+    components: usize,
+) -> usize {
+    let offset = bin.len();
+    for f in floats {
+        bin.extend_from_slice(&f.to_le_bytes());
+    }
+    let views = json["bufferViews"].as_array_mut().unwrap();
+    views.push(
+        serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": floats.len() * 4}),
+    );
+    let view = views.len() - 1;
+    let accessors = json["accessors"].as_array_mut().unwrap();
+    let mut accessor = serde_json::json!({
+        "bufferView": view, "componentType": 5126, "count": floats.len() / components, "type": kind
+    });
+    if kind == "SCALAR" {
+        let (min, max) = (floats[0], floats[floats.len() - 1]);
+        accessor["min"] = serde_json::json!([min]);
+        accessor["max"] = serde_json::json!([max]);
+    }
+    accessors.push(accessor);
+    accessors.len() - 1
+}
+
+#[test]
+fn node_translation_and_rotation_animation_becomes_instance_motion() {
+    let dir = temp_dir("animation");
+    let (mut json, mut bin) = exported("cornell-box", &dir);
+    // Move node 5 (the tall box) by +2 in x over 2 s and turn it a quarter around Y.
+    let times = push_float_accessor(&mut json, &mut bin, &[0.0, 2.0], "SCALAR", 1);
+    let node_matrix: Vec<f32> = json["nodes"][5]["matrix"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap() as f32)
+        .collect();
+    let start = glam::Mat4::from_cols_slice(&node_matrix);
+    let (_, rotation, translation) = start.to_scale_rotation_translation();
+    let end = translation + glam::Vec3::X * 2.0;
+    let moves = push_float_accessor(
+        &mut json,
+        &mut bin,
+        &[
+            translation.x,
+            translation.y,
+            translation.z,
+            end.x,
+            end.y,
+            end.z,
+        ],
+        "VEC3",
+        3,
+    );
+    let turned = glam::Quat::from_rotation_y(std::f32::consts::FRAC_PI_2) * rotation;
+    let turns = push_float_accessor(
+        &mut json,
+        &mut bin,
+        &[
+            rotation.x, rotation.y, rotation.z, rotation.w, turned.x, turned.y, turned.z, turned.w,
+        ],
+        "VEC4",
+        4,
+    );
+    json["buffers"][0]["byteLength"] = Value::from(bin.len());
+    json["animations"] = serde_json::json!([{
+        "channels": [
+            {"sampler": 0, "target": {"node": 5, "path": "translation"}},
+            {"sampler": 1, "target": {"node": 5, "path": "rotation"}}
+        ],
+        "samplers": [
+            {"input": times, "output": moves, "interpolation": "LINEAR"},
+            {"input": times, "output": turns, "interpolation": "LINEAR"}
+        ]
+    }]);
+    let path =
+        write_gltf_with_external_bin(&dir, "animated.gltf", json, "animated.bin", Some(&bin));
+    let scene = load_scene(&path).unwrap();
+    assert!(!scene.is_static());
+    let moving: Vec<_> = scene.instances.iter().filter(|i| i.is_moving()).collect();
+    assert_eq!(moving.len(), 1);
+    let halfway = moving[0].transform_at(1.0).w_axis.truncate();
+    assert!(
+        (halfway - (translation + glam::Vec3::X)).length() < 1e-4,
+        "{halfway}"
+    );
+    let (_, rotation_at_end, _) = moving[0].transform_at(5.0).to_scale_rotation_translation();
+    assert!(
+        rotation_at_end.angle_between(turned) < 1e-3,
+        "clamped to the last key"
+    );
+}
+
+#[test]
+fn orthographic_camera_round_trips() {
+    let dir = temp_dir("ortho");
+    let mut scene = procedural_scene("corner").unwrap();
+    scene.camera.projection = aograph_scene::Projection::Orthographic {
+        height: 12.0,
+        near: 0.5,
+        far: 80.0,
+    };
+    let path = dir.join("ortho.glb");
+    export_glb(&scene, &path).unwrap();
+    let back = load_scene(&path).unwrap();
+    assert_eq!(back.camera.projection, scene.camera.projection);
+}
+
+#[test]
+fn refused_export_names_the_mesh_and_leaves_no_file() {
+    let dir = temp_dir("refused-export");
+    let mut scene = procedural_scene("corner").unwrap();
+    scene.meshes[1].positions[2].y = f32::INFINITY;
+    let path = dir.join("never.glb");
+    let error = export_glb(&scene, &path).unwrap_err();
+    let message = error.to_string();
+    assert!(matches!(error, SceneError::Export { .. }), "{error:?}");
+    assert!(
+        message.contains("never.glb") && message.contains("vertex 2"),
+        "{message}"
+    );
+    assert!(!path.exists());
+    let leftovers = std::fs::read_dir(&dir).unwrap().count();
+    assert_eq!(leftovers, 0, "temporary files left behind");
+}

@@ -32,6 +32,10 @@ fn every_shared_scene_loads_with_its_triangle_count() {
     for &(file, expected, tolerance) in EXPECTED {
         let scene = load_scene(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
         let count = scene.triangle_count();
+        eprintln!(
+            "{file}: {count} triangles, {} instances",
+            scene.instances.len()
+        );
         let off = (count as f64 - expected as f64).abs() / expected as f64;
         assert!(
             off <= tolerance,

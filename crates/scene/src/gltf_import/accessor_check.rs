@@ -84,14 +84,19 @@ pub(super) fn check_accessor(
     let element = accessor.size();
     let stride = view.stride().unwrap_or(element);
     if stride < element {
-        return Err(format!("{label} has a byte stride of {stride}, less than its element size {element}"));
+        return Err(format!(
+            "{label} has a byte stride of {stride}, less than its element size {element}"
+        ));
     }
     let end = (count - 1)
         .checked_mul(stride)
         .and_then(|n| n.checked_add(element))
         .and_then(|n| n.checked_add(accessor.offset()));
     if end.is_none_or(|end| end > view.length()) {
-        return Err(format!("{label} reaches past the end of buffer view {}", view.index()));
+        return Err(format!(
+            "{label} reaches past the end of buffer view {}",
+            view.index()
+        ));
     }
     let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.0.len());
     let view_end = view.offset().checked_add(view.length());

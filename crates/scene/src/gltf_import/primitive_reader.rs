@@ -129,7 +129,11 @@ pub(super) fn read_primitive(
             "{label} has no triangles: skipped"
         )));
     }
-    let normals = if normals_usable { reader.read_normals() } else { None };
+    let normals = if normals_usable {
+        reader.read_normals()
+    } else {
+        None
+    };
     let normals: Option<Vec<Vec3>> = normals.and_then(|normals| {
         let normals: Vec<Vec3> = normals
             .map(|n| Vec3::from_array(n).try_normalize())

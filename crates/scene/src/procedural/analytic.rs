@@ -22,7 +22,7 @@ pub const WALL_PLANE_X: f32 = 0.0;
 pub const WALL_HALF_EXTENT: f32 = 1000.0;
 
 /// `plane`: one large floor and nothing else; accessibility 1 everywhere.
-pub fn plane() -> Scene {
+pub(super) fn plane() -> Scene {
     let mut builder = SceneBuilder::new();
     floor(&mut builder, 1000.0);
     builder.build(Camera::perspective(
@@ -36,7 +36,7 @@ pub fn plane() -> Scene {
 
 /// `sphere-on-plane`: a sphere (see [`SPHERE_ON_PLANE_CENTRE`], [`SPHERE_ON_PLANE_RADIUS`])
 /// resting on a floor, tessellated finely (128 x 64) so the closed form holds to ~1e-3.
-pub fn sphere_on_plane() -> Scene {
+pub(super) fn sphere_on_plane() -> Scene {
     let mut builder = SceneBuilder::new();
     floor(&mut builder, 200.0);
     let sphere_material = builder.material([0.7, 0.7, 0.75]);
@@ -72,7 +72,7 @@ pub fn sphere_on_plane_accessibility(point: Vec3, normal: Vec3) -> Option<f32> {
 
 /// `wall`: a floor and one perpendicular wall in the plane x = [`WALL_PLANE_X`], both
 /// reaching [`WALL_HALF_EXTENT`] from the origin.
-pub fn wall() -> Scene {
+pub(super) fn wall() -> Scene {
     let mut builder = SceneBuilder::new();
     floor(&mut builder, 2.0 * WALL_HALF_EXTENT);
     let wall_material = builder.material(WALL_COLOR);
@@ -104,7 +104,7 @@ pub fn wall_accessibility(distance: f32, radius: f32) -> f32 {
 
 /// `corner`: a floor and two walls meeting at right angles at the origin; the room is the
 /// quadrant x > 0, z > 0.
-pub fn corner() -> Scene {
+pub(super) fn corner() -> Scene {
     const SIZE: f32 = 30.0;
     let mut builder = SceneBuilder::new();
     let floor_material = builder.material(FLOOR_COLOR);

@@ -2,14 +2,15 @@
 //!
 //! Built with `obvhs` (PLOC build, reinsertion optimisation, converted to an 8-wide compressed
 //! BVH traversed with SIMD node tests). Triangles are stored in BVH leaf order for cache
-//! locality; hits report the caller's original triangle index.
+//! locality; hits report the caller's original triangle index. Triangles no ray can hit
+//! (a non-finite vertex, zero area, or a coordinate beyond 1e15) are left out: they would
+//! break the builder (overflowing or zero box areas) and change no result.
 //! obvhs 0.3's CWBVH node test skips every box the ray leaves before t = 1e-4 (an absolute
 //! constant), which would lose occluders closer than 1e-4 world units: fatal for small scenes
 //! and for points on a crease. Every query therefore starts its ray a `lead` distance behind the
 //! origin (more than that constant, and more than a few float ulps of the origin's coordinates)
 //! and shifts t_min/t_max by the same amount, so hits at any t >= t_min are found; reported
-//! distances are measured from the caller's origin again. Invariants: triangles with a
-//! non-finite vertex are left out (they could never be hit meaningfully); an empty triangle set
+//! distances are measured from the caller's origin again. Invariants: an empty triangle set
 //! gives a BVH every ray misses; rays with a non-finite origin or direction miss instead of
 //! reaching obvhs (whose debug assertions would panic).
 
@@ -20,6 +21,18 @@ use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::ploc::{PlocBuilder, PlocSearchDistance, SortPrecision};
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
+
+/// Largest coordinate magnitude kept: beyond it, box areas in the BVH builder overflow f32.
+const MAX_COORDINATE: f32 = 1e15;
+
+/// True for triangles a ray can hit: finite, within [`MAX_COORDINATE`], non-zero area.
+/// (Zero-area triangles are invisible to rays anyway, and their flat boxes break obvhs 0.3's
+/// wide-BVH conversion.)
+fn is_traceable(triangle: &[Vec3; 3]) -> bool {
+    let [a, b, c] = *triangle;
+    let in_range = |v: Vec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
+    in_range(a) && in_range(b) && in_range(c) && (b - a).cross(c - a).length_squared() > 0.0
+}
 
 /// The nearest intersection along a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,7 +58,7 @@ impl TriangleBvh {
         let (kept, kept_index): (Vec<Triangle>, Vec<u32>) = triangles
             .iter()
             .enumerate()
-            .filter(|(_, t)| t.iter().all(|v| v.is_finite()))
+            .filter(|(_, t)| is_traceable(t))
             .map(|(i, t)| {
                 let [v0, v1, v2] = t.map(Vec3A::from);
                 (Triangle { v0, v1, v2 }, i as u32)
@@ -183,6 +196,78 @@ mod tests {
         assert!(hit.distance < 0.0);
         assert!(!bvh.any_hit(Vec3::new(0.0, 0.0, -2e-6), Vec3::NEG_Z, 0.0, 1.0));
     }
+
+    #[test]
+    fn degenerate_inputs_build_without_panicking() {
+        let point = [Vec3::ONE; 3];
+        let _ = TriangleBvh::new(&vec![point; 1000]);
+
+        let same = TriangleBvh::new(&vec![[Vec3::ZERO, Vec3::X, Vec3::Y]; 1000]);
+        assert!(same.any_hit(Vec3::new(0.2, 0.2, 1.0), Vec3::NEG_Z, 0.0, 2.0));
+        let line = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
+        let _ = TriangleBvh::new(&vec![line; 100]);
+        let huge = [
+            Vec3::splat(-1e30),
+            Vec3::new(1e30, -1e30, 0.0),
+            Vec3::splat(1e30),
+        ];
+        let bvh = TriangleBvh::new(&[huge, [Vec3::ZERO, Vec3::X, Vec3::Y]]);
+
+        let _ = bvh.closest_hit(Vec3::new(0.2, 0.2, 1.0), Vec3::NEG_Z, 0.0, f32::INFINITY);
+        let mut many: Vec<[Vec3; 3]> = (0..5000)
+            .map(|i| {
+                let p = Vec3::new(
+                    (i % 17) as f32,
+                    (i % 5) as f32 * 1e-7,
+                    (i / 17) as f32 * 1e-3,
+                );
+                [p, p + Vec3::X * 1e-6, p + Vec3::Z * 1e-6]
+            })
+            .collect();
+        many.push(point);
+        let _ = TriangleBvh::new(&many);
+    }
+
+    #[test]
+    fn random_triangle_soups_build_and_trace() {
+        let mut state = 0x1234_5678_u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for round in 0..ROUNDS {
+            let scale = 10f32.powf(next() * 12.0 - 6.0);
+            let count = 1 + (next() * 300.0) as usize;
+            let snap = round % 3 == 0;
+            let mut tris: Vec<[Vec3; 3]> = (0..count)
+                .map(|_| {
+                    let mut p = || {
+                        let v = Vec3::new(next(), next(), next()) * scale;
+                        if snap {
+                            (v * 4.0 / scale).round() * scale / 4.0
+                        } else {
+                            v
+                        }
+                    };
+                    [p(), p(), p()]
+                })
+                .collect();
+            if round % 5 == 0 {
+                let copy = tris[0];
+                tris.extend(std::iter::repeat_n(copy, 40));
+            }
+            let bvh = TriangleBvh::new(&tris);
+            let origin = Vec3::splat(0.5 * scale);
+            let direction = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5);
+            if let Some(direction) = direction.try_normalize() {
+                let _ = bvh.closest_hit(origin, direction, 0.0, f32::INFINITY);
+                let _ = bvh.any_hit(origin, direction, 0.0, scale);
+            }
+        }
+    }
+    const ROUNDS: usize = 200;
 
     #[test]
     fn empty_and_single_triangle_bvhs_work() {
