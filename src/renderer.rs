@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use aograph_ao::techniques::ssdo::{LightingUniforms, LIGHTING_BUFFER};
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphCompiler, PassTimings, ShaderLibrary, TextureHandle, VIEW_BUFFER};
 use aograph_scene::gbuffer::GBufferFrame;
@@ -59,6 +60,12 @@ impl Renderer {
             mapped_at_creation: false,
         });
         exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
+        // The scene's light and ambient, for techniques that shade (SSDO); unused otherwise.
+        let l = &scene.light;
+        let lighting = LightingUniforms::new(l.direction.into(), l.color.map(|c| c * l.intensity), scene.ambient);
+        let lighting_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some("lighting"), size: std::mem::size_of::<LightingUniforms>() as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        gpu.queue.write_buffer(&lighting_buffer, 0, lighting.bytes());
+        exec.import_buffer(LIGHTING_BUFFER, lighting_buffer);
         Ok(Self { gpu, exec, plan, graph, scene, output, view_buffer, frame_index: 0, prev: None, cut: false, time: 0.0 })
     }
 

@@ -114,7 +114,11 @@ impl<T: AoTechnique> DynAoTechnique for T {
             .into_iter()
             .map(|mut s| {
                 if let Some(v) = defaults.as_ref().and_then(|d| d.get(s.name)) {
-                    s.default = v.to_string();
+                    // Parameters are f32: print the f32, not its widened f64 (0.03, not 0.0299999...).
+                    s.default = match v {
+                        toml::Value::Float(f) => (*f as f32).to_string(),
+                        other => other.to_string(),
+                    };
                 }
                 s
             })

@@ -40,7 +40,11 @@ impl GpuContext {
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
             | wgpu::Features::CLEAR_TEXTURE;
         let features = adapter.features() & wanted;
-        let limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        let mut limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        // A full g-buffer (positions, normals, albedo, direct light, linear depth, motion: 52
+        // bytes per sample by WebGPU's cost table) exceeds the default limit of 32; use what
+        // the adapter supports.
+        limits.max_color_attachment_bytes_per_sample = limits.max_color_attachment_bytes_per_sample.max(adapter.limits().max_color_attachment_bytes_per_sample);
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor { label: Some("aograph"), required_features: features, required_limits: limits, ..Default::default() })
             .await

@@ -1,0 +1,142 @@
+//! Linear-depth pyramid: level 0 is the caller's full-resolution linear depth (R32Float, 0 =
+//! sky); level l + 1 reduces a factor x factor block of level l to one texel.
+//!
+//! Reductions:
+//! - [`DepthReduction::Average3x3`] (Pyramid HBAO, spec §2.2): factor K = 3; texel (x, y) of
+//!   level l + 1 is the arithmetic mean of the in-bounds, non-sky texels among
+//!   (3x + i, 3y + j), i, j in 0..3, of level l, i.e. the 3x3 block centred on (3x + 1, 3y + 1)
+//!   (spec §7 pseudo-code). Following the spec's [IMPL] notes (§2.2 "Edge texels", §6.3), the
+//!   ceil-sized edge windows average only in-bounds texels (no clamp-to-edge duplicates) and
+//!   sky texels (depth 0) are left out, so one sky texel cannot drag a silhouette's mean to the
+//!   far plane; a block of sky only stays sky (0).
+//! - [`DepthReduction::Min2x2`] / [`DepthReduction::Max2x2`]: factor 2; the nearest / farthest
+//!   non-sky texel of the in-bounds 2x2 block, 0 when all are sky.
+//!
+//! Sizes: level l is ceil(size / factor^l) per axis (spec §2.2, "K times less (rounded up)"),
+//! declared as size classes derived from the input's; for 97x61 the 3x3 levels are 33x21,
+//! 11x7, 4x3. Passes: `<prefix>.depth_level<l>` for l = 1..levels-1, writing textures of the
+//! same names. Invariant: every level is finite, >= 0, 0 exactly where its block is all sky.
+
+use aograph_graph::{GraphBuilder, SizeClass, TextureDesc, TextureHandle};
+
+use super::{desc_of, invalid, scaled_size, BLOCK_FORMAT};
+use crate::error::AoResult;
+
+/// Most levels a pyramid may have (level 0 included).
+pub const MAX_LEVELS: u32 = 16;
+
+/// How a block of one level becomes a texel of the next.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DepthReduction {
+    /// Mean of the non-sky texels of a 3x3 block (factor 3): Pyramid HBAO's pyramid.
+    Average3x3,
+    /// Nearest non-sky texel of a 2x2 block (factor 2).
+    Min2x2,
+    /// Farthest texel of a 2x2 block (factor 2).
+    Max2x2,
+}
+
+impl DepthReduction {
+    /// Reduction factor per axis and level.
+    pub fn factor(self) -> u32 {
+        match self {
+            Self::Average3x3 => 3,
+            Self::Min2x2 | Self::Max2x2 => 2,
+        }
+    }
+    /// Entry point in shaders/blocks/depth_pyramid.wgsl.
+    fn entry(self) -> &'static str {
+        match self {
+            Self::Average3x3 => "average_3x3",
+            Self::Min2x2 => "min_2x2",
+            Self::Max2x2 => "max_2x2",
+        }
+    }
+}
+
+/// The levels of a depth pyramid.
+#[derive(Clone, Debug)]
+pub struct DepthPyramid {
+    /// Level handles; `levels[0]` is the input depth.
+    pub levels: Vec<TextureHandle>,
+    /// Size class of each level.
+    pub sizes: Vec<SizeClass>,
+    pub reduction: DepthReduction,
+}
+
+impl DepthPyramid {
+    pub fn factor(&self) -> u32 {
+        self.reduction.factor()
+    }
+    /// Number of levels, level 0 included.
+    pub fn len(&self) -> usize {
+        self.levels.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.levels.is_empty()
+    }
+    /// Level `l`, or the coarsest level when `l` is beyond it.
+    pub fn level(&self, l: usize) -> TextureHandle {
+        self.levels[l.min(self.levels.len() - 1)]
+    }
+}
+
+/// Adds the passes building levels 1..`levels` - 1 of a `reduction` pyramid over `depth`
+/// (level 0, R32Float linear depth). `levels` counts level 0: 1 adds no pass.
+pub fn depth_pyramid(b: &mut GraphBuilder, prefix: &str, depth: TextureHandle, reduction: DepthReduction, levels: u32) -> AoResult<DepthPyramid> {
+    if !(1..=MAX_LEVELS).contains(&levels) {
+        return Err(invalid(prefix, "levels", levels, format!("1 to {MAX_LEVELS} (level 0 included)")));
+    }
+    let base = desc_of(b, prefix, "depth", depth)?;
+    if base.format != BLOCK_FORMAT {
+        return Err(invalid(prefix, "depth", format!("{:?}", base.format), "an R32Float linear-depth texture"));
+    }
+    let mut pyramid = DepthPyramid { levels: vec![depth], sizes: vec![base.size], reduction };
+    for l in 1..levels {
+        let size = scaled_size(base.size, reduction.factor(), l);
+        let name = format!("{prefix}.depth_level{l}");
+        let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, size));
+        let mut p = b.compute_pass(&name, "blocks/depth_pyramid.wgsl", reduction.entry());
+        p.sample("src", pyramid.levels[l as usize - 1]);
+        let out = p.write_storage("dst", out);
+        p.dispatch_over(out);
+        pyramid.levels.push(out);
+        pyramid.sizes.push(size);
+    }
+    Ok(pyramid)
+}
+
+/// CPU mirror of one reduction step (same arithmetic and order as the shader), for tests and
+/// tools: `src` is `w` x `h`, row-major; returns the next level and its size.
+pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Vec<f32>, u32, u32) {
+    let k = reduction.factor();
+    let (ow, oh) = (w.div_ceil(k), h.div_ceil(k));
+    let mut out = Vec::with_capacity((ow * oh) as usize);
+    for y in 0..oh {
+        for x in 0..ow {
+            let (mut sum, mut n, mut lo, mut hi) = (0.0f32, 0u32, f32::INFINITY, 0.0f32);
+            for j in 0..k {
+                for i in 0..k {
+                    let (sx, sy) = (x * k + i, y * k + j);
+                    if sx >= w || sy >= h {
+                        continue;
+                    }
+                    let z = src[(sy * w + sx) as usize];
+                    if z > 0.0 {
+                        sum += z;
+                        n += 1;
+                        lo = lo.min(z);
+                    }
+                    hi = hi.max(z);
+                }
+            }
+            out.push(match reduction {
+                DepthReduction::Average3x3 if n > 0 => sum / n as f32,
+                DepthReduction::Min2x2 if n > 0 => lo,
+                DepthReduction::Max2x2 => hi,
+                _ => 0.0,
+            });
+        }
+    }
+    (out, ow, oh)
+}

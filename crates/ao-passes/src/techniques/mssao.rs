@@ -1,0 +1,191 @@
+//! `mssao`: multi-resolution screen-space ambient occlusion (Hoang & Low, "Efficient
+//! screen-space approach to high-quality multi-scale ambient occlusion", The Visual Computer
+//! 28(3), 2012). Equation and table numbers are the paper's; ../shared/specs/mssao.md records
+//! them with the errata followed here.
+//!
+//! The graph is the paper's pipeline (Table 1), levels l = 0 (finest, the paper's Res_1) to
+//! n - 1 (coarsest):
+//!
+//! ```text
+//! gbuffer (view-space positions, face normals)
+//! mssao.downsample{l}, l = 1..n-1   2x2 depth-sorted median / second-nearest (Table 2)
+//! mssao.ao{n-1}                     interleaved kernel, tuple (mean, sum, N)   (Eqs. 5-7, 10)
+//! for l = n-2 down to 0:
+//!   mssao.blur{l+1}                 3x3 blur of level l+1's tuple            (Table 4)
+//!   mssao.ao{l}                     near AO + bilateral upsampling of the blurred level l+1
+//!                                   (Fig. 9, Eqs. 8-9) + Eq. 10; at l = 0 the Poisson disk
+//!                                   and Eq. 11, writing accessibility 1 - AO_final
+//! [mssao.temporal.*]                optional temporal filter (Eqs. 12-14), see below
+//! ```
+//!
+//! One downsample pass per level below the finest (level 0 is the g-buffer itself), one AO pass
+//! per level, one blur per level above the finest; the 2x2 upsampling is fused into the next
+//! finer AO pass (the spec's pass count, and one texture fewer per level than a separate
+//! upsample pass would need). With n = 1 the single pass is `mssao.ao0` (Poisson disk, Eq. 11).
+//!
+//! # Radius
+//! The paper's d_max (Eq. 7: the view-space distance beyond which an occluder contributes
+//! nothing; 2 units in all of its tests) *is* the shared world-space radius R (`[ao] radius`):
+//! the reference's obscurance mode uses exactly Eq. 7 with d_max = R, and its binary mode counts
+//! hits within R, so MSSAO is compared against the same sphere of influence every other
+//! technique uses. configs/mssao.toml sets `radius = 2.0`, the paper's d_max. d_threshold and
+//! t_z are, as in the paper, in scene units: scale them with R when the scene's unit changes.
+//!
+//! # Errata followed, and choices where the paper is silent (also noted in the WGSL)
+//! - Eq. 5 uses the 0-based level index (spec erratum): the finest level's radius is the full
+//!   projected d_max, r_l = r_0 / 2^l; s / (2 tan(alpha/2)) is the viewport height times
+//!   P[1][1] / 2 (`pixels_per_unit`), so non-square viewports work.
+//! - Eq. 6 sums without 1/N (spec erratum: Eq. 10 divides by N itself); samples below the
+//!   hemisphere or beyond d_max still count in N (the paper's "no rejection").
+//! - Coarse levels take the odd offsets (+-1, +-3, +-5) within R (4, 16 or 36 taps); the finest
+//!   level's 16-point Poisson disk is our own (Mitchell best-candidate), fixed and unrotated,
+//!   scaled by R and rounded to texels; a point rounding onto the pixel itself is skipped
+//!   (not counted in N).
+//! - Off-screen taps are skipped (not counted); sky taps count as unoccluding samples.
+//! - Downsampling tests the depth range (Table 2, not the prose's 3D distance), renormalises the
+//!   averaged normal and sorts sky last; odd sizes round up (`SizeClass::half_pow`) and clamp
+//!   the 2x2 fetch at the border.
+//! - Blur and upsampling are normalised by their weight sums (the pseudo-code omits it); the
+//!   blur is bilateral by default as the prose says (`bilateral_blur`), applied to all three
+//!   channels. If every bilateral upsampling weight underflows, the bilinear weights are used.
+//! - Tuple textures are Rgba16Float (max, sum, count, unused) whatever `intermediate_format`
+//!   says (the WGSL storage format is fixed per file): the max is in [0, 1]; sums and counts
+//!   are at most 3 x 36 + 16 = 124 at the defaults and 7 x 64 + 16 = 464 at the limits, where
+//!   fp16 is exact for integers and within 2^-11 relative for the blurred, fractional values.
+//!   Pyramid positions stay Rgba32Float and normals Rgba16Float, the g-buffer's own formats
+//!   (the spec: 32-bit positions).
+//!
+//! # Temporal filter (optional, off by default)
+//! `temporal = true` appends the shared temporal building block (`blocks::temporal`, also
+//! TSSAO's) in its fixed-blend mode: `mssao.temporal.reproject` (Eq. 12 through the camera, or
+//! the g-buffer's motion where the scene moves; Eq. 13 with `temporal_epsilon`) and
+//! `mssao.temporal.accumulate` (Eq. 14 with k = `temporal_k`, k = 0 where the test fails or
+//! the point was off screen, Table 5), plus `mssao.temporal.zero_motion` on static scenes.
+//! epsilon is not given by the paper; the default is the block's 0.03 (the spec: 0.01-0.05).
+//! The blended value is next frame's AO_prev (an exponential moving average, spec §7).
+
+mod passes;
+#[cfg(test)]
+mod tests;
+
+use aograph_graph::{GBufferChannel, GBufferChannels, ParamSpec, TextureHandle};
+use serde::{Deserialize, Serialize};
+
+use crate::blocks::temporal::{add_temporal, temporal_channels, TemporalAccumulation, TemporalMode, DEFAULT_EPSILON};
+use crate::error::{check_param, AoResult};
+use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
+
+use passes::{Level, MssaoUniform};
+
+/// The `mssao` technique.
+pub struct Mssao;
+
+/// Most pyramid levels accepted.
+pub const MAX_LEVELS: u32 = 8;
+
+/// `[ao.mssao]`: every constant of the paper, with its value as the default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MssaoParams {
+    /// n, the number of resolutions (Sec. 4.2; 4 in all of the paper's tests).
+    pub levels: u32,
+    /// d_threshold (Table 2), scene units: a 2x2 block whose depth range is at most this is
+    /// averaged (median), otherwise its second-nearest sub-pixel is kept.
+    pub d_threshold: f32,
+    /// r_max (Eq. 5): cap of the kernel radius in pixels of each level (5 = an 11x11 kernel).
+    pub r_max: f32,
+    /// t_n (Eq. 8): exponent of the normal weight of the bilateral filters.
+    pub normal_power: f32,
+    /// t_z (Eq. 9): exponent of the depth weight of the bilateral filters (scene units).
+    pub depth_power: f32,
+    /// Multiply the 3x3 blur's weights by Eqs. 8-9 (the paper's prose calls it bilateral;
+    /// Table 4 lists only 1 / ((dx + 1)(dy + 1))).
+    pub bilateral_blur: bool,
+    /// The optional temporal filter (Sec. 4.6, Eqs. 12-14). Off by default.
+    pub temporal: bool,
+    /// k (Eq. 14): weight of the reprojected history when the depth test passes.
+    pub temporal_k: f32,
+    /// epsilon (Eq. 13): relative depth tolerance of the reprojection test (not given by the
+    /// paper; the spec suggests 0.01 to 0.05, the shared block's default is 0.03).
+    pub temporal_epsilon: f32,
+}
+
+impl Default for MssaoParams {
+    fn default() -> Self {
+        Self { levels: 4, d_threshold: 1.0, r_max: 5.0, normal_power: 8.0, depth_power: 16.0, bilateral_blur: true, temporal: false, temporal_k: 0.5, temporal_epsilon: DEFAULT_EPSILON }
+    }
+}
+
+impl AoTechnique for Mssao {
+    type Params = MssaoParams;
+    fn name(&self) -> &'static str {
+        "mssao"
+    }
+    fn description(&self) -> &'static str {
+        "multi-resolution SSAO: g-buffer pyramid, small kernels per level, bilateral upsampling, max/average combine (Hoang & Low 2012)"
+    }
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        vec![
+            spec("levels", &format!("1 to {MAX_LEVELS}"), "number of resolutions n, each half the previous (Sec. 4.2)"),
+            spec("d_threshold", "0 to 1000", "depth range (scene units) above which downsampling keeps the second-nearest sub-pixel instead of the median (Table 2)"),
+            spec("r_max", "1 to 8", "kernel radius cap in pixels of each level (Eq. 5)"),
+            spec("normal_power", "0 to 64", "t_n, exponent of the normal weight (Eq. 8)"),
+            spec("depth_power", "0 to 64", "t_z, exponent of the depth weight 1 / (1 + |dz|) (Eq. 9)"),
+            spec("bilateral_blur", "true or false", "weigh the 3x3 blur by Eqs. 8-9 as well (Sec. 4.5)"),
+            spec("temporal", "true or false", "temporal filter: reprojection, depth test and fixed blend (Eqs. 12-14, Table 5)"),
+            spec("temporal_k", "0 to 0.99", "k, history weight when the reprojection test passes (Eq. 14)"),
+            spec("temporal_epsilon", "0.0001 to 1", "relative depth tolerance |1 - z_prev / z| of the reprojection test (Eq. 13)"),
+        ]
+    }
+    fn validate(&self, p: &MssaoParams) -> AoResult<()> {
+        let t = "mssao";
+        check_param(t, "levels", p.levels, 1, MAX_LEVELS)?;
+        check_param(t, "d_threshold", p.d_threshold, 0.0, 1000.0)?;
+        check_param(t, "r_max", p.r_max, 1.0, 8.0)?;
+        check_param(t, "normal_power", p.normal_power, 0.0, 64.0)?;
+        check_param(t, "depth_power", p.depth_power, 0.0, 64.0)?;
+        check_param(t, "temporal_k", p.temporal_k, 0.0, 0.99)?;
+        check_param(t, "temporal_epsilon", p.temporal_epsilon, 0.0001, 1.0)?;
+        Ok(())
+    }
+    fn channels(&self, p: &MssaoParams) -> GBufferChannels {
+        // Sec. 4.1: view-space positions and true face normals (interpolated vertex normals
+        // self-occlude on coarse meshes).
+        let spatial = GBufferChannels::of(&[GBufferChannel::Positions]).with_face_normals();
+        // The temporal block reads linear depth (Eq. 13) and motion where the scene moves.
+        if p.temporal { spatial.union(temporal_channels()) } else { spatial }
+    }
+    fn is_temporal(&self, p: &MssaoParams) -> bool {
+        p.temporal
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &MssaoParams) -> AoResult<AoOutput> {
+        self.validate(p)?;
+        let radius = ctx.radius;
+        let uniform = |level: u32| MssaoUniform::new(p, radius, level);
+        let finest = Level { positions: ctx.channel(GBufferChannel::Positions)?, normals: ctx.channel(GBufferChannel::Normals)? };
+        // Table 2: the g-buffer pyramid.
+        let mut pyramid = vec![finest];
+        for l in 1..p.levels {
+            let next = passes::downsample(ctx, l, pyramid[l as usize - 1], &uniform(l));
+            pyramid.push(next);
+        }
+        // Tables 3-4, coarsest to finest; `blurred` is the previous (coarser) level's filtered
+        // tuple.
+        let mut blurred: Option<TextureHandle> = None;
+        for l in (1..p.levels).rev() {
+            let g = pyramid[l as usize];
+            let far = blurred.map(|b| (b, pyramid[l as usize + 1]));
+            let tuple = passes::ao_level(ctx, l, g, far, &uniform(l));
+            blurred = Some(passes::blur(ctx, l, tuple, g, &uniform(l)));
+        }
+        let far = blurred.map(|b| (b, pyramid[1]));
+        let accessibility = passes::ao_finest(ctx, pyramid[0], far, &uniform(0));
+        if !p.temporal {
+            return Ok(AoOutput::new(accessibility));
+        }
+        // Sec. 4.6, Table 5: reprojection, Eq. 13's test and Eq. 14's blend.
+        let filter = TemporalAccumulation { epsilon: p.temporal_epsilon, n_max: 1, mode: TemporalMode::FixedBlend(p.temporal_k) };
+        let t = add_temporal(ctx.builder, "mssao.temporal", accessibility, &ctx.gbuffer, ctx.view, &filter)?;
+        Ok(AoOutput::new(t.accumulated))
+    }
+}

@@ -1,0 +1,256 @@
+//! `pyramid-hbao`: horizon-based AO marching a 3x3-average linear-depth pyramid (Astapov,
+//! Frolov, Galaktionov, "Pyramid HBAO", GraphiCon 2021; spec /work/shared/specs/pyramid_hbao.md).
+//!
+//! Passes, in the paper's order (§3.3-3.5):
+//! 1. `pyramid-hbao.depth_level1` .. `depth_level{L-1}`: the depth pyramid, K = 3, each level
+//!    the mean of a 3x3 block, sizes rounded up (blocks::depth_pyramid, Average3x3).
+//! 2. `pyramid-hbao.ao`: per pixel, D = 8 directions; along each, `step_count` reads on each
+//!    level 0..L-1, the step multiplied by K after each level; per direction the max of
+//!    W(r) sin(alpha) (Eqs. 7, 8); AO = 1 - mean over directions (shaders/ao/pyramid_hbao/ao.wgsl).
+//! 3. `pyramid-hbao.blur_x`, `pyramid-hbao.blur_y`: the separable Gaussian, sigma 1.5, 5 taps
+//!    (blocks::gaussian_blur), with sky kept at 1 and sky taps left out.
+//!
+//! Reads linear depth and view-space normals; level 0 is the g-buffer's linear depth, which is
+//! Eq. (6) applied to the hardware depth already (the spec's level 0 is the raw depth buffer
+//! linearised on read: same values). Output: accessibility, 1 = unoccluded, sky exactly 1.
+//!
+//! Values the paper leaves open ([NOT IN PAPER] / [IMPL] in the spec), chosen here:
+//! - R: the shared world radius `[ao] radius` (W(r) = max(0, 1 - r/R), Eq. 7).
+//! - Initial step s0 = 1 full-resolution pixel (`initial_step`), the spec's suggested start:
+//!   level 0 is then sampled at its texel spacing, and level l at one texel of level l.
+//! - step_count S = 4 reads per level (the spec suggests 4-8): with L = 4 the march reaches
+//!   s0 xi S (K^L - 1)/(K - 1) = 160 xi px (xi in [0.5, 1.5)), about R at 720p for the default
+//!   scenes; the march stops once every further sample is beyond R, so a larger reach costs
+//!   nothing where it is not needed.
+//! - L = 4 levels by default (the paper tests 1-5; its Viking Room saturates at 4), 1 to 5.
+//!   L counts level 0 (spec §2.4 [IMPL]): L = 1 marches the full-resolution depth only.
+//! - xi_d in [0.5, 1.5) (spec §2.5 [IMPL]); directions theta_d = 2 pi (phi + (d + u_d)/D):
+//!   stratified random; the per-pixel rotation phi is the R2 low-discrepancy dither (a
+//!   blue-noise-like pattern computed in the shader) instead of a 32x32 blue-noise texture,
+//!   u_d and xi_d hash the pixel modulo 32. The noise is not animated (deterministic frames).
+//! - Tangent-angle bias `angle_bias` = 0 degrees (spec §6.3: off by default, faithful).
+//! - Sky and far taps are unoccluding and left out of the pyramid means (spec §6.3); samples
+//!   are rebuilt at the centre of their (coarse) texel, whose edge texels are exact centroids.
+//!
+//! The estimator is the paper's: Eq. (2)'s elevation limit read as pi/2 (spec §1.2 erratum), so
+//! Eq. (1) is uniform-weighted AO, estimated per direction by Eq. (8) with the elevation taken
+//! from the tangent plane of the normal (spec §1.3: no separate tangent angle). Against the
+//! binary, cosine-weighted reference it under-occludes: W(r) = 1 - r/R fades occluders the
+//! reference counts fully, and a height field cannot see overhangs (measured on
+//! sphere-on-plane, 128x96: MAE 0.045, mean signed error +0.043; a step W(r) = [r < R]
+//! would give MAE 0.027, but that is not the paper's method).
+
+use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass};
+use serde::{Deserialize, Serialize};
+
+use crate::blocks::{depth_pyramid, gaussian_blur, DepthReduction, GaussianBlur};
+use crate::error::{check_param, AoError, AoResult};
+use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
+
+const NAME: &str = "pyramid-hbao";
+/// Pyramid reduction factor K (spec §2.2).
+const K: u32 = 3;
+/// Most levels the AO shader binds (level 0 included).
+pub const MAX_LEVELS: u32 = 5;
+
+pub struct PyramidHbao;
+
+/// Parameters; defaults are the paper's values where it gives them (module docs for the rest).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PyramidHbaoParams {
+    /// Pyramid levels L, level 0 (full resolution) included.
+    pub levels: u32,
+    /// Azimuth directions D (paper: 8).
+    pub directions: u32,
+    /// Reads per direction and pyramid level.
+    pub step_count: u32,
+    /// Initial step s0, full-resolution pixels.
+    pub initial_step: f32,
+    /// Tangent-angle bias in degrees (0 = the paper's estimator).
+    pub angle_bias: f32,
+    /// Run the Gaussian denoiser.
+    pub blur: bool,
+    /// Gaussian sigma in pixels (paper: 1.5).
+    pub blur_sigma: f32,
+    /// Gaussian taps per axis (paper: 5).
+    pub blur_taps: u32,
+}
+
+impl Default for PyramidHbaoParams {
+    fn default() -> Self {
+        Self { levels: 4, directions: 8, step_count: 4, initial_step: 1.0, angle_bias: 0.0, blur: true, blur_sigma: 1.5, blur_taps: 5 }
+    }
+}
+
+/// The AO pass's constants (shaders/ao/pyramid_hbao/ao.wgsl, `Params`).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct AoUniform {
+    radius: f32,
+    initial_step: f32,
+    sin_bias: f32,
+    factor: f32,
+    levels: u32,
+    directions: u32,
+    step_count: u32,
+    _pad: u32,
+}
+
+impl AoTechnique for PyramidHbao {
+    type Params = PyramidHbaoParams;
+    fn name(&self) -> &'static str {
+        NAME
+    }
+    fn description(&self) -> &'static str {
+        "HBAO marching a 3x3-average linear-depth pyramid, one level coarser per step group (Astapov et al. 2021)"
+    }
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        vec![
+            spec("levels", "1 to 5", "pyramid levels L, level 0 included; the reach grows 3x per level"),
+            spec("directions", "1 to 32", "azimuth directions D (paper: 8)"),
+            spec("step_count", "1 to 16", "reads per direction and pyramid level"),
+            spec("initial_step", "0.25 to 16", "initial step s0 in full-resolution pixels (x3 per level)"),
+            spec("angle_bias", "0 to 30", "tangent-angle bias in degrees (0 = the paper's estimator)"),
+            spec("blur", "true or false", "run the separable Gaussian denoiser"),
+            spec("blur_sigma", "0.1 to 8", "Gaussian sigma in pixels (paper: 1.5)"),
+            spec("blur_taps", "odd, 1 to 31", "Gaussian taps per axis (paper: 5)"),
+        ]
+    }
+    fn validate(&self, p: &PyramidHbaoParams) -> AoResult<()> {
+        check_param(NAME, "levels", p.levels, 1, MAX_LEVELS)?;
+        check_param(NAME, "directions", p.directions, 1, 32)?;
+        check_param(NAME, "step_count", p.step_count, 1, 16)?;
+        check_param(NAME, "initial_step", p.initial_step, 0.25, 16.0)?;
+        check_param(NAME, "angle_bias", p.angle_bias, 0.0, 30.0)?;
+        check_param(NAME, "blur_sigma", p.blur_sigma, 0.1, 8.0)?;
+        if p.blur_taps.is_multiple_of(2) || !(1..=31).contains(&p.blur_taps) {
+            return Err(AoError::InvalidParameter { technique: NAME.into(), name: "blur_taps".into(), value: p.blur_taps.to_string(), allowed: "an odd number from 1 to 31".into() });
+        }
+        Ok(())
+    }
+    fn channels(&self, _: &PyramidHbaoParams) -> GBufferChannels {
+        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
+        if ctx.intermediate_format != wgpu::TextureFormat::R32Float {
+            return Err(AoError::InvalidParameter {
+                technique: NAME.into(),
+                name: "intermediate_format".into(),
+                value: format!("{:?}", ctx.intermediate_format),
+                allowed: "r32float (the compute passes write r32float storage textures; r16float is not a storage format in core wgpu)".into(),
+            });
+        }
+        let depth = ctx.channel(GBufferChannel::LinearDepth)?;
+        let normals = ctx.channel(GBufferChannel::Normals)?;
+        // 1. Depth pyramid, K = 3, 3x3 mean (§3.3).
+        let pyramid = depth_pyramid(ctx.builder, NAME, depth, DepthReduction::Average3x3, p.levels)?;
+        debug_assert_eq!(pyramid.factor(), K);
+        // 2. AO at the output resolution (§3.4; no upsampling, §3).
+        let target = if p.blur { ctx.intermediate("pyramid-hbao.ao", SizeClass::FULL) } else { ctx.accessibility_texture("pyramid-hbao.ao") };
+        let uniform = AoUniform {
+            radius: ctx.radius,
+            initial_step: p.initial_step,
+            sin_bias: p.angle_bias.to_radians().sin(),
+            factor: K as f32,
+            levels: p.levels,
+            directions: p.directions,
+            step_count: p.step_count,
+            _pad: 0,
+        };
+        let mut pass = ctx.builder.compute_pass("pyramid-hbao.ao", "ao/pyramid_hbao/ao.wgsl", "main");
+        pass.sample("depth", depth);
+        for l in 1..MAX_LEVELS as usize {
+            // Slots past L - 1 get the coarsest level; the shader never reads them.
+            pass.sample(&format!("depth{l}"), pyramid.level(l));
+        }
+        pass.sample("normals", normals);
+        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.uniform("params", bytemuck::bytes_of(&uniform));
+        let raw = pass.write_storage("ao", target);
+        pass.dispatch_over(raw);
+        if !p.blur {
+            return Ok(AoOutput::new(raw));
+        }
+        // 3. Separable Gaussian, sigma 1.5, 5 taps (§3.5, §4).
+        let blur = GaussianBlur { sigma: p.blur_sigma, taps: p.blur_taps, depth_sigma: None };
+        Ok(AoOutput::new(gaussian_blur(ctx.builder, NAME, raw, Some(depth), &blur)?))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use aograph_graph::{compile, BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, TextureDesc, ViewUniforms, VIEW_BUFFER};
+
+    use super::*;
+    use crate::technique::DynAoTechnique;
+
+    /// Builds the technique with `params` over imported g-buffer channels; the kept pass names.
+    fn plan(params: &str) -> AoResult<Vec<String>> {
+        let mut b = GraphBuilder::new();
+        let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let mut gbuffer = GBufferTextures::default();
+        for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
+            gbuffer.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+        }
+        let mut ctx = AoBuildContext { builder: &mut b, gbuffer, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: NAME };
+        let out = DynAoTechnique::build(&PyramidHbao, &mut ctx, &params.parse::<toml::Table>().unwrap())?;
+        b.export(out.accessibility);
+        assert_eq!(b.texture_desc(out.accessibility), Some(TextureDesc::new(crate::ACCESSIBILITY_FORMAT, SizeClass::FULL)));
+        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let plan = compile(b.build(), &shaders, CompileOptions::default())?;
+        assert!(plan.culled.is_empty(), "{:?}", plan.culled_names());
+        Ok(plan.pass_names().iter().map(|s| s.to_string()).collect())
+    }
+
+    #[test]
+    fn plan_has_the_spec_passes_for_every_level_count() {
+        for l in 1..=MAX_LEVELS {
+            let mut want: Vec<String> = (1..l).map(|i| format!("pyramid-hbao.depth_level{i}")).collect();
+            want.extend(["pyramid-hbao.ao", "pyramid-hbao.blur_x", "pyramid-hbao.blur_y"].map(String::from));
+            assert_eq!(plan(&format!("levels = {l}")).unwrap(), want, "L = {l}");
+        }
+        assert_eq!(plan("").unwrap().len(), 3 + 3, "default L = 4");
+        assert_eq!(plan("levels = 2\nblur = false").unwrap(), ["pyramid-hbao.depth_level1", "pyramid-hbao.ao"]);
+    }
+
+    #[test]
+    fn parameters_out_of_range_name_the_allowed_range() {
+        let cases = [
+            ("levels = 0", "`levels` = 0", "allowed 1 to 5"),
+            ("levels = 6", "`levels` = 6", "allowed 1 to 5"),
+            ("directions = 0", "`directions` = 0", "allowed 1 to 32"),
+            ("step_count = 17", "`step_count` = 17", "allowed 1 to 16"),
+            ("initial_step = 0.1", "`initial_step` = 0.1", "allowed 0.25 to 16"),
+            ("angle_bias = 45.0", "`angle_bias` = 45", "allowed 0 to 30"),
+            ("blur_taps = 4", "`blur_taps` = 4", "an odd number from 1 to 31"),
+            ("blur_sigma = 0.0", "`blur_sigma` = 0", "allowed 0.1 to 8"),
+        ];
+        for (toml, what, allowed) in cases {
+            let e = PyramidHbao.check(&toml.parse().unwrap()).unwrap_err().to_string();
+            assert!(e.contains(what) && e.contains(allowed) && e.contains("pyramid-hbao"), "{toml}: {e}");
+        }
+        let e = PyramidHbao.check(&"step = 2".parse().unwrap()).unwrap_err().to_string();
+        assert!(e.contains("unknown field `step`") && e.contains("step_count"), "{e}");
+        assert!(PyramidHbao.check(&toml::Table::new()).is_ok());
+    }
+
+    #[test]
+    fn r16float_intermediates_are_rejected_by_name() {
+        let mut b = GraphBuilder::new();
+        let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: 64 });
+        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: GBufferTextures::default(), view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R16Float, technique: NAME };
+        let e = AoTechnique::build(&PyramidHbao, &mut ctx, &PyramidHbaoParams::default()).unwrap_err().to_string();
+        assert!(e.contains("`intermediate_format`") && e.contains("r32float"), "{e}");
+    }
+
+    #[test]
+    fn reads_depth_and_normals_and_documents_every_parameter() {
+        let c = AoTechnique::channels(&PyramidHbao, &PyramidHbaoParams::default());
+        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        let specs = PyramidHbao.parameters();
+        let defaults = toml::Value::try_from(PyramidHbaoParams::default()).unwrap();
+        assert_eq!(specs.len(), defaults.as_table().unwrap().len(), "one spec per parameter");
+        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
+    }
+}

@@ -1,0 +1,298 @@
+//! `ssdo`: screen-space directional occlusion with one indirect bounce (Ritschel, Grosch and
+//! Seidel, "Approximating Dynamic Global Illumination in Image Space"; specs/ssdo.md). The
+//! paper has no equation numbers; E1/E2/E3 below are the spec's labels.
+//!
+//! Passes, in the paper's order (§1.5):
+//! 1. `ssdo.direct` (shaders/ao/ssdo/direct.wgsl): N samples `P + lambda_i omega_i` from one of
+//!    16 interleaved sets ([`kernel`]), each back-projected and classified against the position
+//!    buffer (§1.4); the direct radiance L_dir (E1) from the environment and the directional
+//!    light, and the AO-equivalent accessibility, as rgb + a of one Rgba16Float texture.
+//! 2. `ssdo.indirect` (indirect.wgsl, only with `bounce = true`): the same samples and verdicts;
+//!    every blocker is a sender patch of area A_s = pi r_max^2 / N (E3) radiating the pass-1
+//!    radiance of its pixel; L_ind by E2.
+//! 3. `ssdo.blur_x`, `ssdo.blur_y` (blur_x.wgsl, blur_y.wgsl): the geometry-sensitive blur
+//!    [Segovia et al. 2006] over the 4x4 interleave footprint, separable; blur_y writes the
+//!    accessibility (R32Float, the main output) and the extra outputs `ssdo_direct` and
+//!    `ssdo_indirect` (Rgba16Float, linear radiance; `aograph render` writes them as PNGs).
+//!
+//! Reads positions, normals, albedo and direct light: the only technique that needs colour, so
+//! the g-buffer writes albedo and direct light only when SSDO is in the graph. The scene's light
+//! and ambient come from the imported [`LIGHTING_BUFFER`] block ([`lighting`]), which the app's
+//! renderer fills from the scene: techniques stay independent of the scene crate.
+//!
+//! Invariants: accessibility in [0, 1], exactly 1 on sky; radiance finite and >= 0, zero on sky;
+//! `ssdo_indirect` exactly zero with `bounce = false`; never NaN; every loop runs at most N.
+//!
+//! Where the paper is silent (choices, here and in the shaders):
+//! - r_max is the shared R (`[ao] radius`); the paper leaves it to the user per scene.
+//! - Environment L_in: constant, the scene's ambient (what shaded.png uses), optionally tilted by
+//!   `sky_gradient`: L_in(w) = ambient * (1 + g * w.up). The paper uses an environment map.
+//! - The directional light: the paper shades important lights with shadow maps, which aograph
+//!   does not have. Here the sun is the g-buffer's unshadowed DirectLight (rho E max(0, n.l))
+//!   times a per-sample-weighted visibility sum V_i w_i / sum w_i, w_i = max(0, omega_i.l)^k,
+//!   k = `light_lobe`: the samples towards the light decide; 1 when none faces the light.
+//! - E1's dw = 2 pi / N becomes pi / sum(cos theta_i) of the pixel's set (self-normalised): an
+//!   unoccluded pixel under a constant environment gets exactly rho * L_in, and the small
+//!   per-set bias does not print the 4x4 pattern. The accessibility uses the same weights,
+//!   A = sum V_i cos theta_i / sum cos theta_i (unweighted by radiance).
+//! - Visibility (§1.4): "its distance to the viewer decreases" is tested with both distances
+//!   measured from the receiver's tangent plane along their own eye rays (the position read
+//!   lies on its pixel centre's ray, up to half a pixel off the sample's; exact for planes, so
+//!   grazing planes do not self-occlude; the plain test where that plane is edge-on), with a
+//!   depth bias of `bias` * r_max. Off-screen, behind-camera and sky taps are visible. The
+//!   border fade (§7.2, no parameters given): a blocker at Q weighs
+//!   1 - smoothstep(fade_start * r_max, r_max, |Q - P|). Default 0.8, the top of the spec's
+//!   suggested 0.5..0.8: every fade only removes occlusion the reference counts (a sample
+//!   inside a solid within r_max means a hit within r_max), so on sphere-on-plane the MAE goes
+//!   0.061 (0.5), 0.051 (0.8), 0.041 (1.0, a hard cut at r_max).
+//! - Bounce (E2): the sender patch sits at Q, the position-buffer point of the blocker's pixel,
+//!   with that pixel's normal and pass-1 radiance (unblurred, the paper's order); the cosines
+//!   are clamped at 0, which drops back-facing senders and senders in the receiver's negative
+//!   half-space; d = |Q - P| clamped below at `distance_clamp` (the paper's 1, in scene
+//!   units: re-tune it when the scene is rescaled; while r_max <= clamp the 1/d^2 falloff is
+//!   off and bleeding is weak in small scenes). `sender_area_scale` is the paper's manual
+//!   colour-bleeding knob on A_s.
+//! - Blur: separable, 5 taps per axis weighted [1/2, 1, 1, 1, 1/2] (every residue of the 4x4
+//!   pattern weighs the same and the kernel is centred), times normal similarity (n.n_j)^8 and
+//!   tangent-plane distance 1 - |n.(P_j - P)| / (0.1 r_max); sky taps excluded. The paper gives
+//!   no kernel; it blurs once, at the end, so pass 2 reads the unblurred pass-1 radiance.
+//! - Raw radiance and accessibility share one Rgba16Float texture (accessibility steps of
+//!   2^-11, far below the estimator's noise). Storage formats are fixed in WGSL and r16float
+//!   storage is not core WebGPU, so `intermediate_format` does not apply.
+
+pub mod kernel;
+pub mod lighting;
+
+use aograph_graph::{BufferAccess, BufferDesc, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc, TextureHandle};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{check_param, AoResult};
+use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
+pub use kernel::MAX_SAMPLES;
+pub use lighting::{LightingUniforms, LIGHTING_BUFFER};
+
+/// Format of the radiance textures (raw and output).
+pub const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Blur plane tolerance as a fraction of r_max.
+const BLUR_PLANE_TOLERANCE: f32 = 0.1;
+
+pub struct Ssdo;
+
+/// `[ao.ssdo]` parameters.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SsdoParams {
+    /// N, samples per pixel (the paper: 8 and 16).
+    pub samples: u32,
+    /// One indirect bounce (E2).
+    pub bounce: bool,
+    /// Lower clamp of the sender distance d_i in E2, scene units (the paper: 1).
+    pub distance_clamp: f32,
+    /// Multiplier on the sender area A_s = pi r_max^2 / N (the paper's colour-bleeding knob).
+    pub sender_area_scale: f32,
+    /// Blockers fade out from this fraction of r_max to r_max (§7.2's smooth step).
+    pub fade_start: f32,
+    /// Depth bias of the visibility test, as a fraction of r_max.
+    pub bias: f32,
+    /// Exponent of the per-sample weight max(0, omega . l)^k of the directional light.
+    pub light_lobe: f32,
+    /// Sky gradient of the environment: L_in = ambient * (1 + g * omega.up).
+    pub sky_gradient: f32,
+}
+
+impl Default for SsdoParams {
+    fn default() -> Self {
+        Self { samples: 8, bounce: true, distance_clamp: 1.0, sender_area_scale: 1.0, fade_start: 0.8, bias: 0.01, light_lobe: 4.0, sky_gradient: 0.0 }
+    }
+}
+
+impl SsdoParams {
+    /// The `params` uniform for r_max = `radius`.
+    pub fn uniform(&self, radius: f32) -> kernel::SsdoUniform {
+        let n = self.samples.clamp(1, MAX_SAMPLES);
+        let area = self.sender_area_scale * std::f32::consts::PI * radius * radius / n as f32; // E3
+        kernel::SsdoUniform {
+            shape: [radius, self.fade_start * radius, self.bias * radius, area],
+            light: [self.distance_clamp, self.light_lobe, self.sky_gradient, BLUR_PLANE_TOLERANCE * radius],
+            counts: [n, self.bounce as u32, 0, 0],
+            samples: kernel::sample_table(n),
+        }
+    }
+}
+
+impl AoTechnique for Ssdo {
+    type Params = SsdoParams;
+    fn name(&self) -> &'static str {
+        "ssdo"
+    }
+    fn description(&self) -> &'static str {
+        "screen-space directional occlusion with one indirect bounce; radiance as extra outputs"
+    }
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        vec![
+            spec("samples", &format!("4 to {MAX_SAMPLES}"), "N, sample points per pixel (the paper uses 8 and 16)"),
+            spec("bounce", "true or false", "one indirect bounce from occluding sender patches (off: ssdo_indirect is zero)"),
+            spec("distance_clamp", "0.0001 to 10000", "lower clamp of the sender distance in the form factor, scene units (the paper: 1)"),
+            spec("sender_area_scale", "0 to 16", "multiplier on the sender patch area pi R^2 / N: colour-bleeding strength"),
+            spec("fade_start", "0 to 1", "blockers fade out between this fraction of R and R"),
+            spec("bias", "0 to 0.5", "depth bias of the visibility test as a fraction of R"),
+            spec("light_lobe", "1 to 64", "exponent of the per-sample weight of the directional light, max(0, w.l)^k"),
+            spec("sky_gradient", "0 to 1", "environment = ambient * (1 + g * up): 0 is the scene's constant ambient"),
+        ]
+    }
+    fn validate(&self, p: &SsdoParams) -> AoResult<()> {
+        check_param("ssdo", "samples", p.samples, 4, MAX_SAMPLES)?;
+        check_param("ssdo", "distance_clamp", p.distance_clamp, 1e-4, 1e4)?;
+        check_param("ssdo", "sender_area_scale", p.sender_area_scale, 0.0, 16.0)?;
+        check_param("ssdo", "fade_start", p.fade_start, 0.0, 1.0)?;
+        check_param("ssdo", "bias", p.bias, 0.0, 0.5)?;
+        check_param("ssdo", "light_lobe", p.light_lobe, 1.0, 64.0)?;
+        check_param("ssdo", "sky_gradient", p.sky_gradient, 0.0, 1.0)
+    }
+    fn channels(&self, _: &SsdoParams) -> GBufferChannels {
+        GBufferChannels::of(&[GBufferChannel::Normals, GBufferChannel::Positions, GBufferChannel::Albedo, GBufferChannel::DirectLight])
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &SsdoParams) -> AoResult<AoOutput> {
+        let positions = ctx.channel(GBufferChannel::Positions)?;
+        let normals = ctx.channel(GBufferChannel::Normals)?;
+        let albedo = ctx.channel(GBufferChannel::Albedo)?;
+        let direct_light = ctx.channel(GBufferChannel::DirectLight)?;
+        let lighting = ctx.builder.import_buffer(LIGHTING_BUFFER, BufferDesc { size: std::mem::size_of::<LightingUniforms>() as u64 });
+        let uniform = p.uniform(ctx.radius);
+        let params = bytemuck::bytes_of(&uniform);
+        let radiance_texture = |ctx: &mut AoBuildContext<'_>, name: &str| ctx.builder.create_texture(name, TextureDesc::new(RADIANCE_FORMAT, SizeClass::FULL));
+
+        // Pass 1: direct light with directional occlusion (E1) + accessibility in alpha.
+        let raw_direct = radiance_texture(ctx, "ssdo.raw_direct");
+        let mut pass = ctx.builder.compute_pass("ssdo.direct", "ao/ssdo/direct.wgsl", "main");
+        pass.sample("positions", positions).sample("normals", normals).sample("albedo", albedo).sample("direct_light", direct_light);
+        pass.read_buffer("view", BufferAccess::Uniform, ctx.view).read_buffer("lighting", BufferAccess::Uniform, lighting);
+        pass.uniform("params", params);
+        let raw_direct = pass.write_storage("radiance", raw_direct);
+        pass.dispatch_over(raw_direct);
+
+        // Pass 2: one indirect bounce (E2) from the pass-1 radiance of occluding patches.
+        let raw_indirect: Option<TextureHandle> = if p.bounce {
+            let raw = radiance_texture(ctx, "ssdo.raw_indirect");
+            let mut pass = ctx.builder.compute_pass("ssdo.indirect", "ao/ssdo/indirect.wgsl", "main");
+            pass.sample("positions", positions).sample("normals", normals).sample("albedo", albedo).sample("radiance", raw_direct);
+            pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+            pass.uniform("params", params);
+            let raw = pass.write_storage("indirect", raw);
+            pass.dispatch_over(raw);
+            Some(raw)
+        } else {
+            None
+        };
+
+        // Pass 3: the separable geometry-aware blur of all three. Without the bounce the
+        // shaders write zero indirect light and never read `bounce`, which is bound to the
+        // direct radiance only because every WGSL global must be bound.
+        let direct_x = radiance_texture(ctx, "ssdo.direct_x");
+        let indirect_x = radiance_texture(ctx, "ssdo.indirect_x");
+        let mut pass = ctx.builder.compute_pass("ssdo.blur_x", "ao/ssdo/blur_x.wgsl", "main");
+        pass.sample("positions", positions).sample("normals", normals).sample("radiance", raw_direct).sample("bounce", raw_indirect.unwrap_or(raw_direct));
+        pass.uniform("params", params);
+        let direct_x = pass.write_storage("direct_x", direct_x);
+        let indirect_x = pass.write_storage("indirect_x", indirect_x);
+        pass.dispatch_over(direct_x);
+
+        let ao = ctx.accessibility_texture("ssdo.accessibility");
+        let direct_out = radiance_texture(ctx, "ssdo_direct");
+        let indirect_out = radiance_texture(ctx, "ssdo_indirect");
+        let mut pass = ctx.builder.compute_pass("ssdo.blur_y", "ao/ssdo/blur_y.wgsl", "main");
+        pass.sample("positions", positions).sample("normals", normals).sample("radiance", direct_x).sample("bounce", indirect_x);
+        pass.uniform("params", params);
+        let ao = pass.write_storage("ao", ao);
+        let direct_out = pass.write_storage("ssdo_direct", direct_out);
+        let indirect_out = pass.write_storage("ssdo_indirect", indirect_out);
+        pass.dispatch_over(ao);
+        Ok(AoOutput { accessibility: ao, extra: vec![("ssdo_direct".into(), direct_out), ("ssdo_indirect".into(), indirect_out)] })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{AoError, DynAoTechnique};
+    use aograph_graph::{compile, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms};
+
+    fn plan(params: &SsdoParams) -> (Vec<String>, Vec<String>) {
+        let mut b = GraphBuilder::new();
+        let view = b.import_buffer("view", BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let mut g = GBufferTextures::default();
+        for c in AoTechnique::channels(&Ssdo, params).iter() {
+            g.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+        }
+        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: g, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: "ssdo" };
+        let out = AoTechnique::build(&Ssdo, &mut ctx, params).unwrap();
+        b.export(out.accessibility);
+        out.extra.iter().for_each(|(_, h)| b.export(*h));
+        let extra = out.extra.iter().map(|(n, _)| n.clone()).collect();
+        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
+        (plan.pass_names().into_iter().map(String::from).collect(), extra)
+    }
+
+    #[test]
+    fn plan_is_direct_indirect_blur_and_bounce_off_drops_the_indirect_pass() {
+        let (passes, extra) = plan(&SsdoParams::default());
+        assert_eq!(passes, ["ssdo.direct", "ssdo.indirect", "ssdo.blur_x", "ssdo.blur_y"]);
+        assert_eq!(extra, ["ssdo_direct", "ssdo_indirect"]);
+        let (passes, extra) = plan(&SsdoParams { bounce: false, samples: 16, ..Default::default() });
+        assert_eq!(passes, ["ssdo.direct", "ssdo.blur_x", "ssdo.blur_y"]);
+        assert_eq!(extra, ["ssdo_direct", "ssdo_indirect"], "the indirect output exists (zero) without the bounce");
+    }
+
+    #[test]
+    fn reads_colour_and_direct_light() {
+        let c = AoTechnique::channels(&Ssdo, &SsdoParams::default());
+        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::Normals, GBufferChannel::Positions, GBufferChannel::Albedo, GBufferChannel::DirectLight]);
+    }
+
+    #[test]
+    fn out_of_range_parameters_name_the_range() {
+        for (key, value, range) in [
+            ("samples", "3", "4 to 16"),
+            ("samples", "17", "4 to 16"),
+            ("distance_clamp", "0", "0.0001 to 10000"),
+            ("sender_area_scale", "-1", "0 to 16"),
+            ("fade_start", "1.5", "0 to 1"),
+            ("bias", "nan", "0 to 0.5"),
+            ("light_lobe", "0.5", "1 to 64"),
+            ("sky_gradient", "2", "0 to 1"),
+        ] {
+            let table: toml::Table = format!("{key} = {value}").parse().unwrap();
+            let e = Ssdo.check(&table).unwrap_err();
+            assert!(matches!(e, AoError::InvalidParameter { .. }), "{key} = {value}: {e}");
+            let msg = e.to_string();
+            assert!(msg.contains(key) && msg.contains(range), "{msg}");
+        }
+        let ok = "samples = 16\nbounce = false\ndistance_clamp = 0.1\nsender_area_scale = 0\nfade_start = 1.0\nbias = 0\nlight_lobe = 64\nsky_gradient = 1";
+        assert!(Ssdo.check(&ok.parse().unwrap()).is_ok());
+    }
+
+    #[test]
+    fn unknown_keys_are_rejected() {
+        let e = Ssdo.check(&"bounces = false".parse().unwrap()).unwrap_err().to_string();
+        assert!(e.contains("bounces") && e.contains("bounce"), "{e}");
+        assert!(Ssdo.check(&"bounce = 1".parse().unwrap()).is_err(), "bounce is a boolean");
+    }
+
+    #[test]
+    fn every_parameter_has_a_spec_and_default() {
+        let specs = DynAoTechnique::parameters(&Ssdo);
+        let names: Vec<_> = specs.iter().map(|s| s.name).collect();
+        assert_eq!(names, ["samples", "bounce", "distance_clamp", "sender_area_scale", "fade_start", "bias", "light_lobe", "sky_gradient"]);
+        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
+    }
+
+    #[test]
+    fn uniform_carries_the_sender_area_and_the_sets() {
+        let u = SsdoParams::default().uniform(2.0);
+        assert!((u.shape[3] - std::f32::consts::PI * 4.0 / 8.0).abs() < 1e-6, "A_s = pi r^2 / N");
+        assert_eq!(u.counts, [8, 1, 0, 0]);
+        assert!(u.samples[16 * 15 + 7] != [0.0; 4] && u.samples[16 * 15 + 8] == [0.0; 4]);
+        assert_eq!(std::mem::size_of::<kernel::SsdoUniform>(), 48 + 16 * 16 * 16);
+    }
+}

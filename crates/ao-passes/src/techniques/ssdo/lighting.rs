@@ -1,0 +1,54 @@
+//! The scene's lighting as SSDO reads it: a small uniform block imported into the graph under
+//! [`LIGHTING_BUFFER`] and filled by whoever runs the graph (the app's `Renderer` writes it from
+//! the scene's directional light and ambient). This keeps techniques independent of the scene
+//! crate and keeps one source of truth: the g-buffer's `DirectLight` channel and SSDO's sun
+//! visibility use the same light, and SSDO's environment is the same ambient `shaded.png` uses.
+//!
+//! WGSL mirror: `Lighting` in shaders/ao/ssdo/common.wgsl.
+
+use bytemuck::{Pod, Zeroable};
+
+/// Name under which the lighting block is imported (`Executor::import_buffer`).
+pub const LIGHTING_BUFFER: &str = "lighting";
+
+/// The lighting block. 16-byte aligned fields only, so the Rust and WGSL layouts agree.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct LightingUniforms {
+    /// World-space unit direction the directional light travels (xyz), unused w.
+    pub light_direction: [f32; 4],
+    /// Linear RGB colour times intensity, unused w.
+    pub light_color: [f32; 4],
+    /// Linear RGB ambient (the constant environment radiance), unused w.
+    pub ambient: [f32; 4],
+}
+
+impl LightingUniforms {
+    /// A block from a light direction (normalised; straight down if degenerate), the light's
+    /// colour times intensity and the ambient; non-finite or negative colours become 0.
+    pub fn new(direction: [f32; 3], color: [f32; 3], ambient: [f32; 3]) -> Self {
+        let d = glam::Vec3::from(direction);
+        let d = if d.is_finite() { d.try_normalize().unwrap_or(glam::Vec3::NEG_Y) } else { glam::Vec3::NEG_Y };
+        let clean = |c: [f32; 3]| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+        let [r, g, b] = clean(color);
+        let [ar, ag, ab] = clean(ambient);
+        Self { light_direction: [d.x, d.y, d.z, 0.0], light_color: [r, g, b, 0.0], ambient: [ar, ag, ab, 0.0] }
+    }
+    pub fn bytes(&self) -> &[u8] {
+        bytemuck::bytes_of(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn new_normalises_and_cleans() {
+        let l = LightingUniforms::new([0.0, -2.0, 0.0], [1.0, f32::NAN, -1.0], [0.25, 0.27, 0.3]);
+        assert_eq!(l.light_direction, [0.0, -1.0, 0.0, 0.0]);
+        assert_eq!(l.light_color, [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(LightingUniforms::new([0.0; 3], [0.0; 3], [0.0; 3]).light_direction, [0.0, -1.0, 0.0, 0.0]);
+        assert_eq!(std::mem::size_of::<LightingUniforms>(), 48);
+    }
+}

@@ -1,0 +1,351 @@
+//! `tssao`: temporal SSAO (Mattausch, Scherzer, Wimmer 2010; specs/tssao.md). A per-pixel AO
+//! buffer (accessibility, sample count n_t, Halton index, depth) is reprojected into each new
+//! frame; k new samples continue each pixel's Halton sequence and are blended in with weight
+//! k / (n_t + k); pixels whose history is invalid restart, and unconverged pixels get more
+//! samples and a convergence-aware spatial filter.
+//!
+//! Passes, in order:
+//! - `tssao.zero_motion` (only when the scene is static and the g-buffer has no motion
+//!   channel; the shared temporal block's stand-in);
+//! - `tssao.reproject` (shared block `blocks::temporal`, shaders/blocks/temporal_reproject.wgsl):
+//!   Eq. 3 reprojection (motion vectors for moving geometry, `view_to_prev_clip` for the
+//!   camera), the disocclusion test Eq. 7, off-screen invalidation (§3.6.3), bilinear AO and
+//!   nearest n_t / Halton index (§3.3.1);
+//! - `tssao.sample` (shaders/ao/tssao/sample.wgsl): k = k1 while conv < c_spatial, else k2
+//!   (§3.6.2), per-pixel pattern rotation while conv < c_rot (§3.6.4), the per-frame estimator
+//!   Eq. 2 over samples idx+1..idx+k (Eq. 4), the neighbourhood test Eq. 8 with smooth
+//!   invalidation (§3.6.1), the blend Eqs. 5-6; writes the AO buffer (the history);
+//! - `tssao.filter_x`, `tssao.filter_y` (shaders/ao/tssao/filter.wgsl): the convergence-aware
+//!   spatial filter Eqs. 9-10, applied separably; only its output is the technique's output,
+//!   the AO buffer keeps the unfiltered values (spec §2 [I]).
+//!
+//! Reads linear depth, normals and (for scenes that move) motion. History validity comes from
+//! the view block's `frame.y` and the executor clears invalid history, so a camera cut or a
+//! resize restarts every pixel from n_t = 0 and Halton index 0.
+//!
+//! Invariant: the output is accessibility in [0, 1], exactly 1 on sky, never NaN; each
+//! per-pixel loop runs at most k1 x steps iterations.
+//!
+//! Values the paper leaves open (spec §13), chosen here:
+//! - Estimator (Eq. 2, C = V cos D): sample directions are cosine-distributed over the
+//!   hemisphere (Halton bases 2 and 3, Malley's method), which folds the cosine into the
+//!   sampling density, so C = V D. V(p, s_i) = "s_i is not visible from p" (§3.1) is tested
+//!   along the segment from p to s_i = p + R w_i at `steps` points t_j = R (j + 1 - u) / steps,
+//!   u the sample's third Halton coordinate (base 5), so the accumulated samples integrate the
+//!   whole segment. A point counts as blocked when the depth buffer lies in front of it and the
+//!   surface seen there is within 2R of p (the paper's distance-rejection heuristic, §4);
+//!   otherwise it is treated as visible. Off-screen and sky taps are unoccluding. This is the
+//!   reference's definition (a ray hitting geometry within R) evaluated on the depth buffer.
+//! - Falloff D: `none` (D = 1, the reference's binary mode; the paper's Fig. 12 comparison
+//!   with Mental Ray also weighted samples equally) or `quadratic` (1 - (t/R)^2 at the
+//!   blocked point, the reference's obscurance mode). The paper's example exp() is not offered:
+//!   the reference has no exp mode to be measured against.
+//! - Self-occlusion: the segment starts 1.5 pixel footprints above p along the normal, which
+//!   covers the half-texel depth slope of a plane at any view angle.
+//! - Halton index: per pixel, starts at 0 after a reset, advances by k each frame, wraps at
+//!   2^20 (kept exact in f32); sample i uses Halton point idx + i + 1. Kept running on
+//!   invalidation (spec §10.2 [I]). Pattern "rotation" is a Cranley-Patterson shift of all
+//!   three coordinates by a per-pixel hash (constant over frames, so each pixel's samples stay
+//!   one randomised low-discrepancy sequence).
+//! - Eq. 7 epsilon: 0.03 (`depth_epsilon`); Eq. 8 epsilon: 0.05 R (`neighbour_epsilon`, a
+//!   fraction of R since Eq. 8 compares world lengths). The g-buffer's motion is 2D, so the
+//!   previous positions s_i^old, p_old of Eq. 8 are rebuilt from prev_uv = uv + motion and the
+//!   camera-only previous depth: exact for static geometry (the test then never fires under
+//!   camera motion, as in the paper) and for motion parallel to the image plane.
+//! - Eq. 8 extended to the previous occupant ([I], for spec §12's noted gap: an occluder that
+//!   left p's kernel is hit by no current sample): at each sample's previous position the AO
+//!   buffer's depth tells what was there last frame; if that was moving geometry (history.w <
+//!   0) at a depth that fails Eq. 7, the neighbourhood changed. So contact shadows do not trail
+//!   behind moving objects for the n_max decay time.
+//! - Smooth invalidation (§3.6.1): n_t := min(n_t, n_smooth) before Eq. 5 when only the
+//!   neighbourhood test fails (n_smooth = 32, the tighter end of 32-64; 0 = full reset); a
+//!   disocclusion or off-screen pixel resets to 0. k is chosen before the test (spec §14 note).
+//! - n_max = 500 (the paper's 500-1500; the spec's suggestion for dynamic content). Filter:
+//!   F = 5 taps per axis (Table 1), Gaussian on world distance with sigma = 0.5 R; Eq. 10's
+//!   shrink s scales the half width (tap j weighs clamp(s h + 0.5 - |j|, 0, 1)), so at s = 0
+//!   only the centre remains. conv is taken after this frame's update, so every non-sky
+//!   pixel has conv > 0 and the filter's denominator is positive.
+//! - Screen-radius cap as in `ssao`/`hbao`: R projects to at most `max_screen_radius` x height
+//!   pixels (R shrinks to match); under one pixel the pixel is unoccluded.
+
+use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
+use bytemuck::{Pod, Zeroable};
+use serde::{Deserialize, Serialize};
+
+use crate::blocks::temporal::{add_reprojection, ao_history, check_epsilon, MAX_N_MAX};
+use crate::error::{check_one_of, check_param, AoError, AoResult};
+use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique, ACCESSIBILITY_FORMAT};
+
+/// Largest k1 / k2 (new samples per pixel and frame).
+pub const MAX_SAMPLES: u32 = 64;
+/// Largest number of visibility steps per sample.
+pub const MAX_STEPS: u32 = 8;
+/// Largest spatial filter width (taps per axis).
+pub const MAX_FILTER_WIDTH: u32 = 9;
+/// The Halton index wraps at this length (exact in f32).
+pub const HALTON_LENGTH: u32 = 1 << 20;
+
+pub struct Tssao;
+
+/// `[ao.tssao]` parameters (Table 1 of the paper where it gives them).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TssaoParams {
+    /// New samples per frame while conv < c_spatial (k1, Table 1: 32).
+    pub k1: u32,
+    /// New samples per frame once converged (k2, Table 1: 8-16).
+    pub k2: u32,
+    /// Cap of the per-pixel sample count n_t (Table 1: 500-1500).
+    pub n_max: u32,
+    /// Convergence below which k1 samples are taken (Table 1: 0.3).
+    pub c_spatial: f32,
+    /// Convergence from which the per-pixel pattern rotation is off (Table 1: 0.5).
+    pub c_rot: f32,
+    /// Convergence from which the spatial filter is off (Table 1: 0.2, Eq. 10).
+    pub c_adaptive: f32,
+    /// Smooth invalidation: n_t is clamped to this when only Eq. 8 fails (§3.6.1: 32-64;
+    /// 0 = reset to 0, the paper's unsmoothed invalidation).
+    pub n_smooth: u32,
+    /// Relative depth tolerance of the disocclusion test, Eq. 7 (not given by the paper).
+    pub depth_epsilon: f32,
+    /// Tolerance of the neighbourhood test, Eq. 8, as a fraction of R (not given).
+    pub neighbour_epsilon: f32,
+    /// Spatial filter taps per axis (Table 1: 5 x 5).
+    pub filter_width: u32,
+    /// Gaussian sigma of the filter's world-space distance term, as a fraction of R.
+    pub filter_sigma: f32,
+    /// Points tested along each sample's segment for V(p, s_i).
+    pub steps: u32,
+    /// Distance falloff D of Eq. 2: "none" (binary) or "quadratic" (1 - (t/R)^2).
+    pub falloff: String,
+    /// Cap of the projected radius, as a fraction of the image height.
+    pub max_screen_radius: f32,
+}
+
+impl Default for TssaoParams {
+    fn default() -> Self {
+        Self {
+            k1: 32,
+            k2: 8,
+            n_max: 500,
+            c_spatial: 0.3,
+            c_rot: 0.5,
+            c_adaptive: 0.2,
+            n_smooth: 32,
+            depth_epsilon: 0.03,
+            neighbour_epsilon: 0.05,
+            filter_width: 5,
+            filter_sigma: 0.5,
+            steps: 4,
+            falloff: "none".into(),
+            max_screen_radius: 0.5,
+        }
+    }
+}
+
+const FALLOFFS: [&str; 2] = ["none", "quadratic"];
+
+/// The `params` uniform of shaders/ao/tssao/sample.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct SampleUniform {
+    /// k1, k2, steps, has_motion
+    counts: [u32; 4],
+    /// n_smooth, falloff (0 none, 1 quadratic), Halton length, unused
+    modes: [u32; 4],
+    /// c_spatial, c_rot, n_max, R (world units)
+    thresholds: [f32; 4],
+    /// Eq. 7 epsilon, Eq. 8 epsilon (world units), max screen radius (fraction of height), unused
+    tolerances: [f32; 4],
+}
+
+/// The `params` uniform of shaders/ao/tssao/filter.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct FilterUniform {
+    /// Tap step: (1, 0) or (0, 1); half width h = (F - 1) / 2; unused.
+    axis: [i32; 4],
+    /// sigma (world units), c_adaptive, n_max, unused
+    shape: [f32; 4],
+}
+
+impl AoTechnique for Tssao {
+    type Params = TssaoParams;
+    fn name(&self) -> &'static str {
+        "tssao"
+    }
+    fn description(&self) -> &'static str {
+        "temporal SSAO: reprojected per-pixel AO buffer, k new Halton samples per frame, invalidation, convergence-aware filter"
+    }
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        vec![
+            spec("k1", &format!("1 to {MAX_SAMPLES}"), "new samples per frame while convergence < c_spatial (paper: 32)"),
+            spec("k2", &format!("1 to {MAX_SAMPLES}"), "new samples per frame once converged (paper: 8 to 16)"),
+            spec("n_max", &format!("1 to {MAX_N_MAX}"), "cap of the per-pixel sample count n_t (paper: 500 to 1500)"),
+            spec("c_spatial", "0 to 1", "convergence below which k1 samples are taken (paper: 0.3)"),
+            spec("c_rot", "0 to 1", "convergence from which the per-pixel pattern rotation is off (paper: 0.5)"),
+            spec("c_adaptive", "0.001 to 1", "convergence from which the spatial filter is off (paper: 0.2)"),
+            spec("n_smooth", "0 to n_max", "n_t is clamped to this when only the neighbourhood test fails (paper: 32 to 64; 0 = reset)"),
+            spec("depth_epsilon", "greater than 0, at most 1", "relative depth tolerance of the disocclusion test, Eq. 7"),
+            spec("neighbour_epsilon", "greater than 0, at most 1", "tolerance of the neighbourhood test, Eq. 8, as a fraction of R"),
+            spec("filter_width", &format!("odd, 1 to {MAX_FILTER_WIDTH}"), "spatial filter taps per axis (paper: 5)"),
+            spec("filter_sigma", "0.01 to 10", "sigma of the filter's world-space Gaussian, as a fraction of R"),
+            spec("steps", &format!("1 to {MAX_STEPS}"), "points tested along each sample's segment for the visibility V"),
+            spec("falloff", "\"none\" or \"quadratic\"", "distance falloff D of Eq. 2: none (binary) or 1 - (t/R)^2"),
+            spec("max_screen_radius", "0.01 to 2", "cap of the projected radius R, as a fraction of the image height"),
+        ]
+    }
+    fn validate(&self, p: &TssaoParams) -> AoResult<()> {
+        let t = "tssao";
+        check_param(t, "k1", p.k1, 1, MAX_SAMPLES)?;
+        check_param(t, "k2", p.k2, 1, MAX_SAMPLES)?;
+        check_param(t, "n_max", p.n_max, 1, MAX_N_MAX)?;
+        check_param(t, "c_spatial", p.c_spatial, 0.0, 1.0)?;
+        check_param(t, "c_rot", p.c_rot, 0.0, 1.0)?;
+        check_param(t, "c_adaptive", p.c_adaptive, 0.001, 1.0)?;
+        check_param(t, "n_smooth", p.n_smooth, 0, p.n_max)?;
+        check_epsilon(t, "depth_epsilon", p.depth_epsilon)?;
+        check_epsilon(t, "neighbour_epsilon", p.neighbour_epsilon)?;
+        if p.filter_width % 2 == 0 || !(1..=MAX_FILTER_WIDTH).contains(&p.filter_width) {
+            return Err(AoError::InvalidParameter { technique: t.into(), name: "filter_width".into(), value: p.filter_width.to_string(), allowed: format!("an odd number from 1 to {MAX_FILTER_WIDTH}") });
+        }
+        check_param(t, "filter_sigma", p.filter_sigma, 0.01, 10.0)?;
+        check_param(t, "steps", p.steps, 1, MAX_STEPS)?;
+        check_one_of(t, "falloff", p.falloff.as_str(), &FALLOFFS)?;
+        check_param(t, "max_screen_radius", p.max_screen_radius, 0.01, 2.0)
+    }
+    fn channels(&self, _: &TssaoParams) -> GBufferChannels {
+        // Motion is dropped by the g-buffer for scenes where nothing moves.
+        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals, GBufferChannel::Motion])
+    }
+    fn is_temporal(&self, _: &TssaoParams) -> bool {
+        true
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &TssaoParams) -> AoResult<AoOutput> {
+        let depth = ctx.channel(GBufferChannel::LinearDepth)?;
+        let normals = ctx.channel(GBufferChannel::Normals)?;
+        let falloff = FALLOFFS.iter().position(|f| *f == p.falloff).unwrap_or(0) as u32;
+
+        // The AO buffer and its reprojection (shared temporal block: Eqs. 3 and 7).
+        let history = ao_history(ctx.builder, "tssao");
+        let r = add_reprojection(ctx.builder, "tssao", history.previous, &ctx.gbuffer, ctx.view, p.depth_epsilon)?;
+
+        // k new samples, Eq. 8, Eqs. 5-6: writes the AO buffer.
+        let uniform = SampleUniform {
+            counts: [p.k1, p.k2, p.steps, r.has_motion as u32],
+            modes: [p.n_smooth, falloff, HALTON_LENGTH, 0],
+            thresholds: [p.c_spatial, p.c_rot, p.n_max as f32, ctx.radius],
+            tolerances: [p.depth_epsilon, p.neighbour_epsilon * ctx.radius, p.max_screen_radius, 0.0],
+        };
+        let mut pass = ctx.builder.compute_pass("tssao.sample", "ao/tssao/sample.wgsl", "main");
+        pass.sample("reprojected", r.reprojected).sample("previous", history.previous);
+        pass.sample("depth", depth).sample("normals", normals).sample("motion", r.motion);
+        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.uniform("params", bytemuck::bytes_of(&uniform));
+        let buffer = pass.write_storage("ao_buffer", history.current);
+        pass.dispatch_over(buffer);
+
+        // Eqs. 9-10, separably; the AO buffer keeps the unfiltered values.
+        let shape = [p.filter_sigma * ctx.radius, p.c_adaptive, p.n_max as f32, 0.0];
+        let half = (p.filter_width / 2) as i32;
+        let mut src = buffer;
+        let mut out = None;
+        for (name, axis) in [("tssao.filter_x", [1, 0, half, 0]), ("tssao.filter_y", [0, 1, half, 0])] {
+            let target = ctx.builder.create_texture(name, TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL));
+            let mut pass = ctx.builder.compute_pass(name, "ao/tssao/filter.wgsl", "main");
+            pass.sample("src", src).sample("ao_buffer", buffer).sample("depth", depth);
+            pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+            pass.uniform("params", bytemuck::bytes_of(&FilterUniform { axis, shape }));
+            let written = pass.write_storage("dst", target);
+            pass.dispatch_over(written);
+            src = written;
+            out = Some(written);
+        }
+        Ok(AoOutput::new(out.expect("two filter passes")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::DynAoTechnique;
+    use aograph_graph::{compile, BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms};
+
+    fn plan_names(with_motion: bool) -> Vec<String> {
+        let mut b = GraphBuilder::new();
+        let view = b.import_buffer("view", BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let mut g = GBufferTextures::default();
+        let channels = AoTechnique::channels(&Tssao, &TssaoParams::default());
+        for c in channels.iter().filter(|c| with_motion || *c != GBufferChannel::Motion) {
+            g.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+        }
+        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: g, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: "tssao" };
+        let out = AoTechnique::build(&Tssao, &mut ctx, &TssaoParams::default()).unwrap();
+        b.export(out.accessibility);
+        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
+        plan.pass_names().into_iter().map(String::from).collect()
+    }
+
+    #[test]
+    fn plan_is_reproject_sample_filter() {
+        assert_eq!(plan_names(true), ["tssao.reproject", "tssao.sample", "tssao.filter_x", "tssao.filter_y"]);
+        assert_eq!(plan_names(false), ["tssao.zero_motion", "tssao.reproject", "tssao.sample", "tssao.filter_x", "tssao.filter_y"]);
+    }
+
+    #[test]
+    fn is_temporal_and_reads_depth_normals_motion() {
+        assert!(DynAoTechnique::is_temporal(&Tssao, &toml::Table::new()).unwrap());
+        let c = AoTechnique::channels(&Tssao, &TssaoParams::default());
+        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::LinearDepth, GBufferChannel::Normals, GBufferChannel::Motion]);
+    }
+
+    #[test]
+    fn out_of_range_parameters_name_the_range() {
+        for (key, value, range) in [
+            ("k1", "0", "1 to 64"),
+            ("k2", "65", "1 to 64"),
+            ("n_max", "0", "1 to 65536"),
+            ("c_spatial", "1.5", "0 to 1"),
+            ("c_rot", "-0.1", "0 to 1"),
+            ("c_adaptive", "0", "0.001 to 1"),
+            ("n_smooth", "501", "0 to 500"),
+            ("depth_epsilon", "0", "greater than 0"),
+            ("neighbour_epsilon", "nan", "greater than 0"),
+            ("filter_width", "4", "odd number from 1 to 9"),
+            ("filter_sigma", "0", "0.01 to 10"),
+            ("steps", "9", "1 to 8"),
+            ("falloff", "\"exp\"", "none, quadratic"),
+            ("max_screen_radius", "3", "0.01 to 2"),
+        ] {
+            let table: toml::Table = format!("{key} = {value}").parse().unwrap();
+            let e = Tssao.check(&table).unwrap_err();
+            assert!(matches!(e, AoError::InvalidParameter { .. }), "{key} = {value}: {e}");
+            let msg = e.to_string();
+            assert!(msg.contains(key) && msg.contains(range), "{msg}");
+        }
+        assert!(Tssao.check(&"k1 = 64\nk2 = 16\nn_max = 1500\nn_smooth = 64\nfalloff = \"quadratic\"".parse().unwrap()).is_ok());
+    }
+
+    #[test]
+    fn unknown_keys_are_rejected() {
+        let e = Tssao.check(&"k3 = 8".parse().unwrap()).unwrap_err().to_string();
+        assert!(e.contains("k3") && e.contains("k2"), "{e}");
+    }
+
+    #[test]
+    fn every_parameter_has_a_spec_and_default() {
+        let specs = DynAoTechnique::parameters(&Tssao);
+        let names: Vec<_> = specs.iter().map(|s| s.name).collect();
+        let defaults = toml::Value::try_from(TssaoParams::default()).unwrap();
+        assert_eq!(names.len(), defaults.as_table().unwrap().len());
+        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
+    }
+
+    #[test]
+    fn paper_defaults() {
+        let p = TssaoParams::default();
+        assert_eq!((p.k1, p.k2, p.n_max, p.n_smooth, p.filter_width), (32, 8, 500, 32, 5));
+        assert_eq!((p.c_spatial, p.c_rot, p.c_adaptive), (0.3, 0.5, 0.2));
+    }
+}

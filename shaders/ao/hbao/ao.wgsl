@@ -1,0 +1,96 @@
+#include "common/view.wgsl"
+#include "common/noise.wgsl"
+// hbao.ao: horizon-based AO as specs/pyramid_hbao.md §1 states it. For each of D azimuth
+// directions (evenly spaced, rotated by a per-pixel random angle) march S depth samples out to
+// the projected radius R_px; the horizon h(θ) is the highest elevation above the tangent plane
+// (sin α = n · V / |V|) among samples closer than R, r(θ) its distance.
+//   W(θ) = max(0, 1 - r(θ)/R)                        (Eq. 4)
+//   A    = 1 - (1/D) Σ_d W(θ_d) sin h(θ_d)           (Eq. 5, Monte Carlo over θ)
+// No tangent-angle term (spec §1.3). Output: raw accessibility, blurred by hbao.blur_x/_y.
+
+struct HbaoParams {
+    // D directions, S steps, unused x2
+    counts: vec4<u32>,
+    // R (world units), max screen radius (fraction of height), unused x2
+    shape: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var<uniform> params: HbaoParams;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(4) var ao: texture_storage_2d<r32float, write>;
+
+fn accessibility(p: vec2<i32>) -> f32 {
+    let size = vec2<i32>(textureDimensions(depth));
+    let z = textureLoad(depth, p, 0).x;
+    if (!(z > 0.0) || z > 1e30) {
+        return 1.0; // sky
+    }
+    let nw = textureLoad(normals, p, 0);
+    let nl = length(nw.xyz);
+    if (nw.w < 0.5 || !(nl > 1e-6)) {
+        return 1.0;
+    }
+    let n = nw.xyz / nl;
+    let o = view_position(pixel_uv(p, view), z, view);
+
+    // R_screen (§3.1): R projected to pixels, capped (R shrinks to match).
+    let ppu = pixels_per_unit(z, view);
+    let r_px = min(params.shape.x * ppu, params.shape.y * view.viewport.y);
+    if (!(r_px >= 1.0)) {
+        return 1.0; // no neighbour within R
+    }
+    let r = r_px / ppu;
+    let dirs = clamp(params.counts.x, 1u, 64u);
+    let steps = clamp(params.counts.y, 1u, 128u);
+    let step_px = (r_px - 1.0) / f32(steps);
+    // Per-pixel random rotation of the directions and start offset of the march.
+    let rotation = hash_pixel(vec2<u32>(p), 0x9e3779b9u);
+    let jitter = hash_pixel(vec2<u32>(p), 0x85ebca6bu);
+    let centre = vec2<f32>(p) + 0.5;
+    let eps = 1e-4 * z;
+
+    var sum = 0.0;
+    for (var d = 0u; d < dirs; d = d + 1u) {
+        let theta = 6.2831853 * (f32(d) + rotation) / f32(dirs);
+        let dir = vec2<f32>(cos(theta), sin(theta));
+        var sin_h = 0.0; // horizon starts at the tangent plane
+        var r_h = r;     // W(r) = 0 until a sample rises above it
+        for (var i = 0u; i < steps; i = i + 1u) {
+            let sp = centre + dir * (1.0 + (f32(i) + jitter) * step_px);
+            if (any(sp < vec2<f32>(0.0)) || any(sp >= vec2<f32>(size))) {
+                break; // off screen: the rest of the march is too
+            }
+            let q = vec2<i32>(floor(sp));
+            if (all(q == p)) {
+                continue;
+            }
+            let zq = textureLoad(depth, q, 0).x;
+            if (!(zq > 0.0)) {
+                continue; // sky does not occlude
+            }
+            let v = view_position(pixel_uv(q, view), zq, view) - o;
+            let dist = length(v);
+            if (!(dist > eps) || dist >= r) {
+                continue; // beyond R: W = 0 (Eq. 4)
+            }
+            let sin_a = dot(n, v) / dist;
+            if (sin_a > sin_h) {
+                sin_h = sin_a;
+                r_h = dist;
+            }
+        }
+        sum = sum + max(0.0, 1.0 - r_h / r) * sin_h; // W(θ) sin h(θ), Eqs. 4-5
+    }
+    let a = 1.0 - sum / f32(dirs);
+    return select(1.0, clamp(a, 0.0, 1.0), a == a);
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(ao);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let p = vec2<i32>(id.xy);
+    textureStore(ao, p, vec4<f32>(accessibility(p), 0.0, 0.0, 0.0));
+}

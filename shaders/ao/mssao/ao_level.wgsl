@@ -1,0 +1,32 @@
+#include "common/view.wgsl"
+#include "common/mssao.wgsl"
+// MSSAO AO at a level 1 <= l < n - 1 (Tables 3 and 4, Eqs. 5-10): the interleaved kernel of
+// radius R = min(r_max, r_0 / 2^l) gives (sum, N); the blurred tuple of level l + 1 is
+// bilaterally upsampled (Fig. 9, Eqs. 8-9) into AO_far; Eq. 10 combines them into this level's
+// tuple (max of means, sum, count). Sky texels write (0, 0, 0).
+
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var<uniform> params: MssaoParams;
+@group(0) @binding(2) var positions: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(4) var coarse_ao: texture_2d<f32>;
+@group(0) @binding(5) var coarse_positions: texture_2d<f32>;
+@group(0) @binding(6) var coarse_normals: texture_2d<f32>;
+@group(0) @binding(7) var ao: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(ao);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let c = vec2<i32>(id.xy);
+    let s = mssao_surface(positions, normals, c);
+    if (!s.valid) {
+        textureStore(ao, c, vec4<f32>(0.0));
+        return;
+    }
+    let r0 = params.d_max * pixels_per_unit(-s.p.z, view);
+    let radius = mssao_kernel_radius(r0, params.level, params.r_max);
+    let near = mssao_near_interleaved(positions, c, s, radius, params.d_max);
+    let far = mssao_upsample(coarse_ao, coarse_positions, coarse_normals, c, s, params.normal_power, params.depth_power);
+    textureStore(ao, c, vec4<f32>(mssao_combine(near, far), 0.0));
+}

@@ -1,0 +1,51 @@
+#include "common/view.wgsl"
+#include "common/mssao.wgsl"
+// MSSAO low-pass filter of a level's tuple before it is upsampled (Sec. 4.5, Table 4): a 3x3
+// blur with weights w_g = 1 / ((dx + 1)(dy + 1)) (1, 1/2, 1/4), applied to all three channels and
+// normalised by the sum of weights (Table 4 omits the division; without it the max channel would
+// exceed 1). The prose calls the filter bilateral, so by default each weight is also multiplied
+// by Eq. 8 and Eq. 9 between the centre and the neighbour (`bilateral_blur`). Sky neighbours and
+// off-screen taps get no weight; sky centres write (0, 0, 0).
+
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var<uniform> params: MssaoParams;
+@group(0) @binding(2) var positions: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(4) var src: texture_2d<f32>;
+@group(0) @binding(5) var dst: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(dst);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let c = vec2<i32>(id.xy);
+    let s = mssao_surface(positions, normals, c);
+    if (!s.valid) {
+        textureStore(dst, c, vec4<f32>(0.0));
+        return;
+    }
+    let isize = vec2<i32>(size);
+    let z = -s.p.z;
+    var sum = vec3<f32>(0.0);
+    var wsum = 0.0;
+    for (var dy = -1; dy <= 1; dy = dy + 1) {
+        for (var dx = -1; dx <= 1; dx = dx + 1) {
+            let t = c + vec2<i32>(dx, dy);
+            if (!mssao_in_bounds(t, isize)) {
+                continue;
+            }
+            let q = mssao_surface(positions, normals, t);
+            if (!q.valid) {
+                continue;
+            }
+            var w = 1.0 / (f32(abs(dx) + 1) * f32(abs(dy) + 1));
+            if (params.bilateral_blur != 0u) {
+                w = w * mssao_bilateral_weight(s.n, z, q.n, -q.p.z, params.normal_power, params.depth_power);
+            }
+            sum = sum + w * textureLoad(src, t, 0).xyz;
+            wsum = wsum + w;
+        }
+    }
+    // The centre always has weight 1 (Eqs. 8-9 give 1 for itself), so wsum >= 1.
+    textureStore(dst, c, vec4<f32>(sum / max(wsum, 1e-30), 0.0));
+}

@@ -1,0 +1,223 @@
+#include "common/view.wgsl"
+#include "common/noise.wgsl"
+// tssao.sample: k new samples per pixel continuing its Halton sequence (TSSAO Eq. 4), the
+// per-frame estimator (Eq. 2), the neighbourhood test (Eq. 8) with smooth invalidation
+// (§3.6.1), and the blend into the AO buffer (Eqs. 5-6). Every choice is documented in
+// crates/ao-passes/src/techniques/tssao.rs; buffer layouts in blocks/temporal.rs.
+//
+// ao_buffer = (accessibility, n_t, Halton index, depth; negative depth = moving surface)
+
+struct TssaoParams {
+    // k1, k2, steps per sample, has_motion
+    counts: vec4<u32>,
+    // n_smooth, falloff (0 none, 1 quadratic), Halton length, unused
+    modes: vec4<u32>,
+    // c_spatial, c_rot, n_max, R (world units)
+    thresholds: vec4<f32>,
+    // Eq. 7 epsilon (relative), Eq. 8 epsilon (world units), max screen radius (fraction of height), unused
+    tolerances: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var<uniform> params: TssaoParams;
+@group(0) @binding(2) var reprojected: texture_2d<f32>;
+@group(0) @binding(3) var previous: texture_2d<f32>;
+@group(0) @binding(4) var depth: texture_2d<f32>;
+@group(0) @binding(5) var normals: texture_2d<f32>;
+@group(0) @binding(6) var motion: texture_2d<f32>;
+@group(0) @binding(7) var ao_buffer: texture_storage_2d<rgba32float, write>;
+
+fn radical_inverse_5(i: u32) -> f32 {
+    var n = i;
+    var f = 0.2;
+    var r = 0.0;
+    for (var k = 0u; k < 14u && n > 0u; k = k + 1u) {
+        r = r + f32(n % 5u) * f;
+        n = n / 5u;
+        f = f * 0.2;
+    }
+    return r;
+}
+
+// Linear depth of a view-space point in the previous camera (camera-only reprojection; the
+// previous projection is the current one).
+fn prev_depth(v: vec3<f32>) -> f32 {
+    let c = view.view_to_prev_clip * vec4<f32>(v, 1.0);
+    if (view.near_far.w > 0.5) {
+        let a = view.proj[2][2];
+        return select(0.0, -(c.z - view.proj[3][2]) / a, abs(a) > 1e-30);
+    }
+    return c.w;
+}
+
+// Position in the previous view of the surface at pixel `q` (view-space point `v`): prev_uv
+// from the motion vector, depth from the camera-only reprojection (spec: motion is 2D).
+fn prev_position(q: vec2<i32>, v: vec3<f32>) -> vec3<f32> {
+    let uv = pixel_uv(q, view) + textureLoad(motion, q, 0).xy;
+    return view_position(uv, max(prev_depth(v), 1e-6), view);
+}
+
+struct Visibility {
+    // D(t) at the blocked point, 0 when the segment is free.
+    occlusion: f32,
+    // Pixel of the surface the sample ends on (the blocking one, or the one under s_i), and
+    // whether there is one (on screen, not sky).
+    texel: vec2<i32>,
+    has_texel: bool,
+}
+
+// V(p, s_i) along the segment o -> o + r w, tested at `steps` points t_j = r (j + 1 - u) / steps,
+// the last one at t = r.
+fn visibility(o: vec3<f32>, w: vec3<f32>, r: f32, u: f32, size: vec2<i32>) -> Visibility {
+    var out: Visibility;
+    out.occlusion = 0.0;
+    out.has_texel = false;
+    let steps = clamp(params.counts.z, 1u, 8u);
+    for (var j = 0u; j < steps; j = j + 1u) {
+        // The last point sits at R itself: an occluder anywhere along a wall-like depth
+        // buffer leaves it behind the surface, so hits up to R all count (binary mode).
+        let t = select(r * (f32(j) + 1.0 - u) / f32(steps), r, j + 1u == steps);
+        let q = o + w * t;
+        let zq = -q.z;
+        if (view.near_far.w < 0.5 && !(zq > 1e-6)) {
+            break; // behind the camera: unoccluding
+        }
+        let uq = project_uv(q, view);
+        if (any(uq < vec2<f32>(0.0)) || any(uq >= vec2<f32>(1.0))) {
+            break; // off screen: unoccluding
+        }
+        let texel = clamp(vec2<i32>(floor(uq * vec2<f32>(size))), vec2<i32>(0), size - 1);
+        let zs = textureLoad(depth, texel, 0).x;
+        if (!(zs > 0.0) || zs > 1e30) {
+            continue; // sky in front of nothing
+        }
+        out.texel = texel;
+        out.has_texel = true;
+        if (zs < zq * (1.0 - 1e-4)) {
+            // The depth buffer lies in front of the point; it blocks only if that surface is
+            // within 2R of p (the paper's distance rejection, §4).
+            let s = view_position(pixel_uv(texel, view), zs, view);
+            if (length(s - o) < 2.0 * params.thresholds.w) {
+                let tr = t / max(r, 1e-30);
+                out.occlusion = select(1.0, max(1.0 - tr * tr, 0.0), params.modes.y == 1u);
+                return out;
+            }
+        }
+    }
+    return out;
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size_u = textureDimensions(ao_buffer);
+    if (id.x >= size_u.x || id.y >= size_u.y) { return; }
+    let size = vec2<i32>(size_u);
+    let p = vec2<i32>(id.xy);
+    let z = textureLoad(depth, p, 0).x;
+    if (!(z > 0.0) || z > 1e30) {
+        textureStore(ao_buffer, p, vec4<f32>(1.0, 0.0, 0.0, 0.0)); // sky
+        return;
+    }
+    let rp = textureLoad(reprojected, p, 0);
+    let flags = u32(max(rp.w, 0.0) + 0.5);
+    let valid = (flags & 1u) != 0u;
+    let moving = (flags & 2u) != 0u;
+    let stored_z = select(z, -z, moving);
+    let nw = textureLoad(normals, p, 0);
+    let nl = length(nw.xyz);
+    if (nw.w < 0.5 || !(nl > 1e-6)) {
+        textureStore(ao_buffer, p, vec4<f32>(1.0, 0.0, 0.0, stored_z));
+        return;
+    }
+    let n = nw.xyz / nl;
+
+    // Reprojected state; invalid history (Eq. 7, off screen, cut, resize) restarts at n_t = 0.
+    let n_max = max(params.thresholds.z, 1.0);
+    var nt = select(0.0, min(rp.y, n_max), valid);
+    let a_prev = rp.x;
+    let len = params.modes.z;
+    var index = u32(clamp(rp.z, 0.0, f32(len - 1u)));
+    if (!valid && rp.z == 0.0) {
+        // No history here at all (first frame, cut, resize, off screen): the pixel's own
+        // starting index into the sequence (§3.3.1), so pixels use different windows of it.
+        index = pcg_hash(u32(p.x) ^ pcg_hash(u32(p.y) ^ 0x9e3779b9u)) & (len - 1u);
+    }
+    let conv = nt / n_max;
+    // §3.6.2: k1 samples until converged enough, then k2.
+    let k = clamp(select(params.counts.y, params.counts.x, conv < params.thresholds.x), 1u, 64u);
+    // §3.6.4: per-pixel pattern rotation only while conv < c_rot.
+    let rotate = conv < params.thresholds.y;
+    let shift = select(vec3<f32>(0.0), vec3<f32>(hash_pixel(vec2<u32>(p), 1u), hash_pixel(vec2<u32>(p), 2u), hash_pixel(vec2<u32>(p), 3u)), rotate);
+
+    let o = view_position(pixel_uv(p, view), z, view);
+    let ppu = pixels_per_unit(z, view);
+    let r_px = min(params.thresholds.w * ppu, params.tolerances.z * view.viewport.y);
+    let r = r_px / max(ppu, 1e-30);
+    // Start 1.5 pixel footprints above the surface (self-occlusion on grazing planes).
+    let start = o + n * (1.5 / max(ppu, 1e-30));
+
+    // Tangent frame (Duff et al. 2017).
+    let sgn = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sgn + n.z);
+    let b = n.x * n.y * a;
+    let tx = vec3<f32>(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
+    let ty = vec3<f32>(b, sgn + n.y * n.y * a, -n.y);
+
+    let dynamic = params.counts.w != 0u;
+    var p_old = vec3<f32>(0.0);
+    if (dynamic) {
+        p_old = prev_position(p, o);
+    }
+    var occlusion = 0.0;
+    var changed = false;
+    for (var i = 0u; i < k; i = i + 1u) {
+        // Eq. 4: sample idx + i + 1 of the pixel's Halton sequence (bases 2, 3, 5).
+        let hi = (index + i) % len + 1u;
+        let u = fract(vec3<f32>(radical_inverse_2(hi), radical_inverse_3(hi), radical_inverse_5(hi)) + shift);
+        // Cosine-distributed direction (Malley): the cos of Eq. 2 is in the density.
+        let rr = sqrt(u.x);
+        let phi = 6.2831853 * u.y;
+        let w = tx * (rr * cos(phi)) + ty * (rr * sin(phi)) + n * sqrt(max(1.0 - u.x, 0.0));
+        if (!(r_px >= 1.0)) {
+            continue; // R under a pixel: nothing to test, unoccluded
+        }
+        let v = visibility(start, w, r, u.z, size);
+        occlusion = occlusion + v.occlusion;
+
+        // Eq. 8 (only where something moves): the sample's surface point s_i, in front of
+        // p's tangent plane and within reach, must keep its distance to p.
+        if (dynamic && v.has_texel && !changed) {
+            let zs = textureLoad(depth, v.texel, 0).x;
+            let s = view_position(pixel_uv(v.texel, view), zs, view);
+            let d = s - o;
+            if (dot(d, n) > 0.0 && length(d) < 2.0 * params.thresholds.w) {
+                let s_old = prev_position(v.texel, s);
+                if (abs(length(d) - length(s_old - p_old)) >= params.tolerances.y) {
+                    changed = true;
+                }
+                // The previous occupant of s_i's position: moving geometry at another depth
+                // there last frame means the neighbourhood changed (module docs).
+                let prev_uv = pixel_uv(v.texel, view) + textureLoad(motion, v.texel, 0).xy;
+                if (all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv < vec2<f32>(1.0)) && view.frame.y != 0u) {
+                    let hs = vec2<i32>(textureDimensions(previous));
+                    let h = textureLoad(previous, clamp(vec2<i32>(floor(prev_uv * vec2<f32>(hs))), vec2<i32>(0), hs - 1), 0);
+                    if (h.w < 0.0 && abs(1.0 - prev_depth(s) / -h.w) >= params.tolerances.x) {
+                        changed = true;
+                    }
+                }
+            }
+        }
+    }
+    let a_frame = 1.0 - occlusion / f32(k);
+
+    // §3.6.1: a neighbourhood change clamps n_t (smooth invalidation) or resets it.
+    if (valid && changed) {
+        nt = min(nt, f32(params.modes.x));
+    }
+    let kf = f32(k);
+    var a_new = (nt * a_prev + kf * a_frame) / (nt + kf); // Eq. 5
+    a_new = select(1.0, clamp(a_new, 0.0, 1.0), a_new == a_new);
+    let n_new = min(nt + kf, n_max); // Eq. 6
+    let index_new = f32((index + k) % len);
+    textureStore(ao_buffer, p, vec4<f32>(a_new, n_new, index_new, stored_z));
+}

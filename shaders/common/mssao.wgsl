@@ -1,0 +1,199 @@
+// MSSAO (Hoang & Low, "Efficient screen-space approach to high-quality multi-scale ambient
+// occlusion", The Visual Computer 2012): the math every MSSAO pass shares. Equation numbers are
+// the paper's; ../shared/specs/mssao.md records them. Self-contained (no globals): the pass files
+// include this after common/view.wgsl and pass their textures in.
+//
+// Conventions: level 0 is the finest (the paper's Res_1). Positions are view-space (w = 1 on
+// geometry, 0 on sky), normals view-space unit vectors (w likewise). "AO" is occlusion, 1 - k_A,
+// as in the paper; the tuple textures hold (max of per-level means, raw sum, sample count).
+
+// Mirror of `MssaoUniform` in crates/ao-passes/src/techniques/mssao/passes.rs (48 bytes).
+struct MssaoParams {
+    // Pyramid level this pass works at (0 = finest).
+    level: u32,
+    // 1: the 3x3 blur also weighs by Eqs. 8-9 (the prose's "bilateral"); 0: Table 4's weights only.
+    bilateral_blur: u32,
+    pad0: u32,
+    pad1: u32,
+    // d_max: the AO radius of influence in view units (= the shared radius R).
+    d_max: f32,
+    // r_max: kernel radius cap in pixels of the level (Eq. 5).
+    r_max: f32,
+    // d_threshold: depth range of a 2x2 block above which downsampling keeps one sub-pixel.
+    d_threshold: f32,
+    // t_n, t_z: exponents of the normal (Eq. 8) and depth (Eq. 9) weights.
+    normal_power: f32,
+    depth_power: f32,
+    pad2: f32,
+    pad3: f32,
+    pad4: f32,
+}
+
+// One g-buffer texel of some level.
+struct MssaoSurface {
+    p: vec3<f32>,
+    n: vec3<f32>,
+    valid: bool,
+}
+
+fn mssao_surface(positions: texture_2d<f32>, normals: texture_2d<f32>, c: vec2<i32>) -> MssaoSurface {
+    let p = textureLoad(positions, c, 0);
+    let n = textureLoad(normals, c, 0);
+    let valid = p.w > 0.5 && -p.z > 0.0;
+    return MssaoSurface(p.xyz, n.xyz, valid);
+}
+
+fn mssao_in_bounds(c: vec2<i32>, size: vec2<i32>) -> bool {
+    return all(c >= vec2<i32>(0)) && all(c < size);
+}
+
+// Eqs. 6-7 for one sample: rho(d) * clamp(n . normalize(q - p), 0, 1), with
+// rho(d) = 1 - min(1, (d / d_max)^2). A sample at p itself (d ~ 0, common after the median
+// downsampling) contributes 0 and is not normalised.
+fn mssao_sample_ao(p: vec3<f32>, n: vec3<f32>, q: vec3<f32>, d_max: f32) -> f32 {
+    let v = q - p;
+    let d = length(v);
+    if (!(d > 1e-6 * d_max)) {
+        return 0.0;
+    }
+    let cos_t = clamp(dot(n, v / d), 0.0, 1.0);
+    let x = d / d_max;
+    let rho = 1.0 - min(1.0, x * x);
+    return rho * cos_t;
+}
+
+// Eq. 5 with the spec's erratum (0-based level index): r_l = r_0 / 2^l, R_l = min(r_max, r_l),
+// where r_0 = s d_max / (2 z tan(alpha / 2)) = d_max * pixels_per_unit(z) is d_max projected at
+// the finest level.
+fn mssao_kernel_radius(r0: f32, level: u32, r_max: f32) -> f32 {
+    return min(r_max, r0 / f32(1u << level));
+}
+
+// One tap of the neighbourhood: (ao, counted). Off-screen taps are skipped (the g-buffer has no
+// data there); sky taps count as unoccluding samples (nothing is there).
+fn mssao_tap(positions: texture_2d<f32>, size: vec2<i32>, c: vec2<i32>, p: vec3<f32>, n: vec3<f32>, d_max: f32) -> vec2<f32> {
+    if (!mssao_in_bounds(c, size)) {
+        return vec2<f32>(0.0);
+    }
+    let q = textureLoad(positions, c, 0);
+    if (!(q.w > 0.5 && -q.z > 0.0)) {
+        return vec2<f32>(0.0, 1.0);
+    }
+    return vec2<f32>(mssao_sample_ao(p, n, q.xyz, d_max), 1.0);
+}
+
+// Coarse levels (Sec. 4.3, Fig. 6 left): every other pixel of the (2 R + 1)^2 kernel, i.e. the
+// odd offsets +-1, +-3, +-5 (36 of 121 taps at R = 5) with |o.x|, |o.y| <= R. Returns
+// (un-normalised sum of Eq. 6, sample count N); N = 0 when R < 1 (no samples under a pixel).
+fn mssao_near_interleaved(positions: texture_2d<f32>, c: vec2<i32>, s: MssaoSurface, radius: f32, d_max: f32) -> vec2<f32> {
+    let size = vec2<i32>(textureDimensions(positions));
+    var acc = vec2<f32>(0.0);
+    if (!(radius >= 1.0)) {
+        return acc;
+    }
+    // Largest odd offset within the radius.
+    let k = (i32(floor((radius - 1.0) * 0.5)) * 2) + 1;
+    for (var oy = -k; oy <= k; oy = oy + 2) {
+        for (var ox = -k; ox <= k; ox = ox + 2) {
+            acc = acc + mssao_tap(positions, size, c + vec2<i32>(ox, oy), s.p, s.n, d_max);
+        }
+    }
+    return acc;
+}
+
+// The finest level's fixed, unrotated 16-point Poisson disk (Sec. 4.3, Fig. 6 right). The paper
+// prints no coordinates: these come from Mitchell's best-candidate algorithm in the unit disk
+// (minimum distance 0.465, centroid within 0.02 of the origin).
+const MSSAO_POISSON: array<vec2<f32>, 16> = array<vec2<f32>, 16>(
+    vec2<f32>(0.1177, -0.1292), vec2<f32>(-0.9247, 0.2728), vec2<f32>(-0.0589, 0.9798), vec2<f32>(-0.5662, -0.7433),
+    vec2<f32>(0.8773, 0.4504), vec2<f32>(0.8872, -0.4327), vec2<f32>(0.2211, -0.9547), vec2<f32>(-0.3048, 0.3436),
+    vec2<f32>(0.2877, 0.4300), vec2<f32>(-0.4884, -0.1777), vec2<f32>(-0.6826, 0.7173), vec2<f32>(0.5895, -0.0524),
+    vec2<f32>(-0.9586, -0.2593), vec2<f32>(0.4495, 0.8898), vec2<f32>(-0.0859, -0.5837), vec2<f32>(0.3782, -0.5166),
+);
+
+// Finest level: the Poisson disk scaled by R and rounded to texels. A point that rounds onto the
+// shaded pixel itself is not a neighbour and is skipped. Returns (sum, N) as above.
+fn mssao_near_poisson(positions: texture_2d<f32>, c: vec2<i32>, s: MssaoSurface, radius: f32, d_max: f32) -> vec2<f32> {
+    let size = vec2<i32>(textureDimensions(positions));
+    var acc = vec2<f32>(0.0);
+    if (!(radius >= 1.0)) {
+        return acc;
+    }
+    var disk = MSSAO_POISSON;
+    for (var i = 0u; i < 16u; i = i + 1u) {
+        let o = vec2<i32>(round(disk[i] * radius));
+        if (all(o == vec2<i32>(0))) {
+            continue;
+        }
+        acc = acc + mssao_tap(positions, size, c + o, s.p, s.n, d_max);
+    }
+    return acc;
+}
+
+// x^e for x in [0, 1], e >= 0, never NaN (pow(0, 0) = 1 here, pow(0, e > 0) = 0).
+fn mssao_pow01(x: f32, e: f32) -> f32 {
+    return exp2(e * log2(max(x, 1e-30)));
+}
+
+// Eq. 8 times Eq. 9: ((n . n_i + 1) / 2)^t_n * (1 / (1 + |z_i - z|))^t_z, with z positive
+// linear depth.
+fn mssao_bilateral_weight(n: vec3<f32>, z: f32, ni: vec3<f32>, zi: f32, t_n: f32, t_z: f32) -> f32 {
+    let wn = mssao_pow01(clamp((dot(n, ni) + 1.0) * 0.5, 0.0, 1.0), t_n);
+    let wz = mssao_pow01(1.0 / (1.0 + abs(zi - z)), t_z);
+    return wn * wz;
+}
+
+// Bilateral 2x2 upsampling (Sec. 4.5, Fig. 9, Eqs. 8-9) of the blurred tuple of the next
+// coarser level to fine texel `c` with surface `s`: the four nearest coarse texels with bilinear
+// weights 9/16, 3/16, 3/16, 1/16, times Eq. 8 and Eq. 9, normalised. Coarse sky texels get no
+// weight; if every bilateral weight underflows, the bilinear weights alone are used; if every
+// coarse texel is sky, the result is (0, 0, 0): no far-field occlusion.
+fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_positions: texture_2d<f32>, coarse_normals: texture_2d<f32>, c: vec2<i32>, s: MssaoSurface, t_n: f32, t_z: f32) -> vec3<f32> {
+    let cs = vec2<i32>(textureDimensions(coarse_ao));
+    let m = c / 2;
+    // A fine texel centre lies a quarter coarse texel from its parent's centre, towards the
+    // neighbour in direction `d`.
+    let d = select(vec2<i32>(-1), vec2<i32>(1), (c & vec2<i32>(1)) == vec2<i32>(1));
+    var taps = array<vec2<i32>, 4>(m, m + vec2<i32>(d.x, 0), m + vec2<i32>(0, d.y), m + d);
+    var wb = array<f32, 4>(9.0 / 16.0, 3.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0);
+    let z = -s.p.z;
+    var sum_bilateral = vec3<f32>(0.0);
+    var w_bilateral = 0.0;
+    var sum_bilinear = vec3<f32>(0.0);
+    var w_bilinear = 0.0;
+    for (var j = 0; j < 4; j = j + 1) {
+        let t = clamp(taps[j], vec2<i32>(0), cs - vec2<i32>(1));
+        let q = mssao_surface(coarse_positions, coarse_normals, t);
+        if (!q.valid) {
+            continue;
+        }
+        let a = textureLoad(coarse_ao, t, 0).xyz;
+        let w = wb[j] * mssao_bilateral_weight(s.n, z, q.n, -q.p.z, t_n, t_z);
+        sum_bilateral = sum_bilateral + w * a;
+        w_bilateral = w_bilateral + w;
+        sum_bilinear = sum_bilinear + wb[j] * a;
+        w_bilinear = w_bilinear + wb[j];
+    }
+    if (w_bilateral > 1e-30) {
+        return sum_bilateral / w_bilateral;
+    }
+    if (w_bilinear > 0.0) {
+        return sum_bilinear / w_bilinear;
+    }
+    return vec3<f32>(0.0);
+}
+
+// Eq. 10: the tuple a level passes on, from its own (sum, N) and the upsampled tuple `far`:
+// (max(sum / N, far.max), sum + far.sum, N + far.count). N = 0 gives a mean of 0.
+fn mssao_combine(near: vec2<f32>, far: vec3<f32>) -> vec3<f32> {
+    let mean = select(0.0, clamp(near.x / near.y, 0.0, 1.0), near.y > 0.0);
+    return vec3<f32>(max(mean, far.x), near.x + far.y, near.y + far.z);
+}
+
+// Eq. 11 on the finest level's combined tuple, returned as accessibility 1 - AO_final =
+// (1 - AO_max)(1 - AO_average), AO_average = sum / count (0 without samples).
+fn mssao_accessibility(t: vec3<f32>) -> f32 {
+    let ao_max = clamp(t.x, 0.0, 1.0);
+    let ao_avg = select(0.0, clamp(t.y / t.z, 0.0, 1.0), t.z > 1e-6);
+    return clamp((1.0 - ao_max) * (1.0 - ao_avg), 0.0, 1.0);
+}
