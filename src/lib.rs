@@ -1,11 +1,13 @@
 //! aograph's application layer: config, the frame graph (g-buffer + technique + shading), the
 //! renderer, image output and the commands behind the `aograph` binary.
 
+pub mod bench;
 pub mod commands;
 pub mod config;
 pub mod error;
 pub mod frame_graph;
 pub mod images;
+pub mod metrics;
 pub mod renderer;
 
 pub use config::{AppConfig, SceneSource};

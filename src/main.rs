@@ -74,6 +74,24 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Measure techniques against the reference: tables, Pareto plot, images (or --scaling).
+    Bench(commands::BenchArgs),
+    /// Print the most accurate config whose AO time fits a budget on this device.
+    Tune(commands::TuneArgs),
+    /// The shaded scene, the reference and techniques side by side in one PNG.
+    Montage {
+        #[command(flatten)]
+        common: Common,
+        /// Techniques, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "ssao,hbao,pyramid-hbao")]
+        techniques: Vec<String>,
+        /// Reference rays per pixel.
+        #[arg(long, default_value_t = 256)]
+        rays: u32,
+        /// The PNG to write.
+        #[arg(long, default_value = "out/montage.png")]
+        out: PathBuf,
+    },
     /// Procedural scenes.
     Scene {
         #[command(subcommand)]
@@ -102,6 +120,9 @@ fn main() -> ExitCode {
         Command::Graph { common, dot } => commands::graph(&common.into_args(), dot),
         Command::Techniques => commands::techniques(),
         Command::Reference { common, rays, mode, out } => commands::reference(&common.into_args(), rays, mode.as_deref(), &out),
+        Command::Bench(args) => commands::bench(&args),
+        Command::Tune(args) => commands::tune(&args),
+        Command::Montage { common, techniques, rays, out } => commands::montage(&common.into_args(), &techniques, rays, &out),
         Command::Scene { action: SceneAction::Export { name, file } } => commands::scene_export(&name, &file),
         Command::Scene { action: SceneAction::List } => {
             println!("{}", aograph_scene::PROCEDURAL_SCENE_NAMES.join("\n"));

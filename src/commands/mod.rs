@@ -1,9 +1,12 @@
 //! The commands behind the `aograph` binary, callable from tests. Each resolves the config
 //! (file, then flags), does its work and prints where its files went.
 
+mod bench;
 mod graph;
+mod montage;
 mod reference;
 mod render;
+mod tune;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -11,9 +14,12 @@ use std::sync::Arc;
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::GpuContext;
 
+pub use bench::{bench, BenchArgs};
 pub use graph::graph;
+pub use montage::montage;
 pub use reference::{reference, trace_for};
 pub use render::{render, RenderArgs};
+pub use tune::{choose, config_text, tune, TuneArgs, DEFAULT_SWEEP};
 
 use crate::config::{check_size, AppConfig, SceneSource};
 use crate::error::{AppError, AppResult};

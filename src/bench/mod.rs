@@ -1,0 +1,183 @@
+//! `aograph bench`: what each technique's milliseconds buy in accuracy.
+//!
+//! For every scene the reference of its still frame is traced once (cached on disk); then
+//! every technique and parameter set renders M warm-up and N measured frames, and the run's
+//! median and spread of time, texture bytes and every metric against the reference are
+//! written as they finish (see [`report`]). [`scaling`] times the same sets over resolutions
+//! and radii instead. The pieces:
+//!
+//! - [`sweep`]: parameter grids per technique (TOML) and their expansion;
+//! - [`run`]: one run (timing, metrics), the per-scene reference;
+//! - [`report`]: results.csv, results.json, report.md; [`plot`]: pareto.svg/png
+//!   ([`bitmap_text`] gives the PNG its labels); [`images`]: AO | error | reference PNGs;
+//! - [`stats`]: median/quartiles and the log-log fit.
+
+pub mod bitmap_text;
+pub mod images;
+pub mod plot;
+pub mod report;
+pub mod run;
+pub mod scaling;
+pub mod stats;
+pub mod sweep;
+
+use std::path::Path;
+
+use aograph_ao::AoConfig;
+use aograph_graph::{Extent, GpuContext};
+use indicatif::{ProgressBar, ProgressStyle};
+
+pub use report::{BenchMeta, ResultsFile};
+pub use run::{BenchContext, BenchSettings, RunRecord};
+pub use scaling::ScalingResults;
+pub use sweep::{plan_param_sets, ParamSet, Sweep};
+
+use crate::config::SceneSource;
+use crate::error::{AppError, AppResult};
+use crate::frame_graph::FrameOutputs;
+use crate::images::{prepare_output_dir, write_atomic};
+use crate::renderer::Renderer;
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct BenchPlan {
+    pub scenes: Vec<SceneSource>,
+    pub sets: Vec<ParamSet>,
+    pub settings: BenchSettings,
+}
+
+/// The device and settings block of the results.
+pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
+    let p = &s.metrics.ssim;
+    let window = match p.shape {
+        crate::metrics::SsimWindow::Uniform => "uniform".to_string(),
+        crate::metrics::SsimWindow::Gaussian { sigma } => format!("Gaussian sigma {sigma}"),
+    };
+    BenchMeta {
+        device: gpu.describe(),
+        backend: format!("{:?}", gpu.info.backend),
+        software: gpu.is_software(),
+        timestamps: gpu.has_timestamps(),
+        width: s.width,
+        height: s.height,
+        frames: s.frames,
+        warmup: s.warmup,
+        radius: s.radius,
+        rays: s.rays,
+        ssim: format!("{0}x{0} {window} window, k1 = {1}, k2 = {2}, L = {3} (the Pyramid HBAO paper's settings; k1 as printed there)", p.window, p.k1, p.k2, p.dynamic_range),
+        edge_band: s.metrics.edge_band,
+        edge_jump: s.metrics.edge_jump,
+    }
+}
+
+/// A bar over `len` frames on stderr (drawn only on a terminal), or a hidden one.
+pub fn progress_bar(len: u64, show: bool) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new(len);
+    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:20}] {pos}/{len} frames (eta {eta}) {wide_msg}") {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb
+}
+
+fn file_safe(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+}
+
+fn read_scaling(dir: &Path) -> Option<ScalingResults> {
+    let text = std::fs::read_to_string(dir.join("scaling.json")).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+/// Runs `plan`; with `out`, writes every file there as runs finish. Returns the records.
+pub fn run_bench(ctx: &BenchContext, plan: &BenchPlan, out: Option<&Path>, progress: bool) -> AppResult<Vec<RunRecord>> {
+    let s = &plan.settings;
+    let meta = bench_meta(&ctx.gpu, s);
+    let colours = ctx.registry.names();
+    let mut writer = match out {
+        Some(dir) => {
+            prepare_output_dir(dir)?;
+            let images = dir.join("images");
+            std::fs::create_dir_all(&images).map_err(|e| AppError::io("create", &images, e))?;
+            Some((dir, report::ResultsWriter::create(dir, meta.clone())?))
+        }
+        None => None,
+    };
+    let per_run = (s.warmup + s.frames) as u64;
+    let pb = progress_bar(plan.scenes.len() as u64 * plan.sets.len() as u64 * per_run, progress);
+    let mut records = Vec::new();
+    for source in &plan.scenes {
+        pb.set_message(format!("tracing the reference of {} ({} rays/pixel)", source.label(), s.rays));
+        let reference = run::scene_reference(ctx, source, s)?;
+        for set in &plan.sets {
+            pb.set_message(format!("{}: {} {}", reference.label, set.technique, set.label()));
+            let mut done = run::run_technique(ctx, &reference, set, s, &mut || pb.inc(1))?;
+            if let Some((dir, w)) = writer.as_mut() {
+                let name = format!("images/{}_{}.png", file_safe(&reference.label), set.slug());
+                images::write_side_by_side(&dir.join(&name), &done.ao, &reference.accessibility, &reference.valid, s.width, s.height)?;
+                done.record.image = Some(name);
+                w.append(done.record.clone())?;
+                report::write_report(dir, &meta, &w.file.runs, read_scaling(dir).as_ref())?;
+                plot::write_pareto(&dir.join("pareto.svg"), &dir.join("pareto.png"), &w.file.runs, &colours, &meta.time_axis())?;
+            }
+            records.push(done.record);
+        }
+    }
+    pb.finish_and_clear();
+    Ok(records)
+}
+
+/// Times every set of `plan` at each side in `sides` (square) and each radius in `radii`;
+/// `plan.settings`' size and radius are not used. With `out`, writes scaling.csv (fits),
+/// scaling_points.csv (appended per point), scaling.json and report.md as it goes.
+pub fn run_scaling(ctx: &BenchContext, plan: &BenchPlan, sides: &[u32], radii: &[f32], out: Option<&Path>, progress: bool) -> AppResult<ScalingResults> {
+    let s = &plan.settings;
+    let mut results = ScalingResults { sides: sides.to_vec(), radii: radii.to_vec(), frames: s.frames, warmup: s.warmup, ..Default::default() };
+    // report.md also shows a bench's results already in `out` (with that bench's settings).
+    let (meta, runs) = match out {
+        Some(dir) => {
+            prepare_output_dir(dir)?;
+            write_atomic(&dir.join("scaling_points.csv"), format!("{}\n", ScalingResults::POINTS_HEADER).as_bytes())?;
+            report::read_results(&dir.join("results.json")).map(|r| (r.meta, r.runs)).unwrap_or_else(|_| (bench_meta(&ctx.gpu, s), Vec::new()))
+        }
+        None => (bench_meta(&ctx.gpu, s), Vec::new()),
+    };
+    let per_point = (s.warmup + s.frames) as u64;
+    let pb = progress_bar(plan.scenes.len() as u64 * plan.sets.len() as u64 * sides.len() as u64 * radii.len() as u64 * per_point, progress);
+    let smallest = sides.iter().copied().min().unwrap_or(64);
+    for source in &plan.scenes {
+        let scene = std::sync::Arc::new(crate::load_scene(source)?);
+        let probe_config = AoConfig { technique: "none".into(), ..AoConfig::default() };
+        let mut probe = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, scene.clone(), &probe_config, FrameOutputs { linear_depth: true, ..Default::default() }, Extent::new(smallest, smallest))?;
+        probe.render(0.0)?;
+        let depth = scaling::median_depth(&probe.read_linear_depth()?);
+        let camera = probe.camera();
+        for set in &plan.sets {
+            for &side in sides {
+                for &radius in radii {
+                    pb.set_message(format!("{}: {} {} at {side}x{side}, R = {radius}", source.label(), set.technique, set.label()));
+                    let mut r = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, scene.clone(), &run::ao_config(set, radius), FrameOutputs::default(), Extent::new(side, side))?;
+                    let t = run::time_frames(&mut r, s.warmup, s.frames, &mut || pb.inc(1), &mut |_| Ok(()))?;
+                    let radius_px = if depth > 0.0 { scaling::radius_in_pixels(&camera, side, radius, depth) } else { f64::NAN };
+                    let point = scaling::ScalingPoint { scene: source.label(), technique: set.technique.clone(), label: set.label(), side, pixels: side as u64 * side as u64, radius, radius_px, timing_source: t.timing_source, total_ms: t.total_ms };
+                    results.points.push(point.clone());
+                    results.refit();
+                    if let Some(dir) = out {
+                        use std::io::Write as _;
+                        let path = dir.join("scaling_points.csv");
+                        let mut f = std::fs::OpenOptions::new().append(true).open(&path).map_err(|e| AppError::io("append to", &path, e))?;
+                        writeln!(f, "{}", ScalingResults::point_row(&point)).map_err(|e| AppError::io("append to", &path, e))?;
+                        write_atomic(&dir.join("scaling.csv"), results.fits_csv().as_bytes())?;
+                        let json = serde_json::to_string_pretty(&results).map_err(|e| AppError::io("serialise", dir.join("scaling.json"), e))?;
+                        write_atomic(&dir.join("scaling.json"), json.as_bytes())?;
+                        report::write_report(dir, &meta, &runs, Some(&results))?;
+                    }
+                }
+            }
+        }
+    }
+    pb.finish_and_clear();
+    Ok(results)
+}

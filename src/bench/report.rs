@@ -1,0 +1,223 @@
+//! The bench's files: results.csv (one row per finished run, appended as it finishes),
+//! results.json (rewritten atomically after every run) and report.md (Markdown tables,
+//! regenerated with the plots after every run), so an interrupted run keeps what it finished.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::plot::{by_scene, pareto_front};
+use super::run::RunRecord;
+use super::scaling::ScalingResults;
+use crate::error::{AppError, AppResult};
+use crate::images::write_atomic;
+use crate::metrics::nonfinite::format as num;
+
+/// The device and settings every run of a bench shares.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BenchMeta {
+    /// `GpuContext::describe()`: "name (backend, device type)".
+    pub device: String,
+    pub backend: String,
+    /// A CPU device (lavapipe): its times are CPU times.
+    pub software: bool,
+    /// Whether the adapter has timestamp queries (else times are CPU wall time per pass).
+    pub timestamps: bool,
+    pub width: u32,
+    pub height: u32,
+    pub frames: u32,
+    pub warmup: u32,
+    pub radius: f32,
+    pub rays: u32,
+    pub ssim: String,
+    pub edge_band: u32,
+    pub edge_jump: f32,
+}
+
+impl BenchMeta {
+    /// The sentence that says what the milliseconds are.
+    pub fn timing_note(&self) -> String {
+        let what = if self.timestamps { "GPU timestamp queries around each pass" } else { "CPU wall time around each pass (the adapter has no timestamp queries)" };
+        if self.software {
+            format!("Times come from {what}, but this is a software device (Mesa's lavapipe or another CPU driver): they are CPU times, so only ratios within this run are meaningful.")
+        } else {
+            format!("Times come from {what} on {}.", self.device)
+        }
+    }
+    /// The x-axis title of the Pareto plot.
+    pub fn time_axis(&self) -> String {
+        format!("AO time, ms (median{})", if self.software { "; CPU time, software device" } else { "" })
+    }
+}
+
+/// results.json.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResultsFile {
+    pub meta: BenchMeta,
+    pub runs: Vec<RunRecord>,
+}
+
+pub const CSV_HEADER: &str = "scene,technique,params,width,height,radius,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,image";
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
+}
+
+fn opt(v: Option<f64>, d: usize) -> String {
+    v.map(|v| num(v, d)).unwrap_or_default()
+}
+
+/// One CSV line (no newline) for `r`.
+pub fn csv_row(r: &RunRecord) -> String {
+    let t = &r.times;
+    let m = &r.metrics;
+    let passes = t.passes.iter().map(|p| format!("{}={}", p.name, num(p.ms.median, 5))).collect::<Vec<_>>().join(";");
+    [
+        csv_field(&r.scene),
+        csv_field(&r.technique),
+        csv_field(&r.label),
+        r.width.to_string(),
+        r.height.to_string(),
+        r.radius.to_string(),
+        r.rays.to_string(),
+        r.frames.to_string(),
+        r.warmup.to_string(),
+        t.timing_source.clone(),
+        num(t.total_ms.median, 5),
+        num(t.total_ms.min, 5),
+        num(t.total_ms.max, 5),
+        num(t.total_ms.q1, 5),
+        num(t.total_ms.q3, 5),
+        num(t.frame_ms.median, 5),
+        r.texture_bytes.to_string(),
+        r.texture_bytes_unshared.to_string(),
+        m.pixels.to_string(),
+        num(m.mae, 6),
+        num(m.rmse, 6),
+        num(m.psnr, 4),
+        num(m.ssim, 6),
+        num(m.signed_error, 6),
+        opt(m.edge_mae, 6),
+        m.edge_pixels.to_string(),
+        opt(m.flicker, 6),
+        csv_field(&passes),
+        csv_field(r.image.as_deref().unwrap_or("")),
+    ]
+    .join(",")
+}
+
+/// Writes results.csv and results.json as runs finish.
+pub struct ResultsWriter {
+    dir: PathBuf,
+    pub file: ResultsFile,
+}
+
+impl ResultsWriter {
+    /// Starts fresh files in `dir` (a previous run's results there are replaced).
+    pub fn create(dir: &Path, meta: BenchMeta) -> AppResult<Self> {
+        let w = Self { dir: dir.into(), file: ResultsFile { meta, runs: Vec::new() } };
+        write_atomic(&w.csv_path(), format!("{CSV_HEADER}\n").as_bytes())?;
+        w.write_json()?;
+        Ok(w)
+    }
+    pub fn csv_path(&self) -> PathBuf {
+        self.dir.join("results.csv")
+    }
+    pub fn json_path(&self) -> PathBuf {
+        self.dir.join("results.json")
+    }
+    fn write_json(&self) -> AppResult<()> {
+        let text = serde_json::to_string_pretty(&self.file).map_err(|e| AppError::io("serialise", self.json_path(), e))?;
+        write_atomic(&self.json_path(), text.as_bytes())
+    }
+    /// Appends `r` to the CSV (flushed) and rewrites the JSON.
+    pub fn append(&mut self, r: RunRecord) -> AppResult<()> {
+        let path = self.csv_path();
+        let mut f = std::fs::OpenOptions::new().append(true).open(&path).map_err(|e| AppError::io("append to", &path, e))?;
+        writeln!(f, "{}", csv_row(&r)).and_then(|_| f.sync_data()).map_err(|e| AppError::io("append to", &path, e))?;
+        self.file.runs.push(r);
+        self.write_json()
+    }
+}
+
+/// Reads a results.json back.
+pub fn read_results(path: &Path) -> AppResult<ResultsFile> {
+    let text = std::fs::read_to_string(path).map_err(|e| AppError::io("read", path, e))?;
+    serde_json::from_str(&text).map_err(|e| AppError::io("parse", path, e))
+}
+
+fn mib(bytes: u64) -> String {
+    format!("{:.2}", bytes as f64 / (1024.0 * 1024.0))
+}
+
+fn settings_line(m: &BenchMeta) -> String {
+    format!(
+        "{}x{}, {} warm-up + {} measured frames of a still camera (scene time 0), AO radius R = {}, reference: {} rays/pixel, binary visibility within R.",
+        m.width, m.height, m.warmup, m.frames, m.radius, m.rays
+    )
+}
+
+/// The main table, the Pareto fronts and the per-pass table.
+fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
+    let _ = writeln!(s, "## Speed and accuracy\n\nAO ms: the technique's passes (g-buffer excluded), median over the measured frames with [min, max]; frame ms adds the g-buffer. Errors are against the reference over non-sky pixels, on the last frame (temporal techniques have had every warm-up and measured frame to converge); signed = technique - reference (negative = too dark); edge MAE within {} px of a depth jump > {}%. Textures: the bytes of the technique's whole plan (g-buffer channels it reads included), with texture reuse as planned and with none.\n", m.edge_band, m.edge_jump * 100.0);
+    let _ = writeln!(s, "| scene | technique | parameters | AO ms | [min, max] | frame ms | MAE | RMSE | PSNR dB | SSIM | signed | edge MAE | flicker | textures MiB (reuse / none) |");
+    let _ = writeln!(s, "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    for r in runs {
+        let (t, x) = (&r.times, &r.metrics);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | [{}, {}] | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} |",
+            r.scene,
+            r.technique,
+            r.label,
+            num(t.total_ms.median, 3),
+            num(t.total_ms.min, 3),
+            num(t.total_ms.max, 3),
+            num(t.frame_ms.median, 3),
+            num(x.mae, 4),
+            num(x.rmse, 4),
+            num(x.psnr, 2),
+            num(x.ssim, 4),
+            num(x.signed_error, 4),
+            x.edge_mae.map(|v| num(v, 4)).unwrap_or_else(|| "-".into()),
+            x.flicker.map(|v| num(v, 5)).unwrap_or_else(|| "-".into()),
+            mib(r.texture_bytes),
+            mib(r.texture_bytes_unshared)
+        );
+    }
+    let _ = writeln!(s, "\n## Pareto front\n\nRuns no other run beats on both AO time and MAE, fastest first (pareto.svg, pareto.png).\n");
+    for (scene, points) in by_scene(runs) {
+        let front: Vec<String> = pareto_front(&points).into_iter().map(|i| format!("{} {} ({} ms, MAE {})", points[i].technique, points[i].label, num(points[i].ms, 3), num(points[i].mae, 4))).collect();
+        let _ = writeln!(s, "- {scene}: {}", front.join(" → "));
+    }
+    let _ = writeln!(s, "\n## Per-pass times (ms)\n\n| scene | technique | parameters | pass | median | q1 | q3 | min | max |\n|---|---|---|---|---:|---:|---:|---:|---:|");
+    for r in runs {
+        for p in &r.times.passes {
+            let _ = writeln!(s, "| {} | {} | {} | {} | {} | {} | {} | {} | {} |", r.scene, r.technique, r.label, p.name, num(p.ms.median, 4), num(p.ms.q1, 4), num(p.ms.q3, 4), num(p.ms.min, 4), num(p.ms.max, 4));
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\n## Metrics\n\n- MAE, RMSE, PSNR (peak 1, `inf` for identical images), mean signed error: over non-sky pixels (linear depth > 0).\n- SSIM: {}; windows centred on non-sky pixels, using only non-sky pixels, clipped at the border.\n- Edge MAE: MAE over non-sky pixels within {} px (Chebyshev) of a depth edge (4-neighbours whose depth differs by more than {}% of the nearer, or a silhouette against the sky).\n- Flicker: mean absolute change of accessibility between consecutive measured frames (still camera), `-` for one frame.\n- images/: per run, the technique's AO | signed error (blue = too dark, red = too bright, white = 0, saturating at ±0.25; sky grey) | the reference.",
+        m.ssim,
+        m.edge_band,
+        m.edge_jump * 100.0
+    );
+}
+
+/// Writes report.md from whatever `runs` and `scaling` hold.
+pub fn write_report(dir: &Path, meta: &BenchMeta, runs: &[RunRecord], scaling: Option<&ScalingResults>) -> AppResult<()> {
+    let mut s = String::new();
+    let _ = writeln!(s, "# aograph bench\n\nDevice: **{}** (backend {}).\n\n{}\n", meta.device, meta.backend, meta.timing_note());
+    if !runs.is_empty() {
+        let _ = writeln!(s, "Settings: {}\n", settings_line(meta));
+        runs_section(&mut s, meta, runs);
+    }
+    if let Some(sc) = scaling {
+        s.push('\n');
+        s.push_str(&sc.markdown());
+    }
+    write_atomic(&dir.join("report.md"), s.as_bytes())
+}

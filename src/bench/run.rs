@@ -1,0 +1,228 @@
+//! One bench run: a technique with one parameter set on one scene, timed over N frames after
+//! M warm-up frames and compared with the scene's reference.
+//!
+//! Decisions (see also the module docs of `bench`):
+//! - Every frame is the scene at time 0 from its own camera (a still frame), so the reference
+//!   traced once per scene is the reference of every frame, and flicker measures the
+//!   technique's own frame-to-frame instability (animated noise, temporal convergence).
+//! - The reference comes from a separate `none` renderer that also writes the g-buffer's
+//!   points, normals and linear depth. The technique's renderer asks for nothing but
+//!   accessibility, so its plan, timings and texture bytes are exactly what the technique
+//!   costs in an application (no extra g-buffer channels for measuring).
+//! - Times: "total" is the sum of the technique's passes (every pass but the g-buffer, which
+//!   every technique shares); "frame" adds the g-buffer. Both are per-frame sums whose median
+//!   and spread are taken over the N measured frames.
+//! - Metrics are taken on the last frame (temporal techniques have converged most by then).
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_graph::{texture_bytes, Extent, GpuContext, ShaderLibrary, TimingSource};
+use aograph_scene::{ReferenceMode, Scene};
+use serde::{Deserialize, Serialize};
+
+use super::stats::Spread;
+use super::sweep::ParamSet;
+use crate::commands::trace_for;
+use crate::config::SceneSource;
+use crate::error::{AppError, AppResult};
+use crate::frame_graph::FrameOutputs;
+use crate::metrics::{compare, FlickerMeter, MetricOptions, Metrics};
+use crate::renderer::Renderer;
+
+/// The run-wide settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BenchSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Measured frames.
+    pub frames: u32,
+    /// Frames rendered and discarded first.
+    pub warmup: u32,
+    /// Shared world-space AO radius R.
+    pub radius: f32,
+    /// Reference rays per pixel (binary mode).
+    pub rays: u32,
+    pub metrics: MetricOptions,
+}
+
+impl BenchSettings {
+    pub fn extent(&self) -> Extent {
+        Extent::new(self.width, self.height)
+    }
+}
+
+/// What every run on one device shares.
+pub struct BenchContext {
+    pub gpu: Arc<GpuContext>,
+    pub shaders: Arc<ShaderLibrary>,
+    pub registry: TechniqueRegistry,
+}
+
+/// The g-buffer pass (shared by every technique, not counted in a technique's total).
+pub fn is_gbuffer_pass(name: &str) -> bool {
+    name == "gbuffer" || name.starts_with("gbuffer.")
+}
+
+/// "gpu-timestamps" or "cpu-wall".
+pub fn timing_source_name(s: Option<TimingSource>) -> &'static str {
+    match s {
+        Some(TimingSource::GpuTimestamps) => "gpu-timestamps",
+        Some(TimingSource::CpuWall) => "cpu-wall",
+        None => "none",
+    }
+}
+
+/// A scene loaded, with the reference of its still frame and the frame's linear depth.
+pub struct SceneReference {
+    pub label: String,
+    pub scene: Arc<Scene>,
+    pub accessibility: Vec<f32>,
+    pub depth: Vec<f32>,
+    pub valid: Vec<bool>,
+    pub extent: Extent,
+}
+
+/// Loads `source` and traces its reference (from the disk cache when it is there).
+pub fn scene_reference(ctx: &BenchContext, source: &SceneSource, s: &BenchSettings) -> AppResult<SceneReference> {
+    let scene = Arc::new(crate::load_scene(source)?);
+    let ao = AoConfig { technique: "none".into(), radius: s.radius, ..AoConfig::default() };
+    let outputs = FrameOutputs { surfaces: true, linear_depth: true, ..Default::default() };
+    let mut r = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, scene.clone(), &ao, outputs, s.extent())?;
+    r.render(0.0)?;
+    let image = trace_for(&r, s.radius, s.rays, ReferenceMode::Binary, false)?;
+    let depth = r.read_linear_depth()?;
+    let valid = depth.iter().map(|d| *d > 0.0).collect();
+    Ok(SceneReference { label: source.label(), scene, accessibility: image.accessibility, depth, valid, extent: s.extent() })
+}
+
+/// Median and spread of one pass's time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PassTime {
+    pub name: String,
+    pub ms: Spread,
+}
+
+/// Times of N frames.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrameTimes {
+    pub timing_source: String,
+    /// The technique's passes.
+    pub total_ms: Spread,
+    /// Every pass, g-buffer included.
+    pub frame_ms: Spread,
+    /// Per pass, in execution order.
+    pub passes: Vec<PassTime>,
+}
+
+/// Renders `warmup` + `frames` still frames, calling `tick` after each and `measured` after
+/// each measured one, and summarises the measured frames' timings.
+pub fn time_frames(r: &mut Renderer, warmup: u32, frames: u32, tick: &mut dyn FnMut(), measured: &mut dyn FnMut(&Renderer) -> AppResult<()>) -> AppResult<FrameTimes> {
+    let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
+    let (mut totals, mut frame_totals) = (Vec::new(), Vec::new());
+    let mut source = None;
+    for f in 0..warmup + frames {
+        r.render(0.0)?;
+        let t = r.timings()?;
+        if f >= warmup {
+            source = t.source.or(source);
+            let mut total = 0.0;
+            for (name, ms) in &t.passes {
+                if !is_gbuffer_pass(name) {
+                    total += ms;
+                }
+                match per_pass.iter_mut().find(|(n, _)| n == name) {
+                    Some((_, v)) => v.push(*ms),
+                    None => per_pass.push((name.clone(), vec![*ms])),
+                }
+            }
+            totals.push(total);
+            frame_totals.push(t.total_ms());
+            measured(r)?;
+        }
+        tick();
+    }
+    Ok(FrameTimes {
+        timing_source: timing_source_name(source).into(),
+        total_ms: Spread::of(&totals),
+        frame_ms: Spread::of(&frame_totals),
+        passes: per_pass.into_iter().map(|(name, v)| PassTime { name, ms: Spread::of(&v) }).collect(),
+    })
+}
+
+/// One row of the results.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    pub scene: String,
+    pub technique: String,
+    /// `ParamSet::label`: "directions=8 steps=10" or "defaults".
+    pub label: String,
+    pub params: BTreeMap<String, toml::Value>,
+    pub width: u32,
+    pub height: u32,
+    pub radius: f32,
+    pub rays: u32,
+    pub frames: u32,
+    pub warmup: u32,
+    #[serde(flatten)]
+    pub times: FrameTimes,
+    /// Bytes of the technique's plan (g-buffer included) with texture reuse as planned...
+    pub texture_bytes: u64,
+    /// ...and if every transient texture had its own allocation.
+    pub texture_bytes_unshared: u64,
+    pub metrics: Metrics,
+    /// The side-by-side image, relative to the output directory.
+    pub image: Option<String>,
+}
+
+/// A finished run: its record and its last frame's accessibility.
+pub struct RunOutput {
+    pub record: RunRecord,
+    pub ao: Vec<f32>,
+}
+
+/// Builds an `[ao]` config for `set` at radius `radius`.
+pub fn ao_config(set: &ParamSet, radius: f32) -> AoConfig {
+    let mut c = AoConfig { technique: set.technique.clone(), radius, ..AoConfig::default() };
+    c.params.insert(set.technique.clone(), set.params.clone());
+    c
+}
+
+/// Runs `set` on `reference`'s scene; `tick` is called after every frame (progress).
+pub fn run_technique(ctx: &BenchContext, reference: &SceneReference, set: &ParamSet, s: &BenchSettings, tick: &mut dyn FnMut()) -> AppResult<RunOutput> {
+    let extent = s.extent();
+    let mut r = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, reference.scene.clone(), &ao_config(set, s.radius), FrameOutputs::default(), extent)?;
+    let mut flicker = FlickerMeter::new();
+    let mut last = Vec::new();
+    let times = time_frames(&mut r, s.warmup, s.frames, tick, &mut |r| {
+        last = r.read_ao()?;
+        flicker.push(&last, &reference.valid);
+        Ok(())
+    })?;
+    let errors = ctx.gpu.take_errors();
+    if !errors.is_empty() {
+        return Err(AppError::InvalidArgument { name: format!("{} ({})", set.technique, set.label()), value: format!("GPU validation errors: {}", errors.join("; ")), allowed: "a run without validation errors".into() });
+    }
+    let mut metrics = compare(&last, &reference.accessibility, &reference.depth, extent.width, extent.height, &s.metrics)?;
+    metrics.flicker = flicker.value();
+    let (bytes, unshared) = texture_bytes(&r.plan, extent);
+    let record = RunRecord {
+        scene: reference.label.clone(),
+        technique: set.technique.clone(),
+        label: set.label(),
+        params: set.params.clone().into_iter().collect(),
+        width: extent.width,
+        height: extent.height,
+        radius: s.radius,
+        rays: s.rays,
+        frames: s.frames,
+        warmup: s.warmup,
+        times,
+        texture_bytes: bytes,
+        texture_bytes_unshared: unshared,
+        metrics,
+        image: None,
+    };
+    Ok(RunOutput { record, ao: last })
+}

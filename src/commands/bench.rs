@@ -1,0 +1,172 @@
+//! `aograph bench`: runs techniques and parameter sets against the reference on a list of
+//! scenes and writes the speed/accuracy tables, the Pareto plot and per-run images (see the
+//! `bench` module); `--scaling` times resolution and radius scaling instead.
+
+use std::path::PathBuf;
+
+use aograph_ao::{AoConfig, TechniqueRegistry};
+
+use super::gpu;
+use crate::bench::{plan_param_sets, scaling, BenchContext, BenchPlan, BenchSettings, Sweep};
+use crate::config::{check_size, SceneSource};
+use crate::error::{AppError, AppResult};
+use crate::metrics::MetricOptions;
+use crate::renderer::shader_library;
+
+/// Flags of `aograph bench`.
+#[derive(clap::Args, Clone, Debug)]
+pub struct BenchArgs {
+    /// Scenes, comma-separated: procedural names (`aograph scene list`) or .gltf/.glb files.
+    #[arg(long, value_delimiter = ',', default_value = "columns")]
+    pub scenes: Vec<String>,
+    /// `all`, or techniques comma-separated. Default: the sweep's techniques, else all.
+    #[arg(long, value_delimiter = ',')]
+    pub techniques: Vec<String>,
+    /// Parameter grids per technique (TOML; see configs/sweeps/).
+    #[arg(long)]
+    pub sweep: Option<PathBuf>,
+    /// Output width in pixels.
+    #[arg(long, default_value_t = 256)]
+    pub width: u32,
+    /// Output height in pixels.
+    #[arg(long, default_value_t = 256)]
+    pub height: u32,
+    /// Measured frames per run.
+    #[arg(long, default_value_t = 8)]
+    pub frames: u32,
+    /// Warm-up frames per run (rendered, not measured).
+    #[arg(long, default_value_t = 2)]
+    pub warmup: u32,
+    /// Shared AO radius R in world units (default: the [ao] default).
+    #[arg(long)]
+    pub radius: Option<f32>,
+    /// Reference rays per pixel.
+    #[arg(long, default_value_t = 256)]
+    pub rays: u32,
+    /// Half-width in pixels of the depth-edge band of the edge MAE.
+    #[arg(long, default_value_t = crate::metrics::DEFAULT_EDGE_BAND)]
+    pub edge_band: u32,
+    /// Output directory.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Time resolution and radius scaling instead (no reference): writes scaling.csv.
+    #[arg(long)]
+    pub scaling: bool,
+    /// Square sides for --scaling.
+    #[arg(long, value_delimiter = ',', default_values_t = scaling::DEFAULT_SIDES)]
+    pub scaling_sizes: Vec<u32>,
+    /// Radii (world units) for --scaling. Default: R times 0.5, 1, 2, 4.
+    #[arg(long, value_delimiter = ',')]
+    pub scaling_radii: Vec<f32>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn positive(name: &str, v: u32) -> AppResult<u32> {
+    if v == 0 {
+        return Err(AppError::InvalidArgument { name: name.into(), value: "0".into(), allowed: "1 or more".into() });
+    }
+    Ok(v)
+}
+
+fn check_radius(name: &str, r: f32) -> AppResult<f32> {
+    if !(r.is_finite() && r > 0.0) {
+        return Err(AppError::InvalidArgument { name: name.into(), value: r.to_string(), allowed: "a finite number greater than 0 (world units)".into() });
+    }
+    Ok(r)
+}
+
+/// Validated run settings from the shared flags.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn settings(width: u32, height: u32, frames: u32, warmup: u32, radius: Option<f32>, rays: u32, edge_band: u32) -> AppResult<BenchSettings> {
+    check_size("--width", width)?;
+    check_size("--height", height)?;
+    let radius = check_radius("--radius", radius.unwrap_or(AoConfig::default().radius))?;
+    Ok(BenchSettings { width, height, frames: positive("--frames", frames)?, warmup, radius, rays: positive("--rays", rays)?, metrics: MetricOptions { edge_band, ..MetricOptions::default() } })
+}
+
+/// Scenes from the flag, checked before any GPU work.
+pub(crate) fn scenes(names: &[String]) -> AppResult<Vec<SceneSource>> {
+    let mut out = Vec::new();
+    for n in names.iter().map(|s| s.trim()).filter(|s| !s.is_empty()) {
+        let s = SceneSource::parse(n);
+        match &s {
+            SceneSource::Procedural(p) if !aograph_scene::PROCEDURAL_SCENE_NAMES.contains(&p.as_str()) => {
+                let hint = aograph_ao::nearest(p, aograph_scene::PROCEDURAL_SCENE_NAMES.iter().copied()).map(|h| format!("did you mean `{h}`? ")).unwrap_or_default();
+                return Err(AppError::InvalidArgument { name: "--scenes".into(), value: p.clone(), allowed: format!("{hint}procedural scenes {} or a .gltf/.glb file", aograph_scene::PROCEDURAL_SCENE_NAMES.join(", ")) });
+            }
+            SceneSource::File(f) if !f.exists() => return Err(AppError::io("find scene", f, "no such file")),
+            _ => out.push(s),
+        }
+    }
+    if out.is_empty() {
+        return Err(AppError::InvalidArgument { name: "--scenes".into(), value: String::new(), allowed: "one or more scenes".into() });
+    }
+    Ok(out)
+}
+
+/// The techniques to run: `all`, a list, or (empty) the sweep's registered techniques (all
+/// registered ones when there is no sweep or `default_all`).
+pub(crate) fn techniques(registry: &TechniqueRegistry, flag: &[String], sweep: Option<&Sweep>, default_all: bool) -> AppResult<Vec<String>> {
+    let flag: Vec<&str> = flag.iter().map(|s| s.trim()).filter(|s| !s.is_empty()).collect();
+    if flag.is_empty() {
+        if let (Some(s), false) = (sweep, default_all) {
+            let t = s.registered_techniques(registry);
+            if t.is_empty() {
+                return Err(AppError::Config { path: s.source.clone(), message: format!("the sweep names no registered technique (registered: {}); pass --techniques", registry.names().join(", ")) });
+            }
+            return Ok(t);
+        }
+        if let Some(s) = sweep {
+            s.registered_techniques(registry);
+        }
+        return Ok(registry.names());
+    }
+    if flag == ["all"] {
+        return Ok(registry.names());
+    }
+    let mut out: Vec<String> = Vec::new();
+    for t in flag {
+        registry.get(t)?;
+        if !out.iter().any(|o| o == t) {
+            out.push(t.to_string());
+        }
+    }
+    Ok(out)
+}
+
+fn radii(args: &BenchArgs, base: f32) -> AppResult<Vec<f32>> {
+    if args.scaling_radii.is_empty() {
+        return Ok(scaling::DEFAULT_RADIUS_FACTORS.iter().map(|f| f * base).collect());
+    }
+    args.scaling_radii.iter().map(|r| check_radius("--scaling-radii", *r)).collect()
+}
+
+pub fn bench(args: &BenchArgs) -> AppResult<()> {
+    let registry = TechniqueRegistry::with_builtins();
+    let settings = settings(args.width, args.height, args.frames, args.warmup, args.radius, args.rays, args.edge_band)?;
+    let sweep = args.sweep.as_deref().map(Sweep::load).transpose()?;
+    let techniques = techniques(&registry, &args.techniques, sweep.as_ref(), false)?;
+    let sets = plan_param_sets(&registry, &techniques, sweep.as_ref())?;
+    let plan = BenchPlan { scenes: scenes(&args.scenes)?, sets, settings };
+    let sides: Vec<u32> = args.scaling_sizes.iter().map(|s| check_size("--scaling-sizes", *s).map(|_| *s)).collect::<AppResult<_>>()?;
+    let radii = radii(args, plan.settings.radius)?;
+    let ctx = BenchContext { gpu: gpu()?, shaders: shader_library(), registry };
+    let started = std::time::Instant::now();
+    let out = &args.out;
+    if args.scaling {
+        let r = crate::bench::run_scaling(&ctx, &plan, &sides, &radii, Some(out), !args.quiet)?;
+        println!("timed {} points of {} parameter set(s) on {} in {:.1} s ({})", r.points.len(), plan.sets.len(), ctx.gpu.describe(), started.elapsed().as_secs_f64(), if ctx.gpu.is_software() { "software device: CPU times" } else { "GPU device" });
+        for f in ["scaling.csv", "scaling_points.csv", "scaling.json", "report.md"] {
+            println!("wrote {}", out.join(f).display());
+        }
+        return Ok(());
+    }
+    let records = crate::bench::run_bench(&ctx, &plan, Some(out), !args.quiet)?;
+    println!("ran {} run(s) ({} scene(s) x {} parameter set(s)) on {} in {:.1} s{}", records.len(), plan.scenes.len(), plan.sets.len(), ctx.gpu.describe(), started.elapsed().as_secs_f64(), if ctx.gpu.is_software() { " (software device: times are CPU times)" } else { "" });
+    for f in ["results.csv", "results.json", "report.md", "pareto.svg", "pareto.png", "images/"] {
+        println!("wrote {}", out.join(f).display());
+    }
+    Ok(())
+}
