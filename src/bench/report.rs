@@ -15,6 +15,11 @@ use crate::error::{AppError, AppResult};
 use crate::images::write_atomic;
 use crate::metrics::nonfinite::format as num;
 
+/// Results files written before the reference mode was recorded used binary mode.
+fn binary() -> String {
+    "binary".into()
+}
+
 /// The device and settings every run of a bench shares.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchMeta {
@@ -31,6 +36,9 @@ pub struct BenchMeta {
     pub warmup: u32,
     pub radius: f32,
     pub rays: u32,
+    /// "binary" or "obscurance".
+    #[serde(default = "binary")]
+    pub mode: String,
     pub ssim: String,
     pub edge_band: u32,
     pub edge_jump: f32,
@@ -154,8 +162,9 @@ fn mib(bytes: u64) -> String {
 
 fn settings_line(m: &BenchMeta) -> String {
     format!(
-        "{}x{}, {} warm-up + {} measured frames of a still camera (scene time 0), AO radius R = {}, reference: {} rays/pixel, binary visibility within R.",
-        m.width, m.height, m.warmup, m.frames, m.radius, m.rays
+        "{}x{}, {} warm-up + {} measured frames of a still camera (scene time 0), AO radius R = {}, reference: {} rays/pixel, {} mode ({}).",
+        m.width, m.height, m.warmup, m.frames, m.radius, m.rays, m.mode,
+        if m.mode == "obscurance" { "a hit at distance d occludes by 1 - (d/R)^2" } else { "a hit within R occludes fully" }
     )
 }
 

@@ -42,8 +42,10 @@ pub struct BenchSettings {
     pub warmup: u32,
     /// Shared world-space AO radius R.
     pub radius: f32,
-    /// Reference rays per pixel (binary mode).
+    /// Reference rays per pixel.
     pub rays: u32,
+    /// Reference mode: binary (a hit within R occludes) or obscurance (weighted 1 - (d/R)^2).
+    pub mode: ReferenceMode,
     pub metrics: MetricOptions,
 }
 
@@ -91,7 +93,7 @@ pub fn scene_reference(ctx: &BenchContext, source: &SceneSource, s: &BenchSettin
     let outputs = FrameOutputs { surfaces: true, linear_depth: true, ..Default::default() };
     let mut r = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, scene.clone(), &ao, outputs, s.extent())?;
     r.render(0.0)?;
-    let image = trace_for(&r, s.radius, s.rays, ReferenceMode::Binary, false)?;
+    let image = trace_for(&r, s.radius, s.rays, s.mode, false)?;
     let depth = r.read_linear_depth()?;
     let valid = depth.iter().map(|d| *d > 0.0).collect();
     Ok(SceneReference { label: source.label(), scene, accessibility: image.accessibility, depth, valid, extent: s.extent() })

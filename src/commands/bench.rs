@@ -43,6 +43,9 @@ pub struct BenchArgs {
     /// Reference rays per pixel.
     #[arg(long, default_value_t = 256)]
     pub rays: u32,
+    /// Reference mode: binary or obscurance.
+    #[arg(long, default_value = "binary")]
+    pub mode: String,
     /// Half-width in pixels of the depth-edge band of the edge MAE.
     #[arg(long, default_value_t = crate::metrics::DEFAULT_EDGE_BAND)]
     pub edge_band: u32,
@@ -79,11 +82,12 @@ fn check_radius(name: &str, r: f32) -> AppResult<f32> {
 
 /// Validated run settings from the shared flags.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn settings(width: u32, height: u32, frames: u32, warmup: u32, radius: Option<f32>, rays: u32, edge_band: u32) -> AppResult<BenchSettings> {
+pub(crate) fn settings(width: u32, height: u32, frames: u32, warmup: u32, radius: Option<f32>, rays: u32, mode: &str, edge_band: u32) -> AppResult<BenchSettings> {
+    let mode = crate::config::parse_mode(mode).map_err(|e| AppError::InvalidArgument { name: "--mode".into(), value: mode.into(), allowed: e })?;
     check_size("--width", width)?;
     check_size("--height", height)?;
     let radius = check_radius("--radius", radius.unwrap_or(AoConfig::default().radius))?;
-    Ok(BenchSettings { width, height, frames: positive("--frames", frames)?, warmup, radius, rays: positive("--rays", rays)?, metrics: MetricOptions { edge_band, ..MetricOptions::default() } })
+    Ok(BenchSettings { width, height, frames: positive("--frames", frames)?, warmup, radius, rays: positive("--rays", rays)?, mode, metrics: MetricOptions { edge_band, ..MetricOptions::default() } })
 }
 
 /// Scenes from the flag, checked before any GPU work.
@@ -145,7 +149,7 @@ fn radii(args: &BenchArgs, base: f32) -> AppResult<Vec<f32>> {
 
 pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
-    let settings = settings(args.width, args.height, args.frames, args.warmup, args.radius, args.rays, args.edge_band)?;
+    let settings = settings(args.width, args.height, args.frames, args.warmup, args.radius, args.rays, &args.mode, args.edge_band)?;
     let sweep = args.sweep.as_deref().map(Sweep::load).transpose()?;
     let techniques = techniques(&registry, &args.techniques, sweep.as_ref(), false)?;
     let sets = plan_param_sets(&registry, &techniques, sweep.as_ref())?;

@@ -102,7 +102,7 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
         return Err(AppError::InvalidArgument { name: "--budget-ms".into(), value: args.budget_ms.to_string(), allowed: "a number of milliseconds greater than 0".into() });
     }
     let registry = TechniqueRegistry::with_builtins();
-    let settings = settings(args.width, args.height, args.frames, args.warmup, args.radius, args.rays, crate::metrics::DEFAULT_EDGE_BAND)?;
+    let settings = settings(args.width, args.height, args.frames, args.warmup, args.radius, args.rays, "binary", crate::metrics::DEFAULT_EDGE_BAND)?;
     let sweep = match &args.sweep {
         Some(p) => Sweep::load(p)?,
         None => Sweep::parse(DEFAULT_SWEEP, "configs/sweeps/quick.toml (built in)")?,
