@@ -1,0 +1,74 @@
+//! The CLI's commands on a fresh output directory: every shipped config prints a DOT graph,
+//! `techniques` lists every technique, `reference` writes its three files, `scene export`
+//! round-trips through the loader.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn aograph(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_aograph")).args(args).output().expect("aograph runs");
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).to_string(), String::from_utf8_lossy(&out.stderr).to_string())
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("aograph-cmd-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn every_shipped_config_prints_a_dot_graph_and_a_plan() {
+    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/configs"));
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap().flatten() {
+        let p = e.path();
+        if p.extension().is_none_or(|x| x != "toml") {
+            continue;
+        }
+        let (ok, dot, err) = aograph(&["graph", "--config", p.to_str().unwrap(), "--dot"]);
+        assert!(ok && dot.starts_with("digraph") && dot.contains("gbuffer"), "{}: {err}", p.display());
+        let (ok, plan, err) = aograph(&["graph", "--config", p.to_str().unwrap()]);
+        assert!(ok && plan.contains("texture bytes"), "{}: {err}", p.display());
+        n += 1;
+    }
+    assert!(n >= 8, "only {n} configs");
+}
+
+#[test]
+fn techniques_lists_every_registered_technique_with_parameters() {
+    let (ok, out, _) = aograph(&["techniques"]);
+    assert!(ok);
+    for name in aograph_ao::TechniqueRegistry::with_builtins().names() {
+        assert!(out.contains(&format!("{name}:")), "{name} missing from:\n{out}");
+    }
+    assert!(out.contains("default") && out.contains("allowed"));
+}
+
+#[test]
+fn reference_writes_png_raw_and_depth() {
+    if aograph_graph::test_gpu().is_none() {
+        return;
+    }
+    let out = temp_dir("reference");
+    let (ok, stdout, err) = aograph(&["reference", "--scene", "plane", "--width", "24", "--height", "16", "--rays", "16", "--out", out.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    for f in ["reference.png", "reference.f32", "gbuffer_depth.png"] {
+        assert!(out.join(f).exists(), "{f} missing; {stdout}");
+    }
+    let raw = aograph_scene::reference::read_raw_f32(out.join("reference.f32")).unwrap();
+    assert_eq!((raw.width, raw.height), (24, 16));
+    assert!(raw.values.iter().all(|&v| v == 1.0), "a flat plane is exactly 1");
+}
+
+#[test]
+fn scene_export_writes_a_glb_the_loader_reads_back() {
+    let out = temp_dir("export");
+    let file = out.join("stairs.glb");
+    let (ok, _, err) = aograph(&["scene", "export", "stairs", file.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let back = aograph_scene::load_scene(&file).unwrap();
+    assert_eq!(back.triangle_count(), aograph_scene::procedural_scene("stairs").unwrap().triangle_count());
+    let (ok, _, err) = aograph(&["scene", "export", "nope", file.to_str().unwrap()]);
+    assert!(!ok && err.contains("unknown procedural scene"), "{err}");
+}
