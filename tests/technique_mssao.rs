@@ -9,8 +9,7 @@ mod common;
 use aograph::{build_frame_graph, FrameOutputs};
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::{texture_bytes, CompileOptions, Extent, GraphCompiler};
-use aograph_scene::{procedural_scene, Camera};
-use glam::Vec3;
+use aograph_scene::procedural_scene;
 
 /// The shared radius R of the validity tests (the scenes' unit: the sphere's radius is 1).
 const RADIUS: f32 = 1.0;
@@ -18,13 +17,7 @@ const RADIUS: f32 = 1.0;
 /// and d_max is R (module docs of crates/ao-passes/src/techniques/mssao.rs).
 const PAPER_RADIUS: f32 = 2.0;
 
-/// `plane` seen from `degrees` off its normal, 6 units from the origin.
-fn plane_at(degrees: f32) -> aograph_scene::Scene {
-    let mut scene = procedural_scene("plane").unwrap();
-    let a = degrees.to_radians();
-    scene.camera = Camera::perspective(Vec3::new(0.0, a.cos(), a.sin()) * 6.0, Vec3::ZERO, 50f32.to_radians(), 0.05, 2000.0);
-    scene
-}
+use common::plane_at;
 
 #[test]
 fn plane_is_unoccluded_from_straight_down_to_80_degrees() {

@@ -5,18 +5,11 @@
 mod common;
 
 use aograph_graph::Extent;
-use aograph_scene::{procedural_scene, Camera};
-use glam::Vec3;
+use aograph_scene::procedural_scene;
 
 const RADIUS: f32 = 1.0;
 
-/// `plane` seen from `degrees` off its normal, 6 units from the origin.
-fn plane_at(degrees: f32) -> aograph_scene::Scene {
-    let mut scene = procedural_scene("plane").unwrap();
-    let a = degrees.to_radians();
-    scene.camera = Camera::perspective(Vec3::new(0.0, a.cos(), a.sin()) * 6.0, Vec3::ZERO, 50f32.to_radians(), 0.05, 2000.0);
-    scene
-}
+use common::plane_at;
 
 #[test]
 fn plane_is_unoccluded_from_straight_down_to_80_degrees() {

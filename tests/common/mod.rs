@@ -45,6 +45,15 @@ pub fn reference(run: &AoRun, radius: f32, rays: u32) -> Vec<f32> {
     aograph::commands::trace_for(&run.renderer, radius, rays, ReferenceMode::Binary, false).expect("reference traces").accessibility
 }
 
+/// `plane` seen from `degrees` off its normal, 6 units from the origin (the self-occlusion
+/// check every technique runs from straight down to grazing).
+pub fn plane_at(degrees: f32) -> Scene {
+    let mut scene = aograph_scene::procedural_scene("plane").expect("plane exists");
+    let a = degrees.to_radians();
+    scene.camera = aograph_scene::Camera::perspective(glam::Vec3::new(0.0, a.cos(), a.sin()) * 6.0, glam::Vec3::ZERO, 50f32.to_radians(), 0.05, 2000.0);
+    scene
+}
+
 /// Mean absolute error over non-sky pixels.
 pub fn mae(a: &[f32], b: &[f32], depth: &[f32]) -> f32 {
     let (sum, n) = a.iter().zip(b).zip(depth).filter(|(_, d)| **d > 0.0).fold((0.0f64, 0usize), |(s, n), ((x, y), _)| (s + (x - y).abs() as f64, n + 1));
