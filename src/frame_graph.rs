@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
-use aograph_graph::{BufferDesc, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle, ViewUniforms, VIEW_BUFFER};
+use aograph_graph::{BufferDesc, DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle, ViewUniforms, VIEW_BUFFER};
 use aograph_scene::gbuffer::{add_gbuffer, required_channels, GBufferClock};
 use aograph_scene::Scene;
 
@@ -21,6 +21,8 @@ pub struct FrameOutputs {
     pub surfaces: bool,
     /// Linear depth, read back (depth image, edge bands).
     pub linear_depth: bool,
+    /// Format of the g-buffer's hardware depth buffer (Depth32Float by default).
+    pub depth_format: DepthFormat,
 }
 
 /// A declared frame graph and the handles a caller reads.
@@ -49,7 +51,7 @@ pub fn build_frame_graph(registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &A
     if outputs.linear_depth {
         requested = requested.with(GBufferChannel::LinearDepth);
     }
-    let channels = required_channels(requested, &scene);
+    let channels = required_channels(requested, &scene).with_depth_format(outputs.depth_format);
     let mut b = GraphBuilder::new();
     let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
     let clock = GBufferClock::default();

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph_ao::techniques::ssdo::{LightingUniforms, LIGHTING_BUFFER};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
 use aograph_graph::{CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphCompiler, PassTimings, ShaderLibrary, TextureHandle, VIEW_BUFFER};
 use aograph_scene::gbuffer::GBufferFrame;
 use aograph_scene::view_block::{view_uniforms, ViewFrame};
@@ -24,6 +24,20 @@ pub fn shader_dir() -> PathBuf {
 /// A shader library over [`shader_dir`].
 pub fn shader_library() -> Arc<ShaderLibrary> {
     Arc::new(ShaderLibrary::new(shader_dir()))
+}
+
+/// R16Float intermediates are written as r16float storage textures, which core WebGPU does not
+/// guarantee: the device must offer them (through `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`).
+fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
+    let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+    if ao.intermediate_format == IntermediateFormat::R16Float && !gpu.supports(wgpu::TextureFormat::R16Float, usage) {
+        return Err(AppError::InvalidArgument {
+            name: "[ao] intermediate_format".into(),
+            value: "\"r16float\"".into(),
+            allowed: format!("\"r32float\" on this device, {}: it cannot write r16float storage textures", gpu.describe()),
+        });
+    }
+    Ok(())
 }
 
 /// One scene, one technique, frames on demand.
@@ -50,6 +64,7 @@ impl Renderer {
     pub fn with_options(gpu: Arc<GpuContext>, shaders: Arc<ShaderLibrary>, registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &AoConfig, outputs: FrameOutputs, output: Extent, options: CompileOptions) -> AppResult<Self> {
         crate::config::check_size("width", output.width)?;
         crate::config::check_size("height", output.height)?;
+        check_intermediate_format(&gpu, ao)?;
         let graph = build_frame_graph(registry, scene.clone(), ao, outputs)?;
         let plan = GraphCompiler::new().compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders);
@@ -105,7 +120,8 @@ impl Renderer {
             dt: time - prev_time,
         });
         self.gpu.queue.write_buffer(&self.view_buffer, 0, view.bytes());
-        self.graph.clock.set(GBufferFrame { time, prev_time });
+        let reversed_z = matches!(camera.projection, aograph_scene::Projection::Perspective { reversed_z_infinite: true, .. });
+        self.graph.clock.set(GBufferFrame { time, prev_time, reversed_z: Some(reversed_z) });
         self.exec.execute(&self.plan, self.output)?;
         self.prev = Some((time, camera));
         self.cut = false;

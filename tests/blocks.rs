@@ -76,7 +76,8 @@ fn average_pyramid_of_a_9x9_image_is_exact() {
             let c = 10.0 * (b + 1) as f32;
             for (k, o) in offsets.iter().enumerate() {
                 let (x, y) = (bx * 3 + k % 3, by * 3 + k / 3);
-                // In block 0 the +-4 taps are sky: the mean of the others is still c.
+                // In block 0 the +-4 taps are sky: a block mixing sky and geometry takes its
+                // centre tap, c.
                 let sky = b == 4 || (b == 0 && o.abs() == 4.0);
                 data[y * 9 + x] = if sky { 0.0 } else { c + o };
             }
@@ -87,7 +88,7 @@ fn average_pyramid_of_a_9x9_image_is_exact() {
     let (l1, ..) = reduce_cpu(&data, 9, 9, DepthReduction::Average3x3);
     assert_eq!(l1, [10.0, 20.0, 30.0, 40.0, 0.0, 60.0, 70.0, 80.0, 90.0]);
     assert_eq!(out[0], l1, "level 1 (3x3) equals the CPU mean exactly");
-    assert_eq!(out[1], [50.0], "level 2 (1x1): mean of the 8 non-sky level-1 texels");
+    assert_eq!(out[1], [0.0], "level 2 (1x1): its block mixes sky and geometry and its centre (block 4) is sky");
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! Every WGSL file under shaders/ parses and validates with naga (GPU-free), includes expanded;
-//! shared files under common/ must be valid on their own too.
+//! shared files under common/ must be valid on their own too. A file declaring the
+//! `IntermediateStorage` alias is validated in its r16float variant as well.
 
 #[test]
 fn every_shader_file_validates_with_naga() {
@@ -7,13 +8,24 @@ fn every_shader_file_validates_with_naga() {
     let files = lib.files();
     assert!(files.len() >= 5, "found only {files:?}");
     let mut failures = Vec::new();
+    let mut variants = Vec::new();
     for f in &files {
         if let Err(e) = lib.load(f) {
             failures.push(e.to_string());
         }
+        match lib.variants(f) {
+            Ok(v) => variants.extend(v),
+            Err(e) => failures.push(e.to_string()),
+        }
     }
-    assert!(failures.is_empty(), "{} of {} shaders fail:\n{}", failures.len(), files.len(), failures.join("\n"));
-    println!("{} shader files validated", files.len());
+    for v in &variants {
+        if let Err(e) = lib.load(v) {
+            failures.push(format!("{v}: {e}"));
+        }
+    }
+    assert!(failures.is_empty(), "{} of {} shaders fail:\n{}", failures.len(), files.len() + variants.len(), failures.join("\n"));
+    assert!(variants.iter().any(|v| v.starts_with("ao/ssao/ao.wgsl?")), "the ssao AO pass has an r16float variant: {variants:?}");
+    println!("{} shader files and {} r16float variants validated: {}", files.len(), variants.len(), variants.join(", "));
 }
 
 #[test]

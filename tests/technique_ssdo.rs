@@ -11,8 +11,7 @@ use std::sync::Arc;
 use aograph::{build_frame_graph, FrameOutputs};
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::{Extent, GBufferChannel};
-use aograph_scene::{procedural_scene, Camera, Scene};
-use glam::Vec3;
+use aograph_scene::procedural_scene;
 
 const RADIUS: f32 = 1.0;
 
@@ -37,13 +36,7 @@ fn only_ssdo_makes_the_gbuffer_write_colour_and_direct_light() {
     }
 }
 
-/// `scene` with its camera replaced by one `degrees` off the plane's normal.
-fn plane_at(degrees: f32) -> Scene {
-    let mut scene = procedural_scene("plane").unwrap();
-    let a = degrees.to_radians();
-    scene.camera = Camera::perspective(Vec3::new(0.0, a.cos(), a.sin()) * 6.0, Vec3::ZERO, 50f32.to_radians(), 0.05, 2000.0);
-    scene
-}
+use common::plane_at;
 
 /// Accessibility valid, radiance finite, non-negative and zero on sky.
 fn assert_valid(run: &common::AoRun, what: &str) {

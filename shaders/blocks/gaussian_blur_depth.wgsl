@@ -5,7 +5,10 @@
 // the taps used; the centre tap of a non-sky pixel always counts, so the sum is > 0.
 @group(0) @binding(0) var src: texture_2d<f32>;
 @group(0) @binding(1) var depth: texture_2d<f32>;
-@group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
+// r32float; the first pass of a blur at a technique's half intermediate precision uses the
+// `?intermediate=r16float` variant (crates/graph/src/shader.rs, "Variants").
+alias IntermediateStorage = texture_storage_2d<r32float, write>;
+@group(0) @binding(2) var dst: IntermediateStorage;
 @group(0) @binding(3) var<uniform> params: BlurParams;
 
 @compute @workgroup_size(8, 8)

@@ -44,10 +44,11 @@ fn clip_depth(c: vec4<f32>) -> f32 {
 }
 
 // Linear depth at which the ray through `uv` meets the plane through `o` with normal `n`, or
-// -1 where the plane is edge-on or behind the camera (view_position is affine in depth).
+// -1 where the plane is edge-on or behind the camera. The ray is a + (t - 1) d: view_position
+// is affine in depth, with d = a for a perspective camera and (0, 0, -1) for an orthographic one.
 fn plane_depth(uv: vec2<f32>, o: vec3<f32>, n: vec3<f32>) -> f32 {
     let a = view_position(uv, 1.0, view);
-    let d = view_position(uv, 2.0, view) - a;
+    let d = select(a, vec3<f32>(0.0, 0.0, -1.0), view.near_far.w > 0.5);
     let den = dot(n, d);
     if (!(abs(den) > 1e-4 * length(d))) {
         return -1.0;

@@ -12,10 +12,19 @@ use crate::registry::TechniqueRegistry;
 /// Default technique when the config names none.
 pub const DEFAULT_TECHNIQUE: &str = "pyramid-hbao";
 
-/// Format of intermediate AO textures.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Format of intermediate AO textures (raw AO before a blur, a blur's first axis, MSSAO's
+/// tuples, SSDO's raw radiance; 4-channel intermediates use the 4-channel format of the same
+/// precision). The accessibility output is R32Float either way.
+///
+/// The default is R16Float, the cheapest format that loses under 0.002 MAE for every technique:
+/// on `columns` at 128x96 (tests/precision.rs) the MAE between a technique's r16float and
+/// r32float outputs is at most 0.0005 (hbao, pyramid-hbao), and the MAE against the reference
+/// changes by at most 0.00012. It needs r16float storage textures (not core WebGPU; the
+/// renderer reports a device without them and asks for "r32float").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum IntermediateFormat {
     R32Float,
+    #[default]
     R16Float,
 }
 
@@ -48,7 +57,7 @@ pub struct AoConfig {
 
 impl Default for AoConfig {
     fn default() -> Self {
-        Self { technique: DEFAULT_TECHNIQUE.into(), radius: 1.0, intermediate_format: IntermediateFormat::R32Float, params: BTreeMap::new() }
+        Self { technique: DEFAULT_TECHNIQUE.into(), radius: 1.0, intermediate_format: IntermediateFormat::default(), params: BTreeMap::new() }
     }
 }
 

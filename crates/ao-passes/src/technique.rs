@@ -6,7 +6,7 @@
 //! output size, 1 = unoccluded). [`DynAoTechnique`] is the object-safe face the registry holds;
 //! every typed technique gets it for free.
 
-use aograph_graph::{BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, ParamSpec, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{intermediate_variant, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, ParamSpec, SizeClass, TextureDesc, TextureHandle};
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use serde::Serialize;
@@ -24,7 +24,9 @@ pub struct AoBuildContext<'a> {
     pub view: BufferHandle,
     /// The shared world-space AO radius R.
     pub radius: f32,
-    /// Format of intermediate AO textures (R32Float, or R16Float to save bandwidth).
+    /// Format of intermediate AO textures (R32Float, or R16Float to save bandwidth). A pass
+    /// writing one uses the shader [`AoBuildContext::shader`] names; multi-channel
+    /// intermediates use [`AoBuildContext::intermediate_rgba_format`].
     pub intermediate_format: wgpu::TextureFormat,
     /// Name of the technique being built, for error messages.
     pub technique: &'static str,
@@ -43,6 +45,21 @@ impl AoBuildContext<'_> {
     pub fn intermediate(&mut self, name: &str, size: SizeClass) -> TextureHandle {
         let f = self.intermediate_format;
         self.builder.create_texture(name, TextureDesc::new(f, size))
+    }
+    /// The four-channel float format at the intermediate precision (Rgba16Float under
+    /// R16Float, Rgba32Float otherwise), for intermediates that carry more than accessibility.
+    pub fn intermediate_rgba_format(&self) -> wgpu::TextureFormat {
+        match self.intermediate_format {
+            wgpu::TextureFormat::R16Float => wgpu::TextureFormat::Rgba16Float,
+            _ => wgpu::TextureFormat::Rgba32Float,
+        }
+    }
+    /// The shader `file` at the intermediate precision: `file?intermediate=r16float` under
+    /// R16Float, `file` itself under R32Float. The file declares its intermediate outputs'
+    /// type on one line, `alias IntermediateStorage = texture_storage_2d<r32float, write>;`
+    /// (or rgba32float), which the variant rewrites (`aograph_graph::ShaderLibrary` docs).
+    pub fn shader(&self, file: &str) -> String {
+        intermediate_variant(file, self.intermediate_format)
     }
 }
 
@@ -116,7 +133,7 @@ impl<T: AoTechnique> DynAoTechnique for T {
                 if let Some(v) = defaults.as_ref().and_then(|d| d.get(s.name)) {
                     // Parameters are f32: print the f32, not its widened f64 (0.03, not 0.0299999...).
                     s.default = match v {
-                        toml::Value::Float(f) => (*f as f32).to_string(),
+                        toml::Value::Float(f) => format!("{:?}", *f as f32),
                         other => other.to_string(),
                     };
                 }

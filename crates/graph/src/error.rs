@@ -51,6 +51,9 @@ pub enum GraphError {
     #[error("GPU error: {0}")]
     Gpu(String),
 
+    #[error("texture `{resource}` is {format:?}, which this device ({device}) cannot use as {usage}; declare it in a format the device supports for that use")]
+    UnsupportedFormat { resource: String, format: wgpu::TextureFormat, usage: String, device: String },
+
     #[error("resource `{resource}` is not available: {message}")]
     MissingResource { resource: String, message: String },
 }

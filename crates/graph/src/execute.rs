@@ -180,6 +180,14 @@ impl Executor {
         }
         let device = &self.gpu.device;
         let decl = &plan.decl;
+        // A format the device cannot use as declared (e.g. r16float storage without the
+        // adapter's format features) is an error naming the texture, not a validation error.
+        for slot in &plan.physical {
+            if !self.gpu.supports(slot.desc.format, slot.usage) {
+                let resource = slot.resources.iter().map(|r| decl.resources[*r].name.as_str()).collect::<Vec<_>>().join("`, `");
+                return Err(GraphError::UnsupportedFormat { resource, format: slot.desc.format, usage: format!("{:?}", slot.usage), device: self.gpu.describe() });
+            }
+        }
         let mut pipelines = Vec::with_capacity(decl.passes.len());
         for (i, pass) in decl.passes.iter().enumerate() {
             pipelines.push(plan.shaders[i].as_ref().and_then(|info| create_pipeline(device, self.gpu.features, decl, pass, info)));

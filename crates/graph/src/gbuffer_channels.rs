@@ -1,13 +1,15 @@
 //! G-buffer channels: the small type the g-buffer node (aograph-scene) and the techniques
 //! (aograph-ao) share without depending on each other. A technique states which channels it
-//! reads; the g-buffer node writes only those.
+//! reads; the g-buffer node writes only those. The set also carries the hardware depth format
+//! ([`DepthFormat`], Depth32Float unless the application asks for Depth24Plus): techniques read
+//! linear depth, never the depth buffer's encoding, so they work with either.
 
 use crate::resource::TextureHandle;
 
 /// One g-buffer channel and its format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum GBufferChannel {
-    /// Hardware depth (Depth32Float), as rasterised.
+    /// Hardware depth, as rasterised (Depth32Float by default; see [`DepthFormat`]).
     Depth,
     /// Linear view depth (R32Float), positive, in scene units; 0 marks sky.
     LinearDepth,
@@ -25,6 +27,8 @@ pub enum GBufferChannel {
 
 impl GBufferChannel {
     pub const ALL: [GBufferChannel; 7] = [Self::Depth, Self::LinearDepth, Self::Normals, Self::Positions, Self::Albedo, Self::DirectLight, Self::Motion];
+    /// The channel's default format (`Depth`: [`DepthFormat::default`]; a set may choose
+    /// another depth format, see [`GBufferChannels::depth_format`]).
     pub fn format(self) -> wgpu::TextureFormat {
         use wgpu::TextureFormat as F;
         match self {
@@ -53,12 +57,33 @@ impl GBufferChannel {
     }
 }
 
-/// A set of channels, plus whether normals are flat (face) normals.
+/// Format of the g-buffer's hardware depth buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DepthFormat {
+    /// 32-bit float depth (the default).
+    #[default]
+    Depth32Float,
+    /// At least 24 bits of depth, as many engines use (may be a 24-bit unorm format).
+    Depth24Plus,
+}
+
+impl DepthFormat {
+    pub fn format(self) -> wgpu::TextureFormat {
+        match self {
+            Self::Depth32Float => wgpu::TextureFormat::Depth32Float,
+            Self::Depth24Plus => wgpu::TextureFormat::Depth24Plus,
+        }
+    }
+}
+
+/// A set of channels, plus whether normals are flat (face) normals and the depth format.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct GBufferChannels {
     bits: u8,
     /// Normals are per-face (MSSAO needs them) rather than interpolated.
     pub face_normals: bool,
+    /// Format of the hardware depth buffer the g-buffer rasterises into.
+    pub depth_format: DepthFormat,
 }
 
 impl GBufferChannels {
@@ -80,11 +105,18 @@ impl GBufferChannels {
         self.face_normals = true;
         self.with(GBufferChannel::Normals)
     }
+    /// The same set, rasterising into a `depth_format` depth buffer.
+    pub fn with_depth_format(mut self, depth_format: DepthFormat) -> Self {
+        self.depth_format = depth_format;
+        self
+    }
     pub fn contains(&self, c: GBufferChannel) -> bool {
         self.bits & c.bit() != 0
     }
+    /// Channels of both; face normals if either asks; a non-default depth format wins.
     pub fn union(self, o: Self) -> Self {
-        Self { bits: self.bits | o.bits, face_normals: self.face_normals || o.face_normals }
+        let depth_format = if self.depth_format != DepthFormat::default() { self.depth_format } else { o.depth_format };
+        Self { bits: self.bits | o.bits, face_normals: self.face_normals || o.face_normals, depth_format }
     }
     pub fn iter(&self) -> impl Iterator<Item = GBufferChannel> + '_ {
         GBufferChannel::ALL.into_iter().filter(|c| self.contains(*c))

@@ -60,6 +60,16 @@ impl GpuContext {
         Ok(Self { adapter, device, queue, info, features, errors })
     }
 
+    /// True when textures of `format` can have `usage` on this device: the adapter's own
+    /// format features where the device enabled `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`,
+    /// WebGPU's guaranteed ones otherwise. Storage usage also needs write-only storage access
+    /// (R16Float storage, for instance, is not core WebGPU: most Vulkan devices have it).
+    pub fn supports(&self, format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> bool {
+        let f = if self.features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) { self.adapter.get_texture_format_features(format) } else { format.guaranteed_format_features(self.features) };
+        let storage_ok = !usage.contains(wgpu::TextureUsages::STORAGE_BINDING) || f.flags.contains(wgpu::TextureFormatFeatureFlags::STORAGE_WRITE_ONLY);
+        f.allowed_usages.contains(usage) && storage_ok
+    }
+
     /// True when GPU timestamps can be written between passes.
     pub fn has_timestamps(&self) -> bool {
         self.features.contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)

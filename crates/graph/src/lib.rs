@@ -35,14 +35,14 @@ pub use declaration::{BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind
 pub use dot::to_dot;
 pub use error::{GraphError, GraphResult};
 pub use execute::Executor;
-pub use gbuffer_channels::{GBufferChannel, GBufferChannels, GBufferTextures};
+pub use gbuffer_channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
 pub use gpu::{test_gpu, GpuContext};
 pub use lifetime::{texture_bytes, Lifetime, PhysicalTexture};
 pub use plugin::{check_range, parse_params, GraphConfig, GraphPlugin, OutputConfig, ParamSpec, PluginConfig, PluginIo, PluginRegistry};
 pub use pool::PoolKey;
 pub use readback::{read_texture, TextureReadback};
 pub use resource::{texel_bytes, Buffer, BufferAccess, BufferDesc, BufferHandle, Extent, Handle, SizeClass, Texture, TextureAccess, TextureDesc, TextureHandle};
-pub use shader::{ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo};
+pub use shader::{intermediate_variant, ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo, INTERMEDIATE_ALIAS};
 pub use summary::summary;
 pub use timing::{PassTimings, TimingSource};
 pub use view::{Mat4Cols, ViewUniforms, VIEW_BUFFER};

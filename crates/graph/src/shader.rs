@@ -4,6 +4,25 @@
 //! each, in order, before the file's own text, and errors are mapped back to the file and line
 //! they come from. Every module is validated by naga before use; bind group layouts are
 //! reflected from the naga module, never written by hand.
+//!
+//! # Variants
+//!
+//! A shader name may carry a variant suffix, `file.wgsl?intermediate=r16float`. The one variant
+//! key is `intermediate`, for passes whose storage output follows a technique's intermediate
+//! format: such a file declares its storage type once, on a line of its own,
+//!
+//! ```text
+//! alias IntermediateStorage = texture_storage_2d<r32float, write>;
+//! ```
+//!
+//! and uses `IntermediateStorage` for the globals it writes at that precision. The file as
+//! written (no suffix, or `?intermediate=r32float`) is valid WGSL at 32-bit precision;
+//! `?intermediate=r16float` rewrites the format on that line only, and only a 32-bit float
+//! format, to the 16-bit float format with the same channels (r32float -> r16float, rg32float ->
+//! rg16float, rgba32float -> rgba16float). Nothing else in the file changes, line numbers
+//! included. Asking for the 16-bit variant of a file without that line is an error (the
+//! suffix would silently do nothing). [`intermediate_variant`] builds the name;
+//! [`ShaderLibrary::variants`] lists the variants a file has (the naga test validates each).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -126,15 +145,31 @@ impl ShaderLibrary {
         out
     }
 
-    /// The validated module `name`, from the cache or parsed now.
+    /// The validated module `name` (a file name, optionally with a variant suffix: see the
+    /// module docs), from the cache or parsed now.
     pub fn load(&self, name: &str) -> GraphResult<Arc<ShaderModuleInfo>> {
         if let Some(m) = lock(&self.cache).get(name) {
             return Ok(m.clone());
         }
-        let (source, segments) = self.expand(name)?;
+        let (file, variant) = parse_variant(name)?;
+        let (mut source, segments) = self.expand(file)?;
+        if variant == Variant::HalfIntermediate {
+            source = half_intermediate(&source).ok_or_else(|| GraphError::Shader {
+                file: file.into(),
+                line: 1,
+                message: format!("variant `{name}`: the file has no line `alias {INTERMEDIATE_ALIAS} = texture_storage_2d<r32float, write>;` (or rg32float, rgba32float) to rewrite"),
+            })?;
+        }
         let info = Arc::new(parse_and_reflect(name, source, &segments)?);
         lock(&self.cache).insert(name.to_string(), info.clone());
         Ok(info)
+    }
+
+    /// The variant names file `name` supports besides itself: its r16float variant when it
+    /// declares the `IntermediateStorage` alias (see the module docs).
+    pub fn variants(&self, name: &str) -> GraphResult<Vec<String>> {
+        let (source, _) = self.expand(name)?;
+        Ok(if half_intermediate(&source).is_some() { vec![intermediate_variant(name, wgpu::TextureFormat::R16Float)] } else { Vec::new() })
     }
 
     fn expand(&self, name: &str) -> GraphResult<(String, Vec<Segment>)> {
@@ -178,6 +213,66 @@ impl ShaderLibrary {
         }
         Ok((source, segments))
     }
+}
+
+/// The type alias a variant-aware shader declares for its intermediate-precision outputs.
+pub const INTERMEDIATE_ALIAS: &str = "IntermediateStorage";
+
+/// The name of `file`'s variant whose `IntermediateStorage` outputs are single-channel
+/// `format` (or the multi-channel float format of the same precision): R16Float gives
+/// `file?intermediate=r16float`; any other format gives `file` itself (the 32-bit original).
+pub fn intermediate_variant(file: &str, format: wgpu::TextureFormat) -> String {
+    match format {
+        wgpu::TextureFormat::R16Float => format!("{file}?intermediate=r16float"),
+        _ => file.to_string(),
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Variant {
+    AsWritten,
+    HalfIntermediate,
+}
+
+fn parse_variant(name: &str) -> GraphResult<(&str, Variant)> {
+    let Some((file, suffix)) = name.split_once('?') else { return Ok((name, Variant::AsWritten)) };
+    match suffix {
+        "intermediate=r32float" => Ok((file, Variant::AsWritten)),
+        "intermediate=r16float" => Ok((file, Variant::HalfIntermediate)),
+        _ => Err(GraphError::ShaderFile { file: name.into(), message: format!("unknown shader variant `?{suffix}`; known: `?intermediate=r16float`, `?intermediate=r32float`") }),
+    }
+}
+
+/// `source` with the format of its `alias IntermediateStorage = texture_storage_2d<F, A>;`
+/// line(s) halved (r32float -> r16float etc.); `None` when no such line names a 32-bit float
+/// format. Other lines are untouched.
+fn half_intermediate(source: &str) -> Option<String> {
+    let mut out = String::with_capacity(source.len());
+    let mut found = false;
+    for line in source.split_inclusive('\n') {
+        let t = line.trim_start();
+        let declares = t.strip_prefix("alias").is_some_and(|r| r.starts_with(char::is_whitespace) && r.trim_start().strip_prefix(INTERMEDIATE_ALIAS).is_some_and(|r| r.trim_start().starts_with('=')));
+        let open = line.find("texture_storage_2d<");
+        match (declares, open) {
+            (true, Some(open)) => {
+                let start = open + "texture_storage_2d<".len();
+                let len = line[start..].find(',')?;
+                let format = line[start..start + len].trim();
+                let half = match format {
+                    "r32float" => "r16float",
+                    "rg32float" => "rg16float",
+                    "rgba32float" => "rgba16float",
+                    _ => return None,
+                };
+                out.push_str(&line[..start]);
+                out.push_str(half);
+                out.push_str(&line[start + len..]);
+                found = true;
+            }
+            _ => out.push_str(line),
+        }
+    }
+    found.then_some(out)
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {

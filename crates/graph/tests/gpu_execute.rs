@@ -313,3 +313,47 @@ fn missing_import_is_reported_by_name() {
     exec.execute(&plan, Extent::new(8, 8)).unwrap();
     assert!(exec.read_texture(&plan, out).unwrap().to_f32().unwrap().iter().all(|&v| v == 0.75));
 }
+
+/// Two executors on two threads share one device, as two renderers in one application (or
+/// two tests) do: a thread's poll may run the other's timestamp map callback after that
+/// thread's own poll returned. The readback buffer must never be mapped when a frame copies
+/// into it ("Buffer with 'timestamp readback' label is still mapped" at submit, before).
+#[test]
+fn executors_on_two_threads_keep_their_timestamp_readback_unmapped() {
+    let Some(gpu) = test_gpu() else { return };
+    let _ = gpu.take_errors();
+    let threads: Vec<_> = (0..2)
+        .map(|t| {
+            let gpu = gpu.clone();
+            std::thread::spawn(move || {
+                let mut b = GraphBuilder::new();
+                blur_chain(&mut b, 2);
+                let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+                let mut exec = Executor::new(gpu.clone());
+                let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+                for frame in 0..150u32 {
+                    exec.execute(&plan, Extent::new(16 + t, 16)).unwrap();
+                    if frame % 7 == 0 {
+                        exec.timings().unwrap();
+                    }
+                }
+                pollster::block_on(scope.pop()).map(|e| e.to_string())
+            })
+        })
+        .collect();
+    for t in threads {
+        let error = t.join().expect("thread runs");
+        assert!(error.is_none(), "{error:?}");
+    }
+    assert!(gpu.take_errors().is_empty());
+}
+
+#[test]
+fn supports_reports_format_usages() {
+    let Some(gpu) = test_gpu() else { return };
+    let storage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+    assert!(gpu.supports(R32Float, storage));
+    assert!(gpu.supports(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT));
+    assert!(!gpu.supports(wgpu::TextureFormat::Depth32Float, storage));
+    println!("{}: r16float storage {}", gpu.describe(), gpu.supports(wgpu::TextureFormat::R16Float, storage));
+}

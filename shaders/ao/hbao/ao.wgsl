@@ -19,7 +19,10 @@ struct HbaoParams {
 @group(0) @binding(1) var<uniform> params: HbaoParams;
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
-@group(0) @binding(4) var ao: texture_storage_2d<r32float, write>;
+// Raw accessibility: an intermediate when blurred (the `?intermediate=r16float` variant of this
+// file writes it at half precision; crates/graph/src/shader.rs, "Variants"), else the output.
+alias IntermediateStorage = texture_storage_2d<r32float, write>;
+@group(0) @binding(4) var ao: IntermediateStorage;
 
 fn accessibility(p: vec2<i32>) -> f32 {
     let size = vec2<i32>(textureDimensions(depth));

@@ -8,7 +8,10 @@
 @group(0) @binding(1) var<uniform> params: MssaoParams;
 @group(0) @binding(2) var positions: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
-@group(0) @binding(4) var ao: texture_storage_2d<rgba16float, write>;
+// The tuple is an intermediate: rgba32float here, rgba16float in the `?intermediate=r16float`
+// variant (crates/graph/src/shader.rs, "Variants").
+alias IntermediateStorage = texture_storage_2d<rgba32float, write>;
+@group(0) @binding(4) var ao: IntermediateStorage;
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {

@@ -32,7 +32,10 @@ struct Params {
 @group(0) @binding(5) var depth3: texture_2d<f32>;
 @group(0) @binding(6) var depth4: texture_2d<f32>;
 @group(0) @binding(7) var normals: texture_2d<f32>;
-@group(0) @binding(8) var ao: texture_storage_2d<r32float, write>;
+// Raw AO: an intermediate when blurred (the `?intermediate=r16float` variant of this file
+// writes it at half precision; crates/graph/src/shader.rs, "Variants"), else the output.
+alias IntermediateStorage = texture_storage_2d<r32float, write>;
+@group(0) @binding(8) var ao: IntermediateStorage;
 
 const TAU: f32 = 6.283185307179586;
 

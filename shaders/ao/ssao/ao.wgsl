@@ -20,7 +20,10 @@ struct SsaoParams {
 @group(0) @binding(1) var<uniform> params: SsaoParams;
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
-@group(0) @binding(4) var ao: texture_storage_2d<r32float, write>;
+// The raw accessibility is an intermediate: the `?intermediate=r16float` variant of this file
+// writes it at half precision (crates/graph/src/shader.rs, "Variants").
+alias IntermediateStorage = texture_storage_2d<r32float, write>;
+@group(0) @binding(4) var ao: IntermediateStorage;
 
 // Linear depth at which the ray through `uv` meets the plane through `o` with normal `n`, or
 // -1 where the plane is edge-on or behind the camera. view_position is affine in depth for
@@ -87,6 +90,14 @@ fn accessibility(p: vec2<i32>) -> f32 {
         let zq = textureLoad(depth, q, 0).x;
         if (!(zq > 0.0)) {
             continue; // sky: unoccluding
+        }
+        // A surface on or below the receiver's tangent plane cannot lie in front of a sample
+        // above it (a line from the eye, which is above the plane, crosses it once). Where
+        // q's pixel straddles the plane's horizon, the sample's ray can miss the plane while
+        // q's centre ray meets it, and the depth test below would see the plane itself in
+        // front of the sample (a plane 89.9 degrees to the view came out 0.85 at 97x61).
+        if (dot(n, view_position(pixel_uv(q, view), zq, view) - o) <= bias) {
+            continue;
         }
         // Depth test relative to the receiver's tangent plane along each ray (exact for
         // planes; the classic z_q < z_s - bias when s lies on a pixel centre).

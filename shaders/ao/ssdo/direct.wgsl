@@ -15,7 +15,10 @@
 @group(0) @binding(4) var normals: texture_2d<f32>;
 @group(0) @binding(5) var albedo: texture_2d<f32>;
 @group(0) @binding(6) var direct_light: texture_2d<f32>;
-@group(0) @binding(7) var radiance: texture_storage_2d<rgba16float, write>;
+// Intermediates: rgba32float here, rgba16float in the `?intermediate=r16float` variant
+// (crates/graph/src/shader.rs, "Variants").
+alias IntermediateStorage = texture_storage_2d<rgba32float, write>;
+@group(0) @binding(7) var radiance: IntermediateStorage;
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {

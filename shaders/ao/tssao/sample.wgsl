@@ -8,7 +8,7 @@
 // ao_buffer = (accessibility, n_t, Halton index, depth; negative depth = moving surface)
 
 struct TssaoParams {
-    // k1, k2, steps per sample, has_motion
+    // k1, k2, steps per sample, unused
     counts: vec4<u32>,
     // n_smooth, falloff (0 none, 1 quadratic), Halton length, unused
     modes: vec4<u32>,
@@ -26,18 +26,10 @@ struct TssaoParams {
 @group(0) @binding(5) var normals: texture_2d<f32>;
 @group(0) @binding(6) var motion: texture_2d<f32>;
 @group(0) @binding(7) var ao_buffer: texture_storage_2d<rgba32float, write>;
-
-fn radical_inverse_5(i: u32) -> f32 {
-    var n = i;
-    var f = 0.2;
-    var r = 0.0;
-    for (var k = 0u; k < 14u && n > 0u; k = k + 1u) {
-        r = r + f32(n % 5u) * f;
-        n = n / 5u;
-        f = f * 0.2;
-    }
-    return r;
-}
+// Halton points 1..L (bases 2, 3, 5) mapped to the sample pattern, precomputed: xyz = the
+// cosine-distributed direction in tangent space (z along the normal), w = the third
+// coordinate (the step jitter). L = params.modes.z.
+@group(0) @binding(8) var<uniform> halton: array<vec4<f32>, 2048>;
 
 // Linear depth of a view-space point in the previous camera (camera-only reprojection; the
 // previous projection is the current one).
@@ -68,22 +60,25 @@ struct Visibility {
 
 // V(p, s_i) along the segment o -> o + r w, tested at `steps` points t_j = r (j + 1 - u) / steps,
 // the last one at t = r.
-fn visibility(o: vec3<f32>, w: vec3<f32>, r: f32, u: f32, size: vec2<i32>) -> Visibility {
+fn visibility(o: vec3<f32>, c0: vec4<f32>, w: vec3<f32>, r: f32, u: f32, size: vec2<i32>) -> Visibility {
     var out: Visibility;
     out.occlusion = 0.0;
     out.has_texel = false;
     let steps = clamp(params.counts.z, 1u, 8u);
+    // Clip coordinates are affine along the segment: c0 = proj * o, plus t times this.
+    let cd = view.proj * vec4<f32>(w, 0.0);
     for (var j = 0u; j < steps; j = j + 1u) {
         // The last point sits at R itself: an occluder anywhere along a wall-like depth
         // buffer leaves it behind the surface, so hits up to R all count (binary mode).
         let t = select(r * (f32(j) + 1.0 - u) / f32(steps), r, j + 1u == steps);
-        let q = o + w * t;
-        let zq = -q.z;
-        if (view.near_far.w < 0.5 && !(zq > 1e-6)) {
+        let zq = -(o.z + w.z * t);
+        let c = c0 + cd * t;
+        if (view.near_far.w < 0.5 && !(zq > 1e-6 && c.w > 1e-6)) {
             break; // behind the camera: unoccluding
         }
-        let uq = project_uv(q, view);
-        if (any(uq < vec2<f32>(0.0)) || any(uq >= vec2<f32>(1.0))) {
+        let ndc = c.xy / c.w;
+        let uq = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+        if (!(all(uq >= vec2<f32>(0.0)) && all(uq < vec2<f32>(1.0)))) {
             break; // off screen: unoccluding
         }
         let texel = clamp(vec2<i32>(floor(uq * vec2<f32>(size))), vec2<i32>(0), size - 1);
@@ -107,12 +102,23 @@ fn visibility(o: vec3<f32>, w: vec3<f32>, r: f32, u: f32, size: vec2<i32>) -> Vi
     return out;
 }
 
+// Entry points: `main` for scenes where nothing moves (Eq. 8 is identically satisfied there,
+// spec §14, and is compiled out), `main_dynamic` where the g-buffer has motion vectors.
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    sample_pixel(id.xy, false);
+}
+
+@compute @workgroup_size(8, 8)
+fn main_dynamic(@builtin(global_invocation_id) id: vec3<u32>) {
+    sample_pixel(id.xy, true);
+}
+
+fn sample_pixel(id: vec2<u32>, dynamic: bool) {
     let size_u = textureDimensions(ao_buffer);
     if (id.x >= size_u.x || id.y >= size_u.y) { return; }
     let size = vec2<i32>(size_u);
-    let p = vec2<i32>(id.xy);
+    let p = vec2<i32>(id);
     let z = textureLoad(depth, p, 0).x;
     if (!(z > 0.0) || z > 1e30) {
         textureStore(ao_buffer, p, vec4<f32>(1.0, 0.0, 0.0, 0.0)); // sky
@@ -144,10 +150,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let conv = nt / n_max;
     // §3.6.2: k1 samples until converged enough, then k2.
-    let k = clamp(select(params.counts.y, params.counts.x, conv < params.thresholds.x), 1u, 64u);
+    let k1 = clamp(params.counts.x, 1u, 64u);
+    var k = clamp(select(params.counts.y, params.counts.x, conv < params.thresholds.x), 1u, 64u);
     // §3.6.4: per-pixel pattern rotation only while conv < c_rot.
+    // The rotation turns the pattern about the normal by a per-pixel angle and shifts the
+    // step jitter by a per-pixel offset (a Cranley-Patterson rotation of coordinates 2, 3).
     let rotate = conv < params.thresholds.y;
-    let shift = select(vec3<f32>(0.0), vec3<f32>(hash_pixel(vec2<u32>(p), 1u), hash_pixel(vec2<u32>(p), 2u), hash_pixel(vec2<u32>(p), 3u)), rotate);
+    let angle = select(0.0, 6.2831853 * hash_pixel(vec2<u32>(p), 1u), rotate);
+    let jitter = select(0.0, hash_pixel(vec2<u32>(p), 2u), rotate);
 
     let o = view_position(pixel_uv(p, view), z, view);
     let ppu = pixels_per_unit(z, view);
@@ -160,10 +170,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let sgn = select(-1.0, 1.0, n.z >= 0.0);
     let a = -1.0 / (sgn + n.z);
     let b = n.x * n.y * a;
-    let tx = vec3<f32>(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
-    let ty = vec3<f32>(b, sgn + n.y * n.y * a, -n.y);
+    let t0 = vec3<f32>(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
+    let t1 = vec3<f32>(b, sgn + n.y * n.y * a, -n.y);
+    let tx = t0 * cos(angle) + t1 * sin(angle);
+    let ty = t1 * cos(angle) - t0 * sin(angle);
+    let c0 = view.proj * vec4<f32>(start, 1.0);
 
-    let dynamic = params.counts.w != 0u;
     var p_old = vec3<f32>(0.0);
     if (dynamic) {
         p_old = prev_position(p, o);
@@ -171,22 +183,20 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var occlusion = 0.0;
     var changed = false;
     for (var i = 0u; i < k; i = i + 1u) {
-        // Eq. 4: sample idx + i + 1 of the pixel's Halton sequence (bases 2, 3, 5).
-        let hi = (index + i) % len + 1u;
-        let u = fract(vec3<f32>(radical_inverse_2(hi), radical_inverse_3(hi), radical_inverse_5(hi)) + shift);
+        // Eq. 4: sample idx + i of the pixel's Halton sequence (bases 2, 3, 5; the table
+        // starts at point 1, point 0 being the origin).
+        let h = halton[(index + i) & (len - 1u)];
         // Cosine-distributed direction (Malley): the cos of Eq. 2 is in the density.
-        let rr = sqrt(u.x);
-        let phi = 6.2831853 * u.y;
-        let w = tx * (rr * cos(phi)) + ty * (rr * sin(phi)) + n * sqrt(max(1.0 - u.x, 0.0));
+        let w = tx * h.x + ty * h.y + n * h.z;
         if (!(r_px >= 1.0)) {
             continue; // R under a pixel: nothing to test, unoccluded
         }
-        let v = visibility(start, w, r, u.z, size);
+        let v = visibility(start, c0, w, r, fract(h.w + jitter), size);
         occlusion = occlusion + v.occlusion;
 
         // Eq. 8 (only where something moves): the sample's surface point s_i, in front of
         // p's tangent plane and within reach, must keep its distance to p.
-        if (dynamic && v.has_texel && !changed) {
+        if (dynamic && v.has_texel && !changed && valid) {
             let zs = textureLoad(depth, v.texel, 0).x;
             let s = view_position(pixel_uv(v.texel, view), zs, view);
             let d = s - o;
@@ -207,6 +217,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 }
             }
         }
+        // The history just lost its weight (smooth invalidation below): take k1 samples
+        // this frame already rather than from the next one (§3.6.2's adaptive sampling).
+        if (changed) {
+            k = max(k, k1);
+        }
     }
     let a_frame = 1.0 - occlusion / f32(k);
 
@@ -218,6 +233,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var a_new = (nt * a_prev + kf * a_frame) / (nt + kf); // Eq. 5
     a_new = select(1.0, clamp(a_new, 0.0, 1.0), a_new == a_new);
     let n_new = min(nt + kf, n_max); // Eq. 6
-    let index_new = f32((index + k) % len);
+    let index_new = f32((index + k) & (len - 1u));
     textureStore(ao_buffer, p, vec4<f32>(a_new, n_new, index_new, stored_z));
 }

@@ -19,10 +19,12 @@
 //!
 //! Invariant: the output is R32Float at the input's size, a convex combination of input values
 //! (the centre tap always has weight G(0) > 0), so finite [0, 1] input gives finite [0, 1] output.
+//! The horizontal pass's texture is R32Float too, or R16Float with
+//! [`bilateral_blur_with_intermediate`].
 
 use aograph_graph::{GraphBuilder, TextureHandle};
 
-use super::{blur_pass, check_blur, gaussian_weights, invalid, BlurUniform};
+use super::{blur_pass, check_blur, check_intermediate, gaussian_weights, invalid, BlurUniform, BLOCK_FORMAT};
 use crate::error::AoResult;
 
 /// Parameters of the bilateral blur.
@@ -61,10 +63,17 @@ impl BilateralBlur {
 /// Adds `<prefix>.bilateral_x` and `<prefix>.bilateral_y` blurring `input` guided by `depth` and
 /// `normals` (same size); returns `<prefix>.bilateral_y` (R32Float, the input's size).
 pub fn bilateral_blur(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: TextureHandle, normals: TextureHandle, params: &BilateralBlur) -> AoResult<TextureHandle> {
+    bilateral_blur_with_intermediate(b, prefix, input, depth, normals, params, BLOCK_FORMAT)
+}
+
+/// [`bilateral_blur`] with the horizontal pass's texture `<prefix>.bilateral_x` in
+/// `intermediate` (R32Float or R16Float); the output stays R32Float.
+pub fn bilateral_blur_with_intermediate(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: TextureHandle, normals: TextureHandle, params: &BilateralBlur, intermediate: wgpu::TextureFormat) -> AoResult<TextureHandle> {
     params.validate(prefix)?;
+    check_intermediate(prefix, intermediate)?;
     let weights = gaussian_weights(params.sigma, params.taps);
     let extra = [("depth", depth), ("normals", normals)];
     let shader = "blocks/bilateral_blur.wgsl";
-    let x = blur_pass(b, prefix, "bilateral_x", shader, input, &extra, &BlurUniform::new([1, 0], &weights, params.depth_sigma, params.normal_power))?;
-    blur_pass(b, prefix, "bilateral_y", shader, x, &extra, &BlurUniform::new([0, 1], &weights, params.depth_sigma, params.normal_power))
+    let x = blur_pass(b, prefix, "bilateral_x", shader, input, &extra, &BlurUniform::new([1, 0], &weights, params.depth_sigma, params.normal_power), intermediate)?;
+    blur_pass(b, prefix, "bilateral_y", shader, x, &extra, &BlurUniform::new([0, 1], &weights, params.depth_sigma, params.normal_power), BLOCK_FORMAT)
 }

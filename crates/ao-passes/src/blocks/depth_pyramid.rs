@@ -6,9 +6,14 @@
 //!   level l + 1 is the arithmetic mean of the in-bounds, non-sky texels among
 //!   (3x + i, 3y + j), i, j in 0..3, of level l, i.e. the 3x3 block centred on (3x + 1, 3y + 1)
 //!   (spec §7 pseudo-code). Following the spec's [IMPL] notes (§2.2 "Edge texels", §6.3), the
-//!   ceil-sized edge windows average only in-bounds texels (no clamp-to-edge duplicates) and
-//!   sky texels (depth 0) are left out, so one sky texel cannot drag a silhouette's mean to the
-//!   far plane; a block of sky only stays sky (0).
+//!   ceil-sized edge windows average only in-bounds texels (no clamp-to-edge duplicates), and
+//!   sky texels (depth 0) never enter a mean, so one sky texel cannot drag a silhouette's mean
+//!   to the far plane; a block of sky only stays sky (0). A block holding both sky and
+//!   geometry takes its centre texel (3x + 1, 3y + 1, clamped into the image), or is sky when
+//!   that is sky: Pyramid HBAO rebuilds a coarse texel at its block's centre, where the mean
+//!   of the geometry texels alone does not lie. (Found by tests/stability.rs: a floor meeting
+//!   the horizon at 4096x8 had the mean of its lower rows rebuilt higher up, in front of the
+//!   floor, and occluded itself to 0.976.)
 //! - [`DepthReduction::Min2x2`] / [`DepthReduction::Max2x2`]: factor 2; the nearest / farthest
 //!   non-sky texel of the in-bounds 2x2 block, 0 when all are sky.
 //!
@@ -28,7 +33,8 @@ pub const MAX_LEVELS: u32 = 16;
 /// How a block of one level becomes a texel of the next.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum DepthReduction {
-    /// Mean of the non-sky texels of a 3x3 block (factor 3): Pyramid HBAO's pyramid.
+    /// Mean of a 3x3 block (factor 3), or its centre texel where it mixes sky and geometry:
+    /// Pyramid HBAO's pyramid.
     Average3x3,
     /// Nearest non-sky texel of a 2x2 block (factor 2).
     Min2x2,
@@ -114,7 +120,7 @@ pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Ve
     let mut out = Vec::with_capacity((ow * oh) as usize);
     for y in 0..oh {
         for x in 0..ow {
-            let (mut sum, mut n, mut lo, mut hi) = (0.0f32, 0u32, f32::INFINITY, 0.0f32);
+            let (mut sum, mut n, mut sky, mut lo, mut hi) = (0.0f32, 0u32, 0u32, f32::INFINITY, 0.0f32);
             for j in 0..k {
                 for i in 0..k {
                     let (sx, sy) = (x * k + i, y * k + j);
@@ -126,11 +132,15 @@ pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Ve
                         sum += z;
                         n += 1;
                         lo = lo.min(z);
+                    } else {
+                        sky += 1;
                     }
                     hi = hi.max(z);
                 }
             }
+            let centre = || src[((y * k + 1).min(h - 1) * w + (x * k + 1).min(w - 1)) as usize].max(0.0);
             out.push(match reduction {
+                DepthReduction::Average3x3 if n > 0 && sky > 0 => centre(),
                 DepthReduction::Average3x3 if n > 0 => sum / n as f32,
                 DepthReduction::Min2x2 if n > 0 => lo,
                 DepthReduction::Max2x2 => hi,

@@ -14,11 +14,12 @@
 //! normal-aware filter is [`super::bilateral_blur`].
 //!
 //! Invariant: the output is R32Float at the input's size; finite for finite input; a convex
-//! combination of input values (sky pixels excepted), so [0, 1] stays [0, 1].
+//! combination of input values (sky pixels excepted), so [0, 1] stays [0, 1]. The horizontal
+//! pass's texture is R32Float too, or R16Float with [`gaussian_blur_with_intermediate`].
 
 use aograph_graph::{GraphBuilder, TextureHandle};
 
-use super::{blur_pass, check_blur, invalid, BlurUniform};
+use super::{blur_pass, check_blur, check_intermediate, invalid, BlurUniform, BLOCK_FORMAT};
 use crate::error::AoResult;
 
 /// Parameters of the separable Gaussian.
@@ -66,7 +67,14 @@ pub fn gaussian_weights(sigma: f32, taps: u32) -> Vec<f32> {
 /// (`<prefix>.blur_y`, R32Float, the input's size). `depth` (linear, 0 = sky, same size) makes
 /// sky write 1 and enables `depth_sigma`.
 pub fn gaussian_blur(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: Option<TextureHandle>, params: &GaussianBlur) -> AoResult<TextureHandle> {
+    gaussian_blur_with_intermediate(b, prefix, input, depth, params, BLOCK_FORMAT)
+}
+
+/// [`gaussian_blur`] with the horizontal pass's texture `<prefix>.blur_x` in `intermediate`
+/// (a technique's intermediate format, R32Float or R16Float); the output stays R32Float.
+pub fn gaussian_blur_with_intermediate(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: Option<TextureHandle>, params: &GaussianBlur, intermediate: wgpu::TextureFormat) -> AoResult<TextureHandle> {
     params.validate(prefix)?;
+    check_intermediate(prefix, intermediate)?;
     let weights = gaussian_weights(params.sigma, params.taps);
     let depth_sigma = match (params.depth_sigma, depth) {
         (Some(_), None) => return Err(invalid(prefix, "depth_sigma", params.depth_sigma.unwrap_or(0.0), "only with a depth input")),
@@ -76,6 +84,6 @@ pub fn gaussian_blur(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, d
         Some(d) => ("blocks/gaussian_blur_depth.wgsl", vec![("depth", d)]),
         None => ("blocks/gaussian_blur.wgsl", Vec::new()),
     };
-    let x = blur_pass(b, prefix, "blur_x", shader, input, &extra, &BlurUniform::new([1, 0], &weights, depth_sigma, 0.0))?;
-    blur_pass(b, prefix, "blur_y", shader, x, &extra, &BlurUniform::new([0, 1], &weights, depth_sigma, 0.0))
+    let x = blur_pass(b, prefix, "blur_x", shader, input, &extra, &BlurUniform::new([1, 0], &weights, depth_sigma, 0.0), intermediate)?;
+    blur_pass(b, prefix, "blur_y", shader, x, &extra, &BlurUniform::new([0, 1], &weights, depth_sigma, 0.0), BLOCK_FORMAT)
 }

@@ -9,13 +9,16 @@
 //! Invariants every block keeps:
 //! - every single-channel texture a block creates is R32Float ([`BLOCK_FORMAT`]): its shaders
 //!   write r32float storage textures, the only single-channel float storage format core wgpu
-//!   guarantees (the temporal block's history is Rgba32Float, see its docs);
+//!   guarantees (the temporal block's history is Rgba32Float, see its docs). The one exception
+//!   is a separable blur's first-axis texture, which a technique may ask for at its
+//!   intermediate precision (`gaussian_blur_with_intermediate`,
+//!   `bilateral_blur_with_intermediate`: R16Float through the shaders' r16float variants);
 //! - sizes are declared as size classes derived from the input's, never computed by hand;
 //! - linear depth 0 marks sky; blocks that read depth write accessibility 1 on sky pixels and
 //!   treat sky taps as absent; nothing writes NaN or infinity (every division has a non-zero
 //!   denominator by construction).
 
-use aograph_graph::{Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{intermediate_variant, Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 
 use crate::error::{AoError, AoResult};
 
@@ -28,10 +31,10 @@ pub mod temporal;
 #[cfg(test)]
 mod tests;
 
-pub use bilateral_blur::{bilateral_blur, BilateralBlur};
+pub use bilateral_blur::{bilateral_blur, bilateral_blur_with_intermediate, BilateralBlur};
 pub use bilateral_upsample::{bilateral_upsample, BilateralUpsample, UpsampleInputs};
 pub use depth_pyramid::{depth_pyramid, DepthPyramid, DepthReduction};
-pub use gaussian_blur::{gaussian_blur, gaussian_weights, GaussianBlur};
+pub use gaussian_blur::{gaussian_blur, gaussian_blur_with_intermediate, gaussian_weights, GaussianBlur};
 
 /// Format of every texture a block creates.
 pub const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -104,13 +107,23 @@ pub(crate) fn check_blur(prefix: &str, sigma: f32, taps: u32) -> AoResult<()> {
     Ok(())
 }
 
+/// Checks a blur's intermediate format: R32Float or R16Float.
+pub(crate) fn check_intermediate(prefix: &str, format: wgpu::TextureFormat) -> AoResult<()> {
+    match format {
+        wgpu::TextureFormat::R32Float | wgpu::TextureFormat::R16Float => Ok(()),
+        f => Err(invalid(prefix, "intermediate_format", format!("{f:?}"), "R32Float or R16Float")),
+    }
+}
+
 /// Adds one pass of a separable blur: `shader` reads `src` (plus `extra` sampled inputs) and
-/// writes a new R32Float texture of `src`'s size named `<prefix>.<pass>`.
-pub(crate) fn blur_pass(b: &mut GraphBuilder, prefix: &str, pass: &str, shader: &str, src: TextureHandle, extra: &[(&str, TextureHandle)], uniform: &BlurUniform) -> AoResult<TextureHandle> {
+/// writes a new `format` (R32Float or R16Float) texture of `src`'s size named
+/// `<prefix>.<pass>`, through the shader's variant for that format.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn blur_pass(b: &mut GraphBuilder, prefix: &str, pass: &str, shader: &str, src: TextureHandle, extra: &[(&str, TextureHandle)], uniform: &BlurUniform, format: wgpu::TextureFormat) -> AoResult<TextureHandle> {
     let size = desc_of(b, prefix, "input", src)?.size;
     let name = format!("{prefix}.{pass}");
-    let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, size));
-    let mut p = b.compute_pass(&name, shader, "main");
+    let out = b.create_texture(&name, TextureDesc::new(format, size));
+    let mut p = b.compute_pass(&name, &intermediate_variant(shader, format), "main");
     p.sample("src", src);
     for (binding, h) in extra {
         p.sample(binding, *h);

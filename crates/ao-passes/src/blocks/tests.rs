@@ -78,22 +78,34 @@ fn pyramid_rejects_bad_level_counts_and_formats() {
 const MAX_LEVELS_PLUS_ONE: u32 = depth_pyramid::MAX_LEVELS + 1;
 
 #[test]
-fn cpu_reduction_averages_non_sky_in_bounds_taps() {
+fn cpu_reduction_averages_in_bounds_taps_and_takes_the_centre_of_blocks_with_sky() {
     // 4x4 -> 2x2 (3x3 average): the last column and row windows are 1 wide.
     #[rustfmt::skip]
     let src = [
         1.0, 2.0, 3.0, 10.0,
-        4.0, 0.0, 5.0, 20.0,
+        4.0, 5.0, 0.0, 20.0,
         6.0, 7.0, 8.0, 30.0,
-        0.0, 0.0, 2.0, 0.0,
+        0.0, 9.0, 2.0, 0.0,
     ];
     let (out, w, h) = reduce_cpu(&src, 4, 4, DepthReduction::Average3x3);
     assert_eq!((w, h), (2, 2));
-    assert_eq!(out, [36.0 / 8.0, 20.0, 2.0, 0.0]);
+    // Blocks with sky take their (clamped) centre: 5 and 9; the all-geometry edge column is
+    // averaged; the all-sky corner is sky.
+    assert_eq!(out, [5.0, 20.0, 9.0, 0.0]);
     let (lo, ..) = reduce_cpu(&src, 4, 4, DepthReduction::Min2x2);
     let (hi, ..) = reduce_cpu(&src, 4, 4, DepthReduction::Max2x2);
     assert_eq!(lo, [1.0, 3.0, 6.0, 2.0]);
-    assert_eq!(hi, [4.0, 20.0, 7.0, 30.0]);
+    assert_eq!(hi, [5.0, 20.0, 9.0, 30.0]);
+    // A block of geometry is its mean; with one sky texel it is its centre; with a sky centre
+    // it is sky.
+    let block = [1.0, 1.0, 1.0, 1.0, 10.0, 1.0, 1.0, 1.0, 1.0];
+    assert_eq!(reduce_cpu(&block, 3, 3, DepthReduction::Average3x3).0, [2.0]);
+    let mut corner = block;
+    corner[0] = 0.0;
+    assert_eq!(reduce_cpu(&corner, 3, 3, DepthReduction::Average3x3).0, [10.0]);
+    let mut centre = block;
+    centre[4] = 0.0;
+    assert_eq!(reduce_cpu(&centre, 3, 3, DepthReduction::Average3x3).0, [0.0]);
 }
 
 #[test]

@@ -34,14 +34,15 @@
 //!   bilateral) Gaussian.
 //! - Screen-radius cap: R_px = min(R · pixels_per_unit(z), max_screen_radius · height), R
 //!   shrinks to match (W uses the shrunk R); under one pixel the pixel is unoccluded.
-//! - Intermediates stay R32Float: the WGSL storage format is fixed and r16float storage is not
-//!   core WebGPU, so `intermediate_format` does not apply to this technique.
+//! - Intermediates (`hbao.raw` and the blur's horizontal pass, when blurring) have
+//!   `[ao] intermediate_format`; their writers are the matching shader variants (`ctx.shader`).
+//!   Without the blur `hbao.raw` is the output and stays R32Float.
 
 use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::blocks::{gaussian_blur, GaussianBlur};
+use crate::blocks::{gaussian_blur_with_intermediate, GaussianBlur};
 use crate::error::{check_param, AoResult};
 use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique, ACCESSIBILITY_FORMAT};
 
@@ -111,10 +112,13 @@ impl AoTechnique for Hbao {
         let normals = ctx.channel(GBufferChannel::Normals)?;
 
         // Eqs. 4, 5: D directions x S samples, horizon and attenuation per direction.
-        let name = if p.blur { "hbao.raw" } else { "hbao.accessibility" };
-        let raw = ctx.builder.create_texture(name, TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL));
+        let (raw, shader) = if p.blur {
+            (ctx.intermediate("hbao.raw", SizeClass::FULL), ctx.shader("ao/hbao/ao.wgsl"))
+        } else {
+            (ctx.builder.create_texture("hbao.accessibility", TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL)), "ao/hbao/ao.wgsl".to_string())
+        };
         let uniform = HbaoUniform { counts: [p.directions, p.steps, 0, 0], shape: [ctx.radius, p.max_screen_radius, 0.0, 0.0] };
-        let mut pass = ctx.builder.compute_pass("hbao.ao", "ao/hbao/ao.wgsl", "main");
+        let mut pass = ctx.builder.compute_pass("hbao.ao", &shader, "main");
         pass.sample("depth", depth).sample("normals", normals);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
@@ -126,7 +130,7 @@ impl AoTechnique for Hbao {
 
         // §3.5: separable Gaussian, σ = 1.5, 5 taps, horizontal then vertical (the shared
         // block; with depth so sky stays exactly 1 and sky taps are left out).
-        let out = gaussian_blur(ctx.builder, "hbao", raw, Some(depth), &GaussianBlur::default())?;
+        let out = gaussian_blur_with_intermediate(ctx.builder, "hbao", raw, Some(depth), &GaussianBlur::default(), ctx.intermediate_format)?;
         Ok(AoOutput::new(out))
     }
 }

@@ -48,10 +48,12 @@
 //! - Blur and upsampling are normalised by their weight sums (the pseudo-code omits it); the
 //!   blur is bilateral by default as the prose says (`bilateral_blur`), applied to all three
 //!   channels. If every bilateral upsampling weight underflows, the bilinear weights are used.
-//! - Tuple textures are Rgba16Float (max, sum, count, unused) whatever `intermediate_format`
-//!   says (the WGSL storage format is fixed per file): the max is in [0, 1]; sums and counts
-//!   are at most 3 x 36 + 16 = 124 at the defaults and 7 x 64 + 16 = 464 at the limits, where
-//!   fp16 is exact for integers and within 2^-11 relative for the blurred, fractional values.
+//! - Tuple textures (max, sum, count, unused) are intermediates: Rgba16Float under
+//!   `intermediate_format = "r16float"`, Rgba32Float under "r32float"
+//!   (`ctx.intermediate_rgba_format`), written by the matching shader variants. In fp16 the max
+//!   is in [0, 1]; sums and counts are at most 3 x 36 + 16 = 124 at the defaults and
+//!   7 x 64 + 16 = 464 at the limits, where fp16 is exact for integers and within 2^-11
+//!   relative for the blurred, fractional values.
 //!   Pyramid positions stay Rgba32Float and normals Rgba16Float, the g-buffer's own formats
 //!   (the spec: 32-bit positions).
 //!

@@ -31,6 +31,10 @@
 //! - Tangent-angle bias `angle_bias` = 0 degrees (spec §6.3: off by default, faithful).
 //! - Sky and far taps are unoccluding and left out of the pyramid means (spec §6.3); samples
 //!   are rebuilt at the centre of their (coarse) texel, whose edge texels are exact centroids.
+//!   A block mixing sky and geometry keeps its centre texel rather than the mean of its
+//!   geometry (blocks::depth_pyramid), which would be rebuilt at the wrong place.
+//! - The raw AO (when blurred) and the blur's horizontal pass are intermediates in
+//!   `[ao] intermediate_format`, written by the matching shader variants.
 //!
 //! The estimator is the paper's: Eq. (2)'s elevation limit read as pi/2 (spec §1.2 erratum), so
 //! Eq. (1) is uniform-weighted AO, estimated per direction by Eq. (8) with the elevation taken
@@ -43,7 +47,7 @@
 use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass};
 use serde::{Deserialize, Serialize};
 
-use crate::blocks::{depth_pyramid, gaussian_blur, DepthReduction, GaussianBlur};
+use crate::blocks::{depth_pyramid, gaussian_blur_with_intermediate, DepthReduction, GaussianBlur};
 use crate::error::{check_param, AoError, AoResult};
 use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
 
@@ -133,14 +137,6 @@ impl AoTechnique for PyramidHbao {
         GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
-        if ctx.intermediate_format != wgpu::TextureFormat::R32Float {
-            return Err(AoError::InvalidParameter {
-                technique: NAME.into(),
-                name: "intermediate_format".into(),
-                value: format!("{:?}", ctx.intermediate_format),
-                allowed: "r32float (the compute passes write r32float storage textures; r16float is not a storage format in core wgpu)".into(),
-            });
-        }
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         // 1. Depth pyramid, K = 3, 3x3 mean (§3.3).
@@ -158,7 +154,9 @@ impl AoTechnique for PyramidHbao {
             step_count: p.step_count,
             _pad: 0,
         };
-        let mut pass = ctx.builder.compute_pass("pyramid-hbao.ao", "ao/pyramid_hbao/ao.wgsl", "main");
+        // The raw AO is an intermediate when blurred: its writer is the matching shader variant.
+        let shader = if p.blur { ctx.shader("ao/pyramid_hbao/ao.wgsl") } else { "ao/pyramid_hbao/ao.wgsl".to_string() };
+        let mut pass = ctx.builder.compute_pass("pyramid-hbao.ao", &shader, "main");
         pass.sample("depth", depth);
         for l in 1..MAX_LEVELS as usize {
             // Slots past L - 1 get the coarsest level; the shader never reads them.
@@ -174,7 +172,7 @@ impl AoTechnique for PyramidHbao {
         }
         // 3. Separable Gaussian, sigma 1.5, 5 taps (§3.5, §4).
         let blur = GaussianBlur { sigma: p.blur_sigma, taps: p.blur_taps, depth_sigma: None };
-        Ok(AoOutput::new(gaussian_blur(ctx.builder, NAME, raw, Some(depth), &blur)?))
+        Ok(AoOutput::new(gaussian_blur_with_intermediate(ctx.builder, NAME, raw, Some(depth), &blur, ctx.intermediate_format)?))
     }
 }
 
@@ -236,12 +234,26 @@ mod tests {
     }
 
     #[test]
-    fn r16float_intermediates_are_rejected_by_name() {
+    fn r16float_intermediates_use_the_half_shader_variants() {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: 64 });
-        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: GBufferTextures::default(), view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R16Float, technique: NAME };
-        let e = AoTechnique::build(&PyramidHbao, &mut ctx, &PyramidHbaoParams::default()).unwrap_err().to_string();
-        assert!(e.contains("`intermediate_format`") && e.contains("r32float"), "{e}");
+        let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let mut gbuffer = GBufferTextures::default();
+        for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
+            gbuffer.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+        }
+        let mut ctx = AoBuildContext { builder: &mut b, gbuffer, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R16Float, technique: NAME };
+        let out = AoTechnique::build(&PyramidHbao, &mut ctx, &PyramidHbaoParams::default()).unwrap();
+        b.export(out.accessibility);
+        assert_eq!(b.texture_desc(out.accessibility).map(|d| d.format), Some(crate::ACCESSIBILITY_FORMAT), "the output stays R32Float");
+        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
+        let shader_of = |pass: &str| match &plan.decl.passes.iter().find(|p| p.name == pass).unwrap().kind {
+            aograph_graph::PassKind::Compute { shader, .. } => shader.clone(),
+            _ => unreachable!(),
+        };
+        assert_eq!(shader_of("pyramid-hbao.ao"), "ao/pyramid_hbao/ao.wgsl?intermediate=r16float");
+        assert_eq!(shader_of("pyramid-hbao.blur_x"), "blocks/gaussian_blur_depth.wgsl?intermediate=r16float");
+        assert_eq!(shader_of("pyramid-hbao.blur_y"), "blocks/gaussian_blur_depth.wgsl");
     }
 
     #[test]

@@ -30,8 +30,9 @@
 //! - Screen-radius cap: R projects to `R * pixels_per_unit(z)` pixels; it is capped at
 //!   `max_screen_radius` times the image height (R shrinks to match), and a pixel whose radius
 //!   is under one pixel has no neighbourhood to test and is unoccluded.
-//! - Intermediates stay R32Float: the WGSL storage format is fixed and r16float storage is not
-//!   core WebGPU, so `intermediate_format` does not apply to this technique.
+//! - The raw texture `ssao.raw` is an intermediate: it has `[ao] intermediate_format` and its
+//!   writer is the matching variant of shaders/ao/ssao/ao.wgsl (`ctx.shader`); the blurred
+//!   output is R32Float like every technique's.
 
 use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
@@ -133,9 +134,10 @@ impl AoTechnique for Ssao {
             *k = [s[0], s[1], s[2], 0.0];
         }
 
-        // Pass 1: occlusion of the N rotated hemisphere points (R32Float: see module docs).
-        let raw = ctx.builder.create_texture("ssao.raw", TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL));
-        let mut pass = ctx.builder.compute_pass("ssao.ao", "ao/ssao/ao.wgsl", "main");
+        // Pass 1: occlusion of the N rotated hemisphere points, at the intermediate precision.
+        let raw = ctx.intermediate("ssao.raw", SizeClass::FULL);
+        let shader = ctx.shader("ao/ssao/ao.wgsl");
+        let mut pass = ctx.builder.compute_pass("ssao.ao", &shader, "main");
         pass.sample("depth", depth).sample("normals", normals);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));

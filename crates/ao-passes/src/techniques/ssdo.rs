@@ -56,9 +56,11 @@
 //!   pattern weighs the same and the kernel is centred), times normal similarity (n.n_j)^8 and
 //!   tangent-plane distance 1 - |n.(P_j - P)| / (0.1 r_max); sky taps excluded. The paper gives
 //!   no kernel; it blurs once, at the end, so pass 2 reads the unblurred pass-1 radiance.
-//! - Raw radiance and accessibility share one Rgba16Float texture (accessibility steps of
-//!   2^-11, far below the estimator's noise). Storage formats are fixed in WGSL and r16float
-//!   storage is not core WebGPU, so `intermediate_format` does not apply.
+//! - Raw radiance and accessibility share one texture; it and the other intermediates (the
+//!   raw indirect radiance, the horizontal blur's two outputs) follow `intermediate_format`:
+//!   Rgba16Float under "r16float" (accessibility steps of 2^-11, far below the estimator's
+//!   noise), Rgba32Float under "r32float", written by the matching shader variants. The
+//!   outputs `ssdo_direct` and `ssdo_indirect` are Rgba16Float either way.
 
 pub mod kernel;
 pub mod lighting;
@@ -71,7 +73,7 @@ use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
 pub use kernel::MAX_SAMPLES;
 pub use lighting::{LightingUniforms, LIGHTING_BUFFER};
 
-/// Format of the radiance textures (raw and output).
+/// Format of the radiance outputs (the intermediates follow `intermediate_format`).
 pub const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Blur plane tolerance as a fraction of r_max.
 const BLUR_PLANE_TOLERANCE: f32 = 0.1;
@@ -161,10 +163,15 @@ impl AoTechnique for Ssdo {
         let uniform = p.uniform(ctx.radius);
         let params = bytemuck::bytes_of(&uniform);
         let radiance_texture = |ctx: &mut AoBuildContext<'_>, name: &str| ctx.builder.create_texture(name, TextureDesc::new(RADIANCE_FORMAT, SizeClass::FULL));
+        let intermediate = |ctx: &mut AoBuildContext<'_>, name: &str| {
+            let f = ctx.intermediate_rgba_format();
+            ctx.builder.create_texture(name, TextureDesc::new(f, SizeClass::FULL))
+        };
 
         // Pass 1: direct light with directional occlusion (E1) + accessibility in alpha.
-        let raw_direct = radiance_texture(ctx, "ssdo.raw_direct");
-        let mut pass = ctx.builder.compute_pass("ssdo.direct", "ao/ssdo/direct.wgsl", "main");
+        let raw_direct = intermediate(ctx, "ssdo.raw_direct");
+        let shader = ctx.shader("ao/ssdo/direct.wgsl");
+        let mut pass = ctx.builder.compute_pass("ssdo.direct", &shader, "main");
         pass.sample("positions", positions).sample("normals", normals).sample("albedo", albedo).sample("direct_light", direct_light);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view).read_buffer("lighting", BufferAccess::Uniform, lighting);
         pass.uniform("params", params);
@@ -173,8 +180,9 @@ impl AoTechnique for Ssdo {
 
         // Pass 2: one indirect bounce (E2) from the pass-1 radiance of occluding patches.
         let raw_indirect: Option<TextureHandle> = if p.bounce {
-            let raw = radiance_texture(ctx, "ssdo.raw_indirect");
-            let mut pass = ctx.builder.compute_pass("ssdo.indirect", "ao/ssdo/indirect.wgsl", "main");
+            let raw = intermediate(ctx, "ssdo.raw_indirect");
+            let shader = ctx.shader("ao/ssdo/indirect.wgsl");
+            let mut pass = ctx.builder.compute_pass("ssdo.indirect", &shader, "main");
             pass.sample("positions", positions).sample("normals", normals).sample("albedo", albedo).sample("radiance", raw_direct);
             pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
             pass.uniform("params", params);
@@ -188,9 +196,10 @@ impl AoTechnique for Ssdo {
         // Pass 3: the separable geometry-aware blur of all three. Without the bounce the
         // shaders write zero indirect light and never read `bounce`, which is bound to the
         // direct radiance only because every WGSL global must be bound.
-        let direct_x = radiance_texture(ctx, "ssdo.direct_x");
-        let indirect_x = radiance_texture(ctx, "ssdo.indirect_x");
-        let mut pass = ctx.builder.compute_pass("ssdo.blur_x", "ao/ssdo/blur_x.wgsl", "main");
+        let direct_x = intermediate(ctx, "ssdo.direct_x");
+        let indirect_x = intermediate(ctx, "ssdo.indirect_x");
+        let shader = ctx.shader("ao/ssdo/blur_x.wgsl");
+        let mut pass = ctx.builder.compute_pass("ssdo.blur_x", &shader, "main");
         pass.sample("positions", positions).sample("normals", normals).sample("radiance", raw_direct).sample("bounce", raw_indirect.unwrap_or(raw_direct));
         pass.uniform("params", params);
         let direct_x = pass.write_storage("direct_x", direct_x);

@@ -2,7 +2,8 @@
 //! downstream passes requested (see `GBufferChannel`). Hardware depth is always rasterised
 //! (into a transient texture unless `Depth` is requested); every other channel exists only
 //! when asked for, so a depth-only technique's plan has no normal, colour or motion attachment.
-//! Motion vectors are requested only for scenes that move.
+//! Motion vectors are requested only for scenes that move. The depth buffer's format is the
+//! channel set's `depth_format` (Depth32Float by default, or Depth24Plus).
 
 mod raster;
 
@@ -13,11 +14,13 @@ use aograph_graph::{BufferAccess, BufferHandle, GBufferChannel, GBufferChannels,
 use crate::model::Scene;
 pub use raster::GBufferRaster;
 
-/// Per-frame inputs of the g-buffer: scene time now and at the previous frame.
+/// Per-frame inputs of the g-buffer: scene time now and at the previous frame, and whether
+/// this frame's camera uses reversed Z (`None`: as the scene's camera does).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GBufferFrame {
     pub time: f32,
     pub prev_time: f32,
+    pub reversed_z: Option<bool>,
 }
 
 /// Shared handle to set the g-buffer's frame time from the render loop.
@@ -45,7 +48,7 @@ pub fn required_channels(requested: GBufferChannels, scene: &Scene) -> GBufferCh
 /// handles of the channels written (others are `None`).
 pub fn add_gbuffer(builder: &mut GraphBuilder, scene: Arc<Scene>, channels: GBufferChannels, view: BufferHandle, clock: GBufferClock) -> GBufferTextures {
     let mut out = GBufferTextures::default();
-    let depth_desc = TextureDesc::new(GBufferChannel::Depth.format(), SizeClass::FULL);
+    let depth_desc = TextureDesc::new(channels.depth_format.format(), SizeClass::FULL);
     let depth = builder.create_texture(if channels.contains(GBufferChannel::Depth) { "gbuffer.depth" } else { "gbuffer.zbuffer" }, depth_desc);
     let mut targets = Vec::new();
     for c in channels.iter().filter(|c| *c != GBufferChannel::Depth) {

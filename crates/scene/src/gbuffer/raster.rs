@@ -1,7 +1,9 @@
 //! The g-buffer's raster pass: uploads the scene's meshes once, the per-instance transforms
 //! (now and at the previous frame) every frame, and draws every instance into the requested
 //! colour targets plus depth. Depth is reversed (clear 0, test Greater) when the camera uses
-//! an infinite reversed-Z projection.
+//! an infinite reversed-Z projection: the frame's camera as the clock reports it
+//! (`GBufferFrame::reversed_z`), else the scene's; one pipeline per depth test, built when
+//! first needed, so a renderer may switch cameras between the two conventions.
 
 use std::sync::{Arc, Mutex};
 
@@ -40,7 +42,11 @@ struct GpuState {
     meshes: Vec<MeshGpu>,
     instances: wgpu::Buffer,
     light: wgpu::Buffer,
-    pipeline: wgpu::RenderPipeline,
+    /// Depth test Less (index 0) and Greater (reversed Z, index 1), built on first use.
+    pipelines: [Option<wgpu::RenderPipeline>; 2],
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    color_targets: Vec<Option<wgpu::ColorTargetState>>,
     layout: wgpu::BindGroupLayout,
     bind_group: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     staging: Vec<InstanceGpu>,
@@ -80,30 +86,44 @@ impl GBufferRaster {
             .iter()
             .map(|c| self.targets.iter().any(|(t, _)| t == c).then(|| wgpu::ColorTargetState { format: c.format(), blend: None, write_mask: wgpu::ColorWrites::ALL }))
             .collect();
-        let reversed = self.reversed_z();
+        let meshes = self.upload_meshes(device);
+        let n = self.scene.instances.len().max(1);
+        let instances = device.create_buffer(&wgpu::BufferDescriptor { label: Some("gbuffer instances"), size: (n * std::mem::size_of::<InstanceGpu>()) as u64, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let l = &self.scene.light;
+        let dir = l.direction.try_normalize().unwrap_or(glam::Vec3::NEG_Y);
+        let light = LightGpu { direction: [dir.x, dir.y, dir.z, 0.0], color: [l.color[0] * l.intensity, l.color[1] * l.intensity, l.color[2] * l.intensity, 0.0] };
+        let light = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("gbuffer light"), contents: bytemuck::bytes_of(&light), usage: wgpu::BufferUsages::UNIFORM });
+        Ok(GpuState { meshes, instances, light, pipelines: [None, None], module, pipeline_layout, color_targets: targets, layout, bind_group: None, staging: Vec::with_capacity(n) })
+    }
+
+    fn create_pipeline(&self, device: &wgpu::Device, state: &GpuState, reversed: bool) -> wgpu::RenderPipeline {
+        let (module, pipeline_layout, targets) = (&state.module, &state.pipeline_layout, &state.color_targets);
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: 24,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
         };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("gbuffer"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout)] },
+            layout: Some(pipeline_layout),
+            vertex: wgpu::VertexState { module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout)] },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
-                format: GBufferChannel::Depth.format(),
+                format: self.channels.depth_format.format(),
                 depth_write_enabled: Some(true),
                 depth_compare: Some(if reversed { wgpu::CompareFunction::Greater } else { wgpu::CompareFunction::Less }),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
             multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some(if self.channels.face_normals { "fs_face" } else { "fs_smooth" }), compilation_options: Default::default(), targets: &targets }),
+            fragment: Some(wgpu::FragmentState { module, entry_point: Some(if self.channels.face_normals { "fs_face" } else { "fs_smooth" }), compilation_options: Default::default(), targets }),
             multiview_mask: None,
             cache: None,
-        });
-        let meshes = self
+        })
+    }
+
+    fn upload_meshes(&self, device: &wgpu::Device) -> Vec<MeshGpu> {
+        self
             .scene
             .meshes
             .iter()
@@ -120,14 +140,7 @@ impl GBufferRaster {
                     index_count: (indices.len() / 3 * 3) as u32,
                 }
             })
-            .collect();
-        let n = self.scene.instances.len().max(1);
-        let instances = device.create_buffer(&wgpu::BufferDescriptor { label: Some("gbuffer instances"), size: (n * std::mem::size_of::<InstanceGpu>()) as u64, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-        let l = &self.scene.light;
-        let dir = l.direction.try_normalize().unwrap_or(glam::Vec3::NEG_Y);
-        let light = LightGpu { direction: [dir.x, dir.y, dir.z, 0.0], color: [l.color[0] * l.intensity, l.color[1] * l.intensity, l.color[2] * l.intensity, 0.0] };
-        let light = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("gbuffer light"), contents: bytemuck::bytes_of(&light), usage: wgpu::BufferUsages::UNIFORM });
-        Ok(GpuState { meshes, instances, light, pipeline, layout, bind_group: None, staging: Vec::with_capacity(n) })
+            .collect()
     }
 }
 
@@ -138,7 +151,7 @@ impl CustomPass for GBufferRaster {
     fn cache_key(&self) -> u64 {
         // The plan depends on which scene is drawn and how.
         let s = &*self.scene as *const Scene as u64;
-        s ^ ((self.channels.face_normals as u64) << 63) ^ ((self.reversed_z() as u64) << 62)
+        s ^ ((self.channels.face_normals as u64) << 63) ^ ((self.reversed_z() as u64) << 62) ^ ((self.channels.depth_format as u64) << 60)
     }
     fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
         let mut guard = self.state.lock().map_err(|_| GraphError::Gpu("g-buffer state poisoned by an earlier panic".into()))?;
@@ -181,7 +194,12 @@ impl CustomPass for GBufferRaster {
             .map(|v| v.as_ref().map(|view| wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store } }))
             .collect();
         let depth_view = ctx.view(self.depth)?.clone();
-        let clear_depth = if self.reversed_z() { 0.0 } else { 1.0 };
+        let reversed = frame.reversed_z.unwrap_or_else(|| self.reversed_z());
+        if state.pipelines[reversed as usize].is_none() {
+            let pipeline = self.create_pipeline(ctx.device, state, reversed);
+            state.pipelines[reversed as usize] = Some(pipeline);
+        }
+        let clear_depth = if reversed { 0.0 } else { 1.0 };
         let mut rp = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
             color_attachments: &color,
@@ -190,7 +208,9 @@ impl CustomPass for GBufferRaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_pipeline(&state.pipeline);
+        if let Some(pipeline) = &state.pipelines[reversed as usize] {
+            rp.set_pipeline(pipeline);
+        }
         if let Some((_, bg)) = &state.bind_group {
             rp.set_bind_group(0, bg, &[]);
         }

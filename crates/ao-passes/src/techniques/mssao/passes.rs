@@ -7,8 +7,6 @@ use bytemuck::{Pod, Zeroable};
 use super::MssaoParams;
 use crate::technique::AoBuildContext;
 
-/// Format of the per-level tuples (AO_max, sum, count): see the module docs for why fp16.
-pub const TUPLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Format of pyramid positions (the g-buffer's Positions format).
 pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Format of pyramid normals (the g-buffer's Normals format).
@@ -76,10 +74,11 @@ pub fn downsample(ctx: &mut AoBuildContext<'_>, l: u32, src: Level, u: &MssaoUni
 /// `mssao.ao{l}` for a level l >= 1: the tuple of Eq. 10. `far` is the blurred tuple of level
 /// l + 1 with that level's g-buffer (None at the coarsest level).
 pub fn ao_level(ctx: &mut AoBuildContext<'_>, l: u32, g: Level, far: Option<(TextureHandle, Level)>, u: &MssaoUniform) -> TextureHandle {
-    let tuple = ctx.builder.create_texture(&format!("mssao.tuple{l}"), TextureDesc::new(TUPLE_FORMAT, SizeClass::half_pow(l)));
-    let shader = if far.is_some() { "ao/mssao/ao_level.wgsl" } else { "ao/mssao/ao_coarsest.wgsl" };
+    // The per-level tuple (AO_max, sum, count) at the intermediate precision (module docs).
+    let tuple = ctx.builder.create_texture(&format!("mssao.tuple{l}"), TextureDesc::new(ctx.intermediate_rgba_format(), SizeClass::half_pow(l)));
+    let shader = ctx.shader(if far.is_some() { "ao/mssao/ao_level.wgsl" } else { "ao/mssao/ao_coarsest.wgsl" });
     let view = ctx.view;
-    let mut p = ctx.builder.compute_pass(&format!("mssao.ao{l}"), shader, "main");
+    let mut p = ctx.builder.compute_pass(&format!("mssao.ao{l}"), &shader, "main");
     common(&mut p, view, u);
     p.sample("positions", g.positions).sample("normals", g.normals);
     if let Some((coarse, cg)) = far {
@@ -92,9 +91,10 @@ pub fn ao_level(ctx: &mut AoBuildContext<'_>, l: u32, g: Level, far: Option<(Tex
 
 /// `mssao.blur{l}`: the 3x3 low-pass filter of level l's tuple before upsampling (Table 4).
 pub fn blur(ctx: &mut AoBuildContext<'_>, l: u32, tuple: TextureHandle, g: Level, u: &MssaoUniform) -> TextureHandle {
-    let out = ctx.builder.create_texture(&format!("mssao.blurred{l}"), TextureDesc::new(TUPLE_FORMAT, SizeClass::half_pow(l)));
+    let out = ctx.builder.create_texture(&format!("mssao.blurred{l}"), TextureDesc::new(ctx.intermediate_rgba_format(), SizeClass::half_pow(l)));
     let view = ctx.view;
-    let mut p = ctx.builder.compute_pass(&format!("mssao.blur{l}"), "ao/mssao/blur.wgsl", "main");
+    let shader = ctx.shader("ao/mssao/blur.wgsl");
+    let mut p = ctx.builder.compute_pass(&format!("mssao.blur{l}"), &shader, "main");
     common(&mut p, view, u);
     p.sample("positions", g.positions).sample("normals", g.normals).sample("src", tuple);
     let out = p.write_storage("dst", out);
