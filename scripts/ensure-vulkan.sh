@@ -5,8 +5,14 @@
 set -euo pipefail
 
 have_vulkan() {
-    ldconfig -p 2>/dev/null | grep -q 'libvulkan.so.1' || return 1
-    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1
+    local libs
+    libs=$(ldconfig -p 2>/dev/null || true)
+    case "$libs" in *libvulkan.so.1*) ;; *) return 1 ;; esac
+    local f
+    for f in /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json; do
+        [ -e "$f" ] && return 0
+    done
+    return 1
 }
 
 if have_vulkan; then
