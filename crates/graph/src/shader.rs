@@ -1,7 +1,7 @@
 //! WGSL shaders: loading from the shader root, `#include`, naga validation and reflection.
 //!
-//! A shader file may start with lines `#include "common/name.wgsl"`; includes are expanded once
-//! each, in order, before the file's own text, and errors are mapped back to the file and line
+//! A shader file may start with lines `#include "common/name.wgsl"`; includes (and theirs) are
+//! expanded depth first, each file once, before the file's own text, and errors are mapped back to the file and line
 //! they come from. Every module is validated by naga before use; bind group layouts are
 //! reflected from the naga module, never written by hand.
 //!
@@ -173,6 +173,18 @@ impl ShaderLibrary {
     }
 
     fn expand(&self, name: &str) -> GraphResult<(String, Vec<Segment>)> {
+        let mut out = Expansion { source: String::new(), segments: Vec::new(), line: 1, seen: Vec::new() };
+        self.append(name, &mut out)?;
+        Ok((out.source, out.segments))
+    }
+
+    /// Appends `name` after its includes (depth first, each file once), keeping the file's own
+    /// line numbers by blanking its `#include` lines.
+    fn append(&self, name: &str, out: &mut Expansion) -> GraphResult<()> {
+        if out.seen.iter().any(|s| s == name) {
+            return Ok(());
+        }
+        out.seen.push(name.to_string());
         let text = self.read(name)?;
         let mut includes = Vec::new();
         let mut body_start = 0;
@@ -189,30 +201,27 @@ impl ShaderLibrary {
                 break;
             }
         }
-        let mut source = String::new();
-        let mut segments = Vec::new();
-        let mut line = 1u32;
-        for inc in includes.iter() {
-            let inc_text = self.read(inc)?;
-            segments.push(Segment { start: line, file: inc.clone() });
-            line += inc_text.lines().count() as u32;
-            source.push_str(&inc_text);
-            if !inc_text.ends_with('\n') {
-                source.push('\n');
-            }
+        for inc in &includes {
+            self.append(inc, out)?;
         }
-        // The including file's own lines keep their numbers: blank out the include lines.
-        segments.push(Segment { start: line, file: name.to_string() });
+        out.segments.push(Segment { start: out.line, file: name.to_string() });
         for (i, l) in text.lines().enumerate() {
-            if i < body_start {
-                source.push('\n');
-            } else {
-                source.push_str(l);
-                source.push('\n');
+            if i >= body_start {
+                out.source.push_str(l);
             }
+            out.source.push('\n');
+            out.line += 1;
         }
-        Ok((source, segments))
+        Ok(())
     }
+}
+
+/// The expanded source being built, with where each piece came from.
+struct Expansion {
+    source: String,
+    segments: Vec<Segment>,
+    line: u32,
+    seen: Vec<String>,
 }
 
 /// The type alias a variant-aware shader declares for its intermediate-precision outputs.

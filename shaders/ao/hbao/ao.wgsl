@@ -1,4 +1,5 @@
 #include "common/view.wgsl"
+#include "common/gbuffer.wgsl"
 #include "common/noise.wgsl"
 // hbao.ao: horizon-based AO as specs/pyramid_hbao.md §1 states it. For each of D azimuth
 // directions (evenly spaced, rotated by a per-pixel random angle) march S depth samples out to
@@ -26,17 +27,13 @@ alias IntermediateStorage = texture_storage_2d<r32float, write>;
 
 fn accessibility(p: vec2<i32>) -> f32 {
     let size = vec2<i32>(textureDimensions(depth));
-    let z = textureLoad(depth, p, 0).x;
-    if (!(z > 0.0) || z > 1e30) {
-        return 1.0; // sky
+    let rc = load_receiver(depth, normals, p, view);
+    if (!rc.valid) {
+        return 1.0; // sky or no normal
     }
-    let nw = textureLoad(normals, p, 0);
-    let nl = length(nw.xyz);
-    if (nw.w < 0.5 || !(nl > 1e-6)) {
-        return 1.0;
-    }
-    let n = nw.xyz / nl;
-    let o = view_position(pixel_uv(p, view), z, view);
+    let z = rc.z;
+    let n = rc.n;
+    let o = rc.p;
 
     // R_screen (§3.1): R projected to pixels, capped (R shrinks to match).
     let ppu = pixels_per_unit(z, view);

@@ -1,4 +1,5 @@
 #include "common/view.wgsl"
+#include "common/gbuffer.wgsl"
 #include "common/noise.wgsl"
 // ssao.ao: classic normal-oriented hemisphere SSAO (the Crytek/Blizzard baseline of
 // specs/mssao.md §9.1). N kernel points (units of R, z along the normal) are rotated by the
@@ -41,17 +42,13 @@ fn plane_depth(uv: vec2<f32>, o: vec3<f32>, n: vec3<f32>) -> f32 {
 
 fn accessibility(p: vec2<i32>) -> f32 {
     let size = vec2<i32>(textureDimensions(depth));
-    let z = textureLoad(depth, p, 0).x;
-    if (!(z > 0.0) || z > 1e30) {
-        return 1.0; // sky
+    let rc = load_receiver(depth, normals, p, view);
+    if (!rc.valid) {
+        return 1.0; // sky or no normal
     }
-    let nw = textureLoad(normals, p, 0);
-    let nl = length(nw.xyz);
-    if (nw.w < 0.5 || !(nl > 1e-6)) {
-        return 1.0;
-    }
-    let n = nw.xyz / nl;
-    let o = view_position(pixel_uv(p, view), z, view);
+    let z = rc.z;
+    let n = rc.n;
+    let o = rc.p;
 
     // Projected radius, capped (R shrinks to match); under one pixel there is nothing to test.
     let ppu = pixels_per_unit(z, view);
