@@ -39,18 +39,49 @@ alias IntermediateStorage = texture_storage_2d<r32float, write>;
 
 const TAU: f32 = 6.283185307179586;
 
-fn load_level(l: u32, t: vec2<i32>) -> f32 {
-    switch l {
-        case 0u: { return textureLoad(depth, t, 0).r; }
-        case 1u: { return textureLoad(depth1, t, 0).r; }
-        case 2u: { return textureLoad(depth2, t, 0).r; }
-        case 3u: { return textureLoad(depth3, t, 0).r; }
-        default: { return textureLoad(depth4, t, 0).r; }
-    }
+// One direction's march state, carried from level to level.
+struct March {
+    // Receiver: view-space position, normal, pixel centre, 1 / full size.
+    o: vec3<f32>,
+    n: vec3<f32>,
+    pc: vec2<f32>,
+    inv_size: vec2<f32>,
+    dir: vec2<f32>,
+    // Distance marched (full-res pixels), step, level scale K^l, best W * sin (Eq. 8).
+    t: f32,
+    step: f32,
+    scale: f32,
+    a_max: f32,
+    eps: f32,
+    pixel_world: f32,
+    done: bool,
 }
 
-// Distance from O to the camera ray through `uv`: a lower bound of |S - O| for every surface
-// point S seen at uv. It grows monotonically along a screen-space line leaving P.
+// step_count reads on one pyramid level. The level's texture is a parameter (not a switch in
+// the loop), so each call site reads exactly one texture: on SIMD CPUs such as lavapipe a
+// switch over textures executes every case.
+fn march_level(tex: texture_2d<f32>, l: u32, m: ptr<function, March>, edges: ptr<function, PyramidEdges>, full: vec2<i32>) {
+    for (var i = 0u; i < params.step_count; i = i + 1u) {
+        (*m).t = (*m).t + (*m).step;
+        let q = (*m).pc + (*m).dir * (*m).t;
+        if (any(q < vec2<f32>(0.0)) || any(q >= vec2<f32>(full))) { (*m).done = true; return; }
+        if (ray_distance((*m).o, q * (*m).inv_size) >= params.radius + (*m).scale * (*m).pixel_world) { (*m).done = true; return; }
+        let tx = min(vec2<i32>(floor(q / (*m).scale)), (*edges).last[l]);
+        let zs = textureLoad(tex, tx, 0).r;
+        if (!(zs > 0.0)) { continue; }
+        let c = pyramid_texel_centre(edges, tx, l, (*m).scale);
+        let v = view_position(c * (*m).inv_size, zs, view) - (*m).o;
+        let r = length(v);
+        if (r < (*m).eps) { continue; }
+        // Eq. 8: the max over samples of W(r) * sin(alpha), W(r) = max(0, 1 - r/R).
+        let w = max(0.0, 1.0 - r / params.radius);
+        (*m).a_max = max((*m).a_max, w * max(0.0, dot((*m).n, v) / r - params.sin_bias));
+    }
+    // Next level: the step and the texel footprint both grow by K.
+    (*m).step = (*m).step * params.factor;
+    (*m).scale = (*m).scale * params.factor;
+}
+
 fn ray_distance(o: vec3<f32>, uv: vec2<f32>) -> f32 {
     let r = view_position(uv, 1.0, view);
     if (view.near_far.w > 0.5) {
@@ -83,7 +114,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let o = view_position(pc * inv_size, z, view);
     // Spec §6.3: |V| below eps is P aliased onto itself; skip it.
     let eps = 1e-4 * z;
-    let radius = params.radius;
     // World size of one full-resolution pixel at P, for the early-out slack.
     let pixel_world = 1.0 / max(pixels_per_unit(z, view), 1e-30);
     let levels = clamp(params.levels, 1u, 5u);
@@ -103,40 +133,25 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let theta = TAU * (rotation + (f32(d) + u) / f32(dirs));
         let dir = vec2<f32>(cos(theta), sin(theta));
         // xi_d in [0.5, 1.5): the random start-step multiplier of §2.5.
-        var step = params.initial_step * (0.5 + hash_pixel(tile, 2u * d + 1u));
-        var t = 0.0;
-        var a_max = 0.0;
-        var done = false;
-        var scale = 1.0;
-        // Step 2 (§2.4): step_count reads per level, then step *= K and one level coarser.
-        for (var l = 0u; l < levels; l = l + 1u) {
-            for (var i = 0u; i < params.step_count; i = i + 1u) {
-                t = t + step;
-                let q = pc + dir * t;
-                if (any(q < vec2<f32>(0.0)) || any(q >= vec2<f32>(full))) { done = true; break; }
-                // [IMPL] early-out (§2.4, §6.3): beyond R every sample has W = 0. The slack
-                // covers snapping q to the centre of a coarse texel.
-                if (ray_distance(o, q * inv_size) >= radius + scale * pixel_world) { done = true; break; }
-                // [IMPL] texel addressing (§2.4): full-res coordinates divided by K^l, point
-                // sampled, the position rebuilt at the texel's centre with its mean depth.
-                let tx = min(vec2<i32>(floor(q / scale)), edges.last[l]);
-                let zs = load_level(l, tx);
-                // Sky taps are unoccluding (§6.3).
-                if (!(zs > 0.0)) { continue; }
-                let c = pyramid_texel_centre(&edges, tx, l, scale);
-                let v = view_position(c * inv_size, zs, view) - o;
-                let r = length(v);
-                if (r < eps) { continue; }
-                // Eq. (7): W(r) = max(0, 1 - r / R).
-                let w = max(0.0, 1.0 - r / radius);
-                // Eq. (8): A(theta) = max over samples of W(r) sin(alpha), sin(alpha) =
-                // n . V / |V| (elevation from the tangent plane, §1.3), minus the optional bias.
-                a_max = max(a_max, w * max(0.0, dot(n, v) / r - params.sin_bias));
-            }
-            if (done) { break; }
-            step = step * k;
-            scale = scale * k;
-        }
+        var m: March;
+        m.o = o;
+        m.n = n;
+        m.pc = pc;
+        m.inv_size = inv_size;
+        m.dir = dir;
+        m.t = 0.0;
+        m.step = params.initial_step * (0.5 + hash_pixel(tile, 2u * d + 1u));
+        m.scale = 1.0;
+        m.a_max = 0.0;
+        m.eps = eps;
+        m.pixel_world = pixel_world;
+        m.done = false;
+        march_level(depth, 0u, &m, &edges, full);
+        if (levels > 1u && !m.done) { march_level(depth1, 1u, &m, &edges, full); }
+        if (levels > 2u && !m.done) { march_level(depth2, 2u, &m, &edges, full); }
+        if (levels > 3u && !m.done) { march_level(depth3, 3u, &m, &edges, full); }
+        if (levels > 4u && !m.done) { march_level(depth4, 4u, &m, &edges, full); }
+        let a_max = m.a_max;
         occlusion = occlusion + a_max;
     }
     // Step 3 (§2.3): AO(P) = 1 - (1/D) sum_d A(theta_d).
