@@ -30,8 +30,12 @@ struct PlanState {
     pipelines: Vec<Option<PassPipeline>>,
     uniforms: Vec<wgpu::Buffer>,
     buffers: Vec<Option<wgpu::Buffer>>,
-    bind_groups: Vec<Option<(Vec<u64>, Vec<(u32, wgpu::BindGroup)>)>>,
+    bind_groups: Vec<Option<CachedBindGroups>>,
 }
+
+/// A pass's bind groups and the texture serials (and mips) they were made for: reused while
+/// the same physical textures come back.
+type CachedBindGroups = (Vec<u64>, Vec<(u32, wgpu::BindGroup)>);
 
 /// Runs compiled plans on a device.
 pub struct Executor {

@@ -92,7 +92,7 @@ fn check_binding_supplied(decl: &GraphDecl, pass: &PassDecl, info: &ShaderModule
             }
         }
         ShaderBindingKind::StorageBuffer { read_only, .. } => match buf {
-            Some(b) if *read_only == !b.access.writes() => Ok(()),
+            Some(b) if *read_only != b.access.writes() => Ok(()),
             Some(b) => Err(invalid(format!("`{name}` read_only={read_only} in the shader but the pass declares {:?}", b.access))),
             None => Err(missing()),
         },
