@@ -25,6 +25,28 @@ pub struct BenchArgs {
     /// Parameter grids per technique (TOML; see configs/sweeps/).
     #[arg(long)]
     pub sweep: Option<PathBuf>,
+    #[command(flatten)]
+    pub run: RunFlags,
+    /// Half-width in pixels of the depth-edge band of the edge MAE.
+    #[arg(long, default_value_t = crate::metrics::DEFAULT_EDGE_BAND)]
+    pub edge_band: u32,
+    /// Output directory.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Time resolution and radius scaling instead (no reference): writes scaling.csv.
+    #[arg(long)]
+    pub scaling: bool,
+    /// Square sides for --scaling.
+    #[arg(long, value_delimiter = ',', default_values_t = scaling::DEFAULT_SIDES)]
+    pub scaling_sizes: Vec<u32>,
+    /// Radii (world units) for --scaling. Default: R times 0.5, 1, 2, 4.
+    #[arg(long, value_delimiter = ',')]
+    pub scaling_radii: Vec<f32>,
+}
+
+/// How each run is made, shared by `bench` and `tune`.
+#[derive(clap::Args, Clone, Debug)]
+pub struct RunFlags {
     /// Output width in pixels.
     #[arg(long, default_value_t = 256)]
     pub width: u32,
@@ -46,24 +68,16 @@ pub struct BenchArgs {
     /// Reference mode: binary or obscurance.
     #[arg(long, default_value = "binary")]
     pub mode: String,
-    /// Half-width in pixels of the depth-edge band of the edge MAE.
-    #[arg(long, default_value_t = crate::metrics::DEFAULT_EDGE_BAND)]
-    pub edge_band: u32,
-    /// Output directory.
-    #[arg(long, default_value = "bench-out")]
-    pub out: PathBuf,
-    /// Time resolution and radius scaling instead (no reference): writes scaling.csv.
-    #[arg(long)]
-    pub scaling: bool,
-    /// Square sides for --scaling.
-    #[arg(long, value_delimiter = ',', default_values_t = scaling::DEFAULT_SIDES)]
-    pub scaling_sizes: Vec<u32>,
-    /// Radii (world units) for --scaling. Default: R times 0.5, 1, 2, 4.
-    #[arg(long, value_delimiter = ',')]
-    pub scaling_radii: Vec<f32>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+}
+
+impl RunFlags {
+    /// Validated run settings with depth-edge band `edge_band`.
+    pub(crate) fn settings(&self, edge_band: u32) -> AppResult<BenchSettings> {
+        settings(self.width, self.height, self.frames, self.warmup, self.radius, self.rays, &self.mode, edge_band)
+    }
 }
 
 fn positive(name: &str, v: u32) -> AppResult<u32> {
@@ -82,7 +96,7 @@ fn check_radius(name: &str, r: f32) -> AppResult<f32> {
 
 /// Validated run settings from the shared flags.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn settings(width: u32, height: u32, frames: u32, warmup: u32, radius: Option<f32>, rays: u32, mode: &str, edge_band: u32) -> AppResult<BenchSettings> {
+fn settings(width: u32, height: u32, frames: u32, warmup: u32, radius: Option<f32>, rays: u32, mode: &str, edge_band: u32) -> AppResult<BenchSettings> {
     let mode = crate::config::parse_mode(mode).map_err(|e| AppError::InvalidArgument { name: "--mode".into(), value: mode.into(), allowed: e })?;
     check_size("--width", width)?;
     check_size("--height", height)?;
@@ -149,7 +163,7 @@ fn radii(args: &BenchArgs, base: f32) -> AppResult<Vec<f32>> {
 
 pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
-    let settings = settings(args.width, args.height, args.frames, args.warmup, args.radius, args.rays, &args.mode, args.edge_band)?;
+    let settings = args.run.settings(args.edge_band)?;
     let sweep = args.sweep.as_deref().map(Sweep::load).transpose()?;
     let techniques = techniques(&registry, &args.techniques, sweep.as_ref(), false)?;
     let sets = plan_param_sets(&registry, &techniques, sweep.as_ref())?;
@@ -160,14 +174,14 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let started = std::time::Instant::now();
     let out = &args.out;
     if args.scaling {
-        let r = crate::bench::run_scaling(&ctx, &plan, &sides, &radii, Some(out), !args.quiet)?;
+        let r = crate::bench::run_scaling(&ctx, &plan, &sides, &radii, Some(out), !args.run.quiet)?;
         println!("timed {} points of {} parameter set(s) on {} in {:.1} s ({})", r.points.len(), plan.sets.len(), ctx.gpu.describe(), started.elapsed().as_secs_f64(), if ctx.gpu.is_software() { "software device: CPU times" } else { "GPU device" });
         for f in ["scaling.csv", "scaling_points.csv", "scaling.json", "report.md"] {
             println!("wrote {}", out.join(f).display());
         }
         return Ok(());
     }
-    let records = crate::bench::run_bench(&ctx, &plan, Some(out), !args.quiet)?;
+    let records = crate::bench::run_bench(&ctx, &plan, Some(out), !args.run.quiet)?;
     println!("ran {} run(s) ({} scene(s) x {} parameter set(s)) on {} in {:.1} s{}", records.len(), plan.scenes.len(), plan.sets.len(), ctx.gpu.describe(), started.elapsed().as_secs_f64(), if ctx.gpu.is_software() { " (software device: times are CPU times)" } else { "" });
     for f in ["results.csv", "results.json", "report.md", "pareto.svg", "pareto.png", "images/"] {
         println!("wrote {}", out.join(f).display());

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use aograph_ao::TechniqueRegistry;
 
-use super::bench::{scenes, settings, techniques};
+use super::bench::{scenes, techniques, RunFlags};
 use super::gpu;
 use crate::bench::{plan_param_sets, run_bench, BenchContext, BenchPlan, RunRecord, Sweep};
 use crate::config::SceneSource;
@@ -35,26 +35,11 @@ pub struct TuneArgs {
     /// `all` (default) or techniques comma-separated.
     #[arg(long, value_delimiter = ',')]
     pub techniques: Vec<String>,
-    #[arg(long, default_value_t = 256)]
-    pub width: u32,
-    #[arg(long, default_value_t = 256)]
-    pub height: u32,
-    #[arg(long, default_value_t = 8)]
-    pub frames: u32,
-    #[arg(long, default_value_t = 2)]
-    pub warmup: u32,
-    /// Shared AO radius R in world units.
-    #[arg(long)]
-    pub radius: Option<f32>,
-    /// Reference rays per pixel.
-    #[arg(long, default_value_t = 256)]
-    pub rays: u32,
+    #[command(flatten)]
+    pub run: RunFlags,
     /// Also write the config to this file.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
 /// The most accurate run within `budget_ms` (ties: the faster), if any.
@@ -102,7 +87,7 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
         return Err(AppError::InvalidArgument { name: "--budget-ms".into(), value: args.budget_ms.to_string(), allowed: "a number of milliseconds greater than 0".into() });
     }
     let registry = TechniqueRegistry::with_builtins();
-    let settings = settings(args.width, args.height, args.frames, args.warmup, args.radius, args.rays, "binary", crate::metrics::DEFAULT_EDGE_BAND)?;
+    let settings = args.run.settings(crate::metrics::DEFAULT_EDGE_BAND)?;
     let sweep = match &args.sweep {
         Some(p) => Sweep::load(p)?,
         None => Sweep::parse(DEFAULT_SWEEP, "configs/sweeps/quick.toml (built in)")?,
@@ -112,7 +97,7 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
     let scene = scenes(std::slice::from_ref(&args.scene))?.remove(0);
     let plan = BenchPlan { scenes: vec![scene.clone()], sets, settings };
     let ctx = BenchContext { gpu: gpu()?, shaders: shader_library(), registry };
-    let records = run_bench(&ctx, &plan, None, !args.quiet)?;
+    let records = run_bench(&ctx, &plan, None, !args.run.quiet)?;
     let device = format!("{}{}", ctx.gpu.describe(), if ctx.gpu.is_software() { ", a software device (CPU times)" } else { "" });
     let Some(best) = choose(&records, args.budget_ms) else {
         let fastest = records.iter().map(|r| r.times.total_ms.median).fold(f64::INFINITY, f64::min);
