@@ -5,9 +5,14 @@
 
 use std::sync::Arc;
 
-use aograph::{images, FrameOutputs};
-use aograph_ao::{check_param, spec, AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
-use aograph_graph::{BufferAccess, CompileOptions, Executor, Extent, GBufferChannel, GBufferChannels, GpuContext, GraphCompiler, ParamSpec, SizeClass, TextureDesc};
+use aograph::{FrameOutputs, images};
+use aograph_ao::{
+    AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry, check_param, spec,
+};
+use aograph_graph::{
+    BufferAccess, CompileOptions, Executor, Extent, GBufferChannel, GBufferChannels, GpuContext,
+    GraphCompiler, ParamSpec, SizeClass, TextureDesc,
+};
 use serde::{Deserialize, Serialize};
 
 /// Depth-buffer unsharp masking (Luft et al. 2006) as a user technique.
@@ -22,7 +27,10 @@ struct UnsharpParams {
 
 impl Default for UnsharpParams {
     fn default() -> Self {
-        Self { strength: 4.0, radius_px: 6.0 }
+        Self {
+            strength: 4.0,
+            radius_px: 6.0,
+        }
     }
 }
 
@@ -35,7 +43,14 @@ impl AoTechnique for UnsharpDepth {
         "depth-buffer unsharp masking (a user plugin)"
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
-        vec![spec("strength", "0 to 100", "darkening per unit relative depth difference"), spec("radius_px", "1 to 16", "blur radius in pixels")]
+        vec![
+            spec(
+                "strength",
+                "0 to 100",
+                "darkening per unit relative depth difference",
+            ),
+            spec("radius_px", "1 to 16", "blur radius in pixels"),
+        ]
     }
     fn validate(&self, p: &UnsharpParams) -> AoResult<()> {
         check_param(self.name(), "strength", p.strength, 0.0, 100.0)?;
@@ -47,9 +62,15 @@ impl AoTechnique for UnsharpDepth {
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &UnsharpParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let out = ctx.accessibility_texture("unsharp.ao");
-        let mut pass = ctx.builder.compute_pass("unsharp-depth.ao", "examples/unsharp_depth.wgsl", "main");
-        pass.sample("depth", depth).read_buffer("view", BufferAccess::Uniform, ctx.view);
-        let bytes: Vec<u8> = [p.strength, p.radius_px, 0.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+        let mut pass =
+            ctx.builder
+                .compute_pass("unsharp-depth.ao", "examples/unsharp_depth.wgsl", "main");
+        pass.sample("depth", depth)
+            .read_buffer("view", BufferAccess::Uniform, ctx.view);
+        let bytes: Vec<u8> = [p.strength, p.radius_px, 0.0, 0.0]
+            .iter()
+            .flat_map(|f| f.to_le_bytes())
+            .collect();
         pass.uniform("params", &bytes);
         let out = pass.write_storage("ao", out);
         pass.dispatch_over(out);
@@ -61,20 +82,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 1. Register the user technique beside the built-ins and pick it by config.
     let mut registry = TechniqueRegistry::with_builtins();
     registry.register(UnsharpDepth);
-    let config: toml::Table = "technique = \"unsharp-depth\"\nradius = 1.0\n[unsharp-depth]\nstrength = 6.0\n".parse()?;
+    let config: toml::Table =
+        "technique = \"unsharp-depth\"\nradius = 1.0\n[unsharp-depth]\nstrength = 6.0\n".parse()?;
     let ao = AoConfig::from_table(&config, &registry)?;
 
     // 2. The user's shaders live outside shaders/: register them inline.
     let shaders = aograph::shader_library();
-    shaders.add_inline("examples/unsharp_depth.wgsl", include_str!("shaders/unsharp_depth.wgsl"));
+    shaders.add_inline(
+        "examples/unsharp_depth.wgsl",
+        include_str!("shaders/unsharp_depth.wgsl"),
+    );
     shaders.add_inline("examples/tint.wgsl", include_str!("shaders/tint.wgsl"));
 
     // 3. Declare the frame (g-buffer + technique), then add a user pass reading its output.
     let scene = Arc::new(aograph_scene::procedural_scene("columns")?);
-    let mut fg = aograph::build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default())?;
+    let mut fg =
+        aograph::build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default())?;
     let mut builder = aograph_graph::GraphBuilder::from_decl(fg.decl.clone());
     let tint = {
-        let target = builder.create_texture("tint", TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL));
+        let target = builder.create_texture(
+            "tint",
+            TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
+        );
         let mut pass = builder.compute_pass("user.tint", "examples/tint.wgsl", "main");
         pass.sample("ao", fg.ao);
         let t = pass.write_storage("image", target);
@@ -89,18 +118,42 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{}", aograph_graph::summary(&plan, Extent::new(320, 180)));
     let gpu = Arc::new(GpuContext::new()?);
     let mut exec = Executor::with_shaders(gpu.clone(), shaders);
-    let view = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some("view"), size: std::mem::size_of::<aograph_graph::ViewUniforms>() as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+    let view = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("view"),
+        size: std::mem::size_of::<aograph_graph::ViewUniforms>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
     let size = Extent::new(320, 180);
     let camera = scene.camera_at(0.0);
-    let block = aograph_scene::view_block::view_uniforms(&aograph_scene::view_block::ViewFrame { camera, prev_camera: camera, output: size, frame_index: 0, history_valid: false, camera_cut: false, time: 0.0, dt: 0.0 });
+    let block = aograph_scene::view_block::view_uniforms(&aograph_scene::view_block::ViewFrame {
+        camera,
+        prev_camera: camera,
+        output: size,
+        frame_index: 0,
+        history_valid: false,
+        camera_cut: false,
+        time: 0.0,
+        dt: 0.0,
+    });
     gpu.queue.write_buffer(&view, 0, block.bytes());
     exec.import_buffer(aograph_graph::VIEW_BUFFER, view);
     exec.execute(&plan, size)?;
 
     let out = std::path::Path::new("out/custom");
     images::prepare_output_dir(out)?;
-    images::write_gray_png(&out.join("ao.png"), size.width, size.height, &exec.read_texture(&plan, fg.ao)?.channel(0)?)?;
-    images::write_rgba_png(&out.join("tint.png"), size.width, size.height, &exec.read_texture(&plan, tint)?.bytes)?;
+    images::write_gray_png(
+        &out.join("ao.png"),
+        size.width,
+        size.height,
+        &exec.read_texture(&plan, fg.ao)?.channel(0)?,
+    )?;
+    images::write_rgba_png(
+        &out.join("tint.png"),
+        size.width,
+        size.height,
+        &exec.read_texture(&plan, tint)?.bytes,
+    )?;
     print!("{}", exec.timings()?.table());
     println!("wrote out/custom/ao.png and out/custom/tint.png");
     Ok(())

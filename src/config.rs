@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use aograph_ao::{unknown_key, AoConfig, TechniqueRegistry};
+use aograph_ao::{AoConfig, TechniqueRegistry, unknown_key};
 use aograph_scene::ReferenceMode;
 
 /// The scene rendered when none is given.
@@ -25,7 +25,11 @@ impl SceneSource {
     /// a procedural scene name.
     pub fn parse(s: &str) -> Self {
         let lower = s.to_ascii_lowercase();
-        if lower.ends_with(".gltf") || lower.ends_with(".glb") || s.contains('/') || s.contains('\\') {
+        if lower.ends_with(".gltf")
+            || lower.ends_with(".glb")
+            || s.contains('/')
+            || s.contains('\\')
+        {
             SceneSource::File(PathBuf::from(s))
         } else {
             SceneSource::Procedural(s.to_string())
@@ -56,7 +60,16 @@ pub struct AppConfig {
 
 impl Default for AppConfig {
     fn default() -> Self {
-        Self { scene: SceneSource::Procedural(DEFAULT_SCENE.into()), width: 1280, height: 720, ao: AoConfig::default(), reference_rays: 256, reference_mode: ReferenceMode::Binary, frames: 1, frame_time: 1.0 / 30.0 }
+        Self {
+            scene: SceneSource::Procedural(DEFAULT_SCENE.into()),
+            width: 1280,
+            height: 720,
+            ao: AoConfig::default(),
+            reference_rays: 256,
+            reference_mode: ReferenceMode::Binary,
+            frames: 1,
+            frame_time: 1.0 / 30.0,
+        }
     }
 }
 
@@ -70,17 +83,26 @@ const RENDER_KEYS: &[&str] = &["frames", "frame_time"];
 pub const MAX_SIDE: u32 = 8192;
 
 fn err(path: &str, message: String) -> AppError {
-    AppError::Config { path: path.into(), message }
+    AppError::Config {
+        path: path.into(),
+        message,
+    }
 }
 
 fn table<'a>(path: &str, v: &'a toml::Value, section: &str) -> AppResult<&'a toml::Table> {
-    v.as_table().ok_or_else(|| err(path, format!("[{section}] must be a table")))
+    v.as_table()
+        .ok_or_else(|| err(path, format!("[{section}] must be a table")))
 }
 
 fn uint(path: &str, key: &str, v: &toml::Value, lo: u32, hi: u32) -> AppResult<u32> {
-    let i = v.as_integer().ok_or_else(|| err(path, format!("`{key}` must be an integer")))?;
+    let i = v
+        .as_integer()
+        .ok_or_else(|| err(path, format!("`{key}` must be an integer")))?;
     if i < lo as i64 || i > hi as i64 {
-        return Err(err(path, format!("`{key}` = {i} is out of range (allowed {lo} to {hi})")));
+        return Err(err(
+            path,
+            format!("`{key}` = {i} is out of range (allowed {lo} to {hi})"),
+        ));
     }
     Ok(i as u32)
 }
@@ -88,19 +110,24 @@ fn uint(path: &str, key: &str, v: &toml::Value, lo: u32, hi: u32) -> AppResult<u
 impl AppConfig {
     /// Reads and validates a config file.
     pub fn load(path: &Path, registry: &TechniqueRegistry) -> AppResult<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| AppError::io("read config", path, e))?;
+        let text =
+            std::fs::read_to_string(path).map_err(|e| AppError::io("read config", path, e))?;
         Self::parse(&text, &path.display().to_string(), registry)
     }
 
     /// Parses config text; `path` names it in messages.
     pub fn parse(text: &str, path: &str, registry: &TechniqueRegistry) -> AppResult<Self> {
-        let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| err(path, e.to_string().trim().to_string()))?;
+        let doc: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| err(path, e.to_string().trim().to_string()))?;
         let mut c = AppConfig::default();
         for (k, v) in &doc {
             match k.as_str() {
                 "scene" => {
                     for (sk, sv) in table(path, v, "scene")? {
-                        let s = sv.as_str().ok_or_else(|| err(path, format!("[scene] `{sk}` must be a string")))?;
+                        let s = sv
+                            .as_str()
+                            .ok_or_else(|| err(path, format!("[scene] `{sk}` must be a string")))?;
                         c.scene = match sk.as_str() {
                             "name" => SceneSource::Procedural(s.to_string()),
                             "file" => SceneSource::File(resolve(path, s)),
@@ -117,13 +144,21 @@ impl AppConfig {
                         }
                     }
                 }
-                "ao" => c.ao = AoConfig::from_table(table(path, v, "ao")?, registry).map_err(|e| err(path, e.to_string()))?,
+                "ao" => {
+                    c.ao = AoConfig::from_table(table(path, v, "ao")?, registry)
+                        .map_err(|e| err(path, e.to_string()))?
+                }
                 "reference" => {
                     for (rk, rv) in table(path, v, "reference")? {
                         match rk.as_str() {
                             "rays" => c.reference_rays = uint(path, "rays", rv, 1, 1 << 20)?,
-                            "mode" => c.reference_mode = parse_mode(rv.as_str().unwrap_or("")).map_err(|m| err(path, m))?,
-                            _ => return Err(err(path, unknown_key("reference", rk, REFERENCE_KEYS))),
+                            "mode" => {
+                                c.reference_mode = parse_mode(rv.as_str().unwrap_or(""))
+                                    .map_err(|m| err(path, m))?
+                            }
+                            _ => {
+                                return Err(err(path, unknown_key("reference", rk, REFERENCE_KEYS)));
+                            }
                         }
                     }
                 }
@@ -132,9 +167,19 @@ impl AppConfig {
                         match rk.as_str() {
                             "frames" => c.frames = uint(path, "frames", rv, 1, 1_000_000)?,
                             "frame_time" => {
-                                let f = rv.as_float().or_else(|| rv.as_integer().map(|i| i as f64)).ok_or_else(|| err(path, "`frame_time` must be a number of seconds".into()))?;
+                                let f = rv
+                                    .as_float()
+                                    .or_else(|| rv.as_integer().map(|i| i as f64))
+                                    .ok_or_else(|| {
+                                        err(path, "`frame_time` must be a number of seconds".into())
+                                    })?;
                                 if !(f.is_finite() && (0.0..=10.0).contains(&f)) {
-                                    return Err(err(path, format!("`frame_time` = {f} is out of range (allowed 0 to 10 seconds)")));
+                                    return Err(err(
+                                        path,
+                                        format!(
+                                            "`frame_time` = {f} is out of range (allowed 0 to 10 seconds)"
+                                        ),
+                                    ));
                                 }
                                 c.frame_time = f as f32;
                             }
@@ -160,7 +205,11 @@ impl AppConfig {
 /// Output sides must be 1..=MAX_SIDE.
 pub fn check_size(name: &str, v: u32) -> AppResult<()> {
     if v == 0 || v > MAX_SIDE {
-        return Err(AppError::InvalidArgument { name: name.into(), value: v.to_string(), allowed: format!("1 to {MAX_SIDE} pixels") });
+        return Err(AppError::InvalidArgument {
+            name: name.into(),
+            value: v.to_string(),
+            allowed: format!("1 to {MAX_SIDE} pixels"),
+        });
     }
     Ok(())
 }
@@ -169,7 +218,9 @@ pub fn parse_mode(s: &str) -> Result<ReferenceMode, String> {
     match s {
         "binary" => Ok(ReferenceMode::Binary),
         "obscurance" => Ok(ReferenceMode::Obscurance),
-        _ => Err(format!("reference mode `{s}` is not known (allowed: binary, obscurance)")),
+        _ => Err(format!(
+            "reference mode `{s}` is not known (allowed: binary, obscurance)"
+        )),
     }
 }
 
@@ -179,5 +230,8 @@ fn resolve(config_path: &str, file: &str) -> PathBuf {
     if p.is_absolute() {
         return p;
     }
-    Path::new(config_path).parent().map(|d| d.join(&p)).unwrap_or(p)
+    Path::new(config_path)
+        .parent()
+        .map(|d| d.join(&p))
+        .unwrap_or(p)
 }

@@ -16,16 +16,28 @@ pub enum AppError {
     #[error("config {path}: {message}")]
     Config { path: String, message: String },
     #[error("invalid value for {name}: {value} (allowed: {allowed})")]
-    InvalidArgument { name: String, value: String, allowed: String },
+    InvalidArgument {
+        name: String,
+        value: String,
+        allowed: String,
+    },
     #[error("cannot {action} {path}: {message}")]
-    Io { action: &'static str, path: PathBuf, message: String },
+    Io {
+        action: &'static str,
+        path: PathBuf,
+        message: String,
+    },
     #[error("image {path}: {message}")]
     Image { path: PathBuf, message: String },
 }
 
 impl AppError {
     pub fn io(action: &'static str, path: impl Into<PathBuf>, e: impl std::fmt::Display) -> Self {
-        AppError::Io { action, path: path.into(), message: e.to_string() }
+        AppError::Io {
+            action,
+            path: path.into(),
+            message: e.to_string(),
+        }
     }
 }
 

@@ -6,9 +6,12 @@
 use std::sync::Arc;
 
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
-use aograph_graph::{BufferDesc, DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle, ViewUniforms, VIEW_BUFFER};
-use aograph_scene::gbuffer::{add_gbuffer, required_channels, GBufferClock};
+use aograph_graph::{
+    BufferDesc, DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder,
+    GraphDecl, SizeClass, TextureDesc, TextureHandle, VIEW_BUFFER, ViewUniforms,
+};
 use aograph_scene::Scene;
+use aograph_scene::gbuffer::{GBufferClock, add_gbuffer, required_channels};
 
 use crate::error::AppResult;
 
@@ -38,52 +41,114 @@ pub struct FrameGraph {
 }
 
 /// Declares the whole frame for `scene` with the `[ao]` config.
-pub fn build_frame_graph(registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &AoConfig, outputs: FrameOutputs) -> AppResult<FrameGraph> {
+pub fn build_frame_graph(
+    registry: &TechniqueRegistry,
+    scene: Arc<Scene>,
+    ao: &AoConfig,
+    outputs: FrameOutputs,
+) -> AppResult<FrameGraph> {
     let technique = registry.get(&ao.technique)?;
     let params = ao.params_for(&ao.technique);
     let mut requested = technique.channels(&params)?;
     if outputs.shaded {
-        requested = requested.with(GBufferChannel::Albedo).with(GBufferChannel::DirectLight);
+        requested = requested
+            .with(GBufferChannel::Albedo)
+            .with(GBufferChannel::DirectLight);
     }
     if outputs.surfaces {
-        requested = requested.with(GBufferChannel::Positions).with(GBufferChannel::Normals);
+        requested = requested
+            .with(GBufferChannel::Positions)
+            .with(GBufferChannel::Normals);
     }
     if outputs.linear_depth {
         requested = requested.with(GBufferChannel::LinearDepth);
     }
     let channels = required_channels(requested, &scene).with_depth_format(outputs.depth_format);
     let mut b = GraphBuilder::new();
-    let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+    let view = b.import_buffer(
+        VIEW_BUFFER,
+        BufferDesc {
+            size: std::mem::size_of::<ViewUniforms>() as u64,
+        },
+    );
     let clock = GBufferClock::default();
     let gbuffer = add_gbuffer(&mut b, scene.clone(), channels, view, clock.clone());
-    let mut ctx = AoBuildContext { builder: &mut b, gbuffer, view, radius: ao.radius, intermediate_format: ao.intermediate_format.wgpu(), technique: technique.name() };
+    let mut ctx = AoBuildContext {
+        builder: &mut b,
+        gbuffer,
+        view,
+        radius: ao.radius,
+        intermediate_format: ao.intermediate_format.wgpu(),
+        technique: technique.name(),
+    };
     let out = technique.build(&mut ctx, &params)?;
     let temporal = technique.is_temporal(&params)?;
     b.export(out.accessibility);
     for (_, h) in &out.extra {
         b.export(*h);
     }
-    let shaded = if outputs.shaded { Some(add_shading(&mut b, &gbuffer, out.accessibility, &scene, view)?) } else { None };
+    let shaded = if outputs.shaded {
+        Some(add_shading(
+            &mut b,
+            &gbuffer,
+            out.accessibility,
+            &scene,
+            view,
+        )?)
+    } else {
+        None
+    };
     if outputs.surfaces {
-        gbuffer.positions.into_iter().chain(gbuffer.normals).for_each(|h| b.export(h));
+        gbuffer
+            .positions
+            .into_iter()
+            .chain(gbuffer.normals)
+            .for_each(|h| b.export(h));
     }
     if outputs.linear_depth {
         gbuffer.linear_depth.into_iter().for_each(|h| b.export(h));
     }
-    Ok(FrameGraph { decl: b.build(), ao: out.accessibility, shaded, gbuffer, channels, extra: out.extra, clock, temporal })
+    Ok(FrameGraph {
+        decl: b.build(),
+        ao: out.accessibility,
+        shaded,
+        gbuffer,
+        channels,
+        extra: out.extra,
+        clock,
+        temporal,
+    })
 }
 
 /// shaded = albedo * ambient * accessibility + direct light, in sRGB-encoded 8-bit.
-fn add_shading(b: &mut GraphBuilder, g: &GBufferTextures, ao: TextureHandle, scene: &Scene, view: aograph_graph::BufferHandle) -> AppResult<TextureHandle> {
+fn add_shading(
+    b: &mut GraphBuilder,
+    g: &GBufferTextures,
+    ao: TextureHandle,
+    scene: &Scene,
+    view: aograph_graph::BufferHandle,
+) -> AppResult<TextureHandle> {
     let (Some(albedo), Some(direct)) = (g.albedo, g.direct_light) else {
-        return Err(aograph_ao::AoError::MissingChannel { technique: "shading".into(), channel: "albedo/direct_light".into() }.into());
+        return Err(aograph_ao::AoError::MissingChannel {
+            technique: "shading".into(),
+            channel: "albedo/direct_light".into(),
+        }
+        .into());
     };
-    let out = b.create_texture("shaded", TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL));
+    let out = b.create_texture(
+        "shaded",
+        TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
+    );
     let mut p = b.compute_pass("shade", "render/shade.wgsl", "main");
-    p.sample("albedo", albedo).sample("direct_light", direct).sample("ao", ao);
+    p.sample("albedo", albedo)
+        .sample("direct_light", direct)
+        .sample("ao", ao);
     p.read_buffer("view", aograph_graph::BufferAccess::Uniform, view);
     let a = scene.ambient;
-    let bytes: Vec<u8> = [a[0], a[1], a[2], 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+    let bytes: Vec<u8> = [a[0], a[1], a[2], 0.0]
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
     p.uniform("ambient", &bytes);
     let out = p.write_storage("shaded", out);
     p.dispatch_over(out);

@@ -16,7 +16,10 @@ pub fn prepare_output_dir(dir: &Path) -> AppResult<()> {
 }
 
 fn temp_path(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
     path.with_file_name(format!(".{name}.partial"))
 }
 
@@ -30,25 +33,59 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> AppResult<()> {
     })
 }
 
-fn encode_png(width: u32, height: u32, color: image::ExtendedColorType, data: &[u8], path: &Path) -> AppResult<Vec<u8>> {
+fn encode_png(
+    width: u32,
+    height: u32,
+    color: image::ExtendedColorType,
+    data: &[u8],
+    path: &Path,
+) -> AppResult<Vec<u8>> {
     let mut out = Vec::new();
-    image::ImageEncoder::write_image(image::codecs::png::PngEncoder::new(&mut out), data, width, height, color).map_err(|e| AppError::Image { path: path.into(), message: e.to_string() })?;
+    image::ImageEncoder::write_image(
+        image::codecs::png::PngEncoder::new(&mut out),
+        data,
+        width,
+        height,
+        color,
+    )
+    .map_err(|e| AppError::Image {
+        path: path.into(),
+        message: e.to_string(),
+    })?;
     Ok(out)
 }
 
 /// Accessibility (or any [0, 1] value) as an 8-bit grayscale PNG; values are clamped and
 /// non-finite values written as 0 (they never should occur).
 pub fn write_gray_png(path: &Path, width: u32, height: u32, values: &[f32]) -> AppResult<()> {
-    let data: Vec<u8> = values.iter().map(|v| if v.is_finite() { (v.clamp(0.0, 1.0) * 255.0).round() as u8 } else { 0 }).collect();
-    write_atomic(path, &encode_png(width, height, image::ExtendedColorType::L8, &data, path)?)
+    let data: Vec<u8> = values
+        .iter()
+        .map(|v| {
+            if v.is_finite() {
+                (v.clamp(0.0, 1.0) * 255.0).round() as u8
+            } else {
+                0
+            }
+        })
+        .collect();
+    write_atomic(
+        path,
+        &encode_png(width, height, image::ExtendedColorType::L8, &data, path)?,
+    )
 }
 
 /// RGBA8 pixels as a PNG.
 pub fn write_rgba_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> AppResult<()> {
-    write_atomic(path, &encode_png(width, height, image::ExtendedColorType::Rgba8, rgba, path)?)
+    write_atomic(
+        path,
+        &encode_png(width, height, image::ExtendedColorType::Rgba8, rgba, path)?,
+    )
 }
 
 /// RGB8 pixels as a PNG.
 pub fn write_rgb_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> AppResult<()> {
-    write_atomic(path, &encode_png(width, height, image::ExtendedColorType::Rgb8, rgb, path)?)
+    write_atomic(
+        path,
+        &encode_png(width, height, image::ExtendedColorType::Rgb8, rgb, path)?,
+    )
 }

@@ -12,8 +12,8 @@ pub mod renderer;
 
 pub use config::{AppConfig, SceneSource};
 pub use error::{AppError, AppResult};
-pub use frame_graph::{build_frame_graph, FrameGraph, FrameOutputs};
-pub use renderer::{shader_dir, shader_library, Renderer};
+pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph};
+pub use renderer::{Renderer, shader_dir, shader_library};
 
 /// Loads a scene by procedural name or glTF path.
 pub fn load_scene(source: &SceneSource) -> AppResult<aograph_scene::Scene> {

@@ -7,7 +7,11 @@ use aograph::commands::{self, RenderArgs};
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "aograph", version, about = "Render-graph SSAO techniques on wgpu, measured against a ray-traced reference")]
+#[command(
+    name = "aograph",
+    version,
+    about = "Render-graph SSAO techniques on wgpu, measured against a ray-traced reference"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -109,22 +113,53 @@ enum SceneAction {
 
 impl Common {
     fn into_args(self) -> commands::CommonArgs {
-        commands::CommonArgs { config: self.config, scene: self.scene, technique: self.technique, width: self.width, height: self.height, radius: self.radius }
+        commands::CommonArgs {
+            config: self.config,
+            scene: self.scene,
+            technique: self.technique,
+            width: self.width,
+            height: self.height,
+            radius: self.radius,
+        }
     }
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render { common, out, frames, every } => commands::render(&RenderArgs { common: common.into_args(), out, frames, every }),
+        Command::Render {
+            common,
+            out,
+            frames,
+            every,
+        } => commands::render(&RenderArgs {
+            common: common.into_args(),
+            out,
+            frames,
+            every,
+        }),
         Command::Graph { common, dot } => commands::graph(&common.into_args(), dot),
         Command::Techniques => commands::techniques(),
-        Command::Reference { common, rays, mode, out } => commands::reference(&common.into_args(), rays, mode.as_deref(), &out),
+        Command::Reference {
+            common,
+            rays,
+            mode,
+            out,
+        } => commands::reference(&common.into_args(), rays, mode.as_deref(), &out),
         Command::Bench(args) => commands::bench(&args),
         Command::Tune(args) => commands::tune(&args),
-        Command::Montage { common, techniques, rays, out } => commands::montage(&common.into_args(), &techniques, rays, &out),
-        Command::Scene { action: SceneAction::Export { name, file } } => commands::scene_export(&name, &file),
-        Command::Scene { action: SceneAction::List } => {
+        Command::Montage {
+            common,
+            techniques,
+            rays,
+            out,
+        } => commands::montage(&common.into_args(), &techniques, rays, &out),
+        Command::Scene {
+            action: SceneAction::Export { name, file },
+        } => commands::scene_export(&name, &file),
+        Command::Scene {
+            action: SceneAction::List,
+        } => {
             println!("{}", aograph_scene::PROCEDURAL_SCENE_NAMES.join("\n"));
             Ok(())
         }

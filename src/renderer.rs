@@ -5,20 +5,25 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph_ao::techniques::ssdo::{LightingUniforms, LIGHTING_BUFFER};
+use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
-use aograph_graph::{CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphCompiler, PassTimings, ShaderLibrary, TextureHandle, VIEW_BUFFER};
+use aograph_graph::{
+    CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphCompiler, PassTimings,
+    ShaderLibrary, TextureHandle, VIEW_BUFFER,
+};
 use aograph_scene::gbuffer::GBufferFrame;
-use aograph_scene::view_block::{view_uniforms, ViewFrame};
+use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Scene, SurfaceBuffer};
 use glam::{Mat4, Vec3};
 
 use crate::error::{AppError, AppResult};
-use crate::frame_graph::{build_frame_graph, FrameGraph, FrameOutputs};
+use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph};
 
 /// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
 pub fn shader_dir() -> PathBuf {
-    std::env::var_os("AOGRAPH_SHADERS").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders")))
+    std::env::var_os("AOGRAPH_SHADERS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders")))
 }
 
 /// A shader library over [`shader_dir`].
@@ -30,11 +35,16 @@ pub fn shader_library() -> Arc<ShaderLibrary> {
 /// guarantee: the device must offer them (through `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`).
 fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
     let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
-    if ao.intermediate_format == IntermediateFormat::R16Float && !gpu.supports(wgpu::TextureFormat::R16Float, usage) {
+    if ao.intermediate_format == IntermediateFormat::R16Float
+        && !gpu.supports(wgpu::TextureFormat::R16Float, usage)
+    {
         return Err(AppError::InvalidArgument {
             name: "[ao] intermediate_format".into(),
             value: "\"r16float\"".into(),
-            allowed: format!("\"r32float\" on this device, {}: it cannot write r16float storage textures", gpu.describe()),
+            allowed: format!(
+                "\"r32float\" on this device, {}: it cannot write r16float storage textures",
+                gpu.describe()
+            ),
         });
     }
     Ok(())
@@ -56,12 +66,38 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    pub fn new(gpu: Arc<GpuContext>, shaders: Arc<ShaderLibrary>, registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &AoConfig, outputs: FrameOutputs, output: Extent) -> AppResult<Self> {
-        Self::with_options(gpu, shaders, registry, scene, ao, outputs, output, CompileOptions::default())
+    pub fn new(
+        gpu: Arc<GpuContext>,
+        shaders: Arc<ShaderLibrary>,
+        registry: &TechniqueRegistry,
+        scene: Arc<Scene>,
+        ao: &AoConfig,
+        outputs: FrameOutputs,
+        output: Extent,
+    ) -> AppResult<Self> {
+        Self::with_options(
+            gpu,
+            shaders,
+            registry,
+            scene,
+            ao,
+            outputs,
+            output,
+            CompileOptions::default(),
+        )
     }
 
     #[allow(clippy::too_many_arguments)]
-    pub fn with_options(gpu: Arc<GpuContext>, shaders: Arc<ShaderLibrary>, registry: &TechniqueRegistry, scene: Arc<Scene>, ao: &AoConfig, outputs: FrameOutputs, output: Extent, options: CompileOptions) -> AppResult<Self> {
+    pub fn with_options(
+        gpu: Arc<GpuContext>,
+        shaders: Arc<ShaderLibrary>,
+        registry: &TechniqueRegistry,
+        scene: Arc<Scene>,
+        ao: &AoConfig,
+        outputs: FrameOutputs,
+        output: Extent,
+        options: CompileOptions,
+    ) -> AppResult<Self> {
         crate::config::check_size("width", output.width)?;
         crate::config::check_size("height", output.height)?;
         check_intermediate_format(&gpu, ao)?;
@@ -77,11 +113,33 @@ impl Renderer {
         exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
         // The scene's light and ambient, for techniques that shade (SSDO); unused otherwise.
         let l = &scene.light;
-        let lighting = LightingUniforms::new(l.direction.into(), l.color.map(|c| c * l.intensity), scene.ambient);
-        let lighting_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some("lighting"), size: std::mem::size_of::<LightingUniforms>() as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-        gpu.queue.write_buffer(&lighting_buffer, 0, lighting.bytes());
+        let lighting = LightingUniforms::new(
+            l.direction.into(),
+            l.color.map(|c| c * l.intensity),
+            scene.ambient,
+        );
+        let lighting_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lighting"),
+            size: std::mem::size_of::<LightingUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        gpu.queue
+            .write_buffer(&lighting_buffer, 0, lighting.bytes());
         exec.import_buffer(LIGHTING_BUFFER, lighting_buffer);
-        Ok(Self { gpu, exec, plan, graph, scene, output, view_buffer, frame_index: 0, prev: None, cut: false, time: 0.0 })
+        Ok(Self {
+            gpu,
+            exec,
+            plan,
+            graph,
+            scene,
+            output,
+            view_buffer,
+            frame_index: 0,
+            prev: None,
+            cut: false,
+            time: 0.0,
+        })
     }
 
     /// Marks a camera cut: the next frame starts with no history.
@@ -119,9 +177,21 @@ impl Renderer {
             time,
             dt: time - prev_time,
         });
-        self.gpu.queue.write_buffer(&self.view_buffer, 0, view.bytes());
-        let reversed_z = matches!(camera.projection, aograph_scene::Projection::Perspective { reversed_z_infinite: true, .. });
-        self.graph.clock.set(GBufferFrame { time, prev_time, reversed_z: Some(reversed_z) });
+        self.gpu
+            .queue
+            .write_buffer(&self.view_buffer, 0, view.bytes());
+        let reversed_z = matches!(
+            camera.projection,
+            aograph_scene::Projection::Perspective {
+                reversed_z_infinite: true,
+                ..
+            }
+        );
+        self.graph.clock.set(GBufferFrame {
+            time,
+            prev_time,
+            reversed_z: Some(reversed_z),
+        });
         self.exec.execute(&self.plan, self.output)?;
         self.prev = Some((time, camera));
         self.cut = false;
@@ -130,8 +200,16 @@ impl Renderer {
         Ok(())
     }
 
-    fn read_channel(&self, h: Option<TextureHandle>, what: &str) -> AppResult<aograph_graph::TextureReadback> {
-        let h = h.ok_or_else(|| AppError::InvalidArgument { name: what.into(), value: "not requested".into(), allowed: "request it in FrameOutputs".into() })?;
+    fn read_channel(
+        &self,
+        h: Option<TextureHandle>,
+        what: &str,
+    ) -> AppResult<aograph_graph::TextureReadback> {
+        let h = h.ok_or_else(|| AppError::InvalidArgument {
+            name: what.into(),
+            value: "not requested".into(),
+            allowed: "request it in FrameOutputs".into(),
+        })?;
         Ok(self.exec.read_texture(&self.plan, h)?)
     }
 
@@ -142,7 +220,12 @@ impl Renderer {
 
     /// An extra output of the technique (e.g. SSDO's radiance) as RGBA floats.
     pub fn read_extra(&self, name: &str) -> AppResult<Vec<f32>> {
-        let h = self.graph.extra.iter().find(|(n, _)| n == name).map(|(_, h)| *h);
+        let h = self
+            .graph
+            .extra
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, h)| *h);
         Ok(self.read_channel(h, name)?.to_f32()?)
     }
 
@@ -153,24 +236,41 @@ impl Renderer {
 
     /// Linear depth of the last frame (0 = sky).
     pub fn read_linear_depth(&self) -> AppResult<Vec<f32>> {
-        Ok(self.read_channel(self.graph.gbuffer.linear_depth, "linear_depth")?.channel(0)?)
+        Ok(self
+            .read_channel(self.graph.gbuffer.linear_depth, "linear_depth")?
+            .channel(0)?)
     }
 
     /// World-space points and normals of the last frame from the g-buffer, for the reference.
     pub fn surfaces(&self) -> AppResult<SurfaceBuffer> {
-        let pos = self.read_channel(self.graph.gbuffer.positions, "positions")?.to_f32()?;
-        let nrm = self.read_channel(self.graph.gbuffer.normals, "normals")?.to_f32()?;
+        let pos = self
+            .read_channel(self.graph.gbuffer.positions, "positions")?
+            .to_f32()?;
+        let nrm = self
+            .read_channel(self.graph.gbuffer.normals, "normals")?
+            .to_f32()?;
         let inv_view: Mat4 = self.scene.camera_at(self.time).view().inverse();
         let camera = self.prev.map(|(_, c)| c);
         let inv_view = camera.map(|c| c.view().inverse()).unwrap_or(inv_view);
         let n = (self.output.width * self.output.height) as usize;
-        let mut s = SurfaceBuffer { width: self.output.width, height: self.output.height, points: Vec::with_capacity(n), normals: Vec::with_capacity(n), valid: Vec::with_capacity(n) };
+        let mut s = SurfaceBuffer {
+            width: self.output.width,
+            height: self.output.height,
+            points: Vec::with_capacity(n),
+            normals: Vec::with_capacity(n),
+            valid: Vec::with_capacity(n),
+        };
         for i in 0..n {
             let p = &pos[i * 4..i * 4 + 4];
             let q = &nrm[i * 4..i * 4 + 4];
             let valid = p[3] > 0.5;
-            s.points.push(inv_view.transform_point3(Vec3::new(p[0], p[1], p[2])));
-            s.normals.push(inv_view.transform_vector3(Vec3::new(q[0], q[1], q[2])).normalize_or_zero());
+            s.points
+                .push(inv_view.transform_point3(Vec3::new(p[0], p[1], p[2])));
+            s.normals.push(
+                inv_view
+                    .transform_vector3(Vec3::new(q[0], q[1], q[2]))
+                    .normalize_or_zero(),
+            );
             s.valid.push(valid);
         }
         Ok(s)
@@ -188,6 +288,8 @@ impl Renderer {
 
     /// The camera of the last rendered frame.
     pub fn camera(&self) -> Camera {
-        self.prev.map(|(_, c)| c).unwrap_or_else(|| self.scene.camera_at(self.time))
+        self.prev
+            .map(|(_, c)| c)
+            .unwrap_or_else(|| self.scene.camera_at(self.time))
     }
 }

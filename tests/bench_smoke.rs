@@ -7,9 +7,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use aograph::bench::report::CSV_HEADER;
 use aograph::bench::ResultsFile;
-use aograph::metrics::{compare, MetricOptions};
+use aograph::bench::report::CSV_HEADER;
+use aograph::metrics::{MetricOptions, compare};
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
 
@@ -21,9 +21,16 @@ fn temp_dir(name: &str) -> PathBuf {
 
 /// Runs the binary; panics with its output when it fails.
 fn aograph(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_aograph")).args(args).output().expect("aograph runs");
+    let out = Command::new(env!("CARGO_BIN_EXE_aograph"))
+        .args(args)
+        .output()
+        .expect("aograph runs");
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "aograph {} failed:\n{stderr}", args.join(" "));
+    assert!(
+        out.status.success(),
+        "aograph {} failed:\n{stderr}",
+        args.join(" ")
+    );
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
@@ -40,7 +47,26 @@ fn bench_writes_every_output_and_each_parses() {
     assert!(techniques.iter().any(|t| t == "none"));
     let dir = temp_dir("bench-smoke");
     let d = dir.to_str().unwrap();
-    aograph(&["bench", "--scenes", "plane,sphere-on-plane", "--techniques", "all", "--width", "64", "--height", "64", "--frames", "3", "--warmup", "1", "--rays", "64", "--out", d, "--quiet"]);
+    aograph(&[
+        "bench",
+        "--scenes",
+        "plane,sphere-on-plane",
+        "--techniques",
+        "all",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--frames",
+        "3",
+        "--warmup",
+        "1",
+        "--rays",
+        "64",
+        "--out",
+        d,
+        "--quiet",
+    ]);
     let runs = 2 * techniques.len();
 
     let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
@@ -52,26 +78,61 @@ fn bench_writes_every_output_and_each_parses() {
         assert!(l.split(',').count() >= columns, "short row: {l}");
     }
 
-    let json: ResultsFile = serde_json::from_str(&std::fs::read_to_string(dir.join("results.json")).unwrap()).expect("results.json parses");
+    let json: ResultsFile =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("results.json")).unwrap())
+            .expect("results.json parses");
     assert_eq!(json.runs.len(), runs);
     assert!(!json.meta.device.is_empty());
     for r in &json.runs {
         let what = format!("{} {} {}", r.scene, r.technique, r.label);
         let m = &r.metrics;
-        assert!(m.pixels > 0 && (0.0..=1.0).contains(&m.mae) && m.rmse >= m.mae - 1e-12, "{what}: {m:?}");
-        assert!(m.ssim.is_finite() && (-1.0..=1.0 + 1e-9).contains(&m.ssim), "{what}: {m:?}");
-        assert!(m.flicker.is_some_and(|f| f.is_finite()), "{what}: 3 frames give a flicker");
-        assert!(r.times.total_ms.median.is_finite() && r.times.total_ms.median >= 0.0 && r.times.total_ms.samples == 3, "{what}: {:?}", r.times);
-        assert!(r.texture_bytes > 0 && r.texture_bytes <= r.texture_bytes_unshared, "{what}");
+        assert!(
+            m.pixels > 0 && (0.0..=1.0).contains(&m.mae) && m.rmse >= m.mae - 1e-12,
+            "{what}: {m:?}"
+        );
+        assert!(
+            m.ssim.is_finite() && (-1.0..=1.0 + 1e-9).contains(&m.ssim),
+            "{what}: {m:?}"
+        );
+        assert!(
+            m.flicker.is_some_and(|f| f.is_finite()),
+            "{what}: 3 frames give a flicker"
+        );
+        assert!(
+            r.times.total_ms.median.is_finite()
+                && r.times.total_ms.median >= 0.0
+                && r.times.total_ms.samples == 3,
+            "{what}: {:?}",
+            r.times
+        );
+        assert!(
+            r.texture_bytes > 0 && r.texture_bytes <= r.texture_bytes_unshared,
+            "{what}"
+        );
         let img = decode_png(&dir.join(r.image.as_deref().expect("every run has an image")));
-        assert_eq!((img.width(), img.height()), (3 * 64 + 4, 64), "{what}: AO | error | reference");
+        assert_eq!(
+            (img.width(), img.height()),
+            (3 * 64 + 4, 64),
+            "{what}: AO | error | reference"
+        );
     }
     // The plane is unoccluded: `none` (1 everywhere) matches its reference exactly.
-    let plane = json.runs.iter().find(|r| r.scene == "plane" && r.technique == "none").unwrap();
-    assert!(plane.metrics.mae < 1e-6 && plane.metrics.psnr == f64::INFINITY, "{:?}", plane.metrics);
+    let plane = json
+        .runs
+        .iter()
+        .find(|r| r.scene == "plane" && r.technique == "none")
+        .unwrap();
+    assert!(
+        plane.metrics.mae < 1e-6 && plane.metrics.psnr == f64::INFINITY,
+        "{:?}",
+        plane.metrics
+    );
 
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    assert!(report.contains("| scene | technique | parameters | AO ms |") && report.contains(&json.meta.device));
+    assert!(
+        report.contains("| scene | technique | parameters | AO ms |")
+            && report.contains(&json.meta.device)
+    );
     assert_eq!(report.contains("they are CPU times"), json.meta.software);
     let svg = std::fs::read_to_string(dir.join("pareto.svg")).unwrap();
     assert!(svg.starts_with("<svg") || svg.starts_with("<?xml"));
@@ -86,14 +147,45 @@ fn scaling_fits_exponents_on_a_small_grid() {
     }
     let dir = temp_dir("bench-scaling");
     let d = dir.to_str().unwrap();
-    aograph(&["bench", "--scaling", "--scenes", "sphere-on-plane", "--techniques", "none", "--scaling-sizes", "32,64", "--scaling-radii", "0.5,1", "--frames", "2", "--warmup", "1", "--out", d, "--quiet"]);
+    aograph(&[
+        "bench",
+        "--scaling",
+        "--scenes",
+        "sphere-on-plane",
+        "--techniques",
+        "none",
+        "--scaling-sizes",
+        "32,64",
+        "--scaling-radii",
+        "0.5,1",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--out",
+        d,
+        "--quiet",
+    ]);
     let fits = std::fs::read_to_string(dir.join("scaling.csv")).unwrap();
     let rows: Vec<&str> = fits.lines().collect();
     assert_eq!(rows.len(), 2, "{fits}");
     let cells: Vec<&str> = rows[1].split(',').collect();
-    assert!(cells[3].parse::<f64>().is_ok() && cells[4].parse::<f64>().is_ok(), "both exponents fitted: {fits}");
-    assert_eq!(std::fs::read_to_string(dir.join("scaling_points.csv")).unwrap().lines().count(), 5);
-    assert!(std::fs::read_to_string(dir.join("report.md")).unwrap().contains("## Scaling"));
+    assert!(
+        cells[3].parse::<f64>().is_ok() && cells[4].parse::<f64>().is_ok(),
+        "both exponents fitted: {fits}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("scaling_points.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        5
+    );
+    assert!(
+        std::fs::read_to_string(dir.join("report.md"))
+            .unwrap()
+            .contains("## Scaling")
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -105,14 +197,35 @@ fn tune_prints_a_config_that_loads_and_refuses_an_impossible_budget() {
     let registry = TechniqueRegistry::with_builtins();
     let file = temp_dir("tune").with_extension("toml");
     let f = file.to_str().unwrap();
-    let small = ["--scene", "sphere-on-plane", "--width", "48", "--height", "48", "--frames", "2", "--warmup", "0", "--rays", "32", "--quiet"];
+    let small = [
+        "--scene",
+        "sphere-on-plane",
+        "--width",
+        "48",
+        "--height",
+        "48",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--rays",
+        "32",
+        "--quiet",
+    ];
     let text = aograph(&[&["tune", "--budget-ms", "100000", "--out", f], &small[..]].concat());
-    let config = aograph::AppConfig::parse(&text, "tune output", &registry).expect("the printed config loads");
-    assert_eq!(config.scene, aograph::SceneSource::Procedural("sphere-on-plane".into()));
+    let config = aograph::AppConfig::parse(&text, "tune output", &registry)
+        .expect("the printed config loads");
+    assert_eq!(
+        config.scene,
+        aograph::SceneSource::Procedural("sphere-on-plane".into())
+    );
     assert_eq!((config.width, config.height), (48, 48));
     assert_eq!(std::fs::read_to_string(&file).unwrap(), text);
     let _ = std::fs::remove_file(&file);
-    let out = Command::new(env!("CARGO_BIN_EXE_aograph")).args([&["tune", "--budget-ms", "0.0000001"], &small[..]].concat()).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_aograph"))
+        .args([&["tune", "--budget-ms", "0.0000001"], &small[..]].concat())
+        .output()
+        .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--budget-ms"));
 }
@@ -122,16 +235,33 @@ fn tune_prints_a_config_that_loads_and_refuses_an_impossible_budget() {
 #[test]
 fn metrics_of_the_real_reference_against_itself_and_a_biased_copy() {
     let scene = aograph_scene::procedural_scene("sphere-on-plane").unwrap();
-    let Some(run) = common::render_ao(scene, &common::ao_config("none", 1.0, ""), Extent::new(48, 40), 1) else { return };
+    let Some(run) = common::render_ao(
+        scene,
+        &common::ao_config("none", 1.0, ""),
+        Extent::new(48, 40),
+        1,
+    ) else {
+        return;
+    };
     let reference = common::reference(&run, 1.0, 32);
     let o = MetricOptions::default();
     let m = compare(&reference, &reference, &run.depth, 48, 40, &o).unwrap();
-    assert_eq!((m.mae, m.rmse, m.signed_error, m.psnr), (0.0, 0.0, 0.0, f64::INFINITY));
+    assert_eq!(
+        (m.mae, m.rmse, m.signed_error, m.psnr),
+        (0.0, 0.0, 0.0, f64::INFINITY)
+    );
     assert!((m.ssim - 1.0).abs() < 1e-12 && m.edge_mae == Some(0.0));
     let biased: Vec<f32> = reference.iter().map(|v| 0.9 * v).collect();
-    let (sum, n) = reference.iter().zip(&run.depth).filter(|(_, d)| **d > 0.0).fold((0.0f64, 0usize), |(s, n), (v, _)| (s + *v as f64, n + 1));
+    let (sum, n) = reference
+        .iter()
+        .zip(&run.depth)
+        .filter(|(_, d)| **d > 0.0)
+        .fold((0.0f64, 0usize), |(s, n), (v, _)| (s + *v as f64, n + 1));
     let mean = sum / n as f64;
     let m = compare(&biased, &reference, &run.depth, 48, 40, &o).unwrap();
-    assert!((m.mae - 0.1 * mean).abs() < 1e-6 && (m.signed_error + 0.1 * mean).abs() < 1e-6, "{m:?} (mean accessibility {mean})");
+    assert!(
+        (m.mae - 0.1 * mean).abs() < 1e-6 && (m.signed_error + 0.1 * mean).abs() < 1e-6,
+        "{m:?} (mean accessibility {mean})"
+    );
     assert!(m.ssim < 1.0 && m.psnr.is_finite());
 }

@@ -7,7 +7,10 @@ use std::sync::Arc;
 
 use aograph_ao::blocks::depth_pyramid::reduce_cpu;
 use aograph_ao::blocks::*;
-use aograph_graph::{compile, test_gpu, CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{
+    CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle, compile,
+    test_gpu,
+};
 use wgpu::TextureFormat::{R32Float, Rgba32Float};
 
 /// An imported texture: name, size, format (R32Float or Rgba32Float) and texels.
@@ -20,23 +23,46 @@ struct Input {
 
 fn r32(name: &'static str, w: u32, h: u32, data: Vec<f32>) -> Input {
     assert_eq!(data.len(), (w * h) as usize);
-    Input { name, size: Extent::new(w, h), format: R32Float, data }
+    Input {
+        name,
+        size: Extent::new(w, h),
+        format: R32Float,
+        data,
+    }
 }
 
 /// Declares `inputs` (with the given size classes), lets `declare` add the block, runs one frame
 /// at `output` and reads back every returned handle.
-fn run(output: Extent, inputs: &[(&Input, SizeClass)], declare: impl FnOnce(&mut GraphBuilder, &[TextureHandle]) -> Vec<TextureHandle>) -> Option<Vec<Vec<f32>>> {
+fn run(
+    output: Extent,
+    inputs: &[(&Input, SizeClass)],
+    declare: impl FnOnce(&mut GraphBuilder, &[TextureHandle]) -> Vec<TextureHandle>,
+) -> Option<Vec<Vec<f32>>> {
     let gpu = test_gpu()?;
     let mut b = GraphBuilder::new();
-    let handles: Vec<TextureHandle> = inputs.iter().map(|(i, s)| b.import_texture(i.name, TextureDesc::new(i.format, *s))).collect();
+    let handles: Vec<TextureHandle> = inputs
+        .iter()
+        .map(|(i, s)| b.import_texture(i.name, TextureDesc::new(i.format, *s)))
+        .collect();
     let outs = declare(&mut b, &handles);
     outs.iter().for_each(|h| b.export(*h));
-    let plan = Arc::new(compile(b.build(), &aograph::shader_library(), CompileOptions::default()).expect("block graph compiles"));
+    let plan = Arc::new(
+        compile(
+            b.build(),
+            &aograph::shader_library(),
+            CompileOptions::default(),
+        )
+        .expect("block graph compiles"),
+    );
     let mut exec = Executor::with_shaders(gpu.clone(), aograph::shader_library());
     for (i, _) in inputs {
         let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(i.name),
-            size: wgpu::Extent3d { width: i.size.width, height: i.size.height, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: i.size.width,
+                height: i.size.height,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -46,22 +72,44 @@ fn run(output: Extent, inputs: &[(&Input, SizeClass)], declare: impl FnOnce(&mut
         });
         let bytes: Vec<u8> = i.data.iter().flat_map(|f| f.to_le_bytes()).collect();
         let row = i.size.width * i.format.block_copy_size(None).unwrap();
-        gpu.queue.write_texture(tex.as_image_copy(), &bytes, wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: None }, tex.size());
+        gpu.queue.write_texture(
+            tex.as_image_copy(),
+            &bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: None,
+            },
+            tex.size(),
+        );
         exec.import_texture(i.name, tex);
     }
     exec.execute(&plan, output).expect("block graph runs");
-    Some(outs.iter().map(|h| exec.read_texture(&plan, *h).unwrap().channel(0).unwrap()).collect())
+    Some(
+        outs.iter()
+            .map(|h| exec.read_texture(&plan, *h).unwrap().channel(0).unwrap())
+            .collect(),
+    )
 }
 
 /// Deterministic pseudo-random values in [0, 1).
 fn noise(n: usize, seed: u32) -> Vec<f32> {
-    (0..n as u32).map(|i| ((i.wrapping_mul(2654435761) ^ seed.wrapping_mul(40503)).wrapping_mul(2246822519) >> 8) as f32 / 16777216.0).collect()
+    (0..n as u32)
+        .map(|i| {
+            ((i.wrapping_mul(2654435761) ^ seed.wrapping_mul(40503)).wrapping_mul(2246822519) >> 8)
+                as f32
+                / 16777216.0
+        })
+        .collect()
 }
 
 fn assert_close(got: &[f32], want: &[f32], tol: f32, what: &str) {
     assert_eq!(got.len(), want.len(), "{what}: length");
     for (i, (g, w)) in got.iter().zip(want).enumerate() {
-        assert!(g.is_finite() && (g - w).abs() <= tol * w.abs().max(1.0), "{what}: texel {i}: got {g}, want {w}");
+        assert!(
+            g.is_finite() && (g - w).abs() <= tol * w.abs().max(1.0),
+            "{what}: texel {i}: got {g}, want {w}"
+        );
     }
 }
 
@@ -84,29 +132,54 @@ fn average_pyramid_of_a_9x9_image_is_exact() {
         }
     }
     let input = r32("depth", 9, 9, data.clone());
-    let Some(out) = run(Extent::new(9, 9), &[(&input, SizeClass::FULL)], |b, h| depth_pyramid(b, "t", h[0], DepthReduction::Average3x3, 3).unwrap().levels[1..].to_vec()) else { return };
+    let Some(out) = run(Extent::new(9, 9), &[(&input, SizeClass::FULL)], |b, h| {
+        depth_pyramid(b, "t", h[0], DepthReduction::Average3x3, 3)
+            .unwrap()
+            .levels[1..]
+            .to_vec()
+    }) else {
+        return;
+    };
     let (l1, ..) = reduce_cpu(&data, 9, 9, DepthReduction::Average3x3);
     assert_eq!(l1, [10.0, 20.0, 30.0, 40.0, 0.0, 60.0, 70.0, 80.0, 90.0]);
     assert_eq!(out[0], l1, "level 1 (3x3) equals the CPU mean exactly");
-    assert_eq!(out[1], [0.0], "level 2 (1x1): its block mixes sky and geometry and its centre (block 4) is sky");
+    assert_eq!(
+        out[1],
+        [0.0],
+        "level 2 (1x1): its block mixes sky and geometry and its centre (block 4) is sky"
+    );
 }
 
 #[test]
 fn pyramids_of_odd_sizes_match_the_cpu_per_level() {
     let (w, h) = (97u32, 61u32);
-    let mut data: Vec<f32> = noise((w * h) as usize, 7).iter().map(|v| 1.0 + 20.0 * v).collect();
+    let mut data: Vec<f32> = noise((w * h) as usize, 7)
+        .iter()
+        .map(|v| 1.0 + 20.0 * v)
+        .collect();
     for (i, v) in data.iter_mut().enumerate() {
         if ((i as u32 % w) < 20 && (i as u32 / w) < 15) || i % 7 == 0 {
             *v = 0.0; // sky: a corner block and scattered texels
         }
     }
     let input = r32("depth", w, h, data.clone());
-    for r in [DepthReduction::Average3x3, DepthReduction::Min2x2, DepthReduction::Max2x2] {
-        let Some(out) = run(Extent::new(w, h), &[(&input, SizeClass::FULL)], |b, hs| depth_pyramid(b, "t", hs[0], r, 4).unwrap().levels[1..].to_vec()) else { return };
+    for r in [
+        DepthReduction::Average3x3,
+        DepthReduction::Min2x2,
+        DepthReduction::Max2x2,
+    ] {
+        let Some(out) = run(Extent::new(w, h), &[(&input, SizeClass::FULL)], |b, hs| {
+            depth_pyramid(b, "t", hs[0], r, 4).unwrap().levels[1..].to_vec()
+        }) else {
+            return;
+        };
         let (mut cur, mut cw, mut ch) = (data.clone(), w, h);
         for (l, got) in out.iter().enumerate() {
             (cur, cw, ch) = reduce_cpu(&cur, cw, ch, r);
-            assert_eq!(Extent::new(cw, ch), level_extent(Extent::new(w, h), r.factor(), l as u32 + 1));
+            assert_eq!(
+                Extent::new(cw, ch),
+                level_extent(Extent::new(w, h), r.factor(), l as u32 + 1)
+            );
             if r == DepthReduction::Average3x3 {
                 assert_close(got, &cur, 1e-6, &format!("{r:?} level {}", l + 1));
                 cur = got.clone(); // continue from the GPU's level (rounding may differ by an ulp)
@@ -114,15 +187,26 @@ fn pyramids_of_odd_sizes_match_the_cpu_per_level() {
                 assert_eq!(got, &cur, "{r:?} level {} is exact", l + 1);
             }
         }
-        let sizes: Vec<Extent> = (1..4).map(|l| level_extent(Extent::new(w, h), r.factor(), l)).collect();
+        let sizes: Vec<Extent> = (1..4)
+            .map(|l| level_extent(Extent::new(w, h), r.factor(), l))
+            .collect();
         if r == DepthReduction::Average3x3 {
-            assert_eq!(sizes, [Extent::new(33, 21), Extent::new(11, 7), Extent::new(4, 3)]);
+            assert_eq!(
+                sizes,
+                [Extent::new(33, 21), Extent::new(11, 7), Extent::new(4, 3)]
+            );
         }
     }
 }
 
 /// CPU mirror of the separable Gaussian (renormalised over in-bounds, non-sky taps; sky = 1).
-fn gaussian_cpu(src: &[f32], depth: Option<&[f32]>, w: usize, h: usize, weights: &[f32]) -> Vec<f32> {
+fn gaussian_cpu(
+    src: &[f32],
+    depth: Option<&[f32]>,
+    w: usize,
+    h: usize,
+    weights: &[f32],
+) -> Vec<f32> {
     let r = (weights.len() / 2) as i32;
     let sky = |i: usize| depth.is_some_and(|d| d[i] <= 0.0);
     let pass = |src: &[f32], ax: (i32, i32)| -> Vec<f32> {
@@ -135,7 +219,12 @@ fn gaussian_cpu(src: &[f32], depth: Option<&[f32]>, w: usize, h: usize, weights:
                 let (mut s, mut ws) = (0.0f32, 0.0f32);
                 for k in -r..=r {
                     let (qx, qy) = (x + ax.0 * k, y + ax.1 * k);
-                    if qx < 0 || qy < 0 || qx >= w as i32 || qy >= h as i32 || sky(qy as usize * w + qx as usize) {
+                    if qx < 0
+                        || qy < 0
+                        || qx >= w as i32
+                        || qy >= h as i32
+                        || sky(qy as usize * w + qx as usize)
+                    {
                         continue;
                     }
                     s += weights[(k + r) as usize] * src[qy as usize * w + qx as usize];
@@ -153,19 +242,35 @@ fn gaussian_of_a_constant_is_the_constant_and_of_an_impulse_the_weights() {
     let (w, h) = (15u32, 13u32);
     let constant = r32("ao", w, h, vec![0.625; (w * h) as usize]);
     let blur = GaussianBlur::default();
-    let Some(out) = run(Extent::new(w, h), &[(&constant, SizeClass::FULL)], |b, hs| vec![gaussian_blur(b, "g", hs[0], None, &blur).unwrap()]) else { return };
+    let Some(out) = run(
+        Extent::new(w, h),
+        &[(&constant, SizeClass::FULL)],
+        |b, hs| vec![gaussian_blur(b, "g", hs[0], None, &blur).unwrap()],
+    ) else {
+        return;
+    };
     assert_close(&out[0], &vec![0.625; (w * h) as usize], 1e-6, "constant");
 
     let mut impulse = vec![0.0f32; (w * h) as usize];
     let (cx, cy) = (7usize, 6usize);
     impulse[cy * w as usize + cx] = 1.0;
     let input = r32("ao", w, h, impulse);
-    let out = run(Extent::new(w, h), &[(&input, SizeClass::FULL)], |b, hs| vec![gaussian_blur(b, "g", hs[0], None, &blur).unwrap()]).unwrap();
+    let out = run(Extent::new(w, h), &[(&input, SizeClass::FULL)], |b, hs| {
+        vec![gaussian_blur(b, "g", hs[0], None, &blur).unwrap()]
+    })
+    .unwrap();
     let wts = gaussian_weights(1.5, 5);
     let want: Vec<f32> = (0..(w * h) as usize)
         .map(|i| {
-            let (dx, dy) = ((i % w as usize) as i32 - cx as i32, (i / w as usize) as i32 - cy as i32);
-            if dx.abs() <= 2 && dy.abs() <= 2 { wts[(dx + 2) as usize] * wts[(dy + 2) as usize] } else { 0.0 }
+            let (dx, dy) = (
+                (i % w as usize) as i32 - cx as i32,
+                (i / w as usize) as i32 - cy as i32,
+            );
+            if dx.abs() <= 2 && dy.abs() <= 2 {
+                wts[(dx + 2) as usize] * wts[(dy + 2) as usize]
+            } else {
+                0.0
+            }
         })
         .collect();
     assert_close(&out[0], &want, 1e-6, "impulse response = w x w");
@@ -175,19 +280,53 @@ fn gaussian_of_a_constant_is_the_constant_and_of_an_impulse_the_weights() {
 fn gaussian_with_depth_keeps_sky_at_one_and_matches_the_cpu() {
     let (w, h) = (23usize, 17usize);
     let ao = noise(w * h, 3);
-    let depth: Vec<f32> = (0..w * h).map(|i| if (i % w) + (i / w) < 9 { 0.0 } else { 2.0 + (i % w) as f32 * 0.1 }).collect();
-    let (a, d) = (r32("ao", w as u32, h as u32, ao.clone()), r32("depth", w as u32, h as u32, depth.clone()));
-    let p = GaussianBlur { sigma: 2.0, taps: 7, depth_sigma: None };
-    let Some(out) = run(Extent::new(w as u32, h as u32), &[(&a, SizeClass::FULL), (&d, SizeClass::FULL)], |b, hs| vec![gaussian_blur(b, "g", hs[0], Some(hs[1]), &p).unwrap()]) else { return };
+    let depth: Vec<f32> = (0..w * h)
+        .map(|i| {
+            if (i % w) + (i / w) < 9 {
+                0.0
+            } else {
+                2.0 + (i % w) as f32 * 0.1
+            }
+        })
+        .collect();
+    let (a, d) = (
+        r32("ao", w as u32, h as u32, ao.clone()),
+        r32("depth", w as u32, h as u32, depth.clone()),
+    );
+    let p = GaussianBlur {
+        sigma: 2.0,
+        taps: 7,
+        depth_sigma: None,
+    };
+    let Some(out) = run(
+        Extent::new(w as u32, h as u32),
+        &[(&a, SizeClass::FULL), (&d, SizeClass::FULL)],
+        |b, hs| vec![gaussian_blur(b, "g", hs[0], Some(hs[1]), &p).unwrap()],
+    ) else {
+        return;
+    };
     let want = gaussian_cpu(&ao, Some(&depth), w, h, &gaussian_weights(2.0, 7));
     assert_close(&out[0], &want, 2e-6, "sky-masked Gaussian");
-    assert!(depth.iter().zip(&out[0]).all(|(z, v)| *z > 0.0 || *v == 1.0), "sky is exactly 1");
+    assert!(
+        depth
+            .iter()
+            .zip(&out[0])
+            .all(|(z, v)| *z > 0.0 || *v == 1.0),
+        "sky is exactly 1"
+    );
 }
 
 /// A depth step at x = w/2 (near left, far right), AO 0.2 left and 0.9 right.
 fn step_scene(w: usize, h: usize) -> (Vec<f32>, Vec<f32>) {
     let left = |i: usize| i % w < w / 2;
-    ((0..w * h).map(|i| if left(i) { 0.2 } else { 0.9 }).collect(), (0..w * h).map(|i| if left(i) { 1.0 } else { 5.0 }).collect())
+    (
+        (0..w * h)
+            .map(|i| if left(i) { 0.2 } else { 0.9 })
+            .collect(),
+        (0..w * h)
+            .map(|i| if left(i) { 1.0 } else { 5.0 })
+            .collect(),
+    )
 }
 
 #[test]
@@ -195,13 +334,44 @@ fn bilateral_blur_keeps_constants_and_stops_at_depth_and_normal_edges() {
     let (w, h) = (20usize, 12usize);
     let (ao, depth) = step_scene(w, h);
     // Normals: +z on the top half, +x on the bottom half (a crease at constant depth there).
-    let normals: Vec<f32> = (0..w * h).flat_map(|i| if i / w < h / 2 { [0.0, 0.0, 1.0, 1.0] } else { [1.0, 0.0, 0.0, 1.0] }).collect();
-    let flat_ao: Vec<f32> = (0..w * h).map(|i| if i / w < h / 2 { 0.3 } else { 0.7 }).collect();
-    let n = Input { name: "normals", size: Extent::new(w as u32, h as u32), format: Rgba32Float, data: normals };
+    let normals: Vec<f32> = (0..w * h)
+        .flat_map(|i| {
+            if i / w < h / 2 {
+                [0.0, 0.0, 1.0, 1.0]
+            } else {
+                [1.0, 0.0, 0.0, 1.0]
+            }
+        })
+        .collect();
+    let flat_ao: Vec<f32> = (0..w * h)
+        .map(|i| if i / w < h / 2 { 0.3 } else { 0.7 })
+        .collect();
+    let n = Input {
+        name: "normals",
+        size: Extent::new(w as u32, h as u32),
+        format: Rgba32Float,
+        data: normals,
+    };
     let p = BilateralBlur::default();
-    for (ao, depth, what) in [(ao, depth, "depth edge"), (flat_ao, vec![3.0; w * h], "normal edge")] {
-        let (a, d) = (r32("ao", w as u32, h as u32, ao.clone()), r32("depth", w as u32, h as u32, depth));
-        let Some(out) = run(Extent::new(w as u32, h as u32), &[(&a, SizeClass::FULL), (&d, SizeClass::FULL), (&n, SizeClass::FULL)], |b, hs| vec![bilateral_blur(b, "b", hs[0], hs[1], hs[2], &p).unwrap()]) else { return };
+    for (ao, depth, what) in [
+        (ao, depth, "depth edge"),
+        (flat_ao, vec![3.0; w * h], "normal edge"),
+    ] {
+        let (a, d) = (
+            r32("ao", w as u32, h as u32, ao.clone()),
+            r32("depth", w as u32, h as u32, depth),
+        );
+        let Some(out) = run(
+            Extent::new(w as u32, h as u32),
+            &[
+                (&a, SizeClass::FULL),
+                (&d, SizeClass::FULL),
+                (&n, SizeClass::FULL),
+            ],
+            |b, hs| vec![bilateral_blur(b, "b", hs[0], hs[1], hs[2], &p).unwrap()],
+        ) else {
+            return;
+        };
         assert_close(&out[0], &ao, 1e-5, what);
     }
 }
@@ -211,27 +381,80 @@ fn upsample_is_bilinear_on_a_continuous_surface_and_does_not_blend_across_edges(
     let (w, h) = (16usize, 10usize);
     let (lw, lh) = (w / 2, h / 2);
     let low = noise(lw * lh, 11);
-    let (a, dl, df) = (r32("ao", lw as u32, lh as u32, low.clone()), r32("depth_low", lw as u32, lh as u32, vec![4.0; lw * lh]), r32("depth_full", w as u32, h as u32, vec![4.0; w * h]));
-    let ins = [(&a, SizeClass::half_pow(1)), (&dl, SizeClass::half_pow(1)), (&df, SizeClass::FULL)];
-    let up = |b: &mut GraphBuilder, hs: &[TextureHandle]| vec![bilateral_upsample(b, "u", &UpsampleInputs { ao: hs[0], depth_low: hs[1], depth_full: hs[2], normals: None }, &BilateralUpsample::default()).unwrap()];
-    let Some(out) = run(Extent::new(w as u32, h as u32), &ins, up) else { return };
+    let (a, dl, df) = (
+        r32("ao", lw as u32, lh as u32, low.clone()),
+        r32("depth_low", lw as u32, lh as u32, vec![4.0; lw * lh]),
+        r32("depth_full", w as u32, h as u32, vec![4.0; w * h]),
+    );
+    let ins = [
+        (&a, SizeClass::half_pow(1)),
+        (&dl, SizeClass::half_pow(1)),
+        (&df, SizeClass::FULL),
+    ];
+    let up = |b: &mut GraphBuilder, hs: &[TextureHandle]| {
+        vec![
+            bilateral_upsample(
+                b,
+                "u",
+                &UpsampleInputs {
+                    ao: hs[0],
+                    depth_low: hs[1],
+                    depth_full: hs[2],
+                    normals: None,
+                },
+                &BilateralUpsample::default(),
+            )
+            .unwrap(),
+        ]
+    };
+    let Some(out) = run(Extent::new(w as u32, h as u32), &ins, up) else {
+        return;
+    };
     // Bilinear with clamp-to-edge taps: u = (p + 0.5) / 2 - 0.5.
-    let at = |x: i32, y: i32| low[y.clamp(0, lh as i32 - 1) as usize * lw + x.clamp(0, lw as i32 - 1) as usize];
+    let at = |x: i32, y: i32| {
+        low[y.clamp(0, lh as i32 - 1) as usize * lw + x.clamp(0, lw as i32 - 1) as usize]
+    };
     let want: Vec<f32> = (0..w * h)
         .map(|i| {
-            let (ux, uy) = (((i % w) as f32 + 0.5) / 2.0 - 0.5, ((i / w) as f32 + 0.5) / 2.0 - 0.5);
+            let (ux, uy) = (
+                ((i % w) as f32 + 0.5) / 2.0 - 0.5,
+                ((i / w) as f32 + 0.5) / 2.0 - 0.5,
+            );
             let (bx, by) = (ux.floor(), uy.floor());
             let (tx, ty) = (ux - bx, uy - by);
             let (bx, by) = (bx as i32, by as i32);
-            (1.0 - tx) * (1.0 - ty) * at(bx, by) + tx * (1.0 - ty) * at(bx + 1, by) + (1.0 - tx) * ty * at(bx, by + 1) + tx * ty * at(bx + 1, by + 1)
+            (1.0 - tx) * (1.0 - ty) * at(bx, by)
+                + tx * (1.0 - ty) * at(bx + 1, by)
+                + (1.0 - tx) * ty * at(bx, by + 1)
+                + tx * ty * at(bx + 1, by + 1)
         })
         .collect();
     assert_close(&out[0], &want, 1e-5, "bilinear on a flat depth");
 
     // A depth step: each full-res pixel takes only the low-res AO of its own side.
     let (ao_full, depth_full) = step_scene(w, h);
-    let (ao_low, depth_low): (Vec<f32>, Vec<f32>) = (0..lw * lh).map(|i| (ao_full[(i / lw) * 2 * w + (i % lw) * 2], depth_full[(i / lw) * 2 * w + (i % lw) * 2])).unzip();
-    let (a, dl, df) = (r32("ao", lw as u32, lh as u32, ao_low), r32("depth_low", lw as u32, lh as u32, depth_low), r32("depth_full", w as u32, h as u32, depth_full));
-    let out = run(Extent::new(w as u32, h as u32), &[(&a, SizeClass::half_pow(1)), (&dl, SizeClass::half_pow(1)), (&df, SizeClass::FULL)], up).unwrap();
+    let (ao_low, depth_low): (Vec<f32>, Vec<f32>) = (0..lw * lh)
+        .map(|i| {
+            (
+                ao_full[(i / lw) * 2 * w + (i % lw) * 2],
+                depth_full[(i / lw) * 2 * w + (i % lw) * 2],
+            )
+        })
+        .unzip();
+    let (a, dl, df) = (
+        r32("ao", lw as u32, lh as u32, ao_low),
+        r32("depth_low", lw as u32, lh as u32, depth_low),
+        r32("depth_full", w as u32, h as u32, depth_full),
+    );
+    let out = run(
+        Extent::new(w as u32, h as u32),
+        &[
+            (&a, SizeClass::half_pow(1)),
+            (&dl, SizeClass::half_pow(1)),
+            (&df, SizeClass::FULL),
+        ],
+        up,
+    )
+    .unwrap();
     assert_close(&out[0], &ao_full, 1e-5, "no blending across the depth edge");
 }

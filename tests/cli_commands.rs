@@ -6,8 +6,15 @@ use std::path::PathBuf;
 use std::process::Command;
 
 fn aograph(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_aograph")).args(args).output().expect("aograph runs");
-    (out.status.success(), String::from_utf8_lossy(&out.stdout).to_string(), String::from_utf8_lossy(&out.stderr).to_string())
+    let out = Command::new(env!("CARGO_BIN_EXE_aograph"))
+        .args(args)
+        .output()
+        .expect("aograph runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).to_string(),
+        String::from_utf8_lossy(&out.stderr).to_string(),
+    )
 }
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -27,9 +34,17 @@ fn every_shipped_config_prints_a_dot_graph_and_a_plan() {
             continue;
         }
         let (ok, dot, err) = aograph(&["graph", "--config", p.to_str().unwrap(), "--dot"]);
-        assert!(ok && dot.starts_with("digraph") && dot.contains("gbuffer"), "{}: {err}", p.display());
+        assert!(
+            ok && dot.starts_with("digraph") && dot.contains("gbuffer"),
+            "{}: {err}",
+            p.display()
+        );
         let (ok, plan, err) = aograph(&["graph", "--config", p.to_str().unwrap()]);
-        assert!(ok && plan.contains("texture bytes"), "{}: {err}", p.display());
+        assert!(
+            ok && plan.contains("texture bytes"),
+            "{}: {err}",
+            p.display()
+        );
         n += 1;
     }
     assert!(n >= 8, "only {n} configs");
@@ -40,7 +55,10 @@ fn techniques_lists_every_registered_technique_with_parameters() {
     let (ok, out, _) = aograph(&["techniques"]);
     assert!(ok);
     for name in aograph_ao::TechniqueRegistry::with_builtins().names() {
-        assert!(out.contains(&format!("{name}:")), "{name} missing from:\n{out}");
+        assert!(
+            out.contains(&format!("{name}:")),
+            "{name} missing from:\n{out}"
+        );
     }
     assert!(out.contains("default") && out.contains("allowed"));
 }
@@ -51,14 +69,29 @@ fn reference_writes_png_raw_and_depth() {
         return;
     }
     let out = temp_dir("reference");
-    let (ok, stdout, err) = aograph(&["reference", "--scene", "plane", "--width", "24", "--height", "16", "--rays", "16", "--out", out.to_str().unwrap()]);
+    let (ok, stdout, err) = aograph(&[
+        "reference",
+        "--scene",
+        "plane",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--rays",
+        "16",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(ok, "{err}");
     for f in ["reference.png", "reference.f32", "gbuffer_depth.png"] {
         assert!(out.join(f).exists(), "{f} missing; {stdout}");
     }
     let raw = aograph_scene::reference::read_raw_f32(out.join("reference.f32")).unwrap();
     assert_eq!((raw.width, raw.height), (24, 16));
-    assert!(raw.values.iter().all(|&v| v == 1.0), "a flat plane is exactly 1");
+    assert!(
+        raw.values.iter().all(|&v| v == 1.0),
+        "a flat plane is exactly 1"
+    );
 }
 
 #[test]
@@ -68,7 +101,12 @@ fn scene_export_writes_a_glb_the_loader_reads_back() {
     let (ok, _, err) = aograph(&["scene", "export", "stairs", file.to_str().unwrap()]);
     assert!(ok, "{err}");
     let back = aograph_scene::load_scene(&file).unwrap();
-    assert_eq!(back.triangle_count(), aograph_scene::procedural_scene("stairs").unwrap().triangle_count());
+    assert_eq!(
+        back.triangle_count(),
+        aograph_scene::procedural_scene("stairs")
+            .unwrap()
+            .triangle_count()
+    );
     let (ok, _, err) = aograph(&["scene", "export", "nope", file.to_str().unwrap()]);
     assert!(!ok && err.contains("unknown procedural scene"), "{err}");
 }

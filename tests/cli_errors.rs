@@ -17,7 +17,10 @@ fn aograph(args: &[&str], env: &[(&str, &str)]) -> Output {
 fn fails(args: &[&str], env: &[(&str, &str)]) -> String {
     let out = aograph(args, env);
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!out.status.success(), "{args:?} should fail; stderr: {stderr}");
+    assert!(
+        !out.status.success(),
+        "{args:?} should fail; stderr: {stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
     stderr
 }
@@ -30,7 +33,14 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 fn small(out: &Path) -> Vec<String> {
-    vec!["--width".into(), "32".into(), "--height".into(), "24".into(), "--out".into(), out.display().to_string()]
+    vec![
+        "--width".into(),
+        "32".into(),
+        "--height".into(),
+        "24".into(),
+        "--out".into(),
+        out.display().to_string(),
+    ]
 }
 
 fn render(extra: &[&str], out: &Path, env: &[(&str, &str)]) -> String {
@@ -44,8 +54,15 @@ fn render(extra: &[&str], out: &Path, env: &[(&str, &str)]) -> String {
 #[test]
 fn missing_scene_file_names_the_file() {
     let out = temp_dir("missing");
-    let e = render(&["--technique", "none", "--scene", "/nonexistent/scene.gltf"], &out, &[]);
-    assert!(e.contains("/nonexistent/scene.gltf") && e.contains("does not exist"), "{e}");
+    let e = render(
+        &["--technique", "none", "--scene", "/nonexistent/scene.gltf"],
+        &out,
+        &[],
+    );
+    assert!(
+        e.contains("/nonexistent/scene.gltf") && e.contains("does not exist"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -53,15 +70,27 @@ fn malformed_gltf_names_the_file_and_the_parser_message() {
     let out = temp_dir("malformed");
     let bad = out.join("bad.gltf");
     std::fs::write(&bad, "{ \"asset\": { \"version\": \"2.0\" }, ").unwrap();
-    let e = render(&["--technique", "none", "--scene", bad.to_str().unwrap()], &out, &[]);
-    assert!(e.contains("bad.gltf") && e.contains("not valid glTF JSON"), "{e}");
+    let e = render(
+        &["--technique", "none", "--scene", bad.to_str().unwrap()],
+        &out,
+        &[],
+    );
+    assert!(
+        e.contains("bad.gltf") && e.contains("not valid glTF JSON"),
+        "{e}"
+    );
 }
 
 #[test]
 fn unknown_technique_lists_the_known_ones() {
     let out = temp_dir("technique");
     let e = render(&["--technique", "ssoa"], &out, &[]);
-    assert!(e.contains("unknown technique `ssoa`") && e.contains("known techniques:") && e.contains("none"), "{e}");
+    assert!(
+        e.contains("unknown technique `ssoa`")
+            && e.contains("known techniques:")
+            && e.contains("none"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -69,14 +98,28 @@ fn negative_or_zero_radius_gives_the_allowed_range() {
     let out = temp_dir("radius");
     for r in ["--radius=-1", "--radius=0"] {
         let e = render(&[r], &out, &[]);
-        assert!(e.contains("--radius") && e.contains("greater than 0"), "{e}");
+        assert!(
+            e.contains("--radius") && e.contains("greater than 0"),
+            "{e}"
+        );
     }
 }
 
 #[test]
 fn zero_output_size_gives_the_allowed_range() {
     let out = temp_dir("size");
-    let e = fails(&["render", "--width", "0", "--height", "24", "--out", out.to_str().unwrap()], &[]);
+    let e = fails(
+        &[
+            "render",
+            "--width",
+            "0",
+            "--height",
+            "24",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
     assert!(e.contains("--width") && e.contains("1 to 8192"), "{e}");
 }
 
@@ -86,13 +129,32 @@ fn unknown_config_key_suggests_the_nearest() {
     let cfg = out.join("c.toml");
     std::fs::write(&cfg, "[ao]\ntechnique = \"none\"\nradus = 2.0\n").unwrap();
     let e = render(&["--config", cfg.to_str().unwrap()], &out, &[]);
-    assert!(e.contains("unknown key `radus`") && e.contains("did you mean `radius`"), "{e}");
+    assert!(
+        e.contains("unknown key `radus`") && e.contains("did you mean `radius`"),
+        "{e}"
+    );
 }
 
 #[test]
 fn unwritable_output_directory_is_reported_and_nothing_is_left_behind() {
-    let e = fails(&["render", "--technique", "none", "--width", "8", "--height", "8", "--out", "/proc/aograph-out"], &[]);
-    assert!(e.contains("/proc/aograph-out") && e.contains("output directory"), "{e}");
+    let e = fails(
+        &[
+            "render",
+            "--technique",
+            "none",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--out",
+            "/proc/aograph-out",
+        ],
+        &[],
+    );
+    assert!(
+        e.contains("/proc/aograph-out") && e.contains("output directory"),
+        "{e}"
+    );
     assert!(!Path::new("/proc/aograph-out").exists());
 }
 
@@ -100,8 +162,18 @@ fn unwritable_output_directory_is_reported_and_nothing_is_left_behind() {
 fn no_gpu_adapter_says_how_to_install_one() {
     let out = temp_dir("nogpu");
     // An empty driver list: the Vulkan loader finds no device.
-    let e = render(&["--technique", "none"], &out, &[("VK_ICD_FILENAMES", "/nonexistent/icd.json"), ("VK_DRIVER_FILES", "/nonexistent/icd.json")]);
-    assert!(e.contains("no GPU adapter") && e.contains("apt-get install mesa-vulkan-drivers"), "{e}");
+    let e = render(
+        &["--technique", "none"],
+        &out,
+        &[
+            ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
+            ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
+        ],
+    );
+    assert!(
+        e.contains("no GPU adapter") && e.contains("apt-get install mesa-vulkan-drivers"),
+        "{e}"
+    );
     assert!(!out.join("ao.png").exists(), "no partial output");
 }
 
@@ -109,10 +181,17 @@ fn no_gpu_adapter_says_how_to_install_one() {
 fn shader_that_fails_validation_names_file_and_line() {
     let out = temp_dir("shader");
     let shaders = out.join("shaders");
-    copy_dir(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders")), &shaders);
+    copy_dir(
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders")),
+        &shaders,
+    );
     let broken = "// broken on purpose\n@group(0) @binding(0) var ao: texture_storage_2d<r32float, write>;\n\n@compute @workgroup_size(8, 8)\nfn main(@builtin(global_invocation_id) id: vec3<u32>) {\n    let x: f32 = undefined_symbol;\n}\n";
     std::fs::write(shaders.join("ao/none.wgsl"), broken).unwrap();
-    let e = render(&["--technique", "none"], &out.join("o"), &[("AOGRAPH_SHADERS", shaders.to_str().unwrap())]);
+    let e = render(
+        &["--technique", "none"],
+        &out.join("o"),
+        &[("AOGRAPH_SHADERS", shaders.to_str().unwrap())],
+    );
     assert!(e.contains("ao/none.wgsl") && e.contains("line 6"), "{e}");
 }
 

@@ -4,9 +4,9 @@
 
 use std::sync::Arc;
 
-use aograph::{build_frame_graph, FrameOutputs};
+use aograph::{FrameOutputs, build_frame_graph};
 use aograph_ao::{AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
-use aograph_graph::{compile, CompileOptions, GBufferChannel, GBufferChannels, ParamSpec};
+use aograph_graph::{CompileOptions, GBufferChannel, GBufferChannels, ParamSpec, compile};
 use serde::{Deserialize, Serialize};
 
 /// A technique that reads linear depth only.
@@ -36,7 +36,9 @@ impl AoTechnique for DepthOnly {
     fn build(&self, ctx: &mut AoBuildContext<'_>, _: &NoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let out = ctx.accessibility_texture("ao");
-        let mut p = ctx.builder.compute_pass("depth-only.copy", "test/depth_only.wgsl", "main");
+        let mut p = ctx
+            .builder
+            .compute_pass("depth-only.copy", "test/depth_only.wgsl", "main");
         p.sample("depth", depth);
         let out = p.write_storage("ao", out);
         p.dispatch_over(out);
@@ -54,7 +56,10 @@ fn resource_names(decl: &aograph_graph::GraphDecl) -> Vec<String> {
 fn depth_only_technique_plan_has_no_normal_colour_or_motion_attachment() {
     let mut registry = TechniqueRegistry::with_builtins();
     registry.register(DepthOnly);
-    let ao = AoConfig { technique: "depth-only".into(), ..AoConfig::default() };
+    let ao = AoConfig {
+        technique: "depth-only".into(),
+        ..AoConfig::default()
+    };
     for scene in ["columns", "dynamic"] {
         let s = Arc::new(aograph_scene::procedural_scene(scene).unwrap());
         let fg = build_frame_graph(&registry, s, &ao, FrameOutputs::default()).unwrap();
@@ -62,10 +67,22 @@ fn depth_only_technique_plan_has_no_normal_colour_or_motion_attachment() {
         shaders.add_inline("test/depth_only.wgsl", DEPTH_ONLY);
         let plan = compile(fg.decl.clone(), &shaders, CompileOptions::default()).unwrap();
         let names = resource_names(&plan.decl);
-        for absent in ["gbuffer.normals", "gbuffer.positions", "gbuffer.albedo", "gbuffer.direct_light", "gbuffer.motion"] {
-            assert!(!names.iter().any(|n| n == absent), "{scene}: {absent} in {names:?}");
+        for absent in [
+            "gbuffer.normals",
+            "gbuffer.positions",
+            "gbuffer.albedo",
+            "gbuffer.direct_light",
+            "gbuffer.motion",
+        ] {
+            assert!(
+                !names.iter().any(|n| n == absent),
+                "{scene}: {absent} in {names:?}"
+            );
         }
-        assert!(names.iter().any(|n| n == "gbuffer.linear_depth"), "{names:?}");
+        assert!(
+            names.iter().any(|n| n == "gbuffer.linear_depth"),
+            "{names:?}"
+        );
         assert_eq!(plan.pass_names(), ["gbuffer", "depth-only.copy"]);
     }
 }
@@ -73,13 +90,24 @@ fn depth_only_technique_plan_has_no_normal_colour_or_motion_attachment() {
 #[test]
 fn static_scene_gets_no_motion_vectors_but_a_moving_one_does() {
     let registry = TechniqueRegistry::with_builtins();
-    let ao = AoConfig { technique: "tssao".into(), ..AoConfig::default() };
+    let ao = AoConfig {
+        technique: "tssao".into(),
+        ..AoConfig::default()
+    };
     let channels = |scene: &str| {
         let s = Arc::new(aograph_scene::procedural_scene(scene).unwrap());
-        build_frame_graph(&registry, s, &ao, FrameOutputs::default()).unwrap().channels
+        build_frame_graph(&registry, s, &ao, FrameOutputs::default())
+            .unwrap()
+            .channels
     };
-    assert!(!channels("columns").contains(GBufferChannel::Motion), "static scene");
-    assert!(channels("dynamic").contains(GBufferChannel::Motion), "moving scene");
+    assert!(
+        !channels("columns").contains(GBufferChannel::Motion),
+        "static scene"
+    );
+    assert!(
+        channels("dynamic").contains(GBufferChannel::Motion),
+        "moving scene"
+    );
 }
 
 #[test]
@@ -87,12 +115,33 @@ fn only_ssdo_and_shading_bring_colour_into_the_graph() {
     let registry = TechniqueRegistry::with_builtins();
     let scene = Arc::new(aograph_scene::procedural_scene("columns").unwrap());
     for name in registry.names() {
-        let ao = AoConfig { technique: name.clone(), ..AoConfig::default() };
+        let ao = AoConfig {
+            technique: name.clone(),
+            ..AoConfig::default()
+        };
         let fg = build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default()).unwrap();
-        let has_colour = fg.channels.contains(GBufferChannel::Albedo) || fg.channels.contains(GBufferChannel::DirectLight);
-        assert_eq!(has_colour, name == "ssdo", "{name}: channels {:?}", fg.channels.iter().collect::<Vec<_>>());
-        let shaded = build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs { shaded: true, ..Default::default() }).unwrap();
-        assert!(shaded.channels.contains(GBufferChannel::Albedo), "{name}: shading needs albedo");
+        let has_colour = fg.channels.contains(GBufferChannel::Albedo)
+            || fg.channels.contains(GBufferChannel::DirectLight);
+        assert_eq!(
+            has_colour,
+            name == "ssdo",
+            "{name}: channels {:?}",
+            fg.channels.iter().collect::<Vec<_>>()
+        );
+        let shaded = build_frame_graph(
+            &registry,
+            scene.clone(),
+            &ao,
+            FrameOutputs {
+                shaded: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            shaded.channels.contains(GBufferChannel::Albedo),
+            "{name}: shading needs albedo"
+        );
     }
 }
 
@@ -101,10 +150,35 @@ fn every_technique_plan_culls_nothing_and_compiles_against_the_real_shaders() {
     let registry = TechniqueRegistry::with_builtins();
     let scene = Arc::new(aograph_scene::procedural_scene("columns").unwrap());
     for name in registry.names() {
-        let ao = AoConfig { technique: name.clone(), ..AoConfig::default() };
-        let fg = build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs { shaded: true, ..Default::default() }).unwrap();
-        let plan = compile(fg.decl, &aograph::shader_library(), CompileOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert!(plan.culled.is_empty(), "{name}: culled {:?}", plan.culled_names());
-        assert_eq!(plan.pass_names().first().copied(), Some("gbuffer"), "{name}");
+        let ao = AoConfig {
+            technique: name.clone(),
+            ..AoConfig::default()
+        };
+        let fg = build_frame_graph(
+            &registry,
+            scene.clone(),
+            &ao,
+            FrameOutputs {
+                shaded: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let plan = compile(
+            fg.decl,
+            &aograph::shader_library(),
+            CompileOptions::default(),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(
+            plan.culled.is_empty(),
+            "{name}: culled {:?}",
+            plan.culled_names()
+        );
+        assert_eq!(
+            plan.pass_names().first().copied(),
+            Some("gbuffer"),
+            "{name}"
+        );
     }
 }

@@ -23,15 +23,38 @@ fn every_shader_file_validates_with_naga() {
             failures.push(format!("{v}: {e}"));
         }
     }
-    assert!(failures.is_empty(), "{} of {} shaders fail:\n{}", failures.len(), files.len() + variants.len(), failures.join("\n"));
-    assert!(variants.iter().any(|v| v.starts_with("ao/ssao/ao.wgsl?")), "the ssao AO pass has an r16float variant: {variants:?}");
-    println!("{} shader files and {} r16float variants validated: {}", files.len(), variants.len(), variants.join(", "));
+    assert!(
+        failures.is_empty(),
+        "{} of {} shaders fail:\n{}",
+        failures.len(),
+        files.len() + variants.len(),
+        failures.join("\n")
+    );
+    assert!(
+        variants.iter().any(|v| v.starts_with("ao/ssao/ao.wgsl?")),
+        "the ssao AO pass has an r16float variant: {variants:?}"
+    );
+    println!(
+        "{} shader files and {} r16float variants validated: {}",
+        files.len(),
+        variants.len(),
+        variants.join(", ")
+    );
 }
 
 #[test]
 fn example_shaders_validate_with_naga() {
     let lib = aograph_graph::ShaderLibrary::new(aograph::shader_dir());
-    for (name, src) in [("examples/unsharp_depth.wgsl", include_str!("../examples/shaders/unsharp_depth.wgsl")), ("examples/tint.wgsl", include_str!("../examples/shaders/tint.wgsl"))] {
+    for (name, src) in [
+        (
+            "examples/unsharp_depth.wgsl",
+            include_str!("../examples/shaders/unsharp_depth.wgsl"),
+        ),
+        (
+            "examples/tint.wgsl",
+            include_str!("../examples/shaders/tint.wgsl"),
+        ),
+    ] {
         lib.add_inline(name, src);
         lib.load(name).unwrap_or_else(|e| panic!("{e}"));
     }

@@ -23,18 +23,21 @@
 
 mod common;
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::time::Instant;
 
 use aograph::{FrameOutputs, Renderer};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
-use aograph_graph::{test_gpu, DepthFormat, Extent, GpuContext};
+use aograph_graph::{DepthFormat, Extent, GpuContext, test_gpu};
 use aograph_scene::primitives::{cuboid, quad};
 use aograph_scene::{Camera, Mesh, Projection, Scene, SceneBuilder};
 use glam::{Mat4, Vec3};
 
-const SIZE: Extent = Extent { width: 32, height: 32 };
+const SIZE: Extent = Extent {
+    width: 32,
+    height: 32,
+};
 /// Where the temporal island floor lies (scene units, scale 1): the camera jump's length.
 const JUMP: f32 = 1.0e4;
 
@@ -47,7 +50,11 @@ struct Variant {
 
 impl Variant {
     fn label(&self) -> String {
-        if self.params.is_empty() { self.technique.clone() } else { format!("{} [{}]", self.technique, self.params) }
+        if self.params.is_empty() {
+            self.technique.clone()
+        } else {
+            format!("{} [{}]", self.technique, self.params)
+        }
     }
 }
 
@@ -56,10 +63,16 @@ fn variants() -> Vec<Variant> {
     let registry = TechniqueRegistry::with_builtins();
     let mut out = Vec::new();
     for name in registry.names() {
-        out.push(Variant { technique: name.clone(), params: "" });
+        out.push(Variant {
+            technique: name.clone(),
+            params: "",
+        });
         let t = registry.get(&name).expect("listed");
         if t.parameters().iter().any(|p| p.name == "temporal") {
-            out.push(Variant { technique: name.clone(), params: "temporal = true" });
+            out.push(Variant {
+                technique: name.clone(),
+                params: "temporal = true",
+            });
         }
     }
     assert!(out.len() >= 7, "every built-in technique: {out:?}");
@@ -74,9 +87,17 @@ fn deepest_pyramids() -> Vec<Variant> {
     for name in registry.names() {
         let t = registry.get(&name).expect("listed");
         if let Some(spec) = t.parameters().into_iter().find(|p| p.name == "levels") {
-            let max: u32 = spec.allowed.rsplit(' ').next().and_then(|n| n.parse().ok()).unwrap_or_else(|| panic!("{name}: levels allowed {}", spec.allowed));
+            let max: u32 = spec
+                .allowed
+                .rsplit(' ')
+                .next()
+                .and_then(|n| n.parse().ok())
+                .unwrap_or_else(|| panic!("{name}: levels allowed {}", spec.allowed));
             let params: &'static str = Box::leak(format!("levels = {max}").into_boxed_str());
-            out.push(Variant { technique: name, params });
+            out.push(Variant {
+                technique: name,
+                params,
+            });
         }
     }
     out
@@ -96,7 +117,11 @@ enum Expect {
 
 fn check_frame(ao: &[f32], depth: &[f32], expect: Expect) -> Result<(), String> {
     if ao.len() != depth.len() {
-        return Err(format!("{} AO pixels but {} depth pixels", ao.len(), depth.len()));
+        return Err(format!(
+            "{} AO pixels but {} depth pixels",
+            ao.len(),
+            depth.len()
+        ));
     }
     for (i, (&v, &d)) in ao.iter().zip(depth).enumerate() {
         if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
@@ -112,14 +137,33 @@ fn check_frame(ao: &[f32], depth: &[f32], expect: Expect) -> Result<(), String> 
     let geometry = depth.iter().filter(|d| **d > 0.0).count();
     match expect {
         Expect::Valid => {}
-        Expect::Sky if geometry > 0 => return Err(format!("{geometry} pixels see geometry; the case expects sky only")),
+        Expect::Sky if geometry > 0 => {
+            return Err(format!(
+                "{geometry} pixels see geometry; the case expects sky only"
+            ));
+        }
         Expect::Sky => {}
-        Expect::Flat if geometry == 0 => return Err("no pixel sees the plane: the case is vacuous".into()),
+        Expect::Flat if geometry == 0 => {
+            return Err("no pixel sees the plane: the case is vacuous".into());
+        }
         Expect::Flat => {
-            let (i, min) = ao.iter().zip(depth).enumerate().filter(|(_, (_, d))| **d > 0.0).map(|(i, (a, _))| (i, *a)).fold((0, 1.0f32), |m, x| if x.1 < m.1 { x } else { m });
+            let (i, min) = ao
+                .iter()
+                .zip(depth)
+                .enumerate()
+                .filter(|(_, (_, d))| **d > 0.0)
+                .map(|(i, (a, _))| (i, *a))
+                .fold((0, 1.0f32), |m, x| if x.1 < m.1 { x } else { m });
             if min < 0.98 {
-                let dark = ao.iter().zip(depth).filter(|(a, d)| **d > 0.0 && **a < 0.98).count();
-                return Err(format!("unoccluded plane: darkest pixel {i} = {min} (depth {}), {dark} of {geometry} pixels below 0.98", depth[i]));
+                let dark = ao
+                    .iter()
+                    .zip(depth)
+                    .filter(|(a, d)| **d > 0.0 && **a < 0.98)
+                    .count();
+                return Err(format!(
+                    "unoccluded plane: darkest pixel {i} = {min} (depth {}), {dark} of {geometry} pixels below 0.98",
+                    depth[i]
+                ));
             }
         }
     }
@@ -135,31 +179,65 @@ struct Report {
 
 impl Report {
     fn finish(self, test: &str, started: Instant) {
-        println!("{test}: {} cases in {:.1} s", self.cases, started.elapsed().as_secs_f32());
-        assert!(self.failures.is_empty(), "{test}: {} of {} cases failed:\n{}", self.failures.len(), self.cases, self.failures.join("\n"));
+        println!(
+            "{test}: {} cases in {:.1} s",
+            self.cases,
+            started.elapsed().as_secs_f32()
+        );
+        assert!(
+            self.failures.is_empty(),
+            "{test}: {} of {} cases failed:\n{}",
+            self.failures.len(),
+            self.cases,
+            self.failures.join("\n")
+        );
     }
 }
 
 /// Runs `f` inside wgpu error scopes, catching panics; any error, panic or uncaptured device
 /// error becomes a failure named `what`.
-fn guarded(gpu: &GpuContext, report: &mut Report, what: &str, f: impl FnOnce() -> Result<(), String>) {
+fn guarded(
+    gpu: &GpuContext,
+    report: &mut Report,
+    what: &str,
+    f: impl FnOnce() -> Result<(), String>,
+) {
     report.cases += 1;
-    let scopes = [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory, wgpu::ErrorFilter::Internal].map(|filter| gpu.device.push_error_scope(filter));
+    let scopes = [
+        wgpu::ErrorFilter::Validation,
+        wgpu::ErrorFilter::OutOfMemory,
+        wgpu::ErrorFilter::Internal,
+    ]
+    .map(|filter| gpu.device.push_error_scope(filter));
     let result = catch_unwind(AssertUnwindSafe(f));
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
-    let mut errors: Vec<String> = scopes.into_iter().rev().filter_map(|s| pollster::block_on(s.pop())).map(|e| e.to_string()).collect();
+    let mut errors: Vec<String> = scopes
+        .into_iter()
+        .rev()
+        .filter_map(|s| pollster::block_on(s.pop()))
+        .map(|e| e.to_string())
+        .collect();
     errors.extend(gpu.take_errors());
     let mut problems = Vec::new();
     match result {
         Ok(Ok(())) => {}
         Ok(Err(e)) => problems.push(e),
-        Err(panic) => problems.push(format!("panicked: {}", panic.downcast_ref::<String>().cloned().or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string())).unwrap_or_default())),
+        Err(panic) => problems.push(format!(
+            "panicked: {}",
+            panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default()
+        )),
     }
     if !errors.is_empty() {
         problems.push(format!("wgpu errors: {}", errors.join(" | ")));
     }
     if !problems.is_empty() {
-        report.failures.push(format!("{what}: {}", problems.join("; ")));
+        report
+            .failures
+            .push(format!("{what}: {}", problems.join("; ")));
     }
 }
 
@@ -173,36 +251,102 @@ struct Rig<'a> {
 }
 
 impl<'a> Rig<'a> {
-    fn new(gpu: &Arc<GpuContext>, report: &mut Report, variant: &'a Variant, scene_name: &str, scene: Scene, radius: f32, depth_format: DepthFormat) -> Self {
-        Self::with_format(gpu, report, variant, scene_name, scene, radius, depth_format, IntermediateFormat::default())
+    fn new(
+        gpu: &Arc<GpuContext>,
+        report: &mut Report,
+        variant: &'a Variant,
+        scene_name: &str,
+        scene: Scene,
+        radius: f32,
+        depth_format: DepthFormat,
+    ) -> Self {
+        Self::with_format(
+            gpu,
+            report,
+            variant,
+            scene_name,
+            scene,
+            radius,
+            depth_format,
+            IntermediateFormat::default(),
+        )
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn with_format(gpu: &Arc<GpuContext>, report: &mut Report, variant: &'a Variant, scene_name: &str, scene: Scene, radius: f32, depth_format: DepthFormat, intermediate: IntermediateFormat) -> Self {
+    fn with_format(
+        gpu: &Arc<GpuContext>,
+        report: &mut Report,
+        variant: &'a Variant,
+        scene_name: &str,
+        scene: Scene,
+        radius: f32,
+        depth_format: DepthFormat,
+        intermediate: IntermediateFormat,
+    ) -> Self {
         let mut renderer = None;
         let what = format!("{} on {scene_name}: building the renderer", variant.label());
         guarded(gpu, report, &what, || {
-            let config = AoConfig { intermediate_format: intermediate, ..common::ao_config(&variant.technique, radius, variant.params) };
+            let config = AoConfig {
+                intermediate_format: intermediate,
+                ..common::ao_config(&variant.technique, radius, variant.params)
+            };
             let registry = TechniqueRegistry::with_builtins();
-            let outputs = FrameOutputs { linear_depth: true, depth_format, ..Default::default() };
-            renderer = Some(Renderer::new(gpu.clone(), aograph::shader_library(), &registry, Arc::new(scene), &config, outputs, SIZE).map_err(|e| e.to_string())?);
+            let outputs = FrameOutputs {
+                linear_depth: true,
+                depth_format,
+                ..Default::default()
+            };
+            renderer = Some(
+                Renderer::new(
+                    gpu.clone(),
+                    aograph::shader_library(),
+                    &registry,
+                    Arc::new(scene),
+                    &config,
+                    outputs,
+                    SIZE,
+                )
+                .map_err(|e| e.to_string())?,
+            );
             Ok(())
         });
-        Self { gpu: gpu.clone(), variant, scene_name: scene_name.to_string(), renderer, time: 0.0 }
+        Self {
+            gpu: gpu.clone(),
+            variant,
+            scene_name: scene_name.to_string(),
+            renderer,
+            time: 0.0,
+        }
     }
 
     /// Renders `frames` frames from `camera` at `size`, the clock advancing by `dt` per frame,
     /// and checks the last one.
     #[allow(clippy::too_many_arguments)]
-    fn case(&mut self, report: &mut Report, case: &str, camera: Camera, size: Extent, frames: u32, dt: f32, expect: Expect) {
-        let Some(r) = self.renderer.as_mut() else { return };
-        let what = format!("{} on {}: {case} at {size}", self.variant.label(), self.scene_name);
+    fn case(
+        &mut self,
+        report: &mut Report,
+        case: &str,
+        camera: Camera,
+        size: Extent,
+        frames: u32,
+        dt: f32,
+        expect: Expect,
+    ) {
+        let Some(r) = self.renderer.as_mut() else {
+            return;
+        };
+        let what = format!(
+            "{} on {}: {case} at {size}",
+            self.variant.label(),
+            self.scene_name
+        );
         let time = &mut self.time;
         guarded(&self.gpu, report, &what, || {
             r.resize(size).map_err(|e| format!("resize: {e}"))?;
             for _ in 0..frames {
                 *time += dt;
-                r.render_with_camera(*time, camera).map_err(|e| format!("execute: {e}"))?;
+                r.render_with_camera(*time, camera)
+                    .map_err(|e| format!("execute: {e}"))?;
             }
             let ao = r.read_ao().map_err(|e| e.to_string())?;
             let depth = r.read_linear_depth().map_err(|e| e.to_string())?;
@@ -214,7 +358,9 @@ impl<'a> Rig<'a> {
     /// that both frames are valid and see the same surfaces: linear depth equal to 1e-3
     /// (relative) on at least 99% of the pixels.
     fn same_surfaces(&mut self, report: &mut Report, case: &str, a: Camera, b: Camera) {
-        let Some(r) = self.renderer.as_mut() else { return };
+        let Some(r) = self.renderer.as_mut() else {
+            return;
+        };
         let what = format!("{} on {}: {case}", self.variant.label(), self.scene_name);
         let time = &mut self.time;
         guarded(&self.gpu, report, &what, || {
@@ -222,14 +368,26 @@ impl<'a> Rig<'a> {
             let mut depths = Vec::new();
             for camera in [a, b] {
                 *time += FRAME;
-                r.render_with_camera(*time, camera).map_err(|e| format!("execute: {e}"))?;
+                r.render_with_camera(*time, camera)
+                    .map_err(|e| format!("execute: {e}"))?;
                 let depth = r.read_linear_depth().map_err(|e| e.to_string())?;
-                check_frame(&r.read_ao().map_err(|e| e.to_string())?, &depth, Expect::Valid)?;
+                check_frame(
+                    &r.read_ao().map_err(|e| e.to_string())?,
+                    &depth,
+                    Expect::Valid,
+                )?;
                 depths.push(depth);
             }
-            let same = depths[0].iter().zip(&depths[1]).filter(|(x, y)| (*x - *y).abs() <= 1e-3 * x.abs().max(1e-6)).count();
+            let same = depths[0]
+                .iter()
+                .zip(&depths[1])
+                .filter(|(x, y)| (*x - *y).abs() <= 1e-3 * x.abs().max(1e-6))
+                .count();
             if same * 100 < depths[0].len() * 99 {
-                return Err(format!("only {same} of {} pixels see the same surface", depths[0].len()));
+                return Err(format!(
+                    "only {same} of {} pixels see the same surface",
+                    depths[0].len()
+                ));
             }
             Ok(())
         });
@@ -251,7 +409,12 @@ fn floor(b: &mut SceneBuilder, centre: Vec3, size: f32, cells: u32) {
     let m = b.mesh(quad(cell, cell, 0));
     for i in 0..cells {
         for j in 0..cells {
-            let c = centre + Vec3::new((i as f32 + 0.5) * cell - 0.5 * size, 0.0, (j as f32 + 0.5) * cell - 0.5 * size);
+            let c = centre
+                + Vec3::new(
+                    (i as f32 + 0.5) * cell - 0.5 * size,
+                    0.0,
+                    (j as f32 + 0.5) * cell - 0.5 * size,
+                );
             b.place(m, Mat4::from_translation(c));
         }
     }
@@ -263,14 +426,31 @@ fn box_scene(scale: f32, offset: Vec3, island: bool, reversed: bool) -> Scene {
     let mut b = SceneBuilder::new();
     b.material([0.6, 0.6, 0.6]);
     floor(&mut b, offset, 200.0 * scale, 4);
-    b.add(cuboid(Vec3::splat(scale), 0), Mat4::from_translation(offset + Vec3::new(0.0, 0.5, 0.0) * scale));
-    b.add(cuboid(Vec3::new(1.0, 3.0, 1.0) * scale, 0), Mat4::from_translation(offset + Vec3::new(-1.5, 1.5, -1.0) * scale));
+    b.add(
+        cuboid(Vec3::splat(scale), 0),
+        Mat4::from_translation(offset + Vec3::new(0.0, 0.5, 0.0) * scale),
+    );
+    b.add(
+        cuboid(Vec3::new(1.0, 3.0, 1.0) * scale, 0),
+        Mat4::from_translation(offset + Vec3::new(-1.5, 1.5, -1.0) * scale),
+    );
     if island {
         floor(&mut b, offset + Vec3::X * JUMP * scale, 200.0 * scale, 4);
     }
-    let mut camera = Camera::perspective(offset + Vec3::new(0.0, 3.0, 8.0) * scale, offset + Vec3::Y * 0.5 * scale, 50f32.to_radians(), 0.05 * scale, 1000.0 * scale);
+    let mut camera = Camera::perspective(
+        offset + Vec3::new(0.0, 3.0, 8.0) * scale,
+        offset + Vec3::Y * 0.5 * scale,
+        50f32.to_radians(),
+        0.05 * scale,
+        1000.0 * scale,
+    );
     if reversed {
-        camera.projection = Projection::Perspective { fov_y: 50f32.to_radians(), near: 0.05 * scale, far: 0.0, reversed_z_infinite: true };
+        camera.projection = Projection::Perspective {
+            fov_y: 50f32.to_radians(),
+            near: 0.05 * scale,
+            far: 0.0,
+            reversed_z_infinite: true,
+        };
     }
     b.build(camera)
 }
@@ -283,30 +463,70 @@ fn degenerate_scene() -> Scene {
     b.material([0.6, 0.6, 0.6]);
     floor(&mut b, Vec3::ZERO, 200.0, 4);
     // Repeated indices and collinear vertices, lying on the floor and standing above it.
-    let p = vec![Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.5, 0.5, 0.5)];
-    let degenerate = Mesh { name: "degenerate".into(), normals: vec![Vec3::Y; p.len()], positions: p, indices: vec![0, 0, 1, 2, 2, 2, 0, 1, 2, 2, 3, 4, 5, 5, 3, 1, 1, 1], material: 0 };
+    let p = vec![
+        Vec3::new(-1.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.0, 2.0, 0.0),
+        Vec3::new(0.5, 0.5, 0.5),
+    ];
+    let degenerate = Mesh {
+        name: "degenerate".into(),
+        normals: vec![Vec3::Y; p.len()],
+        positions: p,
+        indices: vec![0, 0, 1, 2, 2, 2, 0, 1, 2, 2, 3, 4, 5, 5, 3, 1, 1, 1],
+        material: 0,
+    };
     b.add(degenerate, Mat4::from_translation(Vec3::new(0.0, 0.0, 0.0)));
     // A box collapsed to one point (every vertex coincides), above the floor.
     let mut collapsed = cuboid(Vec3::ONE, 0);
-    collapsed.positions.iter_mut().for_each(|p| *p = Vec3::new(0.3, 0.7, 0.2));
+    collapsed
+        .positions
+        .iter_mut()
+        .for_each(|p| *p = Vec3::new(0.3, 0.7, 0.2));
     b.add(collapsed, Mat4::IDENTITY);
     // A raised platform (0.02 above the floor, 4 x 4) of unwelded quads: every corner is four
     // coincident vertices, normals zero-length (the g-buffer must derive them).
-    let mut platform = Mesh { name: "platform".into(), material: 0, ..Mesh::default() };
+    let mut platform = Mesh {
+        name: "platform".into(),
+        material: 0,
+        ..Mesh::default()
+    };
     for i in 0..4 {
         for j in 0..4 {
             let o = Vec3::new(i as f32 - 2.0, 0.02, j as f32 - 2.0);
             let base = platform.positions.len() as u32;
-            platform.positions.extend([o, o + Vec3::Z, o + Vec3::X + Vec3::Z, o + Vec3::X]);
+            platform
+                .positions
+                .extend([o, o + Vec3::Z, o + Vec3::X + Vec3::Z, o + Vec3::X]);
             platform.normals.extend([Vec3::ZERO; 4]);
-            platform.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            platform
+                .indices
+                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
         }
     }
     b.add(platform, Mat4::from_translation(Vec3::new(20.0, 0.0, 0.0)));
     // A sliver: two vertices 1e-6 apart, standing up.
-    let sliver = Mesh { name: "sliver".into(), positions: vec![Vec3::ZERO, Vec3::new(1e-6, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)], normals: vec![Vec3::Z; 3], indices: vec![0, 1, 2], material: 0 };
+    let sliver = Mesh {
+        name: "sliver".into(),
+        positions: vec![
+            Vec3::ZERO,
+            Vec3::new(1e-6, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ],
+        normals: vec![Vec3::Z; 3],
+        indices: vec![0, 1, 2],
+        material: 0,
+    };
     b.add(sliver, Mat4::from_translation(Vec3::new(-0.7, 0.0, 0.3)));
-    b.build(Camera::perspective(Vec3::new(0.0, 3.0, 8.0), Vec3::new(0.0, 0.5, 0.0), 50f32.to_radians(), 0.05, 1000.0))
+    b.build(Camera::perspective(
+        Vec3::new(0.0, 3.0, 8.0),
+        Vec3::new(0.0, 0.5, 0.0),
+        50f32.to_radians(),
+        0.05,
+        1000.0,
+    ))
 }
 
 // ---- Cameras ------------------------------------------------------------------------------
@@ -317,13 +537,23 @@ fn perspective(position: Vec3, target: Vec3, near: f32, far: f32) -> Camera {
 
 /// The view of the box and column at `scale`, moved by `offset`.
 fn occluders(scale: f32, offset: Vec3) -> Camera {
-    perspective(offset + Vec3::new(0.0, 3.0, 8.0) * scale, offset + Vec3::Y * 0.5 * scale, 0.05 * scale, 1000.0 * scale)
+    perspective(
+        offset + Vec3::new(0.0, 3.0, 8.0) * scale,
+        offset + Vec3::Y * 0.5 * scale,
+        0.05 * scale,
+        1000.0 * scale,
+    )
 }
 
 /// A view of open floor 40 units (times `scale`) from the box: only the plane, the box far
 /// outside the view (at 32x32).
 fn open_floor(scale: f32, offset: Vec3) -> Camera {
-    perspective(offset + Vec3::new(40.0, 3.0, 8.0) * scale, offset + Vec3::new(40.0, 0.0, 0.0) * scale, 0.05 * scale, 1000.0 * scale)
+    perspective(
+        offset + Vec3::new(40.0, 3.0, 8.0) * scale,
+        offset + Vec3::new(40.0, 0.0, 0.0) * scale,
+        0.05 * scale,
+        1000.0 * scale,
+    )
 }
 
 /// The floor at 89.9 degrees to the central ray (grazing by 0.1 degree) from 0.1 above it
@@ -331,24 +561,49 @@ fn open_floor(scale: f32, offset: Vec3) -> Camera {
 fn grazing(scale: f32, offset: Vec3) -> Camera {
     let pitch = 0.1f32.to_radians();
     let eye = offset + Vec3::new(40.0, 0.1, 50.0) * scale;
-    perspective(eye, eye + Vec3::new(0.0, -pitch.sin(), -pitch.cos()) * scale, 0.01 * scale, 1000.0 * scale)
+    perspective(
+        eye,
+        eye + Vec3::new(0.0, -pitch.sin(), -pitch.cos()) * scale,
+        0.01 * scale,
+        1000.0 * scale,
+    )
 }
 
 /// A view of the empty island floor (scale 1): only the plane at any aspect ratio.
 fn island_view() -> Camera {
-    perspective(Vec3::new(JUMP, 3.0, 8.0), Vec3::new(JUMP, 0.0, 0.0), 0.05, 1000.0)
+    perspective(
+        Vec3::new(JUMP, 3.0, 8.0),
+        Vec3::new(JUMP, 0.0, 0.0),
+        0.05,
+        1000.0,
+    )
 }
 
 fn reversed(mut c: Camera) -> Camera {
     if let Projection::Perspective { fov_y, near, .. } = c.projection {
-        c.projection = Projection::Perspective { fov_y, near, far: 0.0, reversed_z_infinite: true };
+        c.projection = Projection::Perspective {
+            fov_y,
+            near,
+            far: 0.0,
+            reversed_z_infinite: true,
+        };
     }
     c
 }
 
 fn with_planes(mut c: Camera, near: f32, far: f32) -> Camera {
-    if let Projection::Perspective { fov_y, reversed_z_infinite, .. } = c.projection {
-        c.projection = Projection::Perspective { fov_y, near, far, reversed_z_infinite };
+    if let Projection::Perspective {
+        fov_y,
+        reversed_z_infinite,
+        ..
+    } = c.projection
+    {
+        c.projection = Projection::Perspective {
+            fov_y,
+            near,
+            far,
+            reversed_z_infinite,
+        };
     }
     c
 }
@@ -358,18 +613,74 @@ const FRAME: f32 = 1.0 / 60.0;
 /// Near planes 1e-4..10 and far planes 10..1e7 on the occluders (valid) and on open floor (flat).
 fn depth_range_cases(rig: &mut Rig, report: &mut Report) {
     for near in [1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0] {
-        rig.case(report, &format!("near {near:e}, far 1e4, occluders"), with_planes(occluders(1.0, Vec3::ZERO), near, 1e4), SIZE, 1, FRAME, Expect::Valid);
+        rig.case(
+            report,
+            &format!("near {near:e}, far 1e4, occluders"),
+            with_planes(occluders(1.0, Vec3::ZERO), near, 1e4),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Valid,
+        );
         // The open floor seen from 3 units up: near 10 clips the floor nearer than 10.
-        rig.case(report, &format!("near {near:e}, far 1e4, open floor"), with_planes(open_floor(1.0, Vec3::ZERO), near, 1e4), SIZE, 1, FRAME, Expect::Flat);
+        rig.case(
+            report,
+            &format!("near {near:e}, far 1e4, open floor"),
+            with_planes(open_floor(1.0, Vec3::ZERO), near, 1e4),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
     }
     for far in [10.0, 100.0, 1e4, 1e5, 1e7] {
-        rig.case(report, &format!("near 0.05, far {far:e}, occluders"), with_planes(occluders(1.0, Vec3::ZERO), 0.05, far), SIZE, 1, FRAME, Expect::Valid);
-        rig.case(report, &format!("near 0.05, far {far:e}, open floor"), with_planes(open_floor(1.0, Vec3::ZERO), 0.05, far), SIZE, 1, FRAME, Expect::Flat);
+        rig.case(
+            report,
+            &format!("near 0.05, far {far:e}, occluders"),
+            with_planes(occluders(1.0, Vec3::ZERO), 0.05, far),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Valid,
+        );
+        rig.case(
+            report,
+            &format!("near 0.05, far {far:e}, open floor"),
+            with_planes(open_floor(1.0, Vec3::ZERO), 0.05, far),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
     }
-    rig.case(report, "near 1e-4, far 1e7, occluders", with_planes(occluders(1.0, Vec3::ZERO), 1e-4, 1e7), SIZE, 1, FRAME, Expect::Valid);
-    rig.case(report, "near 1e-4, far 1e7, open floor", with_planes(open_floor(1.0, Vec3::ZERO), 1e-4, 1e7), SIZE, 1, FRAME, Expect::Flat);
+    rig.case(
+        report,
+        "near 1e-4, far 1e7, occluders",
+        with_planes(occluders(1.0, Vec3::ZERO), 1e-4, 1e7),
+        SIZE,
+        1,
+        FRAME,
+        Expect::Valid,
+    );
+    rig.case(
+        report,
+        "near 1e-4, far 1e7, open floor",
+        with_planes(open_floor(1.0, Vec3::ZERO), 1e-4, 1e7),
+        SIZE,
+        1,
+        FRAME,
+        Expect::Flat,
+    );
     for (near, far) in [(1e-4, 1e7), (0.01, 100.0), (1.0, 1e4)] {
-        rig.case(report, &format!("near {near:e}, far {far:e}, plane at 89.9 degrees"), with_planes(grazing(1.0, Vec3::ZERO), near, far), SIZE, 1, FRAME, Expect::Flat);
+        rig.case(
+            report,
+            &format!("near {near:e}, far {far:e}, plane at 89.9 degrees"),
+            with_planes(grazing(1.0, Vec3::ZERO), near, far),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
     }
 }
 
@@ -379,18 +690,69 @@ fn depth_ranges_formats_and_projections() {
     let started = Instant::now();
     let mut report = Report::default();
     for v in &variants() {
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane (Depth32Float)", box_scene(1.0, Vec3::ZERO, false, false), 1.0, DepthFormat::Depth32Float);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane (Depth32Float)",
+            box_scene(1.0, Vec3::ZERO, false, false),
+            1.0,
+            DepthFormat::Depth32Float,
+        );
         depth_range_cases(&mut rig, &mut report);
-        let ortho = Camera { projection: Projection::Orthographic { height: 8.0, near: 0.05, far: 1000.0 }, ..occluders(1.0, Vec3::ZERO) };
-        rig.case(&mut report, "orthographic, occluders", ortho, SIZE, 1, FRAME, Expect::Valid);
+        let ortho = Camera {
+            projection: Projection::Orthographic {
+                height: 8.0,
+                near: 0.05,
+                far: 1000.0,
+            },
+            ..occluders(1.0, Vec3::ZERO)
+        };
+        rig.case(
+            &mut report,
+            "orthographic, occluders",
+            ortho,
+            SIZE,
+            1,
+            FRAME,
+            Expect::Valid,
+        );
         // The scene's camera is not reversed; a frame's camera may be (the g-buffer switches
         // its depth test per frame).
         let a = occluders(1.0, Vec3::ZERO);
-        rig.same_surfaces(&mut report, "reversed-Z camera on a scene whose camera is not", a, reversed(a));
-        let ortho = Camera { projection: Projection::Orthographic { height: 8.0, near: 0.05, far: 1000.0 }, ..open_floor(1.0, Vec3::ZERO) };
-        rig.case(&mut report, "orthographic, open floor", ortho, SIZE, 1, FRAME, Expect::Flat);
+        rig.same_surfaces(
+            &mut report,
+            "reversed-Z camera on a scene whose camera is not",
+            a,
+            reversed(a),
+        );
+        let ortho = Camera {
+            projection: Projection::Orthographic {
+                height: 8.0,
+                near: 0.05,
+                far: 1000.0,
+            },
+            ..open_floor(1.0, Vec3::ZERO)
+        };
+        rig.case(
+            &mut report,
+            "orthographic, open floor",
+            ortho,
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
 
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane (Depth24Plus)", box_scene(1.0, Vec3::ZERO, false, false), 1.0, DepthFormat::Depth24Plus);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane (Depth24Plus)",
+            box_scene(1.0, Vec3::ZERO, false, false),
+            1.0,
+            DepthFormat::Depth24Plus,
+        );
         depth_range_cases(&mut rig, &mut report);
 
         // The other intermediate precision (the rest of the suite runs the default).
@@ -398,21 +760,91 @@ fn depth_ranges_formats_and_projections() {
             IntermediateFormat::R16Float => IntermediateFormat::R32Float,
             IntermediateFormat::R32Float => IntermediateFormat::R16Float,
         };
-        let mut rig = Rig::with_format(&gpu, &mut report, v, &format!("box-on-plane ({other:?} intermediates)"), box_scene(1.0, Vec3::ZERO, false, false), 1.0, DepthFormat::Depth32Float, other);
+        let mut rig = Rig::with_format(
+            &gpu,
+            &mut report,
+            v,
+            &format!("box-on-plane ({other:?} intermediates)"),
+            box_scene(1.0, Vec3::ZERO, false, false),
+            1.0,
+            DepthFormat::Depth32Float,
+            other,
+        );
         depth_range_cases(&mut rig, &mut report);
 
         // The g-buffer clears depth to 0 and tests Greater when the scene's camera is reversed.
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane (reversed-Z infinite)", box_scene(1.0, Vec3::ZERO, false, true), 1.0, DepthFormat::Depth32Float);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane (reversed-Z infinite)",
+            box_scene(1.0, Vec3::ZERO, false, true),
+            1.0,
+            DepthFormat::Depth32Float,
+        );
         for near in [1e-4, 0.05, 1.0] {
-            rig.case(&mut report, &format!("reversed-Z infinite, near {near:e}, occluders"), with_planes(reversed(occluders(1.0, Vec3::ZERO)), near, 0.0), SIZE, 1, FRAME, Expect::Valid);
-            rig.case(&mut report, &format!("reversed-Z infinite, near {near:e}, open floor"), with_planes(reversed(open_floor(1.0, Vec3::ZERO)), near, 0.0), SIZE, 1, FRAME, Expect::Flat);
-            rig.case(&mut report, &format!("reversed-Z infinite, near {near:e}, plane at 89.9 degrees"), with_planes(reversed(grazing(1.0, Vec3::ZERO)), near, 0.0), SIZE, 1, FRAME, Expect::Flat);
+            rig.case(
+                &mut report,
+                &format!("reversed-Z infinite, near {near:e}, occluders"),
+                with_planes(reversed(occluders(1.0, Vec3::ZERO)), near, 0.0),
+                SIZE,
+                1,
+                FRAME,
+                Expect::Valid,
+            );
+            rig.case(
+                &mut report,
+                &format!("reversed-Z infinite, near {near:e}, open floor"),
+                with_planes(reversed(open_floor(1.0, Vec3::ZERO)), near, 0.0),
+                SIZE,
+                1,
+                FRAME,
+                Expect::Flat,
+            );
+            rig.case(
+                &mut report,
+                &format!("reversed-Z infinite, near {near:e}, plane at 89.9 degrees"),
+                with_planes(reversed(grazing(1.0, Vec3::ZERO)), near, 0.0),
+                SIZE,
+                1,
+                FRAME,
+                Expect::Flat,
+            );
         }
         let a = occluders(1.0, Vec3::ZERO);
-        rig.same_surfaces(&mut report, "plain camera on a reversed-Z scene", reversed(a), a);
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane (reversed-Z, Depth24Plus)", box_scene(1.0, Vec3::ZERO, false, true), 1.0, DepthFormat::Depth24Plus);
-        rig.case(&mut report, "reversed-Z infinite, occluders", reversed(occluders(1.0, Vec3::ZERO)), SIZE, 1, FRAME, Expect::Valid);
-        rig.case(&mut report, "reversed-Z infinite, open floor", reversed(open_floor(1.0, Vec3::ZERO)), SIZE, 1, FRAME, Expect::Flat);
+        rig.same_surfaces(
+            &mut report,
+            "plain camera on a reversed-Z scene",
+            reversed(a),
+            a,
+        );
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane (reversed-Z, Depth24Plus)",
+            box_scene(1.0, Vec3::ZERO, false, true),
+            1.0,
+            DepthFormat::Depth24Plus,
+        );
+        rig.case(
+            &mut report,
+            "reversed-Z infinite, occluders",
+            reversed(occluders(1.0, Vec3::ZERO)),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Valid,
+        );
+        rig.case(
+            &mut report,
+            "reversed-Z infinite, open floor",
+            reversed(open_floor(1.0, Vec3::ZERO)),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
     }
     report.finish("depth_ranges_formats_and_projections", started);
 }
@@ -425,33 +857,206 @@ fn scene_scale_offset_and_radius() {
     for v in &variants() {
         // Scale 1e-3 to 1e4, R scaled alike (scale 1 is the other tests' rig).
         for scale in [1e-3f32, 1e-2, 0.1, 10.0, 1e2, 1e3, 1e4] {
-            let mut rig = Rig::new(&gpu, &mut report, v, &format!("box-on-plane x {scale:e}"), box_scene(scale, Vec3::ZERO, false, false), scale, DepthFormat::Depth32Float);
-            rig.case(&mut report, "occluders", occluders(scale, Vec3::ZERO), SIZE, 2, FRAME, Expect::Valid);
-            rig.case(&mut report, "open floor", open_floor(scale, Vec3::ZERO), SIZE, 2, FRAME, Expect::Flat);
-            rig.case(&mut report, "plane at 89.9 degrees", grazing(scale, Vec3::ZERO), SIZE, 1, FRAME, Expect::Flat);
-            rig.case(&mut report, "occluders at 97x61", occluders(scale, Vec3::ZERO), Extent::new(97, 61), 1, FRAME, Expect::Valid);
+            let mut rig = Rig::new(
+                &gpu,
+                &mut report,
+                v,
+                &format!("box-on-plane x {scale:e}"),
+                box_scene(scale, Vec3::ZERO, false, false),
+                scale,
+                DepthFormat::Depth32Float,
+            );
+            rig.case(
+                &mut report,
+                "occluders",
+                occluders(scale, Vec3::ZERO),
+                SIZE,
+                2,
+                FRAME,
+                Expect::Valid,
+            );
+            rig.case(
+                &mut report,
+                "open floor",
+                open_floor(scale, Vec3::ZERO),
+                SIZE,
+                2,
+                FRAME,
+                Expect::Flat,
+            );
+            rig.case(
+                &mut report,
+                "plane at 89.9 degrees",
+                grazing(scale, Vec3::ZERO),
+                SIZE,
+                1,
+                FRAME,
+                Expect::Flat,
+            );
+            rig.case(
+                &mut report,
+                "occluders at 97x61",
+                occluders(scale, Vec3::ZERO),
+                Extent::new(97, 61),
+                1,
+                FRAME,
+                Expect::Valid,
+            );
         }
         // 1e5 units from the origin on two axes.
         let offset = Vec3::new(1e5, 0.0, 1e5);
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane at (1e5, 0, 1e5)", box_scene(1.0, offset, false, false), 1.0, DepthFormat::Depth32Float);
-        rig.case(&mut report, "occluders", occluders(1.0, offset), SIZE, 2, FRAME, Expect::Valid);
-        rig.case(&mut report, "open floor", open_floor(1.0, offset), SIZE, 2, FRAME, Expect::Flat);
-        rig.case(&mut report, "open floor, near 1e-3 far 1e7", with_planes(open_floor(1.0, offset), 1e-3, 1e7), SIZE, 1, FRAME, Expect::Flat);
-        rig.case(&mut report, "plane at 89.9 degrees", grazing(1.0, offset), SIZE, 1, FRAME, Expect::Flat);
-        rig.case(&mut report, "occluders at 97x61", occluders(1.0, offset), Extent::new(97, 61), 1, FRAME, Expect::Valid);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane at (1e5, 0, 1e5)",
+            box_scene(1.0, offset, false, false),
+            1.0,
+            DepthFormat::Depth32Float,
+        );
+        rig.case(
+            &mut report,
+            "occluders",
+            occluders(1.0, offset),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Valid,
+        );
+        rig.case(
+            &mut report,
+            "open floor",
+            open_floor(1.0, offset),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "open floor, near 1e-3 far 1e7",
+            with_planes(open_floor(1.0, offset), 1e-3, 1e7),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "plane at 89.9 degrees",
+            grazing(1.0, offset),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "occluders at 97x61",
+            occluders(1.0, offset),
+            Extent::new(97, 61),
+            1,
+            FRAME,
+            Expect::Valid,
+        );
         // R = 1e-4: nothing can occlude, not even at the box's contact.
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane, R = 1e-4", box_scene(1.0, Vec3::ZERO, false, false), 1e-4, DepthFormat::Depth32Float);
-        rig.case(&mut report, "occluders (R = 1e-4: no occlusion)", occluders(1.0, Vec3::ZERO), SIZE, 2, FRAME, Expect::Flat);
-        rig.case(&mut report, "occluders close up (R = 1e-4: no occlusion)", perspective(Vec3::new(0.8, 0.3, 1.2), Vec3::new(0.0, 0.2, 0.0), 1e-3, 100.0), SIZE, 2, FRAME, Expect::Flat);
-        rig.case(&mut report, "open floor", open_floor(1.0, Vec3::ZERO), SIZE, 1, FRAME, Expect::Flat);
-        rig.case(&mut report, "occluders at 97x61 (R = 1e-4: no occlusion)", occluders(1.0, Vec3::ZERO), Extent::new(97, 61), 1, FRAME, Expect::Flat);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane, R = 1e-4",
+            box_scene(1.0, Vec3::ZERO, false, false),
+            1e-4,
+            DepthFormat::Depth32Float,
+        );
+        rig.case(
+            &mut report,
+            "occluders (R = 1e-4: no occlusion)",
+            occluders(1.0, Vec3::ZERO),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "occluders close up (R = 1e-4: no occlusion)",
+            perspective(
+                Vec3::new(0.8, 0.3, 1.2),
+                Vec3::new(0.0, 0.2, 0.0),
+                1e-3,
+                100.0,
+            ),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "open floor",
+            open_floor(1.0, Vec3::ZERO),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "occluders at 97x61 (R = 1e-4: no occlusion)",
+            occluders(1.0, Vec3::ZERO),
+            Extent::new(97, 61),
+            1,
+            FRAME,
+            Expect::Flat,
+        );
         // R from small to larger than the whole scene (the floor is 200 across).
         for radius in [1e-2f32, 10.0, 1e3, 1e6] {
-            let mut rig = Rig::new(&gpu, &mut report, v, &format!("box-on-plane, R = {radius:e}"), box_scene(1.0, Vec3::ZERO, false, false), radius, DepthFormat::Depth32Float);
-            rig.case(&mut report, "occluders", occluders(1.0, Vec3::ZERO), SIZE, 2, FRAME, Expect::Valid);
-            rig.case(&mut report, "open floor", open_floor(1.0, Vec3::ZERO), SIZE, 2, FRAME, Expect::Flat);
-            rig.case(&mut report, "plane at 89.9 degrees", grazing(1.0, Vec3::ZERO), SIZE, 1, FRAME, Expect::Flat);
-            rig.case(&mut report, "occluders at 97x61", occluders(1.0, Vec3::ZERO), Extent::new(97, 61), 1, FRAME, Expect::Valid);
+            let mut rig = Rig::new(
+                &gpu,
+                &mut report,
+                v,
+                &format!("box-on-plane, R = {radius:e}"),
+                box_scene(1.0, Vec3::ZERO, false, false),
+                radius,
+                DepthFormat::Depth32Float,
+            );
+            rig.case(
+                &mut report,
+                "occluders",
+                occluders(1.0, Vec3::ZERO),
+                SIZE,
+                2,
+                FRAME,
+                Expect::Valid,
+            );
+            rig.case(
+                &mut report,
+                "open floor",
+                open_floor(1.0, Vec3::ZERO),
+                SIZE,
+                2,
+                FRAME,
+                Expect::Flat,
+            );
+            rig.case(
+                &mut report,
+                "plane at 89.9 degrees",
+                grazing(1.0, Vec3::ZERO),
+                SIZE,
+                1,
+                FRAME,
+                Expect::Flat,
+            );
+            rig.case(
+                &mut report,
+                "occluders at 97x61",
+                occluders(1.0, Vec3::ZERO),
+                Extent::new(97, 61),
+                1,
+                FRAME,
+                Expect::Valid,
+            );
         }
     }
     report.finish("scene_scale_offset_and_radius", started);
@@ -462,68 +1067,332 @@ fn sizes_cameras_geometry_and_time() {
     let Some(gpu) = test_gpu() else { return };
     let started = Instant::now();
     let mut report = Report::default();
-    let sizes = [Extent::new(1, 1), Extent::new(2, 3), Extent::new(97, 61), Extent::new(4096, 8), Extent::new(8, 4096), SIZE];
+    let sizes = [
+        Extent::new(1, 1),
+        Extent::new(2, 3),
+        Extent::new(97, 61),
+        Extent::new(4096, 8),
+        Extent::new(8, 4096),
+        SIZE,
+    ];
     for v in &variants() {
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane with island", box_scene(1.0, Vec3::ZERO, true, false), 1.0, DepthFormat::Depth32Float);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane with island",
+            box_scene(1.0, Vec3::ZERO, true, false),
+            1.0,
+            DepthFormat::Depth32Float,
+        );
         // Output sizes (pyramids with odd and degenerate levels); each size is a resize
         // between frames, two frames each so temporal history is used at the new size.
         for size in sizes {
-            rig.case(&mut report, "occluders", occluders(1.0, Vec3::ZERO), size, 2, FRAME, Expect::Valid);
-            rig.case(&mut report, "island floor", island_view(), size, 2, FRAME, Expect::Flat);
+            rig.case(
+                &mut report,
+                "occluders",
+                occluders(1.0, Vec3::ZERO),
+                size,
+                2,
+                FRAME,
+                Expect::Valid,
+            );
+            rig.case(
+                &mut report,
+                "island floor",
+                island_view(),
+                size,
+                2,
+                FRAME,
+                Expect::Flat,
+            );
         }
         // A camera inside the box, looking out through its walls.
-        let inside = perspective(Vec3::new(0.0, 0.5, 0.0), Vec3::new(1.0, 0.4, 0.3), 0.01, 1000.0);
-        rig.case(&mut report, "camera inside the box", inside, SIZE, 2, FRAME, Expect::Valid);
+        let inside = perspective(
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::new(1.0, 0.4, 0.3),
+            0.01,
+            1000.0,
+        );
+        rig.case(
+            &mut report,
+            "camera inside the box",
+            inside,
+            SIZE,
+            2,
+            FRAME,
+            Expect::Valid,
+        );
         // A camera on the floor (in its plane), and one just below it looking up.
-        rig.case(&mut report, "camera in the floor's plane", perspective(Vec3::new(40.0, 0.0, 8.0), Vec3::new(40.0, 0.0, 0.0), 0.05, 1000.0), SIZE, 1, FRAME, Expect::Valid);
+        rig.case(
+            &mut report,
+            "camera in the floor's plane",
+            perspective(
+                Vec3::new(40.0, 0.0, 8.0),
+                Vec3::new(40.0, 0.0, 0.0),
+                0.05,
+                1000.0,
+            ),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Valid,
+        );
         // Only sky: straight up, and up with the up vector parallel to the view.
-        rig.case(&mut report, "sky only", perspective(Vec3::new(0.0, 3.0, 8.0), Vec3::new(0.0, 10.0, 7.0), 0.05, 1000.0), SIZE, 2, FRAME, Expect::Sky);
-        rig.case(&mut report, "sky only, straight up", perspective(Vec3::new(0.0, 3.0, 8.0), Vec3::new(0.0, 10.0, 8.0), 0.05, 1000.0), SIZE, 1, FRAME, Expect::Sky);
+        rig.case(
+            &mut report,
+            "sky only",
+            perspective(
+                Vec3::new(0.0, 3.0, 8.0),
+                Vec3::new(0.0, 10.0, 7.0),
+                0.05,
+                1000.0,
+            ),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Sky,
+        );
+        rig.case(
+            &mut report,
+            "sky only, straight up",
+            perspective(
+                Vec3::new(0.0, 3.0, 8.0),
+                Vec3::new(0.0, 10.0, 8.0),
+                0.05,
+                1000.0,
+            ),
+            SIZE,
+            1,
+            FRAME,
+            Expect::Sky,
+        );
         // The island floor at 89.9 degrees to the central ray (grazing by 0.1 degree), 0.1
         // above it: the central ray meets it 57 units ahead. Every size: the island is empty.
         let island_grazing = grazing(1.0, Vec3::new(JUMP - 40.0, 0.0, 0.0));
         for size in sizes {
-            rig.case(&mut report, "plane at 89.9 degrees", island_grazing, size, 2, FRAME, Expect::Flat);
+            rig.case(
+                &mut report,
+                "plane at 89.9 degrees",
+                island_grazing,
+                size,
+                2,
+                FRAME,
+                Expect::Flat,
+            );
         }
         // Near 1e-4 with the floor 1e-3 below the camera: R covers far more than the screen.
-        let low = perspective(Vec3::new(JUMP, 1e-3, 0.0), Vec3::new(JUMP, 0.0, -1e-3), 1e-4, 1000.0);
-        rig.case(&mut report, "camera 1e-3 above the floor, near 1e-4", low, SIZE, 2, FRAME, Expect::Flat);
-        rig.case(&mut report, "camera 1e-3 above the floor, near 1e-4", low, Extent::new(97, 61), 1, FRAME, Expect::Flat);
+        let low = perspective(
+            Vec3::new(JUMP, 1e-3, 0.0),
+            Vec3::new(JUMP, 0.0, -1e-3),
+            1e-4,
+            1000.0,
+        );
+        rig.case(
+            &mut report,
+            "camera 1e-3 above the floor, near 1e-4",
+            low,
+            SIZE,
+            2,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "camera 1e-3 above the floor, near 1e-4",
+            low,
+            Extent::new(97, 61),
+            1,
+            FRAME,
+            Expect::Flat,
+        );
 
         // Time: a camera jump of 1e4 units, a 180-degree turn, zero-length frame times. After
         // the jump and the turn the view holds only open floor, so stale (occluded) history
         // leaking into it would fail the flat check.
         rig.cut();
         let a = occluders(1.0, Vec3::ZERO);
-        rig.case(&mut report, "before the jump", a, SIZE, 4, FRAME, Expect::Valid);
-        let jumped = Camera { position: a.position + Vec3::X * JUMP, target: a.target + Vec3::X * JUMP, ..a };
-        rig.case(&mut report, "first frame after a 1e4 jump", jumped, SIZE, 1, FRAME, Expect::Flat);
-        rig.case(&mut report, "frames after a 1e4 jump", jumped, SIZE, 3, FRAME, Expect::Flat);
+        rig.case(
+            &mut report,
+            "before the jump",
+            a,
+            SIZE,
+            4,
+            FRAME,
+            Expect::Valid,
+        );
+        let jumped = Camera {
+            position: a.position + Vec3::X * JUMP,
+            target: a.target + Vec3::X * JUMP,
+            ..a
+        };
+        rig.case(
+            &mut report,
+            "first frame after a 1e4 jump",
+            jumped,
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "frames after a 1e4 jump",
+            jumped,
+            SIZE,
+            3,
+            FRAME,
+            Expect::Flat,
+        );
         rig.case(&mut report, "jump back", a, SIZE, 3, FRAME, Expect::Valid);
-        let turned = Camera { target: a.position + (a.position - a.target) * Vec3::new(1.0, -1.0, 1.0), ..a };
-        rig.case(&mut report, "first frame after a 180-degree turn", turned, SIZE, 1, FRAME, Expect::Flat);
-        rig.case(&mut report, "frames after a 180-degree turn", turned, SIZE, 3, FRAME, Expect::Flat);
+        let turned = Camera {
+            target: a.position + (a.position - a.target) * Vec3::new(1.0, -1.0, 1.0),
+            ..a
+        };
+        rig.case(
+            &mut report,
+            "first frame after a 180-degree turn",
+            turned,
+            SIZE,
+            1,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "frames after a 180-degree turn",
+            turned,
+            SIZE,
+            3,
+            FRAME,
+            Expect::Flat,
+        );
         rig.case(&mut report, "turn back", a, SIZE, 3, FRAME, Expect::Valid);
-        rig.case(&mut report, "zero-length frame time, still camera", a, SIZE, 3, 0.0, Expect::Valid);
-        let nudged = Camera { position: a.position + Vec3::new(0.05, 0.0, 0.0), ..a };
-        rig.case(&mut report, "zero-length frame time, moving camera", nudged, SIZE, 1, 0.0, Expect::Valid);
-        rig.case(&mut report, "zero-length frame time, jump", jumped, SIZE, 2, 0.0, Expect::Flat);
+        rig.case(
+            &mut report,
+            "zero-length frame time, still camera",
+            a,
+            SIZE,
+            3,
+            0.0,
+            Expect::Valid,
+        );
+        let nudged = Camera {
+            position: a.position + Vec3::new(0.05, 0.0, 0.0),
+            ..a
+        };
+        rig.case(
+            &mut report,
+            "zero-length frame time, moving camera",
+            nudged,
+            SIZE,
+            1,
+            0.0,
+            Expect::Valid,
+        );
+        rig.case(
+            &mut report,
+            "zero-length frame time, jump",
+            jumped,
+            SIZE,
+            2,
+            0.0,
+            Expect::Flat,
+        );
 
-        let mut rig = Rig::new(&gpu, &mut report, v, "degenerate geometry", degenerate_scene(), 1.0, DepthFormat::Depth32Float);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "degenerate geometry",
+            degenerate_scene(),
+            1.0,
+            DepthFormat::Depth32Float,
+        );
         // Only zero-area geometry stands on the floor: the view is an unoccluded plane.
-        let at = |target: Vec3| perspective(target + Vec3::new(0.0, 2.0, 4.0), target, 0.05, 1000.0);
-        rig.case(&mut report, "degenerate and collinear triangles, collapsed box, sliver", at(Vec3::ZERO), SIZE, 2, FRAME, Expect::Flat);
-        rig.case(&mut report, "degenerate triangles at 97x61", at(Vec3::ZERO), Extent::new(97, 61), 1, FRAME, Expect::Flat);
-        rig.case(&mut report, "coincident unwelded vertices with zero normals (platform)", at(Vec3::new(20.0, 0.0, 0.0)), SIZE, 2, FRAME, Expect::Valid);
-        rig.case(&mut report, "coincident vertices, platform top only", perspective(Vec3::new(20.0, 1.0, 0.0), Vec3::new(20.0, 0.02, -0.5), 0.05, 1000.0), SIZE, 2, FRAME, Expect::Flat);
+        let at =
+            |target: Vec3| perspective(target + Vec3::new(0.0, 2.0, 4.0), target, 0.05, 1000.0);
+        rig.case(
+            &mut report,
+            "degenerate and collinear triangles, collapsed box, sliver",
+            at(Vec3::ZERO),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "degenerate triangles at 97x61",
+            at(Vec3::ZERO),
+            Extent::new(97, 61),
+            1,
+            FRAME,
+            Expect::Flat,
+        );
+        rig.case(
+            &mut report,
+            "coincident unwelded vertices with zero normals (platform)",
+            at(Vec3::new(20.0, 0.0, 0.0)),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Valid,
+        );
+        rig.case(
+            &mut report,
+            "coincident vertices, platform top only",
+            perspective(
+                Vec3::new(20.0, 1.0, 0.0),
+                Vec3::new(20.0, 0.02, -0.5),
+                0.05,
+                1000.0,
+            ),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Flat,
+        );
     }
     // The deepest pyramids at every size.
     for v in &deepest_pyramids() {
-        let mut rig = Rig::new(&gpu, &mut report, v, "box-on-plane with island", box_scene(1.0, Vec3::ZERO, true, false), 1.0, DepthFormat::Depth32Float);
+        let mut rig = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane with island",
+            box_scene(1.0, Vec3::ZERO, true, false),
+            1.0,
+            DepthFormat::Depth32Float,
+        );
         for size in sizes {
-            rig.case(&mut report, "occluders", occluders(1.0, Vec3::ZERO), size, 2, FRAME, Expect::Valid);
-            rig.case(&mut report, "island floor", island_view(), size, 1, FRAME, Expect::Flat);
-            rig.case(&mut report, "plane at 89.9 degrees", grazing(1.0, Vec3::new(JUMP - 40.0, 0.0, 0.0)), size, 1, FRAME, Expect::Flat);
+            rig.case(
+                &mut report,
+                "occluders",
+                occluders(1.0, Vec3::ZERO),
+                size,
+                2,
+                FRAME,
+                Expect::Valid,
+            );
+            rig.case(
+                &mut report,
+                "island floor",
+                island_view(),
+                size,
+                1,
+                FRAME,
+                Expect::Flat,
+            );
+            rig.case(
+                &mut report,
+                "plane at 89.9 degrees",
+                grazing(1.0, Vec3::new(JUMP - 40.0, 0.0, 0.0)),
+                size,
+                1,
+                FRAME,
+                Expect::Flat,
+            );
         }
     }
     report.finish("sizes_cameras_geometry_and_time", started);

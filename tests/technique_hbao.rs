@@ -16,10 +16,16 @@ use common::plane_at;
 fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
     for degrees in [0.0, 30.0, 60.0, 80.0] {
         let config = common::ao_config("hbao", RADIUS, "");
-        let Some(run) = common::render_ao(plane_at(degrees), &config, Extent::new(64, 64), 1) else { return };
+        let Some(run) = common::render_ao(plane_at(degrees), &config, Extent::new(64, 64), 1)
+        else {
+            return;
+        };
         let what = format!("hbao on plane at {degrees} degrees");
         common::assert_valid_ao(&run.ao, &run.depth, &what);
-        assert!(run.depth.iter().any(|&d| d > 0.0), "{what}: the camera sees the plane");
+        assert!(
+            run.depth.iter().any(|&d| d > 0.0),
+            "{what}: the camera sees the plane"
+        );
         let min = run.ao.iter().copied().fold(1.0f32, f32::min);
         assert!(min >= 0.98, "{what}: darkest pixel {min}");
     }
@@ -27,24 +33,53 @@ fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
 
 #[test]
 fn paper_rows_and_unblurred_output_are_valid() {
-    for params in ["directions = 16\nsteps = 20", "directions = 1\nsteps = 1", "blur = false"] {
+    for params in [
+        "directions = 16\nsteps = 20",
+        "directions = 1\nsteps = 1",
+        "blur = false",
+    ] {
         let config = common::ao_config("hbao", RADIUS, params);
-        let Some(run) = common::render_ao(procedural_scene("columns").unwrap(), &config, Extent::new(64, 48), 1) else { return };
-        common::assert_valid_ao(&run.ao, &run.depth, &format!("hbao [{}] on columns", params.replace('\n', ", ")));
+        let Some(run) = common::render_ao(
+            procedural_scene("columns").unwrap(),
+            &config,
+            Extent::new(64, 48),
+            1,
+        ) else {
+            return;
+        };
+        common::assert_valid_ao(
+            &run.ao,
+            &run.depth,
+            &format!("hbao [{}] on columns", params.replace('\n', ", ")),
+        );
     }
 }
 
 #[test]
 fn huge_radius_stays_valid() {
     let config = common::ao_config("hbao", 1.0e6, "");
-    let Some(run) = common::render_ao(procedural_scene("sphere-on-plane").unwrap(), &config, Extent::new(64, 64), 1) else { return };
+    let Some(run) = common::render_ao(
+        procedural_scene("sphere-on-plane").unwrap(),
+        &config,
+        Extent::new(64, 64),
+        1,
+    ) else {
+        return;
+    };
     common::assert_valid_ao(&run.ao, &run.depth, "hbao with R = 1e6");
 }
 
 #[test]
 fn d8_s10_occludes_near_the_contact() {
     let config = common::ao_config("hbao", RADIUS, "directions = 8\nsteps = 10");
-    let Some(run) = common::render_ao(procedural_scene("sphere-on-plane").unwrap(), &config, Extent::new(96, 96), 1) else { return };
+    let Some(run) = common::render_ao(
+        procedural_scene("sphere-on-plane").unwrap(),
+        &config,
+        Extent::new(96, 96),
+        1,
+    ) else {
+        return;
+    };
     common::assert_valid_ao(&run.ao, &run.depth, "hbao (8, 10) on sphere-on-plane");
     let dark = run.ao.iter().filter(|&&a| a < 0.9).count();
     assert!(dark > 0, "no pixel below 0.9: the contact must be occluded");
@@ -52,21 +87,42 @@ fn d8_s10_occludes_near_the_contact() {
 
 #[test]
 fn sphere_on_plane_tracks_the_reference() {
-    let Some(first) = common::render_ao(procedural_scene("sphere-on-plane").unwrap(), &common::ao_config("hbao", RADIUS, ""), Extent::new(96, 96), 1) else { return };
+    let Some(first) = common::render_ao(
+        procedural_scene("sphere-on-plane").unwrap(),
+        &common::ao_config("hbao", RADIUS, ""),
+        Extent::new(96, 96),
+        1,
+    ) else {
+        return;
+    };
     let reference = common::reference(&first, RADIUS, 256);
     let mae_of_one = common::mae(&vec![1.0; reference.len()], &reference, &first.depth);
-    println!("accessibility 1 everywhere on sphere-on-plane 96x96, R = {RADIUS}: MAE {mae_of_one:.4}");
+    println!(
+        "accessibility 1 everywhere on sphere-on-plane 96x96, R = {RADIUS}: MAE {mae_of_one:.4}"
+    );
     for params in ["", "blur = false", "directions = 16\nsteps = 20"] {
-        let run = common::render_ao(procedural_scene("sphere-on-plane").unwrap(), &common::ao_config("hbao", RADIUS, params), Extent::new(96, 96), 1).unwrap();
+        let run = common::render_ao(
+            procedural_scene("sphere-on-plane").unwrap(),
+            &common::ao_config("hbao", RADIUS, params),
+            Extent::new(96, 96),
+            1,
+        )
+        .unwrap();
         let mae = common::mae(&run.ao, &reference, &run.depth);
-        println!("hbao [{}] on sphere-on-plane 96x96, R = {RADIUS}: MAE {mae:.4} against the reference (256 rays)", params.replace('\n', ", "));
+        println!(
+            "hbao [{}] on sphere-on-plane 96x96, R = {RADIUS}: MAE {mae:.4} against the reference (256 rays)",
+            params.replace('\n', ", ")
+        );
         // Bounds. Eq. 5 weights sin h by W at the horizon sample, which is usually the farthest
         // sample that still lies within R, so W is small and HBAO under-occludes a binary
         // reference (measured 0.065 against 0.071 for returning 1, lavapipe). It must beat
         // returning 1 by 5% (about half the measured margin, for device differences) and stay
         // under 0.1, below the paper's own HBAO (8, 10) MAE of 0.12 on its simplest scene
         // (Table 1a, Viking Room).
-        assert!(mae < 0.95 * mae_of_one, "[{params}] MAE {mae} does not beat accessibility 1 ({mae_of_one}) by 5%");
+        assert!(
+            mae < 0.95 * mae_of_one,
+            "[{params}] MAE {mae} does not beat accessibility 1 ({mae_of_one}) by 5%"
+        );
         assert!(mae < 0.1, "[{params}] MAE {mae}");
     }
 }

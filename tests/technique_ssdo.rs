@@ -8,7 +8,7 @@ mod common;
 
 use std::sync::Arc;
 
-use aograph::{build_frame_graph, FrameOutputs};
+use aograph::{FrameOutputs, build_frame_graph};
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::{Extent, GBufferChannel};
 use aograph_scene::procedural_scene;
@@ -19,18 +19,33 @@ const RADIUS: f32 = 1.0;
 fn only_ssdo_makes_the_gbuffer_write_colour_and_direct_light() {
     let registry = TechniqueRegistry::with_builtins();
     let names = registry.names();
-    assert!(names.iter().any(|n| n == "ssdo"), "ssdo is registered: {names:?}");
+    assert!(
+        names.iter().any(|n| n == "ssdo"),
+        "ssdo is registered: {names:?}"
+    );
     let scene = Arc::new(procedural_scene("cornell-box").unwrap());
     for name in &names {
         let config = common::ao_config(name, RADIUS, "");
-        let fg = build_frame_graph(&registry, scene.clone(), &config, FrameOutputs::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let fg = build_frame_graph(&registry, scene.clone(), &config, FrameOutputs::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         for c in [GBufferChannel::Albedo, GBufferChannel::DirectLight] {
-            let declared = fg.decl.resource_by_name(&format!("gbuffer.{}", c.name())).is_some();
+            let declared = fg
+                .decl
+                .resource_by_name(&format!("gbuffer.{}", c.name()))
+                .is_some();
             let requested = fg.channels.contains(c) || fg.gbuffer.get(c).is_some();
             if name == "ssdo" {
-                assert!(declared && requested, "ssdo needs the g-buffer's {}", c.name());
+                assert!(
+                    declared && requested,
+                    "ssdo needs the g-buffer's {}",
+                    c.name()
+                );
             } else {
-                assert!(!declared && !requested, "{name} must not make the g-buffer write {}", c.name());
+                assert!(
+                    !declared && !requested,
+                    "{name} must not make the g-buffer write {}",
+                    c.name()
+                );
             }
         }
     }
@@ -42,10 +57,20 @@ use common::plane_at;
 fn assert_valid(run: &common::AoRun, what: &str) {
     common::assert_valid_ao(&run.ao, &run.depth, what);
     for name in ["ssdo_direct", "ssdo_indirect"] {
-        let rgba = run.renderer.read_extra(name).expect("extra output reads back");
-        assert_eq!(rgba.len(), run.depth.len() * 4, "{what}: {name} is full size");
+        let rgba = run
+            .renderer
+            .read_extra(name)
+            .expect("extra output reads back");
+        assert_eq!(
+            rgba.len(),
+            run.depth.len() * 4,
+            "{what}: {name} is full size"
+        );
         for (i, (px, d)) in rgba.chunks_exact(4).zip(&run.depth).enumerate() {
-            assert!(px.iter().all(|v| v.is_finite() && *v >= 0.0), "{what}: {name} pixel {i} = {px:?}");
+            assert!(
+                px.iter().all(|v| v.is_finite() && *v >= 0.0),
+                "{what}: {name} pixel {i} = {px:?}"
+            );
             if *d <= 0.0 {
                 assert_eq!(&px[..3], &[0.0; 3], "{what}: {name} sky pixel {i}");
             }
@@ -56,17 +81,38 @@ fn assert_valid(run: &common::AoRun, what: &str) {
 #[test]
 fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
     for degrees in [0.0, 30.0, 60.0, 80.0] {
-        let Some(run) = common::render_ao(plane_at(degrees), &common::ao_config("ssdo", RADIUS, ""), Extent::new(64, 64), 1) else { return };
+        let Some(run) = common::render_ao(
+            plane_at(degrees),
+            &common::ao_config("ssdo", RADIUS, ""),
+            Extent::new(64, 64),
+            1,
+        ) else {
+            return;
+        };
         let what = format!("ssdo on plane at {degrees} degrees");
         assert_valid(&run, &what);
-        assert!(run.depth.iter().any(|&d| d > 0.0), "{what}: the camera sees the plane");
+        assert!(
+            run.depth.iter().any(|&d| d > 0.0),
+            "{what}: the camera sees the plane"
+        );
         let min = run.ao.iter().copied().fold(1.0f32, f32::min);
         assert!(min >= 0.98, "{what}: darkest pixel {min}");
     }
     // Orthographic at 60 degrees: eye rays are parallel, the visibility test follows them.
     let mut scene = plane_at(60.0);
-    scene.camera.projection = aograph_scene::Projection::Orthographic { height: 8.0, near: 0.05, far: 2000.0 };
-    let Some(run) = common::render_ao(scene, &common::ao_config("ssdo", RADIUS, ""), Extent::new(64, 64), 1) else { return };
+    scene.camera.projection = aograph_scene::Projection::Orthographic {
+        height: 8.0,
+        near: 0.05,
+        far: 2000.0,
+    };
+    let Some(run) = common::render_ao(
+        scene,
+        &common::ao_config("ssdo", RADIUS, ""),
+        Extent::new(64, 64),
+        1,
+    ) else {
+        return;
+    };
     assert_valid(&run, "ssdo on plane, orthographic");
     let min = run.ao.iter().copied().fold(1.0f32, f32::min);
     assert!(min >= 0.98, "orthographic: darkest pixel {min}");
@@ -74,12 +120,34 @@ fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
 
 #[test]
 fn outputs_are_valid_across_scenes_and_parameters() {
-    for (scene, params) in [("cornell-box", ""), ("columns", "samples = 16"), ("stairs", "samples = 4\nsky_gradient = 1.0\nlight_lobe = 64"), ("thin-bars", "bounce = false\nfade_start = 1.0\nbias = 0.0")] {
-        let Some(run) = common::render_ao(procedural_scene(scene).unwrap(), &common::ao_config("ssdo", RADIUS, params), Extent::new(64, 48), 1) else { return };
-        assert_valid(&run, &format!("ssdo [{}] on {scene}", params.replace('\n', ", ")));
+    for (scene, params) in [
+        ("cornell-box", ""),
+        ("columns", "samples = 16"),
+        ("stairs", "samples = 4\nsky_gradient = 1.0\nlight_lobe = 64"),
+        ("thin-bars", "bounce = false\nfade_start = 1.0\nbias = 0.0"),
+    ] {
+        let Some(run) = common::render_ao(
+            procedural_scene(scene).unwrap(),
+            &common::ao_config("ssdo", RADIUS, params),
+            Extent::new(64, 48),
+            1,
+        ) else {
+            return;
+        };
+        assert_valid(
+            &run,
+            &format!("ssdo [{}] on {scene}", params.replace('\n', ", ")),
+        );
     }
     // A radius far beyond the scene: every sample off screen or far, still valid.
-    let Some(run) = common::render_ao(procedural_scene("sphere-on-plane").unwrap(), &common::ao_config("ssdo", 1.0e6, "distance_clamp = 10000"), Extent::new(64, 64), 1) else { return };
+    let Some(run) = common::render_ao(
+        procedural_scene("sphere-on-plane").unwrap(),
+        &common::ao_config("ssdo", 1.0e6, "distance_clamp = 10000"),
+        Extent::new(64, 64),
+        1,
+    ) else {
+        return;
+    };
     assert_valid(&run, "ssdo with R = 1e6");
 }
 
@@ -97,7 +165,11 @@ fn floor_indirect(run: &common::AoRun, xs: std::ops::Range<f32>) -> (f32, f32, u
             n += 1;
         }
     }
-    ((r / n.max(1) as f64) as f32, (g / n.max(1) as f64) as f32, n)
+    (
+        (r / n.max(1) as f64) as f32,
+        (g / n.max(1) as f64) as f32,
+        n,
+    )
 }
 
 #[test]
@@ -106,27 +178,74 @@ fn cornell_box_bounce_carries_the_walls_colour_onto_the_floor() {
     // The paper's distance clamp (1 scene unit) and one scaled to this 2-unit room with R = 0.5.
     let mut first = None;
     for params in ["", "distance_clamp = 0.1"] {
-        let Some(run) = common::render_ao(procedural_scene("cornell-box").unwrap(), &common::ao_config("ssdo", 0.5, params), size, 1) else { return };
+        let Some(run) = common::render_ao(
+            procedural_scene("cornell-box").unwrap(),
+            &common::ao_config("ssdo", 0.5, params),
+            size,
+            1,
+        ) else {
+            return;
+        };
         assert_valid(&run, "ssdo on cornell-box");
         let (red_r, red_g, n_red) = floor_indirect(&run, -1.0..-0.75);
         let (green_r, green_g, n_green) = floor_indirect(&run, 0.75..1.0);
         let (mid_r, mid_g, n_mid) = floor_indirect(&run, -0.15..0.15);
-        println!("ssdo_indirect on the cornell-box floor (R = 0.5, N = 8, 96x96, [{params}]), mean (red, green):");
-        println!("  near the red wall   (x < -0.75, {n_red} px): ({red_r:.4}, {red_g:.4}), red/green {:.2}", red_r / red_g.max(1e-9));
-        println!("  middle              (|x| < 0.15, {n_mid} px): ({mid_r:.4}, {mid_g:.4}), red/green {:.2}", mid_r / mid_g.max(1e-9));
-        println!("  near the green wall (x > 0.75, {n_green} px): ({green_r:.4}, {green_g:.4}), red/green {:.2}", green_r / green_g.max(1e-9));
-        assert!(n_red >= 20 && n_green >= 20, "the floor near both walls is in view: {n_red}, {n_green} pixels");
-        assert!(red_r > 0.0, "the floor near the red wall receives indirect light");
-        assert!(red_r > 1.5 * red_g, "[{params}] the floor near the red wall is lit red: ({red_r}, {red_g})");
-        assert!(green_g > 1.5 * green_r, "[{params}] and near the green wall green: ({green_r}, {green_g})");
+        println!(
+            "ssdo_indirect on the cornell-box floor (R = 0.5, N = 8, 96x96, [{params}]), mean (red, green):"
+        );
+        println!(
+            "  near the red wall   (x < -0.75, {n_red} px): ({red_r:.4}, {red_g:.4}), red/green {:.2}",
+            red_r / red_g.max(1e-9)
+        );
+        println!(
+            "  middle              (|x| < 0.15, {n_mid} px): ({mid_r:.4}, {mid_g:.4}), red/green {:.2}",
+            mid_r / mid_g.max(1e-9)
+        );
+        println!(
+            "  near the green wall (x > 0.75, {n_green} px): ({green_r:.4}, {green_g:.4}), red/green {:.2}",
+            green_r / green_g.max(1e-9)
+        );
+        assert!(
+            n_red >= 20 && n_green >= 20,
+            "the floor near both walls is in view: {n_red}, {n_green} pixels"
+        );
+        assert!(
+            red_r > 0.0,
+            "the floor near the red wall receives indirect light"
+        );
+        assert!(
+            red_r > 1.5 * red_g,
+            "[{params}] the floor near the red wall is lit red: ({red_r}, {red_g})"
+        );
+        assert!(
+            green_g > 1.5 * green_r,
+            "[{params}] and near the green wall green: ({green_r}, {green_g})"
+        );
         first.get_or_insert(run);
     }
     let Some(run) = first else { return };
-    let Some(off) = common::render_ao(procedural_scene("cornell-box").unwrap(), &common::ao_config("ssdo", 0.5, "bounce = false"), size, 1) else { return };
+    let Some(off) = common::render_ao(
+        procedural_scene("cornell-box").unwrap(),
+        &common::ao_config("ssdo", 0.5, "bounce = false"),
+        size,
+        1,
+    ) else {
+        return;
+    };
     let indirect = off.renderer.read_extra("ssdo_indirect").unwrap();
-    assert!(indirect.chunks_exact(4).all(|px| px[..3] == [0.0; 3]), "bounce = false: the indirect term is exactly zero");
-    assert_eq!(off.ao, run.ao, "the bounce does not change the accessibility");
-    assert_eq!(off.renderer.read_extra("ssdo_direct").unwrap(), run.renderer.read_extra("ssdo_direct").unwrap(), "nor the direct term");
+    assert!(
+        indirect.chunks_exact(4).all(|px| px[..3] == [0.0; 3]),
+        "bounce = false: the indirect term is exactly zero"
+    );
+    assert_eq!(
+        off.ao, run.ao,
+        "the bounce does not change the accessibility"
+    );
+    assert_eq!(
+        off.renderer.read_extra("ssdo_direct").unwrap(),
+        run.renderer.read_extra("ssdo_direct").unwrap(),
+        "nor the direct term"
+    );
 }
 
 #[test]
@@ -134,18 +253,42 @@ fn sphere_on_plane_accessibility_is_within_the_error_of_ssao() {
     let size = Extent::new(96, 96);
     let registry = TechniqueRegistry::with_builtins();
     for samples in [8, 16] {
-        let Some(run) = common::render_ao(procedural_scene("sphere-on-plane").unwrap(), &common::ao_config("ssdo", RADIUS, &format!("samples = {samples}")), size, 1) else { return };
+        let Some(run) = common::render_ao(
+            procedural_scene("sphere-on-plane").unwrap(),
+            &common::ao_config("ssdo", RADIUS, &format!("samples = {samples}")),
+            size,
+            1,
+        ) else {
+            return;
+        };
         assert_valid(&run, "ssdo on sphere-on-plane");
         assert!(run.ao.iter().any(|&a| a < 0.9), "the contact is occluded");
         let reference = common::reference(&run, RADIUS, 256);
         let mae = common::mae(&run.ao, &reference, &run.depth);
         if registry.get("ssao").is_ok() {
-            let ssao = common::render_ao(procedural_scene("sphere-on-plane").unwrap(), &common::ao_config("ssao", RADIUS, &format!("samples = {samples}")), size, 1).unwrap();
-            let ssao_mae = common::mae(&ssao.ao, &common::reference(&ssao, RADIUS, 256), &ssao.depth);
-            println!("sphere-on-plane 96x96, R = {RADIUS}, N = {samples}: MAE against the reference (256 rays): ssdo {mae:.4}, ssao {ssao_mae:.4}");
-            assert!(mae <= ssao_mae * 1.1 + 0.005, "N = {samples}: ssdo MAE {mae} is not within ssao's {ssao_mae}");
+            let ssao = common::render_ao(
+                procedural_scene("sphere-on-plane").unwrap(),
+                &common::ao_config("ssao", RADIUS, &format!("samples = {samples}")),
+                size,
+                1,
+            )
+            .unwrap();
+            let ssao_mae = common::mae(
+                &ssao.ao,
+                &common::reference(&ssao, RADIUS, 256),
+                &ssao.depth,
+            );
+            println!(
+                "sphere-on-plane 96x96, R = {RADIUS}, N = {samples}: MAE against the reference (256 rays): ssdo {mae:.4}, ssao {ssao_mae:.4}"
+            );
+            assert!(
+                mae <= ssao_mae * 1.1 + 0.005,
+                "N = {samples}: ssdo MAE {mae} is not within ssao's {ssao_mae}"
+            );
         } else {
-            println!("sphere-on-plane 96x96, R = {RADIUS}, N = {samples}: ssdo MAE {mae:.4} (ssao not registered)");
+            println!(
+                "sphere-on-plane 96x96, R = {RADIUS}, N = {samples}: ssdo MAE {mae:.4} (ssao not registered)"
+            );
             assert!(mae < 0.1, "MAE {mae}");
         }
     }
@@ -156,11 +299,33 @@ fn render_writes_the_radiance_images() {
     if aograph_graph::test_gpu().is_none() {
         return;
     }
-    let out = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/target/test-output/ssdo-render"));
+    let out = std::path::PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/target/test-output/ssdo-render"
+    ));
     let _ = std::fs::remove_dir_all(&out);
-    let common_args = aograph::commands::CommonArgs { scene: Some("cornell-box".into()), technique: Some("ssdo".into()), width: Some(64), height: Some(48), radius: Some(0.5), ..Default::default() };
-    aograph::commands::render(&aograph::commands::RenderArgs { common: common_args, out: out.clone(), frames: Some(1), every: false }).expect("render runs");
-    for f in ["ao.png", "shaded.png", "ssdo_direct.png", "ssdo_indirect.png", "timings.txt"] {
+    let common_args = aograph::commands::CommonArgs {
+        scene: Some("cornell-box".into()),
+        technique: Some("ssdo".into()),
+        width: Some(64),
+        height: Some(48),
+        radius: Some(0.5),
+        ..Default::default()
+    };
+    aograph::commands::render(&aograph::commands::RenderArgs {
+        common: common_args,
+        out: out.clone(),
+        frames: Some(1),
+        every: false,
+    })
+    .expect("render runs");
+    for f in [
+        "ao.png",
+        "shaded.png",
+        "ssdo_direct.png",
+        "ssdo_indirect.png",
+        "timings.txt",
+    ] {
         assert!(out.join(f).is_file(), "{f} written");
     }
 }
@@ -183,7 +348,12 @@ fn median(v: &[f64]) -> f64 {
 impl Times {
     fn record(&mut self, r: &mut aograph::Renderer, technique: &str) {
         let t = r.timings().unwrap();
-        let mine: Vec<_> = t.passes.iter().filter(|(n, _)| n.starts_with(&format!("{technique}."))).cloned().collect();
+        let mine: Vec<_> = t
+            .passes
+            .iter()
+            .filter(|(n, _)| n.starts_with(&format!("{technique}.")))
+            .cloned()
+            .collect();
         if mine.is_empty() {
             return; // the first frame's timings arrive a frame later
         }
@@ -197,7 +367,11 @@ impl Times {
         }
     }
     fn passes(&self) -> String {
-        self.passes.iter().map(|(n, v)| format!("{n} {:.3}", median(v))).collect::<Vec<_>>().join(", ")
+        self.passes
+            .iter()
+            .map(|(n, v)| format!("{n} {:.3}", median(v)))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -213,8 +387,19 @@ fn cost_of_the_direct_term_and_the_bounce_relative_to_ssao() {
         let n = format!("samples = {samples}");
         // The three run frame by frame in turn, so load on the (shared) machine hits all alike.
         let mut runs = Vec::new();
-        for (technique, params) in [("ssao", n.clone()), ("ssdo", format!("{n}\nbounce = false")), ("ssdo", n.clone())] {
-            let Some(run) = common::render_ao(procedural_scene("columns").unwrap(), &common::ao_config(technique, RADIUS, &params), size, 1) else { return };
+        for (technique, params) in [
+            ("ssao", n.clone()),
+            ("ssdo", format!("{n}\nbounce = false")),
+            ("ssdo", n.clone()),
+        ] {
+            let Some(run) = common::render_ao(
+                procedural_scene("columns").unwrap(),
+                &common::ao_config(technique, RADIUS, &params),
+                size,
+                1,
+            ) else {
+                return;
+            };
             runs.push((technique, run.renderer, Times::default()));
         }
         for _ in 0..FRAMES {
@@ -224,14 +409,62 @@ fn cost_of_the_direct_term_and_the_bounce_relative_to_ssao() {
             }
         }
         let [ssao, direct, bounce] = [&runs[0].2, &runs[1].2, &runs[2].2];
-        let ratio = |a: &Times, b: &Times| median(&a.technique.iter().zip(&b.technique).map(|(x, y)| x / y).collect::<Vec<_>>());
-        let fps_drop = |a: &Times| median(&a.frame.iter().zip(&ssao.frame).map(|(x, y)| 1.0 - y / x).collect::<Vec<_>>()) * 100.0;
-        let device = aograph_graph::test_gpu().map(|g| g.describe()).unwrap_or_default();
-        println!("cost on columns {size}, N = {samples}, medians over {} interleaved frames on {device}:", ssao.technique.len());
-        println!("  ssao                {:.3} ms, frame {:.3} ms [{}]", median(&ssao.technique), median(&ssao.frame), ssao.passes());
-        println!("  ssdo without bounce {:.3} ms = {:.2} x ssao, frame {:.3} ms (fps -{:.1}%) [{}]", median(&direct.technique), ratio(direct, ssao), median(&direct.frame), fps_drop(direct), direct.passes());
-        println!("  ssdo with bounce    {:.3} ms = {:.2} x ssao, frame {:.3} ms (fps -{:.1}%) [{}]", median(&bounce.technique), ratio(bounce, ssao), median(&bounce.frame), fps_drop(bounce), bounce.passes());
-        println!("  the bounce alone: {:.2} x ssao; the paper (Table 1, fps drop of the whole frame against SSAO): 3.6% direct, 31.1% with the bounce", ratio(bounce, ssao) - ratio(direct, ssao));
-        assert!(ssao.technique.len() + 1 >= FRAMES && median(&ssao.technique) > 0.0 && median(&bounce.technique) > 0.0, "timings were measured");
+        let ratio = |a: &Times, b: &Times| {
+            median(
+                &a.technique
+                    .iter()
+                    .zip(&b.technique)
+                    .map(|(x, y)| x / y)
+                    .collect::<Vec<_>>(),
+            )
+        };
+        let fps_drop = |a: &Times| {
+            median(
+                &a.frame
+                    .iter()
+                    .zip(&ssao.frame)
+                    .map(|(x, y)| 1.0 - y / x)
+                    .collect::<Vec<_>>(),
+            ) * 100.0
+        };
+        let device = aograph_graph::test_gpu()
+            .map(|g| g.describe())
+            .unwrap_or_default();
+        println!(
+            "cost on columns {size}, N = {samples}, medians over {} interleaved frames on {device}:",
+            ssao.technique.len()
+        );
+        println!(
+            "  ssao                {:.3} ms, frame {:.3} ms [{}]",
+            median(&ssao.technique),
+            median(&ssao.frame),
+            ssao.passes()
+        );
+        println!(
+            "  ssdo without bounce {:.3} ms = {:.2} x ssao, frame {:.3} ms (fps -{:.1}%) [{}]",
+            median(&direct.technique),
+            ratio(direct, ssao),
+            median(&direct.frame),
+            fps_drop(direct),
+            direct.passes()
+        );
+        println!(
+            "  ssdo with bounce    {:.3} ms = {:.2} x ssao, frame {:.3} ms (fps -{:.1}%) [{}]",
+            median(&bounce.technique),
+            ratio(bounce, ssao),
+            median(&bounce.frame),
+            fps_drop(bounce),
+            bounce.passes()
+        );
+        println!(
+            "  the bounce alone: {:.2} x ssao; the paper (Table 1, fps drop of the whole frame against SSAO): 3.6% direct, 31.1% with the bounce",
+            ratio(bounce, ssao) - ratio(direct, ssao)
+        );
+        assert!(
+            ssao.technique.len() + 1 >= FRAMES
+                && median(&ssao.technique) > 0.0
+                && median(&bounce.technique) > 0.0,
+            "timings were measured"
+        );
     }
 }

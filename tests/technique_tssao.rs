@@ -9,11 +9,15 @@ mod common;
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::blocks::temporal::{add_temporal, temporal_channels, TemporalAccumulation, TemporalMode};
-use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
 use aograph_ao::AoConfig;
-use aograph_graph::{test_gpu, BufferAccess, Extent, GBufferChannels, ParamSpec, PassTimings, SizeClass, TextureDesc};
-use aograph_scene::{procedural_scene, Camera, ReferenceMode, Scene};
+use aograph_ao::blocks::temporal::{
+    TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
+};
+use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
+use aograph_graph::{
+    BufferAccess, Extent, GBufferChannels, ParamSpec, PassTimings, SizeClass, TextureDesc, test_gpu,
+};
+use aograph_scene::{Camera, ReferenceMode, Scene, procedural_scene};
 use glam::{Mat4, Vec3};
 
 const RADIUS: f32 = 1.0;
@@ -24,8 +28,23 @@ const FRAME_TIME: f32 = 1.0 / 30.0;
 fn renderer(scene: Scene, config: &AoConfig, size: Extent) -> Option<Renderer> {
     let gpu = test_gpu()?;
     let registry = TechniqueRegistry::with_builtins();
-    let outputs = FrameOutputs { surfaces: true, linear_depth: true, ..Default::default() };
-    Some(Renderer::new(gpu, aograph::shader_library(), &registry, Arc::new(scene), config, outputs, size).expect("frame graph builds"))
+    let outputs = FrameOutputs {
+        surfaces: true,
+        linear_depth: true,
+        ..Default::default()
+    };
+    Some(
+        Renderer::new(
+            gpu,
+            aograph::shader_library(),
+            &registry,
+            Arc::new(scene),
+            config,
+            outputs,
+            size,
+        )
+        .expect("frame graph builds"),
+    )
 }
 
 fn tssao(params: &str) -> AoConfig {
@@ -33,7 +52,9 @@ fn tssao(params: &str) -> AoConfig {
 }
 
 fn reference(r: &Renderer) -> Vec<f32> {
-    aograph::commands::trace_for(r, RADIUS, RAYS, ReferenceMode::Binary, false).expect("reference traces").accessibility
+    aograph::commands::trace_for(r, RADIUS, RAYS, ReferenceMode::Binary, false)
+        .expect("reference traces")
+        .accessibility
 }
 
 fn ao(r: &Renderer) -> Vec<f32> {
@@ -46,7 +67,14 @@ fn depth(r: &Renderer) -> Vec<f32> {
 
 /// Mean absolute error over the pixels where `mask` holds.
 fn masked_mae(a: &[f32], b: &[f32], mask: &[bool]) -> f32 {
-    let (sum, n) = a.iter().zip(b).zip(mask).filter(|(_, m)| **m).fold((0.0f64, 0usize), |(s, n), ((x, y), _)| (s + (x - y).abs() as f64, n + 1));
+    let (sum, n) = a
+        .iter()
+        .zip(b)
+        .zip(mask)
+        .filter(|(_, m)| **m)
+        .fold((0.0f64, 0usize), |(s, n), ((x, y), _)| {
+            (s + (x - y).abs() as f64, n + 1)
+        });
     (sum / n.max(1) as f64) as f32
 }
 
@@ -57,7 +85,11 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 /// Milliseconds of the AO technique's passes (everything but the g-buffer).
 fn technique_ms(t: &PassTimings) -> f64 {
-    t.passes.iter().filter(|(n, _)| n != "gbuffer").map(|(_, ms)| ms).sum()
+    t.passes
+        .iter()
+        .filter(|(n, _)| n != "gbuffer")
+        .map(|(_, ms)| ms)
+        .sum()
 }
 
 /// Median per-frame (total, technique-only) milliseconds over `frames` further frames at `time`.
@@ -77,13 +109,18 @@ use common::plane_at;
 #[test]
 fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
     for degrees in [0.0, 30.0, 60.0, 80.0] {
-        let Some(mut r) = renderer(plane_at(degrees), &tssao(""), Extent::new(64, 64)) else { return };
+        let Some(mut r) = renderer(plane_at(degrees), &tssao(""), Extent::new(64, 64)) else {
+            return;
+        };
         for frame in 1..=6 {
             r.render(0.0).unwrap();
             let (a, d) = (ao(&r), depth(&r));
             let what = format!("tssao on plane at {degrees} degrees, frame {frame}");
             common::assert_valid_ao(&a, &d, &what);
-            assert!(d.iter().any(|&z| z > 0.0), "{what}: the camera sees the plane");
+            assert!(
+                d.iter().any(|&z| z > 0.0),
+                "{what}: the camera sees the plane"
+            );
             let min = a.iter().copied().fold(1.0f32, f32::min);
             assert!(min >= 0.98, "{what}: darkest pixel {min}");
         }
@@ -92,7 +129,13 @@ fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
 
 #[test]
 fn sphere_on_plane_tracks_the_reference() {
-    let Some(mut r) = renderer(procedural_scene("sphere-on-plane").unwrap(), &tssao(""), Extent::new(96, 96)) else { return };
+    let Some(mut r) = renderer(
+        procedural_scene("sphere-on-plane").unwrap(),
+        &tssao(""),
+        Extent::new(96, 96),
+    ) else {
+        return;
+    };
     for _ in 0..16 {
         r.render(0.0).unwrap();
     }
@@ -101,15 +144,22 @@ fn sphere_on_plane_tracks_the_reference() {
     let reference = reference(&r);
     let mae = common::mae(&a, &reference, &d);
     let mae_of_one = common::mae(&vec![1.0; a.len()], &reference, &d);
-    println!("tssao on sphere-on-plane 96x96 after 16 frames: MAE {mae:.4} (accessibility 1 everywhere: {mae_of_one:.4})");
-    assert!(mae < 0.5 * mae_of_one && mae < 0.05, "MAE {mae} (returning 1: {mae_of_one})");
+    println!(
+        "tssao on sphere-on-plane 96x96 after 16 frames: MAE {mae:.4} (accessibility 1 everywhere: {mae_of_one:.4})"
+    );
+    assert!(
+        mae < 0.5 * mae_of_one && mae < 0.05,
+        "MAE {mae} (returning 1: {mae_of_one})"
+    );
 }
 
 #[test]
 fn static_camera_converges_and_matches_ssao_with_32_samples() {
     let size = Extent::new(96, 64);
     let scene = procedural_scene("columns").unwrap();
-    let Some(mut r) = renderer(scene.clone(), &tssao("k2 = 8"), size) else { return };
+    let Some(mut r) = renderer(scene.clone(), &tssao("k2 = 8"), size) else {
+        return;
+    };
     let mut maes = Vec::new();
     let mut kept = Vec::new();
     let mut reference_image = None;
@@ -127,24 +177,53 @@ fn static_camera_converges_and_matches_ssao_with_32_samples() {
     let d = depth(&r);
     let tssao_final = ao(&r);
     let mae_at = |f: u32| maes.iter().find(|(g, _)| *g == f).unwrap().1;
-    let line: Vec<String> = maes.iter().map(|(f, m)| format!("frame {f}: {m:.4}")).collect();
-    println!("tssao (k1 = 32, k2 = 8) on columns {size}, static camera, MAE against the reference ({RAYS} rays): {}", line.join(", "));
-    assert!(mae_at(1) > mae_at(8) && mae_at(8) > mae_at(32), "the error must fall as frames accumulate: {line:?}");
+    let line: Vec<String> = maes
+        .iter()
+        .map(|(f, m)| format!("frame {f}: {m:.4}"))
+        .collect();
+    println!(
+        "tssao (k1 = 32, k2 = 8) on columns {size}, static camera, MAE against the reference ({RAYS} rays): {}",
+        line.join(", ")
+    );
+    assert!(
+        mae_at(1) > mae_at(8) && mae_at(8) > mae_at(32),
+        "the error must fall as frames accumulate: {line:?}"
+    );
     // What is left after frame 2 is the estimator's screen-space bias; the sampling error
     // itself keeps falling: the distance to the estimate after 128 frames.
     for _ in 32..128 {
         r.render(0.0).unwrap();
     }
     let limit = ao(&r);
-    let to_limit: Vec<(u32, f32)> = kept.iter().map(|(f, a)| (*f, common::mae(a, &limit, &d))).collect();
-    println!("mean |A_f - A_128|: {}", to_limit.iter().map(|(f, m)| format!("frame {f}: {m:.5}")).collect::<Vec<_>>().join(", "));
-    assert!(to_limit.windows(2).all(|w| w[0].1 > w[1].1), "the sampling error must fall frame after frame: {to_limit:?}");
+    let to_limit: Vec<(u32, f32)> = kept
+        .iter()
+        .map(|(f, a)| (*f, common::mae(a, &limit, &d)))
+        .collect();
+    println!(
+        "mean |A_f - A_128|: {}",
+        to_limit
+            .iter()
+            .map(|(f, m)| format!("frame {f}: {m:.5}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    assert!(
+        to_limit.windows(2).all(|w| w[0].1 > w[1].1),
+        "the sampling error must fall frame after frame: {to_limit:?}"
+    );
     let (tssao_total, tssao_tech) = frame_times(&mut r, 9, 0.0);
 
     // The baseline: ssao with 32 samples per frame, or (if it is not registered) TSSAO's own
     // single-frame estimate with 32 samples.
     let ssao_registered = TechniqueRegistry::with_builtins().get("ssao").is_ok();
-    let (name, config) = if ssao_registered { ("ssao (32 samples)", common::ao_config("ssao", RADIUS, "samples = 32")) } else { ("single-frame tssao (32 samples)", tssao("k1 = 32")) };
+    let (name, config) = if ssao_registered {
+        (
+            "ssao (32 samples)",
+            common::ao_config("ssao", RADIUS, "samples = 32"),
+        )
+    } else {
+        ("single-frame tssao (32 samples)", tssao("k1 = 32"))
+    };
     let mut b = renderer(scene, &config, size).unwrap();
     b.render(0.0).unwrap();
     let base = ao(&b);
@@ -159,7 +238,10 @@ fn static_camera_converges_and_matches_ssao_with_32_samples() {
         base_total / tssao_total,
         base_tech / tssao_tech
     );
-    assert!(tssao_mae <= base_mae, "tssao after 32 frames ({tssao_mae}) must be at least as accurate as {name} ({base_mae})");
+    assert!(
+        tssao_mae <= base_mae,
+        "tssao after 32 frames ({tssao_mae}) must be at least as accurate as {name} ({base_mae})"
+    );
 }
 
 /// Frame-to-frame change of `config` on `columns` (96x64) over `frames` frames after `warmup`,
@@ -167,9 +249,18 @@ fn static_camera_converges_and_matches_ssao_with_32_samples() {
 /// non-sky pixels. Motion-compensated = mean |A_f(x) - A_f-1(x')|, x' = where the surface at x
 /// was in the previous frame (bilinear), over pixels that were visible there: it leaves out the
 /// image's true motion and keeps the changes that do not follow the surfaces (flicker).
-fn flicker(config: &AoConfig, warmup: u32, frames: u32, camera: impl Fn(u32) -> Camera) -> Option<(f32, f32)> {
+fn flicker(
+    config: &AoConfig,
+    warmup: u32,
+    frames: u32,
+    camera: impl Fn(u32) -> Camera,
+) -> Option<(f32, f32)> {
     let (w, h) = (96u32, 64u32);
-    let mut r = renderer(procedural_scene("columns").unwrap(), config, Extent::new(w, h))?;
+    let mut r = renderer(
+        procedural_scene("columns").unwrap(),
+        config,
+        Extent::new(w, h),
+    )?;
     let mut prev: Option<(Vec<f32>, Vec<f32>, Camera)> = None;
     let (mut plain, mut n_plain, mut warped, mut n_warped) = (0.0f64, 0usize, 0.0f64, 0usize);
     for f in 0..warmup + frames {
@@ -186,24 +277,32 @@ fn flicker(config: &AoConfig, warmup: u32, frames: u32, camera: impl Fn(u32) -> 
                 plain += (a[i] - pa[i]).abs() as f64;
                 n_plain += 1;
                 let q = vp * s.points[i].extend(1.0);
-                let (x, y) = ((0.5 + 0.5 * q.x / q.w) * w as f32 - 0.5, (0.5 - 0.5 * q.y / q.w) * h as f32 - 0.5);
+                let (x, y) = (
+                    (0.5 + 0.5 * q.x / q.w) * w as f32 - 0.5,
+                    (0.5 - 0.5 * q.y / q.w) * h as f32 - 0.5,
+                );
                 if !(x >= 0.0 && y >= 0.0 && x < (w - 1) as f32 && y < (h - 1) as f32) {
                     continue;
                 }
-                let (x0, y0, tx, ty) = (x.floor() as usize, y.floor() as usize, x.fract(), y.fract());
+                let (x0, y0, tx, ty) =
+                    (x.floor() as usize, y.floor() as usize, x.fract(), y.fract());
                 let at = |img: &[f32], dx: usize, dy: usize| img[(y0 + dy) * w as usize + x0 + dx];
                 let z_then = -(view * s.points[i].extend(1.0)).z;
                 if (0..4).any(|k| (1.0 - z_then / at(pd, k & 1, k >> 1)).abs() > 0.01) {
                     continue; // not visible there last frame (or an edge)
                 }
-                let then = (at(pa, 0, 0) * (1.0 - tx) + at(pa, 1, 0) * tx) * (1.0 - ty) + (at(pa, 0, 1) * (1.0 - tx) + at(pa, 1, 1) * tx) * ty;
+                let then = (at(pa, 0, 0) * (1.0 - tx) + at(pa, 1, 0) * tx) * (1.0 - ty)
+                    + (at(pa, 0, 1) * (1.0 - tx) + at(pa, 1, 1) * tx) * ty;
                 warped += (a[i] - then).abs() as f64;
                 n_warped += 1;
             }
         }
         prev = Some((a, d, c));
     }
-    Some(((plain / n_plain.max(1) as f64) as f32, (warped / n_warped.max(1) as f64) as f32))
+    Some((
+        (plain / n_plain.max(1) as f64) as f32,
+        (warped / n_warped.max(1) as f64) as f32,
+    ))
 }
 
 #[test]
@@ -217,21 +316,33 @@ fn flicker_is_lower_than_ssao() {
         c.target += o;
         c
     };
-    let Some((t_still, _)) = flicker(&tssao(""), 32, 16, |_| still) else { return };
+    let Some((t_still, _)) = flicker(&tssao(""), 32, 16, |_| still) else {
+        return;
+    };
     let (t_plain, t_moving) = flicker(&tssao(""), 32, 16, dolly).unwrap();
-    println!("tssao flicker on columns 96x64, frames 33-48: static camera {t_still:.5}; camera moving 1 cm/frame {t_plain:.5}, motion-compensated {t_moving:.5}");
+    println!(
+        "tssao flicker on columns 96x64, frames 33-48: static camera {t_still:.5}; camera moving 1 cm/frame {t_plain:.5}, motion-compensated {t_moving:.5}"
+    );
     // Under a static camera a converged pixel changes only by the weight k2 / (n_t + k2) of its
     // new samples.
-    assert!(t_still < 0.001, "converged tssao under a static camera changes by {t_still} per frame");
+    assert!(
+        t_still < 0.001,
+        "converged tssao under a static camera changes by {t_still} per frame"
+    );
     if TechniqueRegistry::with_builtins().get("ssao").is_ok() {
         let ssao = common::ao_config("ssao", RADIUS, "samples = 32");
         let (s_still, _) = flicker(&ssao, 32, 16, |_| still).unwrap();
         let (s_plain, s_moving) = flicker(&ssao, 32, 16, dolly).unwrap();
-        println!("ssao (32 samples) flicker: static camera {s_still:.5}; camera moving 1 cm/frame {s_plain:.5}, motion-compensated {s_moving:.5}");
+        println!(
+            "ssao (32 samples) flicker: static camera {s_still:.5}; camera moving 1 cm/frame {s_plain:.5}, motion-compensated {s_moving:.5}"
+        );
         // ssao's noise is a fixed per-pixel pattern, so under a static camera it does not change
         // at all (0 cannot be beaten); its flicker is the pattern sliding over the surfaces once
         // the camera moves, which the motion-compensated measure isolates.
-        assert!(t_moving < s_moving, "tssao's motion-compensated flicker {t_moving} must be below ssao's {s_moving}");
+        assert!(
+            t_moving < s_moving,
+            "tssao's motion-compensated flicker {t_moving} must be below ssao's {s_moving}"
+        );
     }
 }
 
@@ -247,14 +358,21 @@ fn moving_band(scene: &Scene, camera: &Camera, size: Extent, time: f32, trail: u
             let (lo, hi) = (b.min - Vec3::splat(RADIUS), b.max + Vec3::splat(RADIUS));
             let (mut u0, mut v0, mut u1, mut v1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
             for i in 0..8 {
-                let p = Vec3::new(if i & 1 == 0 { lo.x } else { hi.x }, if i & 2 == 0 { lo.y } else { hi.y }, if i & 4 == 0 { lo.z } else { hi.z });
+                let p = Vec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                );
                 let c = vp * p.extend(1.0);
                 let (u, v) = (0.5 + 0.5 * c.x / c.w, 0.5 - 0.5 * c.y / c.w);
                 (u0, v0, u1, v1) = (u0.min(u), v0.min(v), u1.max(u), v1.max(v));
             }
             for y in 0..size.height {
                 for x in 0..size.width {
-                    let (u, v) = ((x as f32 + 0.5) / size.width as f32, (y as f32 + 0.5) / size.height as f32);
+                    let (u, v) = (
+                        (x as f32 + 0.5) / size.width as f32,
+                        (y as f32 + 0.5) / size.height as f32,
+                    );
                     if (u0..=u1).contains(&u) && (v0..=v1).contains(&v) {
                         mask[(y * size.width + x) as usize] = true;
                     }
@@ -276,7 +394,15 @@ fn dynamic_errors(params: &str, frames: u32, hold_camera: bool) -> Option<(f32, 
     let mut r = renderer(scene.clone(), &tssao(params), size)?;
     for f in 0..frames {
         let t = f as f32 * FRAME_TIME;
-        r.render_with_camera(t, if hold_camera { last } else { scene.camera_at(t) }).unwrap();
+        r.render_with_camera(
+            t,
+            if hold_camera {
+                last
+            } else {
+                scene.camera_at(t)
+            },
+        )
+        .unwrap();
         let (a, d) = (ao(&r), depth(&r));
         common::assert_valid_ao(&a, &d, &format!("tssao [{params}] on dynamic, frame {f}"));
     }
@@ -289,25 +415,48 @@ fn dynamic_errors(params: &str, frames: u32, hold_camera: bool) -> Option<(f32, 
     let mut fresh = renderer(scene, &tssao(params), size).unwrap();
     fresh.render_with_camera(time, last).unwrap();
     let fresh_band = masked_mae(&ao(&fresh), &reference, &in_band);
-    Some((masked_mae(&a, &reference, &in_band), masked_mae(&a, &reference, &outside), fresh_band, in_band.iter().filter(|b| **b).count()))
+    Some((
+        masked_mae(&a, &reference, &in_band),
+        masked_mae(&a, &reference, &outside),
+        fresh_band,
+        in_band.iter().filter(|b| **b).count(),
+    ))
 }
 
 #[test]
 fn dynamic_scene_leaves_no_stale_values_behind_moving_objects() {
     let frames = 45;
-    let Some((band, outside, fresh, pixels)) = dynamic_errors("", frames, false) else { return };
-    println!("tssao on dynamic 128x80, frame {frames}, camera on its orbit: MAE in the band around the moving objects {band:.4} ({pixels} pixels), elsewhere {outside:.4}; a history-free frame: {fresh:.4} in the band");
-    assert!(pixels > 200, "the band must cover the moving objects: {pixels} pixels");
+    let Some((band, outside, fresh, pixels)) = dynamic_errors("", frames, false) else {
+        return;
+    };
+    println!(
+        "tssao on dynamic 128x80, frame {frames}, camera on its orbit: MAE in the band around the moving objects {band:.4} ({pixels} pixels), elsewhere {outside:.4}; a history-free frame: {fresh:.4} in the band"
+    );
+    assert!(
+        pixels > 200,
+        "the band must cover the moving objects: {pixels} pixels"
+    );
     let (held, held_out, held_fresh, _) = dynamic_errors("", frames, true).unwrap();
     let (full, full_out, _, _) = dynamic_errors("n_smooth = 0", frames, true).unwrap();
-    println!("camera held still, objects moving: band {held:.4}, elsewhere {held_out:.4} (smooth invalidation, n_smooth = 32); band {full:.4}, elsewhere {full_out:.4} (full invalidation); history-free frame {held_fresh:.4} in the band");
+    println!(
+        "camera held still, objects moving: band {held:.4}, elsewhere {held_out:.4} (smooth invalidation, n_smooth = 32); band {full:.4}, elsewhere {full_out:.4} (full invalidation); history-free frame {held_fresh:.4} in the band"
+    );
     // With full invalidation (Eq. 8 resets n_t) nothing stale survives: the band is as good as
     // a frame without history. Smooth invalidation keeps 32 / (32 + k1) = half the old value
     // for each frame a neighbour moves: the paper's deliberate slight motion blur (§3.6.1),
     // bounded here. On the orbit, bilinear reprojection blur adds to both regions.
-    assert!(full <= 1.05 * held_fresh, "stale values with full invalidation: band MAE {full}, history-free {held_fresh}");
-    assert!(held <= 1.35 * held_fresh, "smooth invalidation lags too much: band MAE {held}, history-free {held_fresh}");
-    assert!(band <= 1.75 * fresh, "band MAE on the orbit {band}, history-free {fresh}");
+    assert!(
+        full <= 1.05 * held_fresh,
+        "stale values with full invalidation: band MAE {full}, history-free {held_fresh}"
+    );
+    assert!(
+        held <= 1.35 * held_fresh,
+        "smooth invalidation lags too much: band MAE {held}, history-free {held_fresh}"
+    );
+    assert!(
+        band <= 1.75 * fresh,
+        "band MAE on the orbit {band}, history-free {fresh}"
+    );
 }
 
 /// Scene `b` appended to scene `a`, moved by `offset`; `a`'s camera.
@@ -331,7 +480,9 @@ fn a_camera_cut_restarts_the_history() {
     let size = Extent::new(96, 64);
     // Same camera before and after: without the cut, the history would be reused everywhere.
     let columns = procedural_scene("columns").unwrap();
-    let Some(mut r) = renderer(columns.clone(), &tssao(""), size) else { return };
+    let Some(mut r) = renderer(columns.clone(), &tssao(""), size) else {
+        return;
+    };
     for _ in 0..8 {
         r.render(0.0).unwrap();
     }
@@ -344,15 +495,33 @@ fn a_camera_cut_restarts_the_history() {
     let after_cut = ao(&r);
     let mut fresh = renderer(columns, &tssao(""), size).unwrap();
     fresh.render(0.0).unwrap();
-    assert_eq!(after_cut, ao(&fresh), "the first frame after a cut must equal a fresh first frame");
-    assert_ne!(after_cut, ao(&uncut), "without the cut, frame 9 carries history (the check has teeth)");
+    assert_eq!(
+        after_cut,
+        ao(&fresh),
+        "the first frame after a cut must equal a fresh first frame"
+    );
+    assert_ne!(
+        after_cut,
+        ao(&uncut),
+        "without the cut, frame 9 carries history (the check has teeth)"
+    );
 
     // A cut from `plane` (accessibility 1) to `corner` (occluded along its walls), one scene
     // 1000 units apart: the first frame after the cut equals a fresh render of the corner.
     let corner = procedural_scene("corner").unwrap();
     let corner_camera = corner.camera;
-    let plane_camera = Camera::perspective(Vec3::new(0.0, -998.0, 6.0), Vec3::new(0.0, -1000.0, 0.0), 50f32.to_radians(), 0.05, 2000.0);
-    let scene = merged(corner, procedural_scene("plane").unwrap(), Mat4::from_translation(Vec3::new(0.0, -1000.0, 0.0)));
+    let plane_camera = Camera::perspective(
+        Vec3::new(0.0, -998.0, 6.0),
+        Vec3::new(0.0, -1000.0, 0.0),
+        50f32.to_radians(),
+        0.05,
+        2000.0,
+    );
+    let scene = merged(
+        corner,
+        procedural_scene("plane").unwrap(),
+        Mat4::from_translation(Vec3::new(0.0, -1000.0, 0.0)),
+    );
     let mut r = renderer(scene.clone(), &tssao(""), size).unwrap();
     for _ in 0..6 {
         r.render_with_camera(0.0, plane_camera).unwrap();
@@ -365,14 +534,22 @@ fn a_camera_cut_restarts_the_history() {
     let mut fresh = renderer(scene, &tssao(""), size).unwrap();
     fresh.render_with_camera(0.0, corner_camera).unwrap();
     let fresh_ao = ao(&fresh);
-    assert!(fresh_ao.iter().any(|&a| a < 0.8), "the corner is occluded somewhere");
-    assert_eq!(after_cut, fresh_ao, "after the cut to the corner nothing of the plane remains");
+    assert!(
+        fresh_ao.iter().any(|&a| a < 0.8),
+        "the corner is occluded somewhere"
+    );
+    assert_eq!(
+        after_cut, fresh_ao,
+        "after the cut to the corner nothing of the plane remains"
+    );
 }
 
 #[test]
 fn a_resize_restarts_the_history() {
     let columns = procedural_scene("columns").unwrap();
-    let Some(mut r) = renderer(columns.clone(), &tssao(""), Extent::new(96, 64)) else { return };
+    let Some(mut r) = renderer(columns.clone(), &tssao(""), Extent::new(96, 64)) else {
+        return;
+    };
     for _ in 0..8 {
         r.render(0.0).unwrap();
     }
@@ -381,7 +558,11 @@ fn a_resize_restarts_the_history() {
     r.render(0.0).unwrap();
     let mut fresh = renderer(columns, &tssao(""), small).unwrap();
     fresh.render(0.0).unwrap();
-    assert_eq!(ao(&r), ao(&fresh), "the first frame after a resize must equal a fresh first frame");
+    assert_eq!(
+        ao(&r),
+        ao(&fresh),
+        "the first frame after a resize must equal a fresh first frame"
+    );
 }
 
 #[test]
@@ -390,32 +571,82 @@ fn render_command_writes_every_frame_of_the_dynamic_scene() {
         return;
     }
     let out = std::env::temp_dir().join(format!("aograph-tssao-render-{}", std::process::id()));
-    let common = aograph::commands::CommonArgs { scene: Some("dynamic".into()), technique: Some("tssao".into()), width: Some(64), height: Some(48), ..Default::default() };
-    aograph::commands::render(&aograph::commands::RenderArgs { common, out: out.clone(), frames: Some(4), every: true }).expect("render runs");
-    for f in ["ao.png", "shaded.png", "timings.txt", "ao_0000.png", "ao_0003.png", "shaded_0003.png"] {
+    let common = aograph::commands::CommonArgs {
+        scene: Some("dynamic".into()),
+        technique: Some("tssao".into()),
+        width: Some(64),
+        height: Some(48),
+        ..Default::default()
+    };
+    aograph::commands::render(&aograph::commands::RenderArgs {
+        common,
+        out: out.clone(),
+        frames: Some(4),
+        every: true,
+    })
+    .expect("render runs");
+    for f in [
+        "ao.png",
+        "shaded.png",
+        "timings.txt",
+        "ao_0000.png",
+        "ao_0003.png",
+        "shaded_0003.png",
+    ] {
         assert!(out.join(f).is_file(), "{f} written");
     }
     let last = std::fs::read(out.join("ao_0003.png")).unwrap();
-    assert_eq!(last, std::fs::read(out.join("ao.png")).unwrap(), "ao.png is the last frame");
+    assert_eq!(
+        last,
+        std::fs::read(out.join("ao.png")).unwrap(),
+        "ao.png is the last frame"
+    );
     std::fs::remove_dir_all(&out).ok();
 
     // With AO fixed at 1, shaded frames differ only because the camera and objects move.
-    let common = aograph::commands::CommonArgs { scene: Some("dynamic".into()), technique: Some("none".into()), width: Some(64), height: Some(48), ..Default::default() };
-    aograph::commands::render(&aograph::commands::RenderArgs { common, out: out.clone(), frames: Some(3), every: true }).expect("render runs");
+    let common = aograph::commands::CommonArgs {
+        scene: Some("dynamic".into()),
+        technique: Some("none".into()),
+        width: Some(64),
+        height: Some(48),
+        ..Default::default()
+    };
+    aograph::commands::render(&aograph::commands::RenderArgs {
+        common,
+        out: out.clone(),
+        frames: Some(3),
+        every: true,
+    })
+    .expect("render runs");
     let first = std::fs::read(out.join("shaded_0000.png")).unwrap();
-    assert_ne!(first, std::fs::read(out.join("shaded_0002.png")).unwrap(), "the dynamic scene moves between frames");
+    assert_ne!(
+        first,
+        std::fs::read(out.join("shaded_0002.png")).unwrap(),
+        "the dynamic scene moves between frames"
+    );
     std::fs::remove_dir_all(&out).ok();
 }
 
 #[test]
 fn example_config_parses_with_paper_defaults() {
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/tssao.toml"));
-    let config = aograph::AppConfig::load(path, &TechniqueRegistry::with_builtins()).expect("configs/tssao.toml is valid");
+    let config = aograph::AppConfig::load(path, &TechniqueRegistry::with_builtins())
+        .expect("configs/tssao.toml is valid");
     assert_eq!(config.ao.technique, "tssao");
     assert_eq!(config.frames, 32);
     let table = config.ao.params_for("tssao");
-    for (key, value) in [("k1", 32), ("k2", 8), ("n_max", 500), ("n_smooth", 32), ("filter_width", 5)] {
-        assert_eq!(table.get(key).and_then(|v| v.as_integer()), Some(value), "{key}");
+    for (key, value) in [
+        ("k1", 32),
+        ("k2", 8),
+        ("n_max", 500),
+        ("n_smooth", 32),
+        ("filter_width", 5),
+    ] {
+        assert_eq!(
+            table.get(key).and_then(|v| v.as_integer()),
+            Some(value),
+            "{key}"
+        );
     }
 }
 
@@ -458,13 +689,32 @@ impl AoTechnique for ParityThroughTemporal {
         true
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, _: &NoParams) -> AoResult<AoOutput> {
-        let t = ctx.builder.create_texture("parity", TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL));
-        let mut p = ctx.builder.compute_pass("parity.fill", "test/parity.wgsl", "main");
+        let t = ctx.builder.create_texture(
+            "parity",
+            TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
+        );
+        let mut p = ctx
+            .builder
+            .compute_pass("parity.fill", "test/parity.wgsl", "main");
         p.read_buffer("view", BufferAccess::Uniform, ctx.view);
         let t = p.write_storage("dst", t);
         p.dispatch_over(t);
-        let params = TemporalAccumulation { n_max: 4, mode: self.0, ..Default::default() };
-        Ok(AoOutput::new(add_temporal(ctx.builder, "parity.temporal", t, &ctx.gbuffer, ctx.view, &params)?.accumulated))
+        let params = TemporalAccumulation {
+            n_max: 4,
+            mode: self.0,
+            ..Default::default()
+        };
+        Ok(AoOutput::new(
+            add_temporal(
+                ctx.builder,
+                "parity.temporal",
+                t,
+                &ctx.gbuffer,
+                ctx.view,
+                &params,
+            )?
+            .accumulated,
+        ))
     }
 }
 
@@ -474,25 +724,54 @@ fn parity_renderer(mode: TemporalMode) -> Option<Renderer> {
     registry.register(ParityThroughTemporal(mode));
     let shaders = aograph::shader_library();
     shaders.add_inline("test/parity.wgsl", PARITY_SHADER);
-    let config = AoConfig { technique: "parity-temporal".into(), radius: RADIUS, ..AoConfig::default() };
-    let outputs = FrameOutputs { linear_depth: true, ..Default::default() };
-    Some(Renderer::new(gpu, shaders, &registry, Arc::new(procedural_scene("columns").unwrap()), &config, outputs, Extent::new(64, 48)).expect("frame graph builds"))
+    let config = AoConfig {
+        technique: "parity-temporal".into(),
+        radius: RADIUS,
+        ..AoConfig::default()
+    };
+    let outputs = FrameOutputs {
+        linear_depth: true,
+        ..Default::default()
+    };
+    Some(
+        Renderer::new(
+            gpu,
+            shaders,
+            &registry,
+            Arc::new(procedural_scene("columns").unwrap()),
+            &config,
+            outputs,
+            Extent::new(64, 48),
+        )
+        .expect("frame graph builds"),
+    )
 }
 
 /// The accumulated value on every non-sky pixel of the last frame (they must all agree).
 fn uniform_value(r: &Renderer) -> f32 {
     let (a, d) = (ao(r), depth(r));
     common::assert_valid_ao(&a, &d, "temporal block output");
-    let values: Vec<f32> = a.iter().zip(&d).filter(|(_, z)| **z > 0.0).map(|(v, _)| *v).collect();
+    let values: Vec<f32> = a
+        .iter()
+        .zip(&d)
+        .filter(|(_, z)| **z > 0.0)
+        .map(|(v, _)| *v)
+        .collect();
     assert!(!values.is_empty());
-    assert!(values.iter().all(|v| (v - values[0]).abs() < 1e-6), "non-sky pixels differ: {:?}", &values[..8.min(values.len())]);
+    assert!(
+        values.iter().all(|v| (v - values[0]).abs() < 1e-6),
+        "non-sky pixels differ: {:?}",
+        &values[..8.min(values.len())]
+    );
     values[0]
 }
 
 #[test]
 fn temporal_block_averages_blends_and_resets() {
     // Average (TSSAO Eqs. 5-6, one sample per frame), n_max = 4: inputs 0, 1, 0, 1, 0, 1, ...
-    let Some(mut r) = parity_renderer(TemporalMode::Average) else { return };
+    let Some(mut r) = parity_renderer(TemporalMode::Average) else {
+        return;
+    };
     let mut expected = Vec::new();
     let (mut mean, mut n) = (0.0f32, 0.0f32);
     for f in 0..8u32 {
@@ -501,7 +780,11 @@ fn temporal_block_averages_blends_and_resets() {
         mean = (n * mean + x) / (n + 1.0);
         n = (n + 1.0).min(4.0);
         expected.push(mean);
-        assert!((uniform_value(&r) - mean).abs() < 1e-5, "Average, frame {f}: {} expected {mean}", uniform_value(&r));
+        assert!(
+            (uniform_value(&r) - mean).abs() < 1e-5,
+            "Average, frame {f}: {} expected {mean}",
+            uniform_value(&r)
+        );
     }
     println!("temporal block, Average (n_max 4) over inputs 0, 1, 0, 1, ...: {expected:?}");
     // A cut: the next frame is its input alone.
@@ -516,7 +799,11 @@ fn temporal_block_averages_blends_and_resets() {
         r.render(0.0).unwrap();
         let x = (f & 1) as f32;
         a = if f == 0 { x } else { 0.5 * a + 0.5 * x };
-        assert!((uniform_value(&r) - a).abs() < 1e-6, "FixedBlend, frame {f}: {} expected {a}", uniform_value(&r));
+        assert!(
+            (uniform_value(&r) - a).abs() < 1e-6,
+            "FixedBlend, frame {f}: {} expected {a}",
+            uniform_value(&r)
+        );
     }
     // A resize invalidates the history: the first frame at the new size is its input.
     r.resize(Extent::new(48, 32)).unwrap();

@@ -10,7 +10,9 @@
 use font8x8::legacy::BASIC_LEGACY;
 use plotters::backend::BitMapBackend;
 use plotters_backend::text_anchor::{HPos, VPos};
-use plotters_backend::{BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingBackend, DrawingErrorKind};
+use plotters_backend::{
+    BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingBackend, DrawingErrorKind,
+};
 
 /// Pixel height of one unscaled glyph.
 const GLYPH: i32 = 8;
@@ -23,7 +25,9 @@ pub struct TextBitmap<'a> {
 impl<'a> TextBitmap<'a> {
     /// Draws into `rgb` (width x height x 3 bytes).
     pub fn new(rgb: &'a mut [u8], size: (u32, u32)) -> Self {
-        Self { inner: BitMapBackend::with_buffer(rgb, size) }
+        Self {
+            inner: BitMapBackend::with_buffer(rgb, size),
+        }
     }
 }
 
@@ -36,7 +40,11 @@ fn scale(size: f64) -> i32 {
 
 fn glyph(c: char) -> [u8; 8] {
     let i = c as usize;
-    if i < 128 { BASIC_LEGACY[i] } else { BASIC_LEGACY['?' as usize] }
+    if i < 128 {
+        BASIC_LEGACY[i]
+    } else {
+        BASIC_LEGACY['?' as usize]
+    }
 }
 
 type Res<E> = Result<(), DrawingErrorKind<E>>;
@@ -56,26 +64,61 @@ impl DrawingBackend for TextBitmap<'_> {
     fn draw_pixel(&mut self, point: BackendCoord, color: BackendColor) -> Res<Self::ErrorType> {
         self.inner.draw_pixel(point, color)
     }
-    fn draw_line<S: BackendStyle>(&mut self, from: BackendCoord, to: BackendCoord, style: &S) -> Res<Self::ErrorType> {
+    fn draw_line<S: BackendStyle>(
+        &mut self,
+        from: BackendCoord,
+        to: BackendCoord,
+        style: &S,
+    ) -> Res<Self::ErrorType> {
         self.inner.draw_line(from, to, style)
     }
-    fn draw_rect<S: BackendStyle>(&mut self, upper_left: BackendCoord, bottom_right: BackendCoord, style: &S, fill: bool) -> Res<Self::ErrorType> {
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        upper_left: BackendCoord,
+        bottom_right: BackendCoord,
+        style: &S,
+        fill: bool,
+    ) -> Res<Self::ErrorType> {
         self.inner.draw_rect(upper_left, bottom_right, style, fill)
     }
-    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(&mut self, path: I, style: &S) -> Res<Self::ErrorType> {
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        style: &S,
+    ) -> Res<Self::ErrorType> {
         self.inner.draw_path(path, style)
     }
-    fn draw_circle<S: BackendStyle>(&mut self, center: BackendCoord, radius: u32, style: &S, fill: bool) -> Res<Self::ErrorType> {
+    fn draw_circle<S: BackendStyle>(
+        &mut self,
+        center: BackendCoord,
+        radius: u32,
+        style: &S,
+        fill: bool,
+    ) -> Res<Self::ErrorType> {
         self.inner.draw_circle(center, radius, style, fill)
     }
-    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(&mut self, vert: I, style: &S) -> Res<Self::ErrorType> {
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vert: I,
+        style: &S,
+    ) -> Res<Self::ErrorType> {
         self.inner.fill_polygon(vert, style)
     }
-    fn blit_bitmap(&mut self, pos: BackendCoord, size: (u32, u32), src: &[u8]) -> Res<Self::ErrorType> {
+    fn blit_bitmap(
+        &mut self,
+        pos: BackendCoord,
+        size: (u32, u32),
+        src: &[u8],
+    ) -> Res<Self::ErrorType> {
         self.inner.blit_bitmap(pos, size, src)
     }
 
-    fn draw_text<S: BackendTextStyle>(&mut self, text: &str, style: &S, pos: BackendCoord) -> Res<Self::ErrorType> {
+    fn draw_text<S: BackendTextStyle>(
+        &mut self,
+        text: &str,
+        style: &S,
+        pos: BackendCoord,
+    ) -> Res<Self::ErrorType> {
         let color = style.color();
         if color.alpha == 0.0 {
             return Ok(());
@@ -118,9 +161,16 @@ impl DrawingBackend for TextBitmap<'_> {
         Ok(())
     }
 
-    fn estimate_text_size<S: BackendTextStyle>(&self, text: &str, style: &S) -> Result<(u32, u32), DrawingErrorKind<Self::ErrorType>> {
+    fn estimate_text_size<S: BackendTextStyle>(
+        &self,
+        text: &str,
+        style: &S,
+    ) -> Result<(u32, u32), DrawingErrorKind<Self::ErrorType>> {
         let s = scale(style.size()) as u32;
-        Ok((GLYPH as u32 * s * text.chars().count() as u32, GLYPH as u32 * s))
+        Ok((
+            GLYPH as u32 * s * text.chars().count() as u32,
+            GLYPH as u32 * s,
+        ))
     }
 }
 
@@ -135,14 +185,24 @@ mod tests {
         let mut rgb = vec![255u8; (w * h * 3) as usize];
         {
             let root = TextBitmap::new(&mut rgb, (w, h)).into_drawing_area();
-            root.draw_text("Hi", &("sans-serif", 12).into_font().color(&BLACK), (0, 0)).unwrap();
+            root.draw_text("Hi", &("sans-serif", 12).into_font().color(&BLACK), (0, 0))
+                .unwrap();
             root.present().unwrap();
         }
         let dark = |x: u32, y: u32| rgb[((y * w + x) * 3) as usize] < 128;
-        assert!((0..8).any(|y| (0..8).any(|x| dark(x, y))), "the H is drawn in the first cell");
-        assert!(!(0..16).any(|y| (20..64).any(|x| dark(x, y))), "nothing past two glyphs");
+        assert!(
+            (0..8).any(|y| (0..8).any(|x| dark(x, y))),
+            "the H is drawn in the first cell"
+        );
+        assert!(
+            !(0..16).any(|y| (20..64).any(|x| dark(x, y))),
+            "nothing past two glyphs"
+        );
         // 'H' in font8x8 has both vertical strokes: its left column lights on several rows.
         let left = (0..8).filter(|y| dark(0, *y)).count();
-        assert!(left >= 5, "left stroke of H, least significant bit leftmost ({left} rows)");
+        assert!(
+            left >= 5,
+            "left stroke of H, least significant bit leftmost ({left} rows)"
+        );
     }
 }

@@ -19,27 +19,48 @@ const TOO_BRIGHT: [f32; 3] = [178.0, 24.0, 43.0];
 
 /// The colour of error `e` (technique - reference).
 pub fn error_colour(e: f32) -> [u8; 3] {
-    let t = if e.is_finite() { (e / ERROR_RANGE).clamp(-1.0, 1.0) } else { 0.0 };
+    let t = if e.is_finite() {
+        (e / ERROR_RANGE).clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
     let end = if t < 0.0 { TOO_DARK } else { TOO_BRIGHT };
     let a = t.abs();
     end.map(|c| (255.0 + (c - 255.0) * a).round() as u8)
 }
 
 fn gray(v: f32) -> [u8; 3] {
-    let g = if v.is_finite() { (v.clamp(0.0, 1.0) * 255.0).round() as u8 } else { 0 };
+    let g = if v.is_finite() {
+        (v.clamp(0.0, 1.0) * 255.0).round() as u8
+    } else {
+        0
+    };
     [g; 3]
 }
 
 /// RGB pixels of the three panels.
-pub fn side_by_side(ao: &[f32], reference: &[f32], valid: &[bool], width: u32, height: u32) -> (u32, Vec<u8>) {
+pub fn side_by_side(
+    ao: &[f32],
+    reference: &[f32],
+    valid: &[bool],
+    width: u32,
+    height: u32,
+) -> (u32, Vec<u8>) {
     let (w, h) = (width as usize, height as usize);
     let total_w = 3 * w + 2 * GAP as usize;
     let mut rgb = vec![96u8; total_w * h * 3];
     for y in 0..h {
         for x in 0..w {
             let i = y * w + x;
-            let err = if valid[i] { error_colour(ao[i] - reference[i]) } else { SKY };
-            for (panel, c) in [gray(ao[i]), err, gray(reference[i])].into_iter().enumerate() {
+            let err = if valid[i] {
+                error_colour(ao[i] - reference[i])
+            } else {
+                SKY
+            };
+            for (panel, c) in [gray(ao[i]), err, gray(reference[i])]
+                .into_iter()
+                .enumerate()
+            {
                 let px = panel * (w + GAP as usize) + x;
                 let o = (y * total_w + px) * 3;
                 rgb[o..o + 3].copy_from_slice(&c);
@@ -50,7 +71,14 @@ pub fn side_by_side(ao: &[f32], reference: &[f32], valid: &[bool], width: u32, h
 }
 
 /// Writes the side-by-side PNG.
-pub fn write_side_by_side(path: &Path, ao: &[f32], reference: &[f32], valid: &[bool], width: u32, height: u32) -> AppResult<()> {
+pub fn write_side_by_side(
+    path: &Path,
+    ao: &[f32],
+    reference: &[f32],
+    valid: &[bool],
+    width: u32,
+    height: u32,
+) -> AppResult<()> {
     let (w, rgb) = side_by_side(ao, reference, valid, width, height);
     write_rgb_png(path, w, height, &rgb)
 }

@@ -30,7 +30,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 pub use report::{BenchMeta, ResultsFile};
 pub use run::{BenchContext, BenchSettings, RunRecord};
 pub use scaling::ScalingResults;
-pub use sweep::{plan_param_sets, ParamSet, Sweep};
+pub use sweep::{ParamSet, Sweep, plan_param_sets};
 
 use crate::config::SceneSource;
 use crate::error::{AppError, AppResult};
@@ -65,7 +65,10 @@ pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
         radius: s.radius,
         rays: s.rays,
         mode: format!("{:?}", s.mode).to_lowercase(),
-        ssim: format!("{0}x{0} {window} window, k1 = {1}, k2 = {2}, L = {3} (the Pyramid HBAO paper's settings; k1 as printed there)", p.window, p.k1, p.k2, p.dynamic_range),
+        ssim: format!(
+            "{0}x{0} {window} window, k1 = {1}, k2 = {2}, L = {3} (the Pyramid HBAO paper's settings; k1 as printed there)",
+            p.window, p.k1, p.k2, p.dynamic_range
+        ),
         edge_band: s.metrics.edge_band,
         edge_jump: s.metrics.edge_jump,
     }
@@ -77,14 +80,24 @@ pub fn progress_bar(len: u64, show: bool) -> ProgressBar {
         return ProgressBar::hidden();
     }
     let pb = ProgressBar::new(len);
-    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:20}] {pos}/{len} frames (eta {eta}) {wide_msg}") {
+    if let Ok(style) = ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:20}] {pos}/{len} frames (eta {eta}) {wide_msg}",
+    ) {
         pb.set_style(style.progress_chars("=> "));
     }
     pb
 }
 
 fn file_safe(s: &str) -> String {
-    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
 }
 
 fn read_scaling(dir: &Path) -> Option<ScalingResults> {
@@ -93,7 +106,12 @@ fn read_scaling(dir: &Path) -> Option<ScalingResults> {
 }
 
 /// Runs `plan`; with `out`, writes every file there as runs finish. Returns the records.
-pub fn run_bench(ctx: &BenchContext, plan: &BenchPlan, out: Option<&Path>, progress: bool) -> AppResult<Vec<RunRecord>> {
+pub fn run_bench(
+    ctx: &BenchContext,
+    plan: &BenchPlan,
+    out: Option<&Path>,
+    progress: bool,
+) -> AppResult<Vec<RunRecord>> {
     let s = &plan.settings;
     let meta = bench_meta(&ctx.gpu, s);
     let colours = ctx.registry.names();
@@ -107,21 +125,46 @@ pub fn run_bench(ctx: &BenchContext, plan: &BenchPlan, out: Option<&Path>, progr
         None => None,
     };
     let per_run = (s.warmup + s.frames) as u64;
-    let pb = progress_bar(plan.scenes.len() as u64 * plan.sets.len() as u64 * per_run, progress);
+    let pb = progress_bar(
+        plan.scenes.len() as u64 * plan.sets.len() as u64 * per_run,
+        progress,
+    );
     let mut records = Vec::new();
     for source in &plan.scenes {
-        pb.set_message(format!("tracing the reference of {} ({} rays/pixel)", source.label(), s.rays));
+        pb.set_message(format!(
+            "tracing the reference of {} ({} rays/pixel)",
+            source.label(),
+            s.rays
+        ));
         let reference = run::scene_reference(ctx, source, s)?;
         for set in &plan.sets {
-            pb.set_message(format!("{}: {} {}", reference.label, set.technique, set.label()));
+            pb.set_message(format!(
+                "{}: {} {}",
+                reference.label,
+                set.technique,
+                set.label()
+            ));
             let mut done = run::run_technique(ctx, &reference, set, s, &mut || pb.inc(1))?;
             if let Some((dir, w)) = writer.as_mut() {
                 let name = format!("images/{}_{}.png", file_safe(&reference.label), set.slug());
-                images::write_side_by_side(&dir.join(&name), &done.ao, &reference.accessibility, &reference.valid, s.width, s.height)?;
+                images::write_side_by_side(
+                    &dir.join(&name),
+                    &done.ao,
+                    &reference.accessibility,
+                    &reference.valid,
+                    s.width,
+                    s.height,
+                )?;
                 done.record.image = Some(name);
                 w.append(done.record.clone())?;
                 report::write_report(dir, &meta, &w.file.runs, read_scaling(dir).as_ref())?;
-                plot::write_pareto(&dir.join("pareto.svg"), &dir.join("pareto.png"), &w.file.runs, &colours, &meta.time_axis())?;
+                plot::write_pareto(
+                    &dir.join("pareto.svg"),
+                    &dir.join("pareto.png"),
+                    &w.file.runs,
+                    &colours,
+                    &meta.time_axis(),
+                )?;
             }
             records.push(done.record);
         }
@@ -133,45 +176,122 @@ pub fn run_bench(ctx: &BenchContext, plan: &BenchPlan, out: Option<&Path>, progr
 /// Times every set of `plan` at each side in `sides` (square) and each radius in `radii`;
 /// `plan.settings`' size and radius are not used. With `out`, writes scaling.csv (fits),
 /// scaling_points.csv (appended per point), scaling.json and report.md as it goes.
-pub fn run_scaling(ctx: &BenchContext, plan: &BenchPlan, sides: &[u32], radii: &[f32], out: Option<&Path>, progress: bool) -> AppResult<ScalingResults> {
+pub fn run_scaling(
+    ctx: &BenchContext,
+    plan: &BenchPlan,
+    sides: &[u32],
+    radii: &[f32],
+    out: Option<&Path>,
+    progress: bool,
+) -> AppResult<ScalingResults> {
     let s = &plan.settings;
-    let mut results = ScalingResults { sides: sides.to_vec(), radii: radii.to_vec(), frames: s.frames, warmup: s.warmup, ..Default::default() };
+    let mut results = ScalingResults {
+        sides: sides.to_vec(),
+        radii: radii.to_vec(),
+        frames: s.frames,
+        warmup: s.warmup,
+        ..Default::default()
+    };
     // report.md also shows a bench's results already in `out` (with that bench's settings).
     let (meta, runs) = match out {
         Some(dir) => {
             prepare_output_dir(dir)?;
-            write_atomic(&dir.join("scaling_points.csv"), format!("{}\n", ScalingResults::POINTS_HEADER).as_bytes())?;
-            report::read_results(&dir.join("results.json")).map(|r| (r.meta, r.runs)).unwrap_or_else(|_| (bench_meta(&ctx.gpu, s), Vec::new()))
+            write_atomic(
+                &dir.join("scaling_points.csv"),
+                format!("{}\n", ScalingResults::POINTS_HEADER).as_bytes(),
+            )?;
+            report::read_results(&dir.join("results.json"))
+                .map(|r| (r.meta, r.runs))
+                .unwrap_or_else(|_| (bench_meta(&ctx.gpu, s), Vec::new()))
         }
         None => (bench_meta(&ctx.gpu, s), Vec::new()),
     };
     let per_point = (s.warmup + s.frames) as u64;
-    let pb = progress_bar(plan.scenes.len() as u64 * plan.sets.len() as u64 * sides.len() as u64 * radii.len() as u64 * per_point, progress);
+    let pb = progress_bar(
+        plan.scenes.len() as u64
+            * plan.sets.len() as u64
+            * sides.len() as u64
+            * radii.len() as u64
+            * per_point,
+        progress,
+    );
     let smallest = sides.iter().copied().min().unwrap_or(64);
     for source in &plan.scenes {
         let scene = std::sync::Arc::new(crate::load_scene(source)?);
-        let probe_config = AoConfig { technique: "none".into(), ..AoConfig::default() };
-        let mut probe = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, scene.clone(), &probe_config, FrameOutputs { linear_depth: true, ..Default::default() }, Extent::new(smallest, smallest))?;
+        let probe_config = AoConfig {
+            technique: "none".into(),
+            ..AoConfig::default()
+        };
+        let mut probe = Renderer::new(
+            ctx.gpu.clone(),
+            ctx.shaders.clone(),
+            &ctx.registry,
+            scene.clone(),
+            &probe_config,
+            FrameOutputs {
+                linear_depth: true,
+                ..Default::default()
+            },
+            Extent::new(smallest, smallest),
+        )?;
         probe.render(0.0)?;
         let depth = scaling::median_depth(&probe.read_linear_depth()?);
         let camera = probe.camera();
         for set in &plan.sets {
             for &side in sides {
                 for &radius in radii {
-                    pb.set_message(format!("{}: {} {} at {side}x{side}, R = {radius}", source.label(), set.technique, set.label()));
-                    let mut r = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, scene.clone(), &run::ao_config(set, radius), FrameOutputs::default(), Extent::new(side, side))?;
-                    let t = run::time_frames(&mut r, s.warmup, s.frames, &mut || pb.inc(1), &mut |_| Ok(()))?;
-                    let radius_px = if depth > 0.0 { scaling::radius_in_pixels(&camera, side, radius, depth) } else { f64::NAN };
-                    let point = scaling::ScalingPoint { scene: source.label(), technique: set.technique.clone(), label: set.label(), side, pixels: side as u64 * side as u64, radius, radius_px, timing_source: t.timing_source, total_ms: t.total_ms };
+                    pb.set_message(format!(
+                        "{}: {} {} at {side}x{side}, R = {radius}",
+                        source.label(),
+                        set.technique,
+                        set.label()
+                    ));
+                    let mut r = Renderer::new(
+                        ctx.gpu.clone(),
+                        ctx.shaders.clone(),
+                        &ctx.registry,
+                        scene.clone(),
+                        &run::ao_config(set, radius),
+                        FrameOutputs::default(),
+                        Extent::new(side, side),
+                    )?;
+                    let t = run::time_frames(
+                        &mut r,
+                        s.warmup,
+                        s.frames,
+                        &mut || pb.inc(1),
+                        &mut |_| Ok(()),
+                    )?;
+                    let radius_px = if depth > 0.0 {
+                        scaling::radius_in_pixels(&camera, side, radius, depth)
+                    } else {
+                        f64::NAN
+                    };
+                    let point = scaling::ScalingPoint {
+                        scene: source.label(),
+                        technique: set.technique.clone(),
+                        label: set.label(),
+                        side,
+                        pixels: side as u64 * side as u64,
+                        radius,
+                        radius_px,
+                        timing_source: t.timing_source,
+                        total_ms: t.total_ms,
+                    };
                     results.points.push(point.clone());
                     results.refit();
                     if let Some(dir) = out {
                         use std::io::Write as _;
                         let path = dir.join("scaling_points.csv");
-                        let mut f = std::fs::OpenOptions::new().append(true).open(&path).map_err(|e| AppError::io("append to", &path, e))?;
-                        writeln!(f, "{}", ScalingResults::point_row(&point)).map_err(|e| AppError::io("append to", &path, e))?;
+                        let mut f = std::fs::OpenOptions::new()
+                            .append(true)
+                            .open(&path)
+                            .map_err(|e| AppError::io("append to", &path, e))?;
+                        writeln!(f, "{}", ScalingResults::point_row(&point))
+                            .map_err(|e| AppError::io("append to", &path, e))?;
                         write_atomic(&dir.join("scaling.csv"), results.fits_csv().as_bytes())?;
-                        let json = serde_json::to_string_pretty(&results).map_err(|e| AppError::io("serialise", dir.join("scaling.json"), e))?;
+                        let json = serde_json::to_string_pretty(&results)
+                            .map_err(|e| AppError::io("serialise", dir.join("scaling.json"), e))?;
                         write_atomic(&dir.join("scaling.json"), json.as_bytes())?;
                         report::write_report(dir, &meta, &runs, Some(&results))?;
                     }

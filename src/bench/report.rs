@@ -47,16 +47,29 @@ pub struct BenchMeta {
 impl BenchMeta {
     /// The sentence that says what the milliseconds are.
     pub fn timing_note(&self) -> String {
-        let what = if self.timestamps { "GPU timestamp queries around each pass" } else { "CPU wall time around each pass (the adapter has no timestamp queries)" };
+        let what = if self.timestamps {
+            "GPU timestamp queries around each pass"
+        } else {
+            "CPU wall time around each pass (the adapter has no timestamp queries)"
+        };
         if self.software {
-            format!("Times come from {what}, but this is a software device (Mesa's lavapipe or another CPU driver): they are CPU times, so only ratios within this run are meaningful.")
+            format!(
+                "Times come from {what}, but this is a software device (Mesa's lavapipe or another CPU driver): they are CPU times, so only ratios within this run are meaningful."
+            )
         } else {
             format!("Times come from {what} on {}.", self.device)
         }
     }
     /// The x-axis title of the Pareto plot.
     pub fn time_axis(&self) -> String {
-        format!("AO time, ms (median{})", if self.software { "; CPU time, software device" } else { "" })
+        format!(
+            "AO time, ms (median{})",
+            if self.software {
+                "; CPU time, software device"
+            } else {
+                ""
+            }
+        )
     }
 }
 
@@ -70,7 +83,11 @@ pub struct ResultsFile {
 pub const CSV_HEADER: &str = "scene,technique,params,width,height,radius,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,image";
 
 fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
 }
 
 fn opt(v: Option<f64>, d: usize) -> String {
@@ -81,7 +98,12 @@ fn opt(v: Option<f64>, d: usize) -> String {
 pub fn csv_row(r: &RunRecord) -> String {
     let t = &r.times;
     let m = &r.metrics;
-    let passes = t.passes.iter().map(|p| format!("{}={}", p.name, num(p.ms.median, 5))).collect::<Vec<_>>().join(";");
+    let passes = t
+        .passes
+        .iter()
+        .map(|p| format!("{}={}", p.name, num(p.ms.median, 5)))
+        .collect::<Vec<_>>()
+        .join(";");
     [
         csv_field(&r.scene),
         csv_field(&r.technique),
@@ -125,7 +147,13 @@ pub struct ResultsWriter {
 impl ResultsWriter {
     /// Starts fresh files in `dir` (a previous run's results there are replaced).
     pub fn create(dir: &Path, meta: BenchMeta) -> AppResult<Self> {
-        let w = Self { dir: dir.into(), file: ResultsFile { meta, runs: Vec::new() } };
+        let w = Self {
+            dir: dir.into(),
+            file: ResultsFile {
+                meta,
+                runs: Vec::new(),
+            },
+        };
         write_atomic(&w.csv_path(), format!("{CSV_HEADER}\n").as_bytes())?;
         w.write_json()?;
         Ok(w)
@@ -137,14 +165,20 @@ impl ResultsWriter {
         self.dir.join("results.json")
     }
     fn write_json(&self) -> AppResult<()> {
-        let text = serde_json::to_string_pretty(&self.file).map_err(|e| AppError::io("serialise", self.json_path(), e))?;
+        let text = serde_json::to_string_pretty(&self.file)
+            .map_err(|e| AppError::io("serialise", self.json_path(), e))?;
         write_atomic(&self.json_path(), text.as_bytes())
     }
     /// Appends `r` to the CSV (flushed) and rewrites the JSON.
     pub fn append(&mut self, r: RunRecord) -> AppResult<()> {
         let path = self.csv_path();
-        let mut f = std::fs::OpenOptions::new().append(true).open(&path).map_err(|e| AppError::io("append to", &path, e))?;
-        writeln!(f, "{}", csv_row(&r)).and_then(|_| f.sync_data()).map_err(|e| AppError::io("append to", &path, e))?;
+        let mut f = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&path)
+            .map_err(|e| AppError::io("append to", &path, e))?;
+        writeln!(f, "{}", csv_row(&r))
+            .and_then(|_| f.sync_data())
+            .map_err(|e| AppError::io("append to", &path, e))?;
         self.file.runs.push(r);
         self.write_json()
     }
@@ -163,16 +197,37 @@ fn mib(bytes: u64) -> String {
 fn settings_line(m: &BenchMeta) -> String {
     format!(
         "{}x{}, {} warm-up + {} measured frames of a still camera (scene time 0), AO radius R = {}, reference: {} rays/pixel, {} mode ({}).",
-        m.width, m.height, m.warmup, m.frames, m.radius, m.rays, m.mode,
-        if m.mode == "obscurance" { "a hit at distance d occludes by 1 - (d/R)^2" } else { "a hit within R occludes fully" }
+        m.width,
+        m.height,
+        m.warmup,
+        m.frames,
+        m.radius,
+        m.rays,
+        m.mode,
+        if m.mode == "obscurance" {
+            "a hit at distance d occludes by 1 - (d/R)^2"
+        } else {
+            "a hit within R occludes fully"
+        }
     )
 }
 
 /// The main table, the Pareto fronts and the per-pass table.
 fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
-    let _ = writeln!(s, "## Speed and accuracy\n\nAO ms: the technique's passes (g-buffer excluded), median over the measured frames with [min, max]; frame ms adds the g-buffer. Errors are against the reference over non-sky pixels, on the last frame (temporal techniques have had every warm-up and measured frame to converge); signed = technique - reference (negative = too dark); edge MAE within {} px of a depth jump > {}%. Textures: the bytes of the technique's whole plan (g-buffer channels it reads included), with texture reuse as planned and with none.\n", m.edge_band, m.edge_jump * 100.0);
-    let _ = writeln!(s, "| scene | technique | parameters | AO ms | [min, max] | frame ms | MAE | RMSE | PSNR dB | SSIM | signed | edge MAE | flicker | textures MiB (reuse / none) |");
-    let _ = writeln!(s, "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let _ = writeln!(
+        s,
+        "## Speed and accuracy\n\nAO ms: the technique's passes (g-buffer excluded), median over the measured frames with [min, max]; frame ms adds the g-buffer. Errors are against the reference over non-sky pixels, on the last frame (temporal techniques have had every warm-up and measured frame to converge); signed = technique - reference (negative = too dark); edge MAE within {} px of a depth jump > {}%. Textures: the bytes of the technique's whole plan (g-buffer channels it reads included), with texture reuse as planned and with none.\n",
+        m.edge_band,
+        m.edge_jump * 100.0
+    );
+    let _ = writeln!(
+        s,
+        "| scene | technique | parameters | AO ms | [min, max] | frame ms | MAE | RMSE | PSNR dB | SSIM | signed | edge MAE | flicker | textures MiB (reuse / none) |"
+    );
+    let _ = writeln!(
+        s,
+        "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+    );
     for r in runs {
         let (t, x) = (&r.times, &r.metrics);
         let _ = writeln!(
@@ -196,15 +251,44 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
             mib(r.texture_bytes_unshared)
         );
     }
-    let _ = writeln!(s, "\n## Pareto front\n\nRuns no other run beats on both AO time and MAE, fastest first (pareto.svg, pareto.png).\n");
+    let _ = writeln!(
+        s,
+        "\n## Pareto front\n\nRuns no other run beats on both AO time and MAE, fastest first (pareto.svg, pareto.png).\n"
+    );
     for (scene, points) in by_scene(runs) {
-        let front: Vec<String> = pareto_front(&points).into_iter().map(|i| format!("{} {} ({} ms, MAE {})", points[i].technique, points[i].label, num(points[i].ms, 3), num(points[i].mae, 4))).collect();
+        let front: Vec<String> = pareto_front(&points)
+            .into_iter()
+            .map(|i| {
+                format!(
+                    "{} {} ({} ms, MAE {})",
+                    points[i].technique,
+                    points[i].label,
+                    num(points[i].ms, 3),
+                    num(points[i].mae, 4)
+                )
+            })
+            .collect();
         let _ = writeln!(s, "- {scene}: {}", front.join(" → "));
     }
-    let _ = writeln!(s, "\n## Per-pass times (ms)\n\n| scene | technique | parameters | pass | median | q1 | q3 | min | max |\n|---|---|---|---|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        s,
+        "\n## Per-pass times (ms)\n\n| scene | technique | parameters | pass | median | q1 | q3 | min | max |\n|---|---|---|---|---:|---:|---:|---:|---:|"
+    );
     for r in runs {
         for p in &r.times.passes {
-            let _ = writeln!(s, "| {} | {} | {} | {} | {} | {} | {} | {} | {} |", r.scene, r.technique, r.label, p.name, num(p.ms.median, 4), num(p.ms.q1, 4), num(p.ms.q3, 4), num(p.ms.min, 4), num(p.ms.max, 4));
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                r.scene,
+                r.technique,
+                r.label,
+                p.name,
+                num(p.ms.median, 4),
+                num(p.ms.q1, 4),
+                num(p.ms.q3, 4),
+                num(p.ms.min, 4),
+                num(p.ms.max, 4)
+            );
         }
     }
     let _ = writeln!(
@@ -217,9 +301,20 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
 }
 
 /// Writes report.md from whatever `runs` and `scaling` hold.
-pub fn write_report(dir: &Path, meta: &BenchMeta, runs: &[RunRecord], scaling: Option<&ScalingResults>) -> AppResult<()> {
+pub fn write_report(
+    dir: &Path,
+    meta: &BenchMeta,
+    runs: &[RunRecord],
+    scaling: Option<&ScalingResults>,
+) -> AppResult<()> {
     let mut s = String::new();
-    let _ = writeln!(s, "# aograph bench\n\nDevice: **{}** (backend {}).\n\n{}\n", meta.device, meta.backend, meta.timing_note());
+    let _ = writeln!(
+        s,
+        "# aograph bench\n\nDevice: **{}** (backend {}).\n\n{}\n",
+        meta.device,
+        meta.backend,
+        meta.timing_note()
+    );
     if !runs.is_empty() {
         let _ = writeln!(s, "Settings: {}\n", settings_line(meta));
         runs_section(&mut s, meta, runs);

@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use aograph_ao::{AoConfig, TechniqueRegistry};
-use aograph_graph::{texture_bytes, Extent, GpuContext, ShaderLibrary, TimingSource};
+use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, texture_bytes};
 use aograph_scene::{ReferenceMode, Scene};
 use serde::{Deserialize, Serialize};
 
@@ -28,7 +28,7 @@ use crate::commands::trace_for;
 use crate::config::SceneSource;
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
-use crate::metrics::{compare, FlickerMeter, MetricOptions, Metrics};
+use crate::metrics::{FlickerMeter, MetricOptions, Metrics, compare};
 use crate::renderer::Renderer;
 
 /// The run-wide settings.
@@ -87,16 +87,43 @@ pub struct SceneReference {
 }
 
 /// Loads `source` and traces its reference (from the disk cache when it is there).
-pub fn scene_reference(ctx: &BenchContext, source: &SceneSource, s: &BenchSettings) -> AppResult<SceneReference> {
+pub fn scene_reference(
+    ctx: &BenchContext,
+    source: &SceneSource,
+    s: &BenchSettings,
+) -> AppResult<SceneReference> {
     let scene = Arc::new(crate::load_scene(source)?);
-    let ao = AoConfig { technique: "none".into(), radius: s.radius, ..AoConfig::default() };
-    let outputs = FrameOutputs { surfaces: true, linear_depth: true, ..Default::default() };
-    let mut r = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, scene.clone(), &ao, outputs, s.extent())?;
+    let ao = AoConfig {
+        technique: "none".into(),
+        radius: s.radius,
+        ..AoConfig::default()
+    };
+    let outputs = FrameOutputs {
+        surfaces: true,
+        linear_depth: true,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(
+        ctx.gpu.clone(),
+        ctx.shaders.clone(),
+        &ctx.registry,
+        scene.clone(),
+        &ao,
+        outputs,
+        s.extent(),
+    )?;
     r.render(0.0)?;
     let image = trace_for(&r, s.radius, s.rays, s.mode, false)?;
     let depth = r.read_linear_depth()?;
     let valid = depth.iter().map(|d| *d > 0.0).collect();
-    Ok(SceneReference { label: source.label(), scene, accessibility: image.accessibility, depth, valid, extent: s.extent() })
+    Ok(SceneReference {
+        label: source.label(),
+        scene,
+        accessibility: image.accessibility,
+        depth,
+        valid,
+        extent: s.extent(),
+    })
 }
 
 /// Median and spread of one pass's time.
@@ -120,7 +147,13 @@ pub struct FrameTimes {
 
 /// Renders `warmup` + `frames` still frames, calling `tick` after each and `measured` after
 /// each measured one, and summarises the measured frames' timings.
-pub fn time_frames(r: &mut Renderer, warmup: u32, frames: u32, tick: &mut dyn FnMut(), measured: &mut dyn FnMut(&Renderer) -> AppResult<()>) -> AppResult<FrameTimes> {
+pub fn time_frames(
+    r: &mut Renderer,
+    warmup: u32,
+    frames: u32,
+    tick: &mut dyn FnMut(),
+    measured: &mut dyn FnMut(&Renderer) -> AppResult<()>,
+) -> AppResult<FrameTimes> {
     let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
     let (mut totals, mut frame_totals) = (Vec::new(), Vec::new());
     let mut source = None;
@@ -149,7 +182,13 @@ pub fn time_frames(r: &mut Renderer, warmup: u32, frames: u32, tick: &mut dyn Fn
         timing_source: timing_source_name(source).into(),
         total_ms: Spread::of(&totals),
         frame_ms: Spread::of(&frame_totals),
-        passes: per_pass.into_iter().map(|(name, v)| PassTime { name, ms: Spread::of(&v) }).collect(),
+        passes: per_pass
+            .into_iter()
+            .map(|(name, v)| PassTime {
+                name,
+                ms: Spread::of(&v),
+            })
+            .collect(),
     })
 }
 
@@ -186,15 +225,33 @@ pub struct RunOutput {
 
 /// Builds an `[ao]` config for `set` at radius `radius`.
 pub fn ao_config(set: &ParamSet, radius: f32) -> AoConfig {
-    let mut c = AoConfig { technique: set.technique.clone(), radius, ..AoConfig::default() };
+    let mut c = AoConfig {
+        technique: set.technique.clone(),
+        radius,
+        ..AoConfig::default()
+    };
     c.params.insert(set.technique.clone(), set.params.clone());
     c
 }
 
 /// Runs `set` on `reference`'s scene; `tick` is called after every frame (progress).
-pub fn run_technique(ctx: &BenchContext, reference: &SceneReference, set: &ParamSet, s: &BenchSettings, tick: &mut dyn FnMut()) -> AppResult<RunOutput> {
+pub fn run_technique(
+    ctx: &BenchContext,
+    reference: &SceneReference,
+    set: &ParamSet,
+    s: &BenchSettings,
+    tick: &mut dyn FnMut(),
+) -> AppResult<RunOutput> {
     let extent = s.extent();
-    let mut r = Renderer::new(ctx.gpu.clone(), ctx.shaders.clone(), &ctx.registry, reference.scene.clone(), &ao_config(set, s.radius), FrameOutputs::default(), extent)?;
+    let mut r = Renderer::new(
+        ctx.gpu.clone(),
+        ctx.shaders.clone(),
+        &ctx.registry,
+        reference.scene.clone(),
+        &ao_config(set, s.radius),
+        FrameOutputs::default(),
+        extent,
+    )?;
     let mut flicker = FlickerMeter::new();
     let mut last = Vec::new();
     let times = time_frames(&mut r, s.warmup, s.frames, tick, &mut |r| {
@@ -204,9 +261,20 @@ pub fn run_technique(ctx: &BenchContext, reference: &SceneReference, set: &Param
     })?;
     let errors = ctx.gpu.take_errors();
     if !errors.is_empty() {
-        return Err(AppError::InvalidArgument { name: format!("{} ({})", set.technique, set.label()), value: format!("GPU validation errors: {}", errors.join("; ")), allowed: "a run without validation errors".into() });
+        return Err(AppError::InvalidArgument {
+            name: format!("{} ({})", set.technique, set.label()),
+            value: format!("GPU validation errors: {}", errors.join("; ")),
+            allowed: "a run without validation errors".into(),
+        });
     }
-    let mut metrics = compare(&last, &reference.accessibility, &reference.depth, extent.width, extent.height, &s.metrics)?;
+    let mut metrics = compare(
+        &last,
+        &reference.accessibility,
+        &reference.depth,
+        extent.width,
+        extent.height,
+        &s.metrics,
+    )?;
     metrics.flicker = flicker.value();
     let (bytes, unshared) = texture_bytes(&r.plan, extent);
     let record = RunRecord {

@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use aograph_scene::{Camera, Projection};
 use serde::{Deserialize, Serialize};
 
-use super::stats::{fit_power_law, Spread};
+use super::stats::{Spread, fit_power_law};
 use crate::metrics::nonfinite::format as num;
 
 /// Default sides (square outputs) and radius multipliers of the shared radius.
@@ -66,14 +66,20 @@ pub struct ScalingResults {
 /// The world radius `radius` in pixels at depth `depth` for an output `height` pixels tall.
 pub fn radius_in_pixels(camera: &Camera, height: u32, radius: f32, depth: f64) -> f64 {
     match camera.projection {
-        Projection::Perspective { fov_y, .. } => radius as f64 * (height as f64 / 2.0) / (fov_y as f64 / 2.0).tan() / depth,
+        Projection::Perspective { fov_y, .. } => {
+            radius as f64 * (height as f64 / 2.0) / (fov_y as f64 / 2.0).tan() / depth
+        }
         Projection::Orthographic { height: h, .. } => radius as f64 * height as f64 / h as f64,
     }
 }
 
 /// The median of the positive depths (0 when there are none).
 pub fn median_depth(depth: &[f32]) -> f64 {
-    let mut d: Vec<f64> = depth.iter().filter(|v| **v > 0.0 && v.is_finite()).map(|v| *v as f64).collect();
+    let mut d: Vec<f64> = depth
+        .iter()
+        .filter(|v| **v > 0.0 && v.is_finite())
+        .map(|v| *v as f64)
+        .collect();
     if d.is_empty() {
         return 0.0;
     }
@@ -94,21 +100,55 @@ impl ScalingResults {
         self.fits = groups
             .into_iter()
             .map(|(scene, technique, label)| {
-                let pts: Vec<&ScalingPoint> = self.points.iter().filter(|p| p.scene == scene && p.technique == technique && p.label == label).collect();
-                let varies = |f: &dyn Fn(&ScalingPoint) -> f64| pts.iter().any(|p| (f(p) - f(pts[0])).abs() > 1e-9 * f(pts[0]).abs().max(1.0));
-                let (use_pixels, use_radius) = (varies(&|p| p.pixels as f64), varies(&|p| p.radius_px));
-                let xs: Vec<Vec<f64>> = pts.iter().map(|p| [(use_pixels, p.pixels as f64), (use_radius, p.radius_px)].into_iter().filter(|(u, _)| *u).map(|(_, v)| v).collect()).collect();
+                let pts: Vec<&ScalingPoint> = self
+                    .points
+                    .iter()
+                    .filter(|p| p.scene == scene && p.technique == technique && p.label == label)
+                    .collect();
+                let varies = |f: &dyn Fn(&ScalingPoint) -> f64| {
+                    pts.iter()
+                        .any(|p| (f(p) - f(pts[0])).abs() > 1e-9 * f(pts[0]).abs().max(1.0))
+                };
+                let (use_pixels, use_radius) =
+                    (varies(&|p| p.pixels as f64), varies(&|p| p.radius_px));
+                let xs: Vec<Vec<f64>> = pts
+                    .iter()
+                    .map(|p| {
+                        [(use_pixels, p.pixels as f64), (use_radius, p.radius_px)]
+                            .into_iter()
+                            .filter(|(u, _)| *u)
+                            .map(|(_, v)| v)
+                            .collect()
+                    })
+                    .collect();
                 let y: Vec<f64> = pts.iter().map(|p| p.total_ms.median).collect();
-                let fit = if use_pixels || use_radius { fit_power_law(&xs, &y) } else { None };
-                let mut e = fit.as_ref().map(|f| f.exponents.clone()).unwrap_or_default().into_iter();
+                let fit = if use_pixels || use_radius {
+                    fit_power_law(&xs, &y)
+                } else {
+                    None
+                };
+                let mut e = fit
+                    .as_ref()
+                    .map(|f| f.exponents.clone())
+                    .unwrap_or_default()
+                    .into_iter();
                 let pixel_exponent = if use_pixels { e.next() } else { None };
                 let radius_exponent = if use_radius { e.next() } else { None };
-                ScalingFit { scene, technique, label, pixel_exponent, radius_exponent, r2: fit.as_ref().map(|f| f.r2), points: pts.len() }
+                ScalingFit {
+                    scene,
+                    technique,
+                    label,
+                    pixel_exponent,
+                    radius_exponent,
+                    r2: fit.as_ref().map(|f| f.r2),
+                    points: pts.len(),
+                }
             })
             .collect();
     }
 
-    pub const FITS_HEADER: &'static str = "scene,technique,params,pixel_exponent,radius_exponent,r2,points";
+    pub const FITS_HEADER: &'static str =
+        "scene,technique,params,pixel_exponent,radius_exponent,r2,points";
     pub const POINTS_HEADER: &'static str = "scene,technique,params,side,pixels,radius,radius_px,timing_source,total_ms_median,total_ms_min,total_ms_max";
 
     /// scaling.csv: one row per fit.
@@ -116,14 +156,37 @@ impl ScalingResults {
         let o = |v: Option<f64>| v.map(|v| num(v, 4)).unwrap_or_default();
         let mut s = format!("{}\n", Self::FITS_HEADER);
         for f in &self.fits {
-            let _ = writeln!(s, "{},{},\"{}\",{},{},{},{}", f.scene, f.technique, f.label, o(f.pixel_exponent), o(f.radius_exponent), o(f.r2), f.points);
+            let _ = writeln!(
+                s,
+                "{},{},\"{}\",{},{},{},{}",
+                f.scene,
+                f.technique,
+                f.label,
+                o(f.pixel_exponent),
+                o(f.radius_exponent),
+                o(f.r2),
+                f.points
+            );
         }
         s
     }
 
     /// One scaling_points.csv row.
     pub fn point_row(p: &ScalingPoint) -> String {
-        format!("{},{},\"{}\",{},{},{},{},{},{},{},{}", p.scene, p.technique, p.label, p.side, p.pixels, p.radius, num(p.radius_px, 3), p.timing_source, num(p.total_ms.median, 5), num(p.total_ms.min, 5), num(p.total_ms.max, 5))
+        format!(
+            "{},{},\"{}\",{},{},{},{},{},{},{},{}",
+            p.scene,
+            p.technique,
+            p.label,
+            p.side,
+            p.pixels,
+            p.radius,
+            num(p.radius_px, 3),
+            p.timing_source,
+            num(p.total_ms.median, 5),
+            num(p.total_ms.min, 5),
+            num(p.total_ms.max, 5)
+        )
     }
 
     /// The report.md section.
@@ -140,13 +203,41 @@ impl ScalingResults {
             sides.join(", "),
             radii.join(", ")
         );
-        let _ = writeln!(s, "| scene | technique | parameters | a (pixels) | b (radius px) | R² | points |\n|---|---|---|---:|---:|---:|---:|");
+        let _ = writeln!(
+            s,
+            "| scene | technique | parameters | a (pixels) | b (radius px) | R² | points |\n|---|---|---|---:|---:|---:|---:|"
+        );
         for f in &self.fits {
-            let _ = writeln!(s, "| {} | {} | {} | {} | {} | {} | {} |", f.scene, f.technique, f.label, o(f.pixel_exponent, 3), o(f.radius_exponent, 3), o(f.r2, 3), f.points);
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} |",
+                f.scene,
+                f.technique,
+                f.label,
+                o(f.pixel_exponent, 3),
+                o(f.radius_exponent, 3),
+                o(f.r2, 3),
+                f.points
+            );
         }
-        let _ = writeln!(s, "\n| scene | technique | parameters | side | radius | radius px | AO ms (median) | [min, max] |\n|---|---|---|---:|---:|---:|---:|---|");
+        let _ = writeln!(
+            s,
+            "\n| scene | technique | parameters | side | radius | radius px | AO ms (median) | [min, max] |\n|---|---|---|---:|---:|---:|---:|---|"
+        );
         for p in &self.points {
-            let _ = writeln!(s, "| {} | {} | {} | {} | {} | {} | {} | [{}, {}] |", p.scene, p.technique, p.label, p.side, p.radius, num(p.radius_px, 1), num(p.total_ms.median, 4), num(p.total_ms.min, 4), num(p.total_ms.max, 4));
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | [{}, {}] |",
+                p.scene,
+                p.technique,
+                p.label,
+                p.side,
+                p.radius,
+                num(p.radius_px, 1),
+                num(p.total_ms.median, 4),
+                num(p.total_ms.min, 4),
+                num(p.total_ms.max, 4)
+            );
         }
         s
     }
@@ -157,7 +248,17 @@ mod tests {
     use super::*;
 
     fn point(side: u32, radius: f32, ms: f64) -> ScalingPoint {
-        ScalingPoint { scene: "s".into(), technique: "t".into(), label: "defaults".into(), side, pixels: side as u64 * side as u64, radius, radius_px: radius as f64 * side as f64 / 10.0, timing_source: "cpu-wall".into(), total_ms: Spread::of(&[ms]) }
+        ScalingPoint {
+            scene: "s".into(),
+            technique: "t".into(),
+            label: "defaults".into(),
+            side,
+            pixels: side as u64 * side as u64,
+            radius,
+            radius_px: radius as f64 * side as f64 / 10.0,
+            timing_source: "cpu-wall".into(),
+            total_ms: Spread::of(&[ms]),
+        }
     }
 
     #[test]
@@ -167,13 +268,22 @@ mod tests {
         for side in [64, 128, 256] {
             for radius in [1.0f32, 2.0, 4.0] {
                 let rp = radius as f64 * side as f64 / 10.0;
-                r.points.push(point(side, radius, (side * side) as f64 * rp * rp * 1e-6));
+                r.points
+                    .push(point(side, radius, (side * side) as f64 * rp * rp * 1e-6));
             }
         }
         r.refit();
         let f = &r.fits[0];
-        assert!((f.pixel_exponent.unwrap() - 1.0).abs() < 1e-6 && (f.radius_exponent.unwrap() - 2.0).abs() < 1e-6, "{f:?}");
-        assert!(r.fits_csv().lines().count() == 2 && r.markdown().contains("| s | t | defaults | 1.000 | 2.000 |"));
+        assert!(
+            (f.pixel_exponent.unwrap() - 1.0).abs() < 1e-6
+                && (f.radius_exponent.unwrap() - 2.0).abs() < 1e-6,
+            "{f:?}"
+        );
+        assert!(
+            r.fits_csv().lines().count() == 2
+                && r.markdown()
+                    .contains("| s | t | defaults | 1.000 | 2.000 |")
+        );
     }
 
     #[test]
@@ -189,7 +299,13 @@ mod tests {
 
     #[test]
     fn radius_in_pixels_of_a_perspective_camera() {
-        let c = Camera::perspective(glam::Vec3::ZERO, glam::Vec3::NEG_Z, std::f32::consts::FRAC_PI_2, 0.1, 100.0);
+        let c = Camera::perspective(
+            glam::Vec3::ZERO,
+            glam::Vec3::NEG_Z,
+            std::f32::consts::FRAC_PI_2,
+            0.1,
+            100.0,
+        );
         // fov 90 degrees: f = H / 2; R = 1 at depth 2 on 200 px is 50 px.
         assert!((radius_in_pixels(&c, 200, 1.0, 2.0) - 50.0).abs() < 1e-4);
         assert_eq!(median_depth(&[0.0, 3.0, 1.0, 2.0]), 2.0);

@@ -59,8 +59,20 @@ pub fn fit_power_law(xs: &[Vec<f64>], y: &[f64]) -> Option<PowerFit> {
     let rows: Vec<(Vec<f64>, f64)> = xs
         .iter()
         .zip(y)
-        .filter(|(x, v)| x.len() == k && **v > 0.0 && v.is_finite() && x.iter().all(|a| *a > 0.0 && a.is_finite()))
-        .map(|(x, v)| (std::iter::once(1.0).chain(x.iter().map(|a| a.ln())).collect(), v.ln()))
+        .filter(|(x, v)| {
+            x.len() == k
+                && **v > 0.0
+                && v.is_finite()
+                && x.iter().all(|a| *a > 0.0 && a.is_finite())
+        })
+        .map(|(x, v)| {
+            (
+                std::iter::once(1.0)
+                    .chain(x.iter().map(|a| a.ln()))
+                    .collect(),
+                v.ln(),
+            )
+        })
         .collect();
     let m = k + 1;
     if rows.len() <= m {
@@ -76,7 +88,10 @@ pub fn fit_power_law(xs: &[Vec<f64>], y: &[f64]) -> Option<PowerFit> {
             a[i][m] += r[i] * v;
         }
     }
-    let scale = a.iter().flat_map(|r| r[..m].iter()).fold(0.0f64, |s, v| s.max(v.abs()));
+    let scale = a
+        .iter()
+        .flat_map(|r| r[..m].iter())
+        .fold(0.0f64, |s, v| s.max(v.abs()));
     for col in 0..m {
         let pivot = (col..m).max_by(|&p, &q| a[p][col].abs().total_cmp(&a[q][col].abs()))?;
         if a[pivot][col].abs() <= 1e-10 * scale {
@@ -101,8 +116,16 @@ pub fn fit_power_law(xs: &[Vec<f64>], y: &[f64]) -> Option<PowerFit> {
         ss_res += (v - pred).powi(2);
         ss_tot += (v - mean).powi(2);
     }
-    let r2 = if ss_tot > 0.0 { 1.0 - ss_res / ss_tot } else { 1.0 };
-    Some(PowerFit { exponents: b[1..].to_vec(), r2, points: rows.len() })
+    let r2 = if ss_tot > 0.0 {
+        1.0 - ss_res / ss_tot
+    } else {
+        1.0
+    };
+    Some(PowerFit {
+        exponents: b[1..].to_vec(),
+        r2,
+        points: rows.len(),
+    })
 }
 
 #[cfg(test)]
@@ -112,7 +135,10 @@ mod tests {
     #[test]
     fn spread_of_known_samples() {
         let s = Spread::of(&[5.0, 1.0, 3.0, 2.0, 4.0]);
-        assert_eq!((s.median, s.min, s.max, s.q1, s.q3, s.samples), (3.0, 1.0, 5.0, 2.0, 4.0, 5));
+        assert_eq!(
+            (s.median, s.min, s.max, s.q1, s.q3, s.samples),
+            (3.0, 1.0, 5.0, 2.0, 4.0, 5)
+        );
         assert_eq!(Spread::of(&[1.0, 2.0]).median, 1.5);
         assert!(Spread::of(&[]).median.is_nan());
     }
@@ -129,7 +155,10 @@ mod tests {
             }
         }
         let f = fit_power_law(&xs, &y).unwrap();
-        assert!((f.exponents[0] - 1.0).abs() < 1e-9 && (f.exponents[1] - 2.0).abs() < 1e-9, "{f:?}");
+        assert!(
+            (f.exponents[0] - 1.0).abs() < 1e-9 && (f.exponents[1] - 2.0).abs() < 1e-9,
+            "{f:?}"
+        );
         assert!((f.r2 - 1.0).abs() < 1e-12);
         // A regressor that never varies cannot be fitted.
         let flat: Vec<Vec<f64>> = xs.iter().map(|x| vec![x[0], 3.0]).collect();

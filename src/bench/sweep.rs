@@ -23,7 +23,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use aograph_ao::{nearest, TechniqueRegistry};
+use aograph_ao::{TechniqueRegistry, nearest};
 
 use crate::error::{AppError, AppResult};
 
@@ -36,19 +36,36 @@ pub struct ParamSet {
 
 impl ParamSet {
     pub fn defaults(technique: &str) -> Self {
-        Self { technique: technique.into(), params: toml::Table::new() }
+        Self {
+            technique: technique.into(),
+            params: toml::Table::new(),
+        }
     }
     /// "directions=8 steps=10", or "defaults".
     pub fn label(&self) -> String {
         if self.params.is_empty() {
             return "defaults".into();
         }
-        self.params.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" ")
+        self.params
+            .iter()
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect::<Vec<_>>()
+            .join(" ")
     }
     /// A file-name-safe form of technique and label.
     pub fn slug(&self) -> String {
         let raw = format!("{}_{}", self.technique, self.label());
-        raw.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect::<String>().trim_matches('_').to_string()
+        raw.chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect::<String>()
+            .trim_matches('_')
+            .to_string()
     }
 }
 
@@ -61,17 +78,23 @@ pub struct Sweep {
 }
 
 fn err(source: &str, message: String) -> AppError {
-    AppError::Config { path: source.into(), message }
+    AppError::Config {
+        path: source.into(),
+        message,
+    }
 }
 
 impl Sweep {
     pub fn load(path: &Path) -> AppResult<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| AppError::io("read sweep", path, e))?;
+        let text =
+            std::fs::read_to_string(path).map_err(|e| AppError::io("read sweep", path, e))?;
         Self::parse(&text, &path.display().to_string())
     }
 
     pub fn parse(text: &str, source: &str) -> AppResult<Self> {
-        let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| err(source, e.to_string().trim().to_string()))?;
+        let doc: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| err(source, e.to_string().trim().to_string()))?;
         let mut grids = BTreeMap::new();
         for (technique, v) in doc {
             let tables = match v {
@@ -80,20 +103,35 @@ impl Sweep {
                     .into_iter()
                     .map(|g| match g {
                         toml::Value::Table(t) => Ok(t),
-                        _ => Err(err(source, format!("[[{technique}]] entries must be tables of parameters"))),
+                        _ => Err(err(
+                            source,
+                            format!("[[{technique}]] entries must be tables of parameters"),
+                        )),
                     })
                     .collect::<AppResult<Vec<_>>>()?,
-                _ => return Err(err(source, format!("`{technique}` must be a table ([{technique}]) or an array of tables ([[{technique}]]) of parameter grids"))),
+                _ => {
+                    return Err(err(
+                        source,
+                        format!(
+                            "`{technique}` must be a table ([{technique}]) or an array of tables ([[{technique}]]) of parameter grids"
+                        ),
+                    ));
+                }
             };
             grids.insert(technique, tables);
         }
-        Ok(Self { grids, source: source.into() })
+        Ok(Self {
+            grids,
+            source: source.into(),
+        })
     }
 
     /// Every parameter set of `technique`: the union of its grids' cartesian products, first
     /// occurrence kept; one default set when the sweep does not name it.
     pub fn expand(&self, technique: &str) -> Vec<ParamSet> {
-        let Some(grids) = self.grids.get(technique) else { return vec![ParamSet::defaults(technique)] };
+        let Some(grids) = self.grids.get(technique) else {
+            return vec![ParamSet::defaults(technique)];
+        };
         let mut out: Vec<ParamSet> = Vec::new();
         for grid in grids {
             let mut sets = vec![toml::Table::new()];
@@ -114,7 +152,10 @@ impl Sweep {
                     .collect();
             }
             for params in sets {
-                let set = ParamSet { technique: technique.into(), params };
+                let set = ParamSet {
+                    technique: technique.into(),
+                    params,
+                };
                 if !out.contains(&set) {
                     out.push(set);
                 }
@@ -131,8 +172,14 @@ impl Sweep {
             if names.contains(t) {
                 known.push(t.clone());
             } else {
-                let hint = nearest(t, names.iter().map(String::as_str)).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
-                eprintln!("warning: sweep {}: technique `{t}` is not registered, skipped{hint} (registered: {})", self.source, names.join(", "));
+                let hint = nearest(t, names.iter().map(String::as_str))
+                    .map(|n| format!("; did you mean `{n}`?"))
+                    .unwrap_or_default();
+                eprintln!(
+                    "warning: sweep {}: technique `{t}` is not registered, skipped{hint} (registered: {})",
+                    self.source,
+                    names.join(", ")
+                );
             }
         }
         known
@@ -141,13 +188,24 @@ impl Sweep {
 
 /// The parameter sets to run: `techniques` (registry names, already chosen by the caller)
 /// with the sweep's grids where it has one, each set validated by its technique.
-pub fn plan_param_sets(registry: &TechniqueRegistry, techniques: &[String], sweep: Option<&Sweep>) -> AppResult<Vec<ParamSet>> {
+pub fn plan_param_sets(
+    registry: &TechniqueRegistry,
+    techniques: &[String],
+    sweep: Option<&Sweep>,
+) -> AppResult<Vec<ParamSet>> {
     let mut out = Vec::new();
     for t in techniques {
         let technique = registry.get(t)?;
-        let sets = sweep.map(|s| s.expand(t)).unwrap_or_else(|| vec![ParamSet::defaults(t)]);
+        let sets = sweep
+            .map(|s| s.expand(t))
+            .unwrap_or_else(|| vec![ParamSet::defaults(t)]);
         for set in sets {
-            technique.check(&set.params).map_err(|e| err(sweep.map(|s| s.source.as_str()).unwrap_or("sweep"), format!("{} ({})", e, set.label())))?;
+            technique.check(&set.params).map_err(|e| {
+                err(
+                    sweep.map(|s| s.source.as_str()).unwrap_or("sweep"),
+                    format!("{} ({})", e, set.label()),
+                )
+            })?;
             out.push(set);
         }
     }
@@ -163,11 +221,17 @@ mod tests {
         let s = Sweep::parse("[hbao]\ndirections = [4, 8, 16]\nsteps = [4, 8, 10]\nattenuation = 0.5\n\n[[p]]\nlevels = [1, 2]\n[[p]]\nlevels = [2, 3]\nd = 4\n", "test").unwrap();
         let h = s.expand("hbao");
         assert_eq!(h.len(), 9);
-        assert!(h.iter().all(|p| p.params["attenuation"].as_float() == Some(0.5)));
+        assert!(
+            h.iter()
+                .all(|p| p.params["attenuation"].as_float() == Some(0.5))
+        );
         assert_eq!(h[0].label(), "attenuation=0.5 directions=4 steps=4");
         let p = s.expand("p");
         let labels: Vec<String> = p.iter().map(ParamSet::label).collect();
-        assert_eq!(labels, ["levels=1", "levels=2", "d=4 levels=2", "d=4 levels=3"]);
+        assert_eq!(
+            labels,
+            ["levels=1", "levels=2", "d=4 levels=2", "d=4 levels=3"]
+        );
         assert_eq!(s.expand("other"), vec![ParamSet::defaults("other")]);
         assert_eq!(ParamSet::defaults("none").label(), "defaults");
         assert_eq!(h[0].slug(), "hbao_attenuation_0.5_directions_4_steps_4");
@@ -177,7 +241,12 @@ mod tests {
     fn duplicates_are_run_once_and_bad_files_say_why() {
         let s = Sweep::parse("[[t]]\nn = [1, 2]\n[[t]]\nn = [2, 3]\n", "x").unwrap();
         assert_eq!(s.expand("t").len(), 3);
-        assert!(Sweep::parse("t = 3", "x").unwrap_err().to_string().contains("must be a table"));
+        assert!(
+            Sweep::parse("t = 3", "x")
+                .unwrap_err()
+                .to_string()
+                .contains("must be a table")
+        );
         assert!(Sweep::parse("[t\n", "x").is_err());
     }
 
@@ -185,12 +254,20 @@ mod tests {
     fn shipped_sweeps_parse_and_unregistered_techniques_are_skipped() {
         let registry = TechniqueRegistry::with_builtins();
         for f in ["pyramid-hbao-paper.toml", "quick.toml"] {
-            let s = Sweep::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/sweeps").join(f)).unwrap();
+            let s = Sweep::load(
+                &Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("configs/sweeps")
+                    .join(f),
+            )
+            .unwrap();
             let known = s.registered_techniques(&registry);
             assert!(known.iter().all(|t| registry.get(t).is_ok()));
             plan_param_sets(&registry, &known, Some(&s)).unwrap();
         }
-        let paper = Sweep::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/sweeps/pyramid-hbao-paper.toml")).unwrap();
+        let paper = Sweep::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/sweeps/pyramid-hbao-paper.toml"),
+        )
+        .unwrap();
         assert_eq!(paper.expand("hbao").len(), 4, "the paper's four D x S rows");
         assert_eq!(paper.expand("pyramid-hbao").len(), 5, "L = 1..5");
     }
@@ -199,7 +276,9 @@ mod tests {
     fn a_bad_parameter_is_caught_before_the_gpu_runs() {
         let registry = TechniqueRegistry::with_builtins();
         let s = Sweep::parse("[none]\nbogus = [1, 2]\n", "bad.toml").unwrap();
-        let e = plan_param_sets(&registry, &["none".to_string()], Some(&s)).unwrap_err().to_string();
+        let e = plan_param_sets(&registry, &["none".to_string()], Some(&s))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("bad.toml") && e.contains("bogus"), "{e}");
     }
 }

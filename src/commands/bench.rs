@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use aograph_ao::{AoConfig, TechniqueRegistry};
 
 use super::gpu;
-use crate::bench::{plan_param_sets, scaling, BenchContext, BenchPlan, BenchSettings, Sweep};
-use crate::config::{check_size, SceneSource};
+use crate::bench::{BenchContext, BenchPlan, BenchSettings, Sweep, plan_param_sets, scaling};
+use crate::config::{SceneSource, check_size};
 use crate::error::{AppError, AppResult};
 use crate::metrics::MetricOptions;
 use crate::renderer::shader_library;
@@ -76,32 +76,74 @@ pub struct RunFlags {
 impl RunFlags {
     /// Validated run settings with depth-edge band `edge_band`.
     pub(crate) fn settings(&self, edge_band: u32) -> AppResult<BenchSettings> {
-        settings(self.width, self.height, self.frames, self.warmup, self.radius, self.rays, &self.mode, edge_band)
+        settings(
+            self.width,
+            self.height,
+            self.frames,
+            self.warmup,
+            self.radius,
+            self.rays,
+            &self.mode,
+            edge_band,
+        )
     }
 }
 
 fn positive(name: &str, v: u32) -> AppResult<u32> {
     if v == 0 {
-        return Err(AppError::InvalidArgument { name: name.into(), value: "0".into(), allowed: "1 or more".into() });
+        return Err(AppError::InvalidArgument {
+            name: name.into(),
+            value: "0".into(),
+            allowed: "1 or more".into(),
+        });
     }
     Ok(v)
 }
 
 fn check_radius(name: &str, r: f32) -> AppResult<f32> {
     if !(r.is_finite() && r > 0.0) {
-        return Err(AppError::InvalidArgument { name: name.into(), value: r.to_string(), allowed: "a finite number greater than 0 (world units)".into() });
+        return Err(AppError::InvalidArgument {
+            name: name.into(),
+            value: r.to_string(),
+            allowed: "a finite number greater than 0 (world units)".into(),
+        });
     }
     Ok(r)
 }
 
 /// Validated run settings from the shared flags.
 #[allow(clippy::too_many_arguments)]
-fn settings(width: u32, height: u32, frames: u32, warmup: u32, radius: Option<f32>, rays: u32, mode: &str, edge_band: u32) -> AppResult<BenchSettings> {
-    let mode = crate::config::parse_mode(mode).map_err(|e| AppError::InvalidArgument { name: "--mode".into(), value: mode.into(), allowed: e })?;
+fn settings(
+    width: u32,
+    height: u32,
+    frames: u32,
+    warmup: u32,
+    radius: Option<f32>,
+    rays: u32,
+    mode: &str,
+    edge_band: u32,
+) -> AppResult<BenchSettings> {
+    let mode = crate::config::parse_mode(mode).map_err(|e| AppError::InvalidArgument {
+        name: "--mode".into(),
+        value: mode.into(),
+        allowed: e,
+    })?;
     check_size("--width", width)?;
     check_size("--height", height)?;
     let radius = check_radius("--radius", radius.unwrap_or(AoConfig::default().radius))?;
-    Ok(BenchSettings { width, height, frames: positive("--frames", frames)?, warmup, radius, rays: positive("--rays", rays)?, mode, metrics: MetricOptions { edge_band, ..MetricOptions::default() } })
+    Ok(BenchSettings {
+        width,
+        height,
+        frames: positive("--frames", frames)?,
+        warmup,
+        radius,
+        rays: positive("--rays", rays)?,
+        mode,
+        metrics: MetricOptions {
+            edge_band,
+            ..MetricOptions::default()
+        },
+    })
 }
 
 /// Scenes from the flag, checked before any GPU work.
@@ -110,29 +152,62 @@ pub(crate) fn scenes(names: &[String]) -> AppResult<Vec<SceneSource>> {
     for n in names.iter().map(|s| s.trim()).filter(|s| !s.is_empty()) {
         let s = SceneSource::parse(n);
         match &s {
-            SceneSource::Procedural(p) if !aograph_scene::PROCEDURAL_SCENE_NAMES.contains(&p.as_str()) => {
-                let hint = aograph_ao::nearest(p, aograph_scene::PROCEDURAL_SCENE_NAMES.iter().copied()).map(|h| format!("did you mean `{h}`? ")).unwrap_or_default();
-                return Err(AppError::InvalidArgument { name: "--scenes".into(), value: p.clone(), allowed: format!("{hint}procedural scenes {} or a .gltf/.glb file", aograph_scene::PROCEDURAL_SCENE_NAMES.join(", ")) });
+            SceneSource::Procedural(p)
+                if !aograph_scene::PROCEDURAL_SCENE_NAMES.contains(&p.as_str()) =>
+            {
+                let hint =
+                    aograph_ao::nearest(p, aograph_scene::PROCEDURAL_SCENE_NAMES.iter().copied())
+                        .map(|h| format!("did you mean `{h}`? "))
+                        .unwrap_or_default();
+                return Err(AppError::InvalidArgument {
+                    name: "--scenes".into(),
+                    value: p.clone(),
+                    allowed: format!(
+                        "{hint}procedural scenes {} or a .gltf/.glb file",
+                        aograph_scene::PROCEDURAL_SCENE_NAMES.join(", ")
+                    ),
+                });
             }
-            SceneSource::File(f) if !f.exists() => return Err(AppError::io("find scene", f, "no such file")),
+            SceneSource::File(f) if !f.exists() => {
+                return Err(AppError::io("find scene", f, "no such file"));
+            }
             _ => out.push(s),
         }
     }
     if out.is_empty() {
-        return Err(AppError::InvalidArgument { name: "--scenes".into(), value: String::new(), allowed: "one or more scenes".into() });
+        return Err(AppError::InvalidArgument {
+            name: "--scenes".into(),
+            value: String::new(),
+            allowed: "one or more scenes".into(),
+        });
     }
     Ok(out)
 }
 
 /// The techniques to run: `all`, a list, or (empty) the sweep's registered techniques (all
 /// registered ones when there is no sweep or `default_all`).
-pub(crate) fn techniques(registry: &TechniqueRegistry, flag: &[String], sweep: Option<&Sweep>, default_all: bool) -> AppResult<Vec<String>> {
-    let flag: Vec<&str> = flag.iter().map(|s| s.trim()).filter(|s| !s.is_empty()).collect();
+pub(crate) fn techniques(
+    registry: &TechniqueRegistry,
+    flag: &[String],
+    sweep: Option<&Sweep>,
+    default_all: bool,
+) -> AppResult<Vec<String>> {
+    let flag: Vec<&str> = flag
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect();
     if flag.is_empty() {
         if let (Some(s), false) = (sweep, default_all) {
             let t = s.registered_techniques(registry);
             if t.is_empty() {
-                return Err(AppError::Config { path: s.source.clone(), message: format!("the sweep names no registered technique (registered: {}); pass --techniques", registry.names().join(", ")) });
+                return Err(AppError::Config {
+                    path: s.source.clone(),
+                    message: format!(
+                        "the sweep names no registered technique (registered: {}); pass --techniques",
+                        registry.names().join(", ")
+                    ),
+                });
             }
             return Ok(t);
         }
@@ -156,9 +231,15 @@ pub(crate) fn techniques(registry: &TechniqueRegistry, flag: &[String], sweep: O
 
 fn radii(args: &BenchArgs, base: f32) -> AppResult<Vec<f32>> {
     if args.scaling_radii.is_empty() {
-        return Ok(scaling::DEFAULT_RADIUS_FACTORS.iter().map(|f| f * base).collect());
+        return Ok(scaling::DEFAULT_RADIUS_FACTORS
+            .iter()
+            .map(|f| f * base)
+            .collect());
     }
-    args.scaling_radii.iter().map(|r| check_radius("--scaling-radii", *r)).collect()
+    args.scaling_radii
+        .iter()
+        .map(|r| check_radius("--scaling-radii", *r))
+        .collect()
 }
 
 pub fn bench(args: &BenchArgs) -> AppResult<()> {
@@ -167,23 +248,70 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let sweep = args.sweep.as_deref().map(Sweep::load).transpose()?;
     let techniques = techniques(&registry, &args.techniques, sweep.as_ref(), false)?;
     let sets = plan_param_sets(&registry, &techniques, sweep.as_ref())?;
-    let plan = BenchPlan { scenes: scenes(&args.scenes)?, sets, settings };
-    let sides: Vec<u32> = args.scaling_sizes.iter().map(|s| check_size("--scaling-sizes", *s).map(|_| *s)).collect::<AppResult<_>>()?;
+    let plan = BenchPlan {
+        scenes: scenes(&args.scenes)?,
+        sets,
+        settings,
+    };
+    let sides: Vec<u32> = args
+        .scaling_sizes
+        .iter()
+        .map(|s| check_size("--scaling-sizes", *s).map(|_| *s))
+        .collect::<AppResult<_>>()?;
     let radii = radii(args, plan.settings.radius)?;
-    let ctx = BenchContext { gpu: gpu()?, shaders: shader_library(), registry };
+    let ctx = BenchContext {
+        gpu: gpu()?,
+        shaders: shader_library(),
+        registry,
+    };
     let started = std::time::Instant::now();
     let out = &args.out;
     if args.scaling {
         let r = crate::bench::run_scaling(&ctx, &plan, &sides, &radii, Some(out), !args.run.quiet)?;
-        println!("timed {} points of {} parameter set(s) on {} in {:.1} s ({})", r.points.len(), plan.sets.len(), ctx.gpu.describe(), started.elapsed().as_secs_f64(), if ctx.gpu.is_software() { "software device: CPU times" } else { "GPU device" });
-        for f in ["scaling.csv", "scaling_points.csv", "scaling.json", "report.md"] {
+        println!(
+            "timed {} points of {} parameter set(s) on {} in {:.1} s ({})",
+            r.points.len(),
+            plan.sets.len(),
+            ctx.gpu.describe(),
+            started.elapsed().as_secs_f64(),
+            if ctx.gpu.is_software() {
+                "software device: CPU times"
+            } else {
+                "GPU device"
+            }
+        );
+        for f in [
+            "scaling.csv",
+            "scaling_points.csv",
+            "scaling.json",
+            "report.md",
+        ] {
             println!("wrote {}", out.join(f).display());
         }
         return Ok(());
     }
     let records = crate::bench::run_bench(&ctx, &plan, Some(out), !args.run.quiet)?;
-    println!("ran {} run(s) ({} scene(s) x {} parameter set(s)) on {} in {:.1} s{}", records.len(), plan.scenes.len(), plan.sets.len(), ctx.gpu.describe(), started.elapsed().as_secs_f64(), if ctx.gpu.is_software() { " (software device: times are CPU times)" } else { "" });
-    for f in ["results.csv", "results.json", "report.md", "pareto.svg", "pareto.png", "images/"] {
+    println!(
+        "ran {} run(s) ({} scene(s) x {} parameter set(s)) on {} in {:.1} s{}",
+        records.len(),
+        plan.scenes.len(),
+        plan.sets.len(),
+        ctx.gpu.describe(),
+        started.elapsed().as_secs_f64(),
+        if ctx.gpu.is_software() {
+            " (software device: times are CPU times)"
+        } else {
+            ""
+        }
+    );
+    for f in [
+        "results.csv",
+        "results.json",
+        "report.md",
+        "pareto.svg",
+        "pareto.png",
+        "images/",
+    ] {
         println!("wrote {}", out.join(f).display());
     }
     Ok(())

@@ -14,14 +14,14 @@ use std::sync::Arc;
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::GpuContext;
 
-pub use bench::{bench, BenchArgs};
+pub use bench::{BenchArgs, bench};
 pub use graph::graph;
 pub use montage::montage;
 pub use reference::{reference, trace_for};
-pub use render::{render, RenderArgs};
-pub use tune::{choose, config_text, tune, TuneArgs, DEFAULT_SWEEP};
+pub use render::{RenderArgs, render};
+pub use tune::{DEFAULT_SWEEP, TuneArgs, choose, config_text, tune};
 
-use crate::config::{check_size, AppConfig, SceneSource};
+use crate::config::{AppConfig, SceneSource, check_size};
 use crate::error::{AppError, AppResult};
 
 /// Flags shared by several commands; each overrides the config file.
@@ -59,7 +59,11 @@ impl CommonArgs {
         }
         if let Some(r) = self.radius {
             if !(r.is_finite() && r > 0.0) {
-                return Err(AppError::InvalidArgument { name: "--radius".into(), value: r.to_string(), allowed: "a finite number greater than 0 (world units)".into() });
+                return Err(AppError::InvalidArgument {
+                    name: "--radius".into(),
+                    value: r.to_string(),
+                    allowed: "a finite number greater than 0 (world units)".into(),
+                });
             }
             c.ao.radius = r;
         }
@@ -79,7 +83,10 @@ pub fn techniques() -> AppResult<()> {
     for t in registry.iter() {
         println!("{}: {}", t.name(), t.description());
         for p in t.parameters() {
-            println!("    {:<22} default {:<10} allowed {:<24} {}", p.name, p.default, p.allowed, p.doc);
+            println!(
+                "    {:<22} default {:<10} allowed {:<24} {}",
+                p.name, p.default, p.allowed, p.doc
+            );
         }
     }
     Ok(())

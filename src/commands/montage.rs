@@ -8,11 +8,11 @@ use std::sync::Arc;
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
 
-use super::{gpu, trace_for, CommonArgs};
+use super::{CommonArgs, gpu, trace_for};
 use crate::error::AppResult;
 use crate::frame_graph::FrameOutputs;
 use crate::images::{prepare_output_dir, write_rgb_png};
-use crate::renderer::{shader_library, Renderer};
+use crate::renderer::{Renderer, shader_library};
 
 const GAP: u32 = 2;
 
@@ -29,17 +29,48 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
     let size = Extent::new(config.width, config.height);
     let gpu = gpu()?;
     let mut panels: Vec<Vec<[u8; 3]>> = Vec::new();
-    let gray = |v: &[f32]| v.iter().map(|a| [(a.clamp(0.0, 1.0) * 255.0).round() as u8; 3]).collect::<Vec<_>>();
+    let gray = |v: &[f32]| {
+        v.iter()
+            .map(|a| [(a.clamp(0.0, 1.0) * 255.0).round() as u8; 3])
+            .collect::<Vec<_>>()
+    };
     let mut base_ao = config.ao.clone();
     base_ao.technique = "none".into();
-    let mut r = Renderer::new(gpu.clone(), shader_library(), &registry, scene.clone(), &base_ao, FrameOutputs { shaded: true, surfaces: true, ..Default::default() }, size)?;
+    let mut r = Renderer::new(
+        gpu.clone(),
+        shader_library(),
+        &registry,
+        scene.clone(),
+        &base_ao,
+        FrameOutputs {
+            shaded: true,
+            surfaces: true,
+            ..Default::default()
+        },
+        size,
+    )?;
     r.render(0.0)?;
-    panels.push(r.read_shaded()?.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect());
-    panels.push(gray(&trace_for(&r, config.ao.radius, rays, config.reference_mode, true)?.accessibility));
+    panels.push(
+        r.read_shaded()?
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect(),
+    );
+    panels.push(gray(
+        &trace_for(&r, config.ao.radius, rays, config.reference_mode, true)?.accessibility,
+    ));
     for t in techniques {
         let mut ao = config.ao.clone();
         ao.technique = t.clone();
-        let mut r = Renderer::new(gpu.clone(), shader_library(), &registry, scene.clone(), &ao, FrameOutputs::default(), size)?;
+        let mut r = Renderer::new(
+            gpu.clone(),
+            shader_library(),
+            &registry,
+            scene.clone(),
+            &ao,
+            FrameOutputs::default(),
+            size,
+        )?;
         for f in 0..config.frames.max(1) {
             r.render(f as f32 * 0.0)?;
         }
@@ -59,6 +90,10 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
         }
     }
     write_rgb_png(out, width, size.height, &rgb)?;
-    println!("wrote {} (panels: shaded, reference, {})", out.display(), techniques.join(", "));
+    println!(
+        "wrote {} (panels: shaded, reference, {})",
+        out.display(),
+        techniques.join(", ")
+    );
     Ok(())
 }

@@ -8,11 +8,11 @@ use std::sync::Arc;
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
 
-use super::{gpu, CommonArgs};
+use super::{CommonArgs, gpu};
 use crate::error::AppResult;
 use crate::frame_graph::FrameOutputs;
 use crate::images::{prepare_output_dir, write_atomic, write_gray_png, write_rgba_png};
-use crate::renderer::{shader_library, Renderer};
+use crate::renderer::{Renderer, shader_library};
 
 #[derive(Clone, Debug, Default)]
 pub struct RenderArgs {
@@ -27,18 +27,43 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     let config = args.common.resolve(&registry)?;
     let frames = args.frames.unwrap_or(config.frames);
     if frames == 0 {
-        return Err(crate::AppError::InvalidArgument { name: "--frames".into(), value: "0".into(), allowed: "1 or more".into() });
+        return Err(crate::AppError::InvalidArgument {
+            name: "--frames".into(),
+            value: "0".into(),
+            allowed: "1 or more".into(),
+        });
     }
     let scene = Arc::new(crate::load_scene(&config.scene)?);
     prepare_output_dir(&args.out)?;
     let size = Extent::new(config.width, config.height);
     let started = std::time::Instant::now();
-    let mut r = Renderer::new(gpu()?, shader_library(), &registry, scene, &config.ao, FrameOutputs { shaded: true, ..Default::default() }, size)?;
+    let mut r = Renderer::new(
+        gpu()?,
+        shader_library(),
+        &registry,
+        scene,
+        &config.ao,
+        FrameOutputs {
+            shaded: true,
+            ..Default::default()
+        },
+        size,
+    )?;
     for f in 0..frames {
         r.render(f as f32 * config.frame_time)?;
         if args.every {
-            write_gray_png(&args.out.join(format!("ao_{f:04}.png")), size.width, size.height, &r.read_ao()?)?;
-            write_rgba_png(&args.out.join(format!("shaded_{f:04}.png")), size.width, size.height, &r.read_shaded()?)?;
+            write_gray_png(
+                &args.out.join(format!("ao_{f:04}.png")),
+                size.width,
+                size.height,
+                &r.read_ao()?,
+            )?;
+            write_rgba_png(
+                &args.out.join(format!("shaded_{f:04}.png")),
+                size.width,
+                size.height,
+                &r.read_shaded()?,
+            )?;
         }
     }
     let ao = args.out.join("ao.png");
@@ -48,18 +73,47 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     let mut written = vec![ao, shaded];
     for (name, _) in r.graph.extra.clone() {
         let rgba = r.read_extra(&name)?;
-        let bytes: Vec<u8> = rgba.chunks_exact(4).flat_map(|c| [c[0], c[1], c[2]].map(|v| (v.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8).into_iter().chain([255])).collect();
+        let bytes: Vec<u8> = rgba
+            .chunks_exact(4)
+            .flat_map(|c| {
+                [c[0], c[1], c[2]]
+                    .map(|v| (v.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8)
+                    .into_iter()
+                    .chain([255])
+            })
+            .collect();
         let path = args.out.join(format!("{name}.png"));
         write_rgba_png(&path, size.width, size.height, &bytes)?;
         written.push(path);
     }
     let timings = r.timings()?;
-    let mut text = format!("# aograph render: technique {} on {} at {}, frame {} of {}\n# device: {}{}\n", config.ao.technique, config.scene.label(), size, frames, frames, r.gpu.describe(), if r.gpu.is_software() { " (software device: times are CPU times)" } else { "" });
+    let mut text = format!(
+        "# aograph render: technique {} on {} at {}, frame {} of {}\n# device: {}{}\n",
+        config.ao.technique,
+        config.scene.label(),
+        size,
+        frames,
+        frames,
+        r.gpu.describe(),
+        if r.gpu.is_software() {
+            " (software device: times are CPU times)"
+        } else {
+            ""
+        }
+    );
     text.push_str(&timings.table());
     let tpath = args.out.join("timings.txt");
     write_atomic(&tpath, text.as_bytes())?;
     written.push(tpath);
-    println!("rendered {} with {} at {} ({} frame{}) in {:.2} s", config.scene.label(), config.ao.technique, size, frames, if frames == 1 { "" } else { "s" }, started.elapsed().as_secs_f64());
+    println!(
+        "rendered {} with {} at {} ({} frame{}) in {:.2} s",
+        config.scene.label(),
+        config.ao.technique,
+        size,
+        frames,
+        if frames == 1 { "" } else { "s" },
+        started.elapsed().as_secs_f64()
+    );
     print!("{}", timings.table());
     for p in written {
         println!("wrote {}", p.display());

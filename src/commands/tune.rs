@@ -8,9 +8,9 @@ use std::path::PathBuf;
 
 use aograph_ao::TechniqueRegistry;
 
-use super::bench::{scenes, techniques, RunFlags};
+use super::bench::{RunFlags, scenes, techniques};
 use super::gpu;
-use crate::bench::{plan_param_sets, run_bench, BenchContext, BenchPlan, RunRecord, Sweep};
+use crate::bench::{BenchContext, BenchPlan, RunRecord, Sweep, plan_param_sets, run_bench};
 use crate::config::SceneSource;
 use crate::error::{AppError, AppResult};
 use crate::images::write_atomic;
@@ -47,7 +47,12 @@ pub fn choose(records: &[RunRecord], budget_ms: f64) -> Option<&RunRecord> {
     records
         .iter()
         .filter(|r| r.times.total_ms.median <= budget_ms && r.metrics.mae.is_finite())
-        .min_by(|a, b| a.metrics.mae.total_cmp(&b.metrics.mae).then(a.times.total_ms.median.total_cmp(&b.times.total_ms.median)))
+        .min_by(|a, b| {
+            a.metrics
+                .mae
+                .total_cmp(&b.metrics.mae)
+                .then(a.times.total_ms.median.total_cmp(&b.times.total_ms.median))
+        })
 }
 
 /// A config file (src/config.rs's schema) for `r` on `scene`, with a comment header.
@@ -84,7 +89,11 @@ pub fn config_text(r: &RunRecord, scene: &SceneSource, device: &str, budget_ms: 
 
 pub fn tune(args: &TuneArgs) -> AppResult<()> {
     if !(args.budget_ms.is_finite() && args.budget_ms > 0.0) {
-        return Err(AppError::InvalidArgument { name: "--budget-ms".into(), value: args.budget_ms.to_string(), allowed: "a number of milliseconds greater than 0".into() });
+        return Err(AppError::InvalidArgument {
+            name: "--budget-ms".into(),
+            value: args.budget_ms.to_string(),
+            allowed: "a number of milliseconds greater than 0".into(),
+        });
     }
     let registry = TechniqueRegistry::with_builtins();
     let settings = args.run.settings(crate::metrics::DEFAULT_EDGE_BAND)?;
@@ -95,16 +104,53 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
     let techniques = techniques(&registry, &args.techniques, Some(&sweep), true)?;
     let sets = plan_param_sets(&registry, &techniques, Some(&sweep))?;
     let scene = scenes(std::slice::from_ref(&args.scene))?.remove(0);
-    let plan = BenchPlan { scenes: vec![scene.clone()], sets, settings };
-    let ctx = BenchContext { gpu: gpu()?, shaders: shader_library(), registry };
-    let records = run_bench(&ctx, &plan, None, !args.run.quiet)?;
-    let device = format!("{}{}", ctx.gpu.describe(), if ctx.gpu.is_software() { ", a software device (CPU times)" } else { "" });
-    let Some(best) = choose(&records, args.budget_ms) else {
-        let fastest = records.iter().map(|r| r.times.total_ms.median).fold(f64::INFINITY, f64::min);
-        return Err(AppError::InvalidArgument { name: "--budget-ms".into(), value: args.budget_ms.to_string(), allowed: format!("at least {} ms: the fastest of {} settings measured on {device}", num(fastest, 3), records.len()) });
+    let plan = BenchPlan {
+        scenes: vec![scene.clone()],
+        sets,
+        settings,
     };
-    let fits = records.iter().filter(|r| r.times.total_ms.median <= args.budget_ms).count();
-    eprintln!("{} of {} settings fit {} ms on {device}; the most accurate is {} {}", fits, records.len(), args.budget_ms, best.technique, best.label);
+    let ctx = BenchContext {
+        gpu: gpu()?,
+        shaders: shader_library(),
+        registry,
+    };
+    let records = run_bench(&ctx, &plan, None, !args.run.quiet)?;
+    let device = format!(
+        "{}{}",
+        ctx.gpu.describe(),
+        if ctx.gpu.is_software() {
+            ", a software device (CPU times)"
+        } else {
+            ""
+        }
+    );
+    let Some(best) = choose(&records, args.budget_ms) else {
+        let fastest = records
+            .iter()
+            .map(|r| r.times.total_ms.median)
+            .fold(f64::INFINITY, f64::min);
+        return Err(AppError::InvalidArgument {
+            name: "--budget-ms".into(),
+            value: args.budget_ms.to_string(),
+            allowed: format!(
+                "at least {} ms: the fastest of {} settings measured on {device}",
+                num(fastest, 3),
+                records.len()
+            ),
+        });
+    };
+    let fits = records
+        .iter()
+        .filter(|r| r.times.total_ms.median <= args.budget_ms)
+        .count();
+    eprintln!(
+        "{} of {} settings fit {} ms on {device}; the most accurate is {} {}",
+        fits,
+        records.len(),
+        args.budget_ms,
+        best.technique,
+        best.label
+    );
     let text = config_text(best, &scene, &device, args.budget_ms);
     print!("{text}");
     if let Some(p) = &args.out {

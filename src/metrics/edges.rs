@@ -72,7 +72,9 @@ mod tests {
     /// 20x10 with depth 1 left of x = 10 and 2 from x = 10: the edge pixels are columns 9 and
     /// 10, and a band of 3 covers columns 6..=13.
     fn step() -> Vec<f32> {
-        (0..200).map(|i| if i % 20 < 10 { 1.0 } else { 2.0 }).collect()
+        (0..200)
+            .map(|i| if i % 20 < 10 { 1.0 } else { 2.0 })
+            .collect()
     }
 
     #[test]
@@ -93,7 +95,15 @@ mod tests {
         // A technique right everywhere except a dark halo of 0.3 on the two columns behind
         // the step (x = 10, 11): band MAE = 0.3 * 20 / 80 = 0.075.
         let reference = vec![0.8f32; 200];
-        let ao: Vec<f32> = (0..200).map(|i| if (10..12).contains(&(i % 20)) { 0.5 } else { 0.8 }).collect();
+        let ao: Vec<f32> = (0..200)
+            .map(|i| {
+                if (10..12).contains(&(i % 20)) {
+                    0.5
+                } else {
+                    0.8
+                }
+            })
+            .collect();
         let band = edge_band(&depth_edges(&step(), 20, 10, DEFAULT_EDGE_JUMP), 20, 10, 3);
         assert!((masked_mae(&ao, &reference, &band).unwrap() - 0.075).abs() < 1e-6);
     }
@@ -102,15 +112,23 @@ mod tests {
     fn smooth_slopes_and_small_jumps_are_not_edges() {
         let ramp: Vec<f32> = (0..200).map(|i| 1.0 + 0.05 * (i % 20) as f32).collect();
         assert!(depth_edges(&ramp, 20, 10, 0.1).iter().all(|e| !e));
-        let small: Vec<f32> = (0..200).map(|i| if i % 20 < 10 { 1.0 } else { 1.09 }).collect();
+        let small: Vec<f32> = (0..200)
+            .map(|i| if i % 20 < 10 { 1.0 } else { 1.09 })
+            .collect();
         assert!(depth_edges(&small, 20, 10, 0.1).iter().all(|e| !e));
     }
 
     #[test]
     fn silhouettes_against_the_sky_are_edges_and_sky_alone_is_not() {
-        let d: Vec<f32> = (0..200).map(|i| if i / 20 < 5 { 0.0 } else { 3.0 }).collect();
+        let d: Vec<f32> = (0..200)
+            .map(|i| if i / 20 < 5 { 0.0 } else { 3.0 })
+            .collect();
         let e = depth_edges(&d, 20, 10, 0.1);
-        assert!(e.iter().enumerate().all(|(i, v)| *v == (i / 20 == 4 || i / 20 == 5)));
+        assert!(
+            e.iter()
+                .enumerate()
+                .all(|(i, v)| *v == (i / 20 == 4 || i / 20 == 5))
+        );
         assert!(depth_edges(&[0.0; 200], 20, 10, 0.1).iter().all(|e| !e));
     }
 }

@@ -44,11 +44,23 @@ pub fn error_stats(a: &[f32], b: &[f32], mask: &[bool]) -> ErrorStats {
         }
     }
     if n == 0 {
-        return ErrorStats { count: 0, mae: f64::NAN, rmse: f64::NAN, psnr: f64::NAN, signed: f64::NAN };
+        return ErrorStats {
+            count: 0,
+            mae: f64::NAN,
+            rmse: f64::NAN,
+            psnr: f64::NAN,
+            signed: f64::NAN,
+        };
     }
     let nf = n as f64;
     let rmse = (sq / nf).sqrt();
-    ErrorStats { count: n, mae: abs / nf, rmse, psnr: psnr(rmse), signed: signed / nf }
+    ErrorStats {
+        count: n,
+        mae: abs / nf,
+        rmse,
+        psnr: psnr(rmse),
+        signed: signed / nf,
+    }
 }
 
 /// MAE over the masked pixels, `None` when the mask is empty.
@@ -87,7 +99,12 @@ mod tests {
         let b = [0.5f32; 4];
         let a = [0.5f32, 0.5, 0.5, 0.9];
         let s = error_stats(&a, &b, &[true; 4]);
-        assert!((s.mae - 0.1).abs() < 1e-7 && (s.rmse - 0.2).abs() < 1e-7 && (s.signed - 0.1).abs() < 1e-7, "{s:?}");
+        assert!(
+            (s.mae - 0.1).abs() < 1e-7
+                && (s.rmse - 0.2).abs() < 1e-7
+                && (s.signed - 0.1).abs() < 1e-7,
+            "{s:?}"
+        );
     }
 
     #[test]

@@ -20,10 +20,10 @@ pub mod ssim;
 
 use serde::{Deserialize, Serialize};
 
-pub use edges::{depth_edges, edge_band, DEFAULT_EDGE_BAND, DEFAULT_EDGE_JUMP};
-pub use error::{error_stats, masked_mae, psnr, ErrorStats};
+pub use edges::{DEFAULT_EDGE_BAND, DEFAULT_EDGE_JUMP, depth_edges, edge_band};
+pub use error::{ErrorStats, error_stats, masked_mae, psnr};
 pub use flicker::FlickerMeter;
-pub use ssim::{ssim, SsimParams, SsimWindow};
+pub use ssim::{SsimParams, SsimWindow, ssim};
 
 use crate::error::{AppError, AppResult};
 
@@ -39,7 +39,11 @@ pub struct MetricOptions {
 
 impl Default for MetricOptions {
     fn default() -> Self {
-        Self { edge_band: DEFAULT_EDGE_BAND, edge_jump: DEFAULT_EDGE_JUMP, ssim: SsimParams::default() }
+        Self {
+            edge_band: DEFAULT_EDGE_BAND,
+            edge_jump: DEFAULT_EDGE_JUMP,
+            ssim: SsimParams::default(),
+        }
     }
 }
 
@@ -70,16 +74,36 @@ pub struct Metrics {
 
 /// Compares `ao` with `reference` (both row-major, `width` x `height`) over the pixels where
 /// `depth` > 0. `flicker` is left `None`: it needs every frame (see [`FlickerMeter`]).
-pub fn compare(ao: &[f32], reference: &[f32], depth: &[f32], width: u32, height: u32, options: &MetricOptions) -> AppResult<Metrics> {
+pub fn compare(
+    ao: &[f32],
+    reference: &[f32],
+    depth: &[f32],
+    width: u32,
+    height: u32,
+    options: &MetricOptions,
+) -> AppResult<Metrics> {
     let n = width as usize * height as usize;
-    for (what, len) in [("technique image", ao.len()), ("reference", reference.len()), ("depth", depth.len())] {
+    for (what, len) in [
+        ("technique image", ao.len()),
+        ("reference", reference.len()),
+        ("depth", depth.len()),
+    ] {
         if len != n {
-            return Err(AppError::InvalidArgument { name: what.into(), value: format!("{len} pixels"), allowed: format!("{n} pixels ({width}x{height})") });
+            return Err(AppError::InvalidArgument {
+                name: what.into(),
+                value: format!("{len} pixels"),
+                allowed: format!("{n} pixels ({width}x{height})"),
+            });
         }
     }
     let valid: Vec<bool> = depth.iter().map(|d| *d > 0.0).collect();
     let e = error_stats(ao, reference, &valid);
-    let band = edge_band(&depth_edges(depth, width, height, options.edge_jump), width, height, options.edge_band);
+    let band = edge_band(
+        &depth_edges(depth, width, height, options.edge_jump),
+        width,
+        height,
+        options.edge_band,
+    );
     let band_valid: Vec<bool> = band.iter().zip(&valid).map(|(b, v)| *b && *v).collect();
     let edge_pixels = band_valid.iter().filter(|b| **b).count();
     Ok(Metrics {
@@ -108,8 +132,18 @@ mod tests {
             for x in 0..w {
                 let sky = y < 4;
                 let square = (10..20).contains(&x) && (12..22).contains(&y);
-                depth.push(if sky { 0.0 } else if square { 2.0 } else { 5.0 });
-                ao.push(if sky { 1.0 } else { 0.4 + 0.5 * x as f32 / w as f32 - if square { 0.2 } else { 0.0 } });
+                depth.push(if sky {
+                    0.0
+                } else if square {
+                    2.0
+                } else {
+                    5.0
+                });
+                ao.push(if sky {
+                    1.0
+                } else {
+                    0.4 + 0.5 * x as f32 / w as f32 - if square { 0.2 } else { 0.0 }
+                });
             }
         }
         (ao, depth, w, h)
@@ -134,14 +168,26 @@ mod tests {
     fn a_biased_image_has_the_known_error() {
         let (r, d, w, h) = scene();
         // Too dark by 0.1 everywhere, and sky left at 1 (sky must not count).
-        let biased: Vec<f32> = r.iter().zip(&d).map(|(v, z)| if *z > 0.0 { v - 0.1 } else { 1.0 }).collect();
+        let biased: Vec<f32> = r
+            .iter()
+            .zip(&d)
+            .map(|(v, z)| if *z > 0.0 { v - 0.1 } else { 1.0 })
+            .collect();
         let m = compare(&biased, &r, &d, w, h, &MetricOptions::default()).unwrap();
         assert!((m.mae - 0.1).abs() < 1e-6, "mae {}", m.mae);
         assert!((m.rmse - 0.1).abs() < 1e-6);
-        assert!((m.signed_error + 0.1).abs() < 1e-6, "over-darkening is negative: {}", m.signed_error);
+        assert!(
+            (m.signed_error + 0.1).abs() < 1e-6,
+            "over-darkening is negative: {}",
+            m.signed_error
+        );
         assert!((m.psnr - 20.0).abs() < 1e-4, "psnr {}", m.psnr);
         assert!((m.edge_mae.unwrap() - 0.1).abs() < 1e-6);
-        assert!(m.ssim < 1.0 && m.ssim > 0.9, "a small offset keeps the structure: {}", m.ssim);
+        assert!(
+            m.ssim < 1.0 && m.ssim > 0.9,
+            "a small offset keeps the structure: {}",
+            m.ssim
+        );
     }
 
     #[test]

@@ -3,8 +3,8 @@
 //! a number and the others as the strings `"inf"`, `"-inf"` and `"nan"`; reading accepts both.
 //! CSV and Markdown output use the same spellings through [`format`].
 
-use serde::de::{self, Deserializer, Visitor};
 use serde::Serializer;
+use serde::de::{self, Deserializer, Visitor};
 
 pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
     if v.is_finite() {
@@ -54,7 +54,11 @@ fn spell(v: f64) -> &'static str {
 
 /// `v` with `decimals` digits, or its spelling when it is not finite.
 pub fn format(v: f64, decimals: usize) -> String {
-    if v.is_finite() { format!("{v:.decimals$}") } else { spell(v).to_string() }
+    if v.is_finite() {
+        format!("{v:.decimals$}")
+    } else {
+        spell(v).to_string()
+    }
 }
 
 #[cfg(test)]
@@ -71,8 +75,16 @@ mod tests {
             let s = serde_json::to_string(&T { v }).unwrap();
             assert_eq!(serde_json::from_str::<T>(&s).unwrap().v, v, "{s}");
         }
-        assert_eq!(serde_json::to_string(&T { v: f64::INFINITY }).unwrap(), r#"{"v":"inf"}"#);
-        assert!(serde_json::from_str::<T>(r#"{"v":"nan"}"#).unwrap().v.is_nan());
+        assert_eq!(
+            serde_json::to_string(&T { v: f64::INFINITY }).unwrap(),
+            r#"{"v":"inf"}"#
+        );
+        assert!(
+            serde_json::from_str::<T>(r#"{"v":"nan"}"#)
+                .unwrap()
+                .v
+                .is_nan()
+        );
         assert_eq!(super::format(f64::INFINITY, 2), "inf");
         assert_eq!(super::format(1.23456, 2), "1.23");
     }

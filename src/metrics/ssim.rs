@@ -41,9 +41,21 @@ pub struct SsimParams {
 
 impl SsimParams {
     /// The Pyramid HBAO paper: 11x11 uniform window, k1 = 0.001 (as printed), k2 = 0.03, L = 1.
-    pub const PAPER: Self = Self { window: 11, shape: SsimWindow::Uniform, k1: 0.001, k2: 0.03, dynamic_range: 1.0 };
+    pub const PAPER: Self = Self {
+        window: 11,
+        shape: SsimWindow::Uniform,
+        k1: 0.001,
+        k2: 0.03,
+        dynamic_range: 1.0,
+    };
     /// Wang et al. 2004: 11x11 Gaussian window with sigma 1.5, k1 = 0.01, k2 = 0.03, L = 1.
-    pub const WANG: Self = Self { window: 11, shape: SsimWindow::Gaussian { sigma: 1.5 }, k1: 0.01, k2: 0.03, dynamic_range: 1.0 };
+    pub const WANG: Self = Self {
+        window: 11,
+        shape: SsimWindow::Gaussian { sigma: 1.5 },
+        k1: 0.01,
+        k2: 0.03,
+        dynamic_range: 1.0,
+    };
 
     pub fn c1(&self) -> f64 {
         (self.k1 * self.dynamic_range).powi(2)
@@ -70,12 +82,27 @@ impl Default for SsimParams {
 }
 
 /// SSIM of one window from its moments (Wang et al. Eq. 13; the paper's Eq. 10).
-pub fn ssim_from_moments(mu_x: f64, mu_y: f64, var_x: f64, var_y: f64, cov: f64, c1: f64, c2: f64) -> f64 {
-    ((2.0 * mu_x * mu_y + c1) * (2.0 * cov + c2)) / ((mu_x * mu_x + mu_y * mu_y + c1) * (var_x + var_y + c2))
+pub fn ssim_from_moments(
+    mu_x: f64,
+    mu_y: f64,
+    var_x: f64,
+    var_y: f64,
+    cov: f64,
+    c1: f64,
+    c2: f64,
+) -> f64 {
+    ((2.0 * mu_x * mu_y + c1) * (2.0 * cov + c2))
+        / ((mu_x * mu_x + mu_y * mu_y + c1) * (var_x + var_y + c2))
 }
 
 /// Sums of `channels` weighted by `kernel` along one axis; taps outside the image are skipped.
-fn convolve(channels: &[Vec<f64>], kernel: &[f64], width: usize, height: usize, horizontal: bool) -> Vec<Vec<f64>> {
+fn convolve(
+    channels: &[Vec<f64>],
+    kernel: &[f64],
+    width: usize,
+    height: usize,
+    horizontal: bool,
+) -> Vec<Vec<f64>> {
     let r = (kernel.len() / 2) as isize;
     channels
         .iter()
@@ -86,7 +113,11 @@ fn convolve(channels: &[Vec<f64>], kernel: &[f64], width: usize, height: usize, 
                     let mut s = 0.0;
                     for (k, w) in kernel.iter().enumerate() {
                         let d = k as isize - r;
-                        let (sx, sy) = if horizontal { (x as isize + d, y as isize) } else { (x as isize, y as isize + d) };
+                        let (sx, sy) = if horizontal {
+                            (x as isize + d, y as isize)
+                        } else {
+                            (x as isize, y as isize + d)
+                        };
                         if sx >= 0 && sy >= 0 && (sx as usize) < width && (sy as usize) < height {
                             s += w * src[sy as usize * width + sx as usize];
                         }
@@ -101,7 +132,14 @@ fn convolve(channels: &[Vec<f64>], kernel: &[f64], width: usize, height: usize, 
 
 /// Mean SSIM of `x` against `y` over windows centred on the pixels where `mask` is true (see
 /// the module docs). NaN when no pixel is masked in.
-pub fn ssim(x: &[f32], y: &[f32], mask: &[bool], width: u32, height: u32, params: &SsimParams) -> f64 {
+pub fn ssim(
+    x: &[f32],
+    y: &[f32],
+    mask: &[bool],
+    width: u32,
+    height: u32,
+    params: &SsimParams,
+) -> f64 {
     let (w, h) = (width as usize, height as usize);
     let n = w * h;
     let mut ch = vec![vec![0.0f64; n]; 6];
@@ -132,7 +170,11 @@ pub fn ssim(x: &[f32], y: &[f32], mask: &[bool], width: u32, height: u32, params
         total += ssim_from_moments(mx, my, vx, vy, cov, c1, c2);
         count += 1;
     }
-    if count == 0 { f64::NAN } else { total / count as f64 }
+    if count == 0 {
+        f64::NAN
+    } else {
+        total / count as f64
+    }
 }
 
 #[cfg(test)]
@@ -141,7 +183,9 @@ mod tests {
 
     #[test]
     fn identical_images_have_ssim_one() {
-        let x: Vec<f32> = (0..64 * 48).map(|i| ((i * 37 % 101) as f32) / 100.0).collect();
+        let x: Vec<f32> = (0..64 * 48)
+            .map(|i| ((i * 37 % 101) as f32) / 100.0)
+            .collect();
         for p in [SsimParams::PAPER, SsimParams::WANG] {
             let s = ssim(&x, &x, &vec![true; x.len()], 64, 48, &p);
             assert!((s - 1.0).abs() < 1e-12, "{p:?}: {s}");

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
 use aograph_ao::{AoConfig, TechniqueRegistry};
-use aograph_graph::{test_gpu, Extent};
+use aograph_graph::{Extent, test_gpu};
 use aograph_scene::{ReferenceMode, Scene};
 
 /// One technique's result on one frame.
@@ -19,7 +19,11 @@ pub struct AoRun {
 
 /// An `[ao]` config for `technique` with parameters from a TOML snippet (may be empty).
 pub fn ao_config(technique: &str, radius: f32, params_toml: &str) -> AoConfig {
-    let mut c = AoConfig { technique: technique.into(), radius, ..AoConfig::default() };
+    let mut c = AoConfig {
+        technique: technique.into(),
+        radius,
+        ..AoConfig::default()
+    };
     let table: toml::Table = params_toml.parse().expect("test params are valid TOML");
     c.params.insert(technique.into(), table);
     c
@@ -30,19 +34,38 @@ pub fn ao_config(technique: &str, radius: f32, params_toml: &str) -> AoConfig {
 pub fn render_ao(scene: Scene, config: &AoConfig, size: Extent, frames: u32) -> Option<AoRun> {
     let gpu = test_gpu()?;
     let registry = TechniqueRegistry::with_builtins();
-    let outputs = FrameOutputs { surfaces: true, linear_depth: true, ..Default::default() };
-    let mut renderer = Renderer::new(gpu, aograph::shader_library(), &registry, Arc::new(scene), config, outputs, size).expect("frame graph builds");
+    let outputs = FrameOutputs {
+        surfaces: true,
+        linear_depth: true,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::new(
+        gpu,
+        aograph::shader_library(),
+        &registry,
+        Arc::new(scene),
+        config,
+        outputs,
+        size,
+    )
+    .expect("frame graph builds");
     for _ in 0..frames {
         renderer.render(0.0).expect("frame renders");
     }
     let ao = renderer.read_ao().expect("ao reads back");
     let depth = renderer.read_linear_depth().expect("depth reads back");
-    Some(AoRun { ao, depth, renderer })
+    Some(AoRun {
+        ao,
+        depth,
+        renderer,
+    })
 }
 
 /// The reference for the run's last frame (binary mode), cached on disk.
 pub fn reference(run: &AoRun, radius: f32, rays: u32) -> Vec<f32> {
-    aograph::commands::trace_for(&run.renderer, radius, rays, ReferenceMode::Binary, false).expect("reference traces").accessibility
+    aograph::commands::trace_for(&run.renderer, radius, rays, ReferenceMode::Binary, false)
+        .expect("reference traces")
+        .accessibility
 }
 
 /// `plane` seen from `degrees` off its normal, 6 units from the origin (the self-occlusion
@@ -50,20 +73,36 @@ pub fn reference(run: &AoRun, radius: f32, rays: u32) -> Vec<f32> {
 pub fn plane_at(degrees: f32) -> Scene {
     let mut scene = aograph_scene::procedural_scene("plane").expect("plane exists");
     let a = degrees.to_radians();
-    scene.camera = aograph_scene::Camera::perspective(glam::Vec3::new(0.0, a.cos(), a.sin()) * 6.0, glam::Vec3::ZERO, 50f32.to_radians(), 0.05, 2000.0);
+    scene.camera = aograph_scene::Camera::perspective(
+        glam::Vec3::new(0.0, a.cos(), a.sin()) * 6.0,
+        glam::Vec3::ZERO,
+        50f32.to_radians(),
+        0.05,
+        2000.0,
+    );
     scene
 }
 
 /// Mean absolute error over non-sky pixels.
 pub fn mae(a: &[f32], b: &[f32], depth: &[f32]) -> f32 {
-    let (sum, n) = a.iter().zip(b).zip(depth).filter(|(_, d)| **d > 0.0).fold((0.0f64, 0usize), |(s, n), ((x, y), _)| (s + (x - y).abs() as f64, n + 1));
+    let (sum, n) = a
+        .iter()
+        .zip(b)
+        .zip(depth)
+        .filter(|(_, d)| **d > 0.0)
+        .fold((0.0f64, 0usize), |(s, n), ((x, y), _)| {
+            (s + (x - y).abs() as f64, n + 1)
+        });
     (sum / n.max(1) as f64) as f32
 }
 
 /// Every value finite and within [0, 1]; sky pixels exactly 1.
 pub fn assert_valid_ao(ao: &[f32], depth: &[f32], what: &str) {
     for (i, (v, d)) in ao.iter().zip(depth).enumerate() {
-        assert!(v.is_finite() && (0.0..=1.0).contains(v), "{what}: pixel {i} = {v}");
+        assert!(
+            v.is_finite() && (0.0..=1.0).contains(v),
+            "{what}: pixel {i} = {v}"
+        );
         if *d <= 0.0 {
             assert_eq!(*v, 1.0, "{what}: sky pixel {i} must be 1");
         }

@@ -41,7 +41,9 @@ impl IntermediateFormat {
         match s {
             "r32float" => Ok(Self::R32Float),
             "r16float" => Ok(Self::R16Float),
-            _ => Err(AoError::Config(format!("intermediate_format = \"{s}\": allowed \"r32float\" or \"r16float\""))),
+            _ => Err(AoError::Config(format!(
+                "intermediate_format = \"{s}\": allowed \"r32float\" or \"r16float\""
+            ))),
         }
     }
 }
@@ -59,7 +61,12 @@ pub struct AoConfig {
 
 impl Default for AoConfig {
     fn default() -> Self {
-        Self { technique: DEFAULT_TECHNIQUE.into(), radius: 1.0, intermediate_format: IntermediateFormat::default(), params: BTreeMap::new() }
+        Self {
+            technique: DEFAULT_TECHNIQUE.into(),
+            radius: 1.0,
+            intermediate_format: IntermediateFormat::default(),
+            params: BTreeMap::new(),
+        }
     }
 }
 
@@ -79,13 +86,23 @@ pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) ->
         }
         row[b.len()]
     }
-    candidates.into_iter().map(|c| (distance(word, c), c)).filter(|(d, c)| *d <= (c.len().max(3) / 2).max(2)).min().map(|(_, c)| c)
+    candidates
+        .into_iter()
+        .map(|c| (distance(word, c), c))
+        .filter(|(d, c)| *d <= (c.len().max(3) / 2).max(2))
+        .min()
+        .map(|(_, c)| c)
 }
 
 /// "unknown key `x` in [section]; did you mean `y`? allowed: ..."
 pub fn unknown_key(section: &str, key: &str, allowed: &[&str]) -> String {
-    let hint = nearest(key, allowed.iter().copied()).map(|n| format!("; did you mean `{n}`?")).unwrap_or_default();
-    format!("unknown key `{key}` in [{section}]{hint} (allowed: {})", allowed.join(", "))
+    let hint = nearest(key, allowed.iter().copied())
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default();
+    format!(
+        "unknown key `{key}` in [{section}]{hint} (allowed: {})",
+        allowed.join(", ")
+    )
 }
 
 impl AoConfig {
@@ -97,11 +114,22 @@ impl AoConfig {
         for (k, v) in t {
             match (k.as_str(), v) {
                 ("technique", toml::Value::String(s)) => c.technique = s.clone(),
-                ("technique", _) => return Err(AoError::Config("`technique` must be a string naming a technique".into())),
-                ("radius", v) => {
-                    c.radius = v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| AoError::Config("`radius` must be a number (world units)".into()))? as f32;
+                ("technique", _) => {
+                    return Err(AoError::Config(
+                        "`technique` must be a string naming a technique".into(),
+                    ));
                 }
-                ("intermediate_format", toml::Value::String(s)) => c.intermediate_format = IntermediateFormat::parse(s)?,
+                ("radius", v) => {
+                    c.radius = v
+                        .as_float()
+                        .or_else(|| v.as_integer().map(|i| i as f64))
+                        .ok_or_else(|| {
+                            AoError::Config("`radius` must be a number (world units)".into())
+                        })? as f32;
+                }
+                ("intermediate_format", toml::Value::String(s)) => {
+                    c.intermediate_format = IntermediateFormat::parse(s)?
+                }
                 (name, toml::Value::Table(params)) if names.iter().any(|n| n == name) => {
                     c.params.insert(name.to_string(), params.clone());
                 }
@@ -120,7 +148,12 @@ impl AoConfig {
     pub fn validate(&self, registry: &TechniqueRegistry) -> AoResult<()> {
         registry.get(&self.technique)?;
         if !(self.radius.is_finite() && self.radius > 0.0) {
-            return Err(AoError::InvalidParameter { technique: "ao".into(), name: "radius".into(), value: self.radius.to_string(), allowed: "a finite number greater than 0 (world units)".into() });
+            return Err(AoError::InvalidParameter {
+                technique: "ao".into(),
+                name: "radius".into(),
+                value: self.radius.to_string(),
+                allowed: "a finite number greater than 0 (world units)".into(),
+            });
         }
         for (name, params) in &self.params {
             registry.get(name)?.check(params)?;

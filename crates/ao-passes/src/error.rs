@@ -13,32 +13,60 @@ pub enum AoError {
     UnknownTechnique { name: String, known: Vec<String> },
 
     #[error("invalid parameter `{name}` = {value} for technique `{technique}`: allowed {allowed}")]
-    InvalidParameter { technique: String, name: String, value: String, allowed: String },
+    InvalidParameter {
+        technique: String,
+        name: String,
+        value: String,
+        allowed: String,
+    },
 
     #[error("invalid [ao] config: {0}")]
     Config(String),
 
-    #[error("technique `{technique}` needs g-buffer channel `{channel}`, which the g-buffer did not provide")]
+    #[error(
+        "technique `{technique}` needs g-buffer channel `{channel}`, which the g-buffer did not provide"
+    )]
     MissingChannel { technique: String, channel: String },
 }
 
 pub type AoResult<T> = Result<T, AoError>;
 
 /// Checks `lo <= value <= hi` for a technique parameter.
-pub fn check_param<T: PartialOrd + std::fmt::Display>(technique: &str, name: &str, value: T, lo: T, hi: T) -> AoResult<()> {
+pub fn check_param<T: PartialOrd + std::fmt::Display>(
+    technique: &str,
+    name: &str,
+    value: T,
+    lo: T,
+    hi: T,
+) -> AoResult<()> {
     if value >= lo && value <= hi {
         Ok(())
     } else {
-        Err(AoError::InvalidParameter { technique: technique.into(), name: name.into(), value: value.to_string(), allowed: format!("{lo} to {hi}") })
+        Err(AoError::InvalidParameter {
+            technique: technique.into(),
+            name: name.into(),
+            value: value.to_string(),
+            allowed: format!("{lo} to {hi}"),
+        })
     }
 }
 
 /// Checks `value` is one of `allowed`.
-pub fn check_one_of<T: PartialEq + std::fmt::Display>(technique: &str, name: &str, value: T, allowed: &[T]) -> AoResult<()> {
+pub fn check_one_of<T: PartialEq + std::fmt::Display>(
+    technique: &str,
+    name: &str,
+    value: T,
+    allowed: &[T],
+) -> AoResult<()> {
     if allowed.contains(&value) {
         Ok(())
     } else {
         let list: Vec<String> = allowed.iter().map(|a| a.to_string()).collect();
-        Err(AoError::InvalidParameter { technique: technique.into(), name: name.into(), value: value.to_string(), allowed: format!("one of {}", list.join(", ")) })
+        Err(AoError::InvalidParameter {
+            technique: technique.into(),
+            name: name.into(),
+            value: value.to_string(),
+            allowed: format!("one of {}", list.join(", ")),
+        })
     }
 }

@@ -9,7 +9,9 @@ mod registry;
 mod technique;
 pub mod techniques;
 
-pub use config::{nearest, unknown_key, AoConfig, IntermediateFormat, DEFAULT_TECHNIQUE};
-pub use error::{check_one_of, check_param, AoError, AoResult};
+pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat, nearest, unknown_key};
+pub use error::{AoError, AoResult, check_one_of, check_param};
 pub use registry::TechniqueRegistry;
-pub use technique::{spec, AoBuildContext, AoOutput, AoTechnique, DynAoTechnique, ACCESSIBILITY_FORMAT};
+pub use technique::{
+    ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, DynAoTechnique, spec,
+};

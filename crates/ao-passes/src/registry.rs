@@ -26,14 +26,20 @@ impl TechniqueRegistry {
     }
     /// Adds (or replaces) a technique under its name.
     pub fn register<T: AoTechnique>(&mut self, technique: T) {
-        self.techniques.insert(AoTechnique::name(&technique), Arc::new(technique));
+        self.techniques
+            .insert(AoTechnique::name(&technique), Arc::new(technique));
     }
     pub fn names(&self) -> Vec<String> {
         self.techniques.keys().map(|s| s.to_string()).collect()
     }
     /// The technique `name`, or an error listing the known ones.
     pub fn get(&self, name: &str) -> AoResult<&Arc<dyn DynAoTechnique>> {
-        self.techniques.get(name).ok_or_else(|| AoError::UnknownTechnique { name: name.to_string(), known: self.names() })
+        self.techniques
+            .get(name)
+            .ok_or_else(|| AoError::UnknownTechnique {
+                name: name.to_string(),
+                known: self.names(),
+            })
     }
     pub fn iter(&self) -> impl Iterator<Item = &Arc<dyn DynAoTechnique>> {
         self.techniques.values()

@@ -6,10 +6,13 @@
 //! output size, 1 = unoccluded). [`DynAoTechnique`] is the object-safe face the registry holds;
 //! every typed technique gets it for free.
 
-use aograph_graph::{intermediate_variant, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, ParamSpec, SizeClass, TextureDesc, TextureHandle};
-use serde::de::DeserializeOwned;
+use aograph_graph::{
+    BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, ParamSpec,
+    SizeClass, TextureDesc, TextureHandle, intermediate_variant,
+};
 use serde::Deserialize;
 use serde::Serialize;
+use serde::de::DeserializeOwned;
 
 use crate::error::{AoError, AoResult};
 
@@ -35,11 +38,17 @@ pub struct AoBuildContext<'a> {
 impl AoBuildContext<'_> {
     /// The g-buffer channel `c`, or an error naming the technique and the channel.
     pub fn channel(&self, c: GBufferChannel) -> AoResult<TextureHandle> {
-        self.gbuffer.get(c).ok_or_else(|| AoError::MissingChannel { technique: self.technique.into(), channel: c.name().into() })
+        self.gbuffer.get(c).ok_or_else(|| AoError::MissingChannel {
+            technique: self.technique.into(),
+            channel: c.name().into(),
+        })
     }
     /// A new full-size accessibility texture.
     pub fn accessibility_texture(&mut self, name: &str) -> TextureHandle {
-        self.builder.create_texture(name, TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL))
+        self.builder.create_texture(
+            name,
+            TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL),
+        )
     }
     /// A new intermediate texture at `size` in the intermediate format.
     pub fn intermediate(&mut self, name: &str, size: SizeClass) -> TextureHandle {
@@ -74,7 +83,10 @@ pub struct AoOutput {
 
 impl AoOutput {
     pub fn new(accessibility: TextureHandle) -> Self {
-        Self { accessibility, extra: Vec::new() }
+        Self {
+            accessibility,
+            extra: Vec::new(),
+        }
     }
 }
 
@@ -112,7 +124,12 @@ pub trait DynAoTechnique: Send + Sync {
 fn parse<T: AoTechnique>(t: &T, params: &toml::Table) -> AoResult<T::Params> {
     let p: T::Params = T::Params::deserialize(toml::Value::Table(params.clone())).map_err(|e| {
         let allowed: Vec<&str> = t.param_specs().iter().map(|s| s.name).collect();
-        AoError::Config(format!("[ao.{}]: {} (parameters: {})", t.name(), e.to_string().trim(), allowed.join(", ")))
+        AoError::Config(format!(
+            "[ao.{}]: {} (parameters: {})",
+            t.name(),
+            e.to_string().trim(),
+            allowed.join(", ")
+        ))
     })?;
     t.validate(&p)?;
     Ok(p)
@@ -158,5 +175,10 @@ impl<T: AoTechnique> DynAoTechnique for T {
 
 /// A `ParamSpec` with the default left for [`DynAoTechnique::parameters`] to fill.
 pub fn spec(name: &'static str, allowed: &str, doc: &'static str) -> ParamSpec {
-    ParamSpec { name, default: String::new(), allowed: allowed.to_string(), doc }
+    ParamSpec {
+        name,
+        default: String::new(),
+        allowed: allowed.to_string(),
+        doc,
+    }
 }

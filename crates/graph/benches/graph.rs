@@ -5,7 +5,7 @@ use std::hint::black_box;
 use std::sync::Arc;
 
 use aograph_graph::*;
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 
 /// A layered graph of `n` no-op passes: each reads two earlier outputs and writes one texture;
 /// every tenth output is exported, the rest feed later passes or get culled.
@@ -78,9 +78,20 @@ fn compile_bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("compile");
     for n in [10usize, 100, 1000] {
         let decl = layered_graph(n);
-        g.bench_with_input(BenchmarkId::new("uncached", n), &decl, |bench, d| bench.iter(|| compile(black_box(d.clone()), &lib, CompileOptions::default()).map(|p| p.order.len())));
+        g.bench_with_input(BenchmarkId::new("uncached", n), &decl, |bench, d| {
+            bench.iter(|| {
+                compile(black_box(d.clone()), &lib, CompileOptions::default())
+                    .map(|p| p.order.len())
+            })
+        });
         let mut compiler = GraphCompiler::new();
-        g.bench_with_input(BenchmarkId::new("cached", n), &decl, |bench, d| bench.iter(|| compiler.compile(black_box(d.clone()), &lib, CompileOptions::default()).map(|p| p.order.len())));
+        g.bench_with_input(BenchmarkId::new("cached", n), &decl, |bench, d| {
+            bench.iter(|| {
+                compiler
+                    .compile(black_box(d.clone()), &lib, CompileOptions::default())
+                    .map(|p| p.order.len())
+            })
+        });
     }
     g.finish();
 }

@@ -35,33 +35,66 @@ impl GraphBuilder {
     }
 
     fn add_resource(&mut self, name: &str, kind: ResourceKind, origin: ResourceOrigin) -> u32 {
-        self.decl.resources.push(ResourceDecl { name: name.to_string(), kind, origin, exported: false, writers: Vec::new() });
+        self.decl.resources.push(ResourceDecl {
+            name: name.to_string(),
+            kind,
+            origin,
+            exported: false,
+            writers: Vec::new(),
+        });
         (self.decl.resources.len() - 1) as u32
     }
 
     /// A transient texture owned by the graph; it must be written before it is read.
     pub fn create_texture(&mut self, name: &str, desc: TextureDesc) -> TextureHandle {
-        Handle::new(self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::Transient), 0)
+        Handle::new(
+            self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::Transient),
+            0,
+        )
     }
     /// A texture provided by the caller at execution (`Executor::import_texture`).
     pub fn import_texture(&mut self, name: &str, desc: TextureDesc) -> TextureHandle {
-        Handle::new(self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::Imported), 0)
+        Handle::new(
+            self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::Imported),
+            0,
+        )
     }
     /// A transient buffer owned by the graph.
     pub fn create_buffer(&mut self, name: &str, desc: BufferDesc) -> BufferHandle {
-        Handle::new(self.add_resource(name, ResourceKind::Buffer(desc), ResourceOrigin::Transient), 0)
+        Handle::new(
+            self.add_resource(name, ResourceKind::Buffer(desc), ResourceOrigin::Transient),
+            0,
+        )
     }
     /// A buffer provided by the caller at execution.
     pub fn import_buffer(&mut self, name: &str, desc: BufferDesc) -> BufferHandle {
-        Handle::new(self.add_resource(name, ResourceKind::Buffer(desc), ResourceOrigin::Imported), 0)
+        Handle::new(
+            self.add_resource(name, ResourceKind::Buffer(desc), ResourceOrigin::Imported),
+            0,
+        )
     }
     /// A persistent texture: `previous` holds last frame's value (check
     /// `Executor::history_valid`), `current` must be written this frame and becomes next
     /// frame's `previous`.
     pub fn history_texture(&mut self, name: &str, desc: TextureDesc) -> HistoryTexture {
-        let prev = self.add_resource(&format!("{name}.previous"), ResourceKind::Texture(desc), ResourceOrigin::HistoryPrevious { history: name.to_string() });
-        let cur = self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::HistoryCurrent { history: name.to_string() });
-        HistoryTexture { previous: Handle::new(prev, 0), current: Handle::new(cur, 0) }
+        let prev = self.add_resource(
+            &format!("{name}.previous"),
+            ResourceKind::Texture(desc),
+            ResourceOrigin::HistoryPrevious {
+                history: name.to_string(),
+            },
+        );
+        let cur = self.add_resource(
+            name,
+            ResourceKind::Texture(desc),
+            ResourceOrigin::HistoryCurrent {
+                history: name.to_string(),
+            },
+        );
+        HistoryTexture {
+            previous: Handle::new(prev, 0),
+            current: Handle::new(cur, 0),
+        }
     }
     /// Requests `handle`'s resource as an output: passes that contribute to its final version
     /// are kept, the rest may be culled. Read it back with `Executor::read_texture`.
@@ -72,39 +105,81 @@ impl GraphBuilder {
     }
     /// Descriptor of a texture handle of this builder.
     pub fn texture_desc(&self, handle: TextureHandle) -> Option<TextureDesc> {
-        self.decl.resources.get(handle.id as usize).and_then(|r| r.texture_desc().copied())
+        self.decl
+            .resources
+            .get(handle.id as usize)
+            .and_then(|r| r.texture_desc().copied())
     }
 
     fn add_pass(&mut self, name: &str, kind: PassKind) -> PassBuilder<'_> {
-        self.decl.passes.push(PassDecl { name: name.to_string(), kind, textures: Vec::new(), buffers: Vec::new(), uniforms: Vec::new(), side_effect: false });
+        self.decl.passes.push(PassDecl {
+            name: name.to_string(),
+            kind,
+            textures: Vec::new(),
+            buffers: Vec::new(),
+            uniforms: Vec::new(),
+            side_effect: false,
+        });
         let id = PassId(self.decl.passes.len() - 1);
         PassBuilder { graph: self, id }
     }
     /// A compute pass running `entry` of the WGSL file `shader` (relative to the shader root).
     pub fn compute_pass(&mut self, name: &str, shader: &str, entry: &str) -> PassBuilder<'_> {
-        self.add_pass(name, PassKind::Compute { shader: shader.to_string(), entry: entry.to_string(), dispatch: None })
+        self.add_pass(
+            name,
+            PassKind::Compute {
+                shader: shader.to_string(),
+                entry: entry.to_string(),
+                dispatch: None,
+            },
+        )
     }
     /// A render pass drawing one full-screen triangle into its colour attachments.
-    pub fn fullscreen_pass(&mut self, name: &str, shader: &str, vertex: &str, fragment: &str) -> PassBuilder<'_> {
-        self.add_pass(name, PassKind::Fullscreen { shader: shader.to_string(), vertex: vertex.to_string(), fragment: fragment.to_string() })
+    pub fn fullscreen_pass(
+        &mut self,
+        name: &str,
+        shader: &str,
+        vertex: &str,
+        fragment: &str,
+    ) -> PassBuilder<'_> {
+        self.add_pass(
+            name,
+            PassKind::Fullscreen {
+                shader: shader.to_string(),
+                vertex: vertex.to_string(),
+                fragment: fragment.to_string(),
+            },
+        )
     }
     /// A pass whose commands user code records.
     pub fn custom_pass(&mut self, name: &str, pass: impl CustomPass + 'static) -> PassBuilder<'_> {
         self.add_pass(name, PassKind::Custom(Arc::new(pass)))
     }
     /// Copies `src` into `dst` (same size and format); returns `dst`'s new version.
-    pub fn copy_pass(&mut self, name: &str, src: TextureHandle, dst: TextureHandle) -> TextureHandle {
+    pub fn copy_pass(
+        &mut self,
+        name: &str,
+        src: TextureHandle,
+        dst: TextureHandle,
+    ) -> TextureHandle {
         let mut p = self.add_pass(name, PassKind::Copy);
         p.use_texture(None, TextureAccess::CopySrc, src, None);
-        p.use_texture(None, TextureAccess::CopyDst, dst, None).unwrap_or(dst)
+        p.use_texture(None, TextureAccess::CopyDst, dst, None)
+            .unwrap_or(dst)
     }
     /// Reopens a declared pass to add uses (passes may be declared before their inputs exist).
     /// A `PassId` of another graph is recorded as an error (reported by compile) and gets a
     /// stand-in pass, so misuse never panics.
     pub fn pass(&mut self, id: PassId) -> PassBuilder<'_> {
         if id.0 >= self.decl.passes.len() {
-            self.decl.errors.push(GraphError::InvalidPass { pass: format!("#{}", id.0), message: "this pass id does not belong to this graph".into() });
-            return self.add_pass(&format!("invalid pass #{}", id.0), PassKind::Custom(Arc::new(crate::custom::NoopPass)));
+            self.decl.errors.push(GraphError::InvalidPass {
+                pass: format!("#{}", id.0),
+                message: "this pass id does not belong to this graph".into(),
+            });
+            return self.add_pass(
+                &format!("invalid pass #{}", id.0),
+                PassKind::Custom(Arc::new(crate::custom::NoopPass)),
+            );
         }
         PassBuilder { graph: self, id }
     }
@@ -130,10 +205,19 @@ impl PassBuilder<'_> {
     }
 
     /// Records a use; returns the written version for writing accesses.
-    fn use_texture(&mut self, binding: Option<&str>, access: TextureAccess, handle: TextureHandle, mip: Option<u32>) -> Option<TextureHandle> {
+    fn use_texture(
+        &mut self,
+        binding: Option<&str>,
+        access: TextureAccess,
+        handle: TextureHandle,
+        mip: Option<u32>,
+    ) -> Option<TextureHandle> {
         let pass_name = self.decl().name.clone();
         let Some(res) = self.graph.decl.resources.get_mut(handle.id as usize) else {
-            self.graph.decl.errors.push(GraphError::InvalidPass { pass: pass_name, message: format!("texture handle {handle:?} does not belong to this graph") });
+            self.graph.decl.errors.push(GraphError::InvalidPass {
+                pass: pass_name,
+                message: format!("texture handle {handle:?} does not belong to this graph"),
+            });
             return None;
         };
         let mips = res.texture_desc().map(|d| d.mip_levels).unwrap_or(1);
@@ -142,26 +226,53 @@ impl PassBuilder<'_> {
         if access.writes() {
             if handle.version != res.latest_version() {
                 let first = res.producer(handle.version + 1).map(|p| p.0).unwrap_or(0);
-                let first = self.graph.decl.passes.get(first).map(|p| p.name.clone()).unwrap_or_default();
+                let first = self
+                    .graph
+                    .decl
+                    .passes
+                    .get(first)
+                    .map(|p| p.name.clone())
+                    .unwrap_or_default();
                 let resource = self.graph.decl.resources[handle.id as usize].name.clone();
-                self.graph.decl.errors.push(GraphError::ConflictingWrites { resource, first, second: pass_name });
+                self.graph.decl.errors.push(GraphError::ConflictingWrites {
+                    resource,
+                    first,
+                    second: pass_name,
+                });
             }
             let res = &mut self.graph.decl.resources[handle.id as usize];
             // A write that keeps part of the old contents also depends on them.
-            let partial = mip.is_some() && mips > 1 && (handle.version > 0 || res.readable_before_write());
-            let loads = matches!(access, TextureAccess::ColorAttachment | TextureAccess::DepthAttachment) && handle.version > 0;
+            let partial =
+                mip.is_some() && mips > 1 && (handle.version > 0 || res.readable_before_write());
+            let loads = matches!(
+                access,
+                TextureAccess::ColorAttachment | TextureAccess::DepthAttachment
+            ) && handle.version > 0;
             if partial || loads {
                 read = Some(handle);
             }
             res.writers.push(self.id);
             written = Some(Handle::new(handle.id, res.latest_version()));
         }
-        self.decl().textures.push(TextureUse { binding: binding.map(str::to_string), access, read, written, mip });
+        self.decl().textures.push(TextureUse {
+            binding: binding.map(str::to_string),
+            access,
+            read,
+            written,
+            mip,
+        });
         written
     }
 
-    fn write(&mut self, binding: Option<&str>, access: TextureAccess, handle: TextureHandle, mip: Option<u32>) -> TextureHandle {
-        self.use_texture(binding, access, handle, mip).unwrap_or(handle)
+    fn write(
+        &mut self,
+        binding: Option<&str>,
+        access: TextureAccess,
+        handle: TextureHandle,
+        mip: Option<u32>,
+    ) -> TextureHandle {
+        self.use_texture(binding, access, handle, mip)
+            .unwrap_or(handle)
     }
 
     /// Reads `handle` through the WGSL `texture_2d` global `binding` (all mips).
@@ -184,8 +295,18 @@ impl PassBuilder<'_> {
         self.write(Some(binding), TextureAccess::StorageWrite, handle, None)
     }
     /// Writes mip `mip` of `handle` through a write-only storage texture global.
-    pub fn write_storage_mip(&mut self, binding: &str, handle: TextureHandle, mip: u32) -> TextureHandle {
-        self.write(Some(binding), TextureAccess::StorageWrite, handle, Some(mip))
+    pub fn write_storage_mip(
+        &mut self,
+        binding: &str,
+        handle: TextureHandle,
+        mip: u32,
+    ) -> TextureHandle {
+        self.write(
+            Some(binding),
+            TextureAccess::StorageWrite,
+            handle,
+            Some(mip),
+        )
     }
     /// Updates `handle` in place through a read-write storage texture global.
     pub fn read_write_storage(&mut self, binding: &str, handle: TextureHandle) -> TextureHandle {
@@ -219,29 +340,54 @@ impl PassBuilder<'_> {
         self.write(None, access, handle, None)
     }
 
-    fn use_buffer(&mut self, binding: Option<&str>, access: BufferAccess, handle: BufferHandle) -> BufferHandle {
+    fn use_buffer(
+        &mut self,
+        binding: Option<&str>,
+        access: BufferAccess,
+        handle: BufferHandle,
+    ) -> BufferHandle {
         let pass_name = self.decl().name.clone();
         let Some(res) = self.graph.decl.resources.get_mut(handle.id as usize) else {
-            self.graph.decl.errors.push(GraphError::InvalidPass { pass: pass_name, message: format!("buffer handle {handle:?} does not belong to this graph") });
+            self.graph.decl.errors.push(GraphError::InvalidPass {
+                pass: pass_name,
+                message: format!("buffer handle {handle:?} does not belong to this graph"),
+            });
             return handle;
         };
         let mut written = None;
         if access.writes() {
             if handle.version != res.latest_version() {
                 let resource = res.name.clone();
-                let first = res.producer(handle.version + 1).map(|p| self.graph.decl.passes[p.0].name.clone()).unwrap_or_default();
-                self.graph.decl.errors.push(GraphError::ConflictingWrites { resource, first, second: pass_name });
+                let first = res
+                    .producer(handle.version + 1)
+                    .map(|p| self.graph.decl.passes[p.0].name.clone())
+                    .unwrap_or_default();
+                self.graph.decl.errors.push(GraphError::ConflictingWrites {
+                    resource,
+                    first,
+                    second: pass_name,
+                });
             }
             let res = &mut self.graph.decl.resources[handle.id as usize];
             res.writers.push(self.id);
             written = Some(Handle::new(handle.id, res.latest_version()));
         }
         let read = access.reads().then_some(handle);
-        self.decl().buffers.push(BufferUse { binding: binding.map(str::to_string), access, read, written });
+        self.decl().buffers.push(BufferUse {
+            binding: binding.map(str::to_string),
+            access,
+            read,
+            written,
+        });
         written.unwrap_or(handle)
     }
     /// Reads a buffer through a uniform or read-only storage global.
-    pub fn read_buffer(&mut self, binding: &str, access: BufferAccess, handle: BufferHandle) -> &mut Self {
+    pub fn read_buffer(
+        &mut self,
+        binding: &str,
+        access: BufferAccess,
+        handle: BufferHandle,
+    ) -> &mut Self {
         self.use_buffer(Some(binding), access, handle);
         self
     }
@@ -254,7 +400,11 @@ impl PassBuilder<'_> {
     /// `Executor::write_uniform`.
     pub fn uniform(&mut self, binding: &str, bytes: &[u8]) -> UniformHandle {
         let id = self.id;
-        self.graph.decl.uniforms.push(UniformDecl { pass: id, binding: binding.to_string(), initial: bytes.to_vec() });
+        self.graph.decl.uniforms.push(UniformDecl {
+            pass: id,
+            binding: binding.to_string(),
+            initial: bytes.to_vec(),
+        });
         let handle = UniformHandle(self.graph.decl.uniforms.len() - 1);
         self.decl().uniforms.push(handle);
         handle
@@ -262,8 +412,19 @@ impl PassBuilder<'_> {
 
     /// Runs one compute thread per texel of `handle` (at the mip this pass writes, if any).
     pub fn dispatch_over(&mut self, handle: TextureHandle) -> &mut Self {
-        let size = self.graph.texture_desc(handle).map(|d| d.size).unwrap_or(SizeClass::FULL);
-        let mip = self.decl().textures.iter().rev().find(|u| u.resource() == handle.id as usize).and_then(|u| u.mip).unwrap_or(0);
+        let size = self
+            .graph
+            .texture_desc(handle)
+            .map(|d| d.size)
+            .unwrap_or(SizeClass::FULL);
+        let mip = self
+            .decl()
+            .textures
+            .iter()
+            .rev()
+            .find(|u| u.resource() == handle.id as usize)
+            .and_then(|u| u.mip)
+            .unwrap_or(0);
         self.set_dispatch(Dispatch::Threads { size, mip })
     }
     /// Runs one compute thread per texel of a size class.

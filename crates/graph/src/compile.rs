@@ -15,7 +15,7 @@ use petgraph::visit::{Dfs, Reversed};
 
 use crate::declaration::*;
 use crate::error::{GraphError, GraphResult};
-use crate::lifetime::{plan_lifetimes, Lifetime, PhysicalTexture};
+use crate::lifetime::{Lifetime, PhysicalTexture, plan_lifetimes};
 use crate::resource::TextureAccess;
 use crate::shader::{ShaderLibrary, ShaderModuleInfo};
 use crate::shader_check::check_pass_shader;
@@ -68,10 +68,16 @@ impl CompiledGraph {
         self.order.contains(&pass)
     }
     pub fn pass_names(&self) -> Vec<&str> {
-        self.order.iter().map(|p| self.decl.passes[p.0].name.as_str()).collect()
+        self.order
+            .iter()
+            .map(|p| self.decl.passes[p.0].name.as_str())
+            .collect()
     }
     pub fn culled_names(&self) -> Vec<&str> {
-        self.culled.iter().map(|c| self.decl.passes[c.pass.0].name.as_str()).collect()
+        self.culled
+            .iter()
+            .map(|c| self.decl.passes[c.pass.0].name.as_str())
+            .collect()
     }
 }
 
@@ -91,7 +97,12 @@ impl GraphCompiler {
         self.compiles
     }
     /// The cached plan for `decl`, compiling it on a miss.
-    pub fn compile(&mut self, decl: GraphDecl, shaders: &ShaderLibrary, options: CompileOptions) -> GraphResult<Arc<CompiledGraph>> {
+    pub fn compile(
+        &mut self,
+        decl: GraphDecl,
+        shaders: &ShaderLibrary,
+        options: CompileOptions,
+    ) -> GraphResult<Arc<CompiledGraph>> {
         let key = (decl.structure_hash(), options);
         if let Some(plan) = self.cache.get(&key) {
             return Ok(plan.clone());
@@ -109,13 +120,29 @@ fn pass_name(decl: &GraphDecl, p: PassId) -> String {
 
 /// Every (read handle, writing?) use of a pass as (resource, version read, version written).
 fn pass_uses(pass: &PassDecl) -> impl Iterator<Item = (usize, Option<u32>, Option<u32>)> + '_ {
-    let t = pass.textures.iter().map(|u| (u.resource(), u.read.map(|h| h.version), u.written.map(|h| h.version)));
-    let b = pass.buffers.iter().map(|u| (u.read.or(u.written).map(|h| h.id as usize).unwrap_or(0), u.read.map(|h| h.version), u.written.map(|h| h.version)));
+    let t = pass.textures.iter().map(|u| {
+        (
+            u.resource(),
+            u.read.map(|h| h.version),
+            u.written.map(|h| h.version),
+        )
+    });
+    let b = pass.buffers.iter().map(|u| {
+        (
+            u.read.or(u.written).map(|h| h.id as usize).unwrap_or(0),
+            u.read.map(|h| h.version),
+            u.written.map(|h| h.version),
+        )
+    });
     t.chain(b)
 }
 
 /// Checks a declaration and builds its plan. Pure: reads shader files, touches no GPU.
-pub fn compile(decl: GraphDecl, shaders: &ShaderLibrary, options: CompileOptions) -> GraphResult<CompiledGraph> {
+pub fn compile(
+    decl: GraphDecl,
+    shaders: &ShaderLibrary,
+    options: CompileOptions,
+) -> GraphResult<CompiledGraph> {
     if let Some(e) = decl.errors.first() {
         return Err(e.clone());
     }
@@ -125,8 +152,11 @@ pub fn compile(decl: GraphDecl, shaders: &ShaderLibrary, options: CompileOptions
 
     // Dependency graph: producer -> consumer (read after write), reader -> next writer
     // (write after read), writer -> next writer (write after write).
-    let mut g: DiGraph<PassId, bool> = DiGraph::with_capacity(decl.passes.len(), decl.passes.len() * 2);
-    let nodes: Vec<NodeIndex> = (0..decl.passes.len()).map(|i| g.add_node(PassId(i))).collect();
+    let mut g: DiGraph<PassId, bool> =
+        DiGraph::with_capacity(decl.passes.len(), decl.passes.len() * 2);
+    let nodes: Vec<NodeIndex> = (0..decl.passes.len())
+        .map(|i| g.add_node(PassId(i)))
+        .collect();
     let mut edges = Vec::new();
     for (pi, pass) in decl.passes.iter().enumerate() {
         for (r, read, written) in pass_uses(pass) {
@@ -148,14 +178,19 @@ pub fn compile(decl: GraphDecl, shaders: &ShaderLibrary, options: CompileOptions
         }
     }
     if let Err(cycle) = petgraph::algo::toposort(&g, None) {
-        return Err(GraphError::Cycle { pass: pass_name(&decl, g[cycle.node_id()]) });
+        return Err(GraphError::Cycle {
+            pass: pass_name(&decl, g[cycle.node_id()]),
+        });
     }
 
     let kept = needed_passes(&decl, &g, &nodes);
     let order = stable_order(&g, &nodes, &kept);
     let culled = (0..decl.passes.len())
         .filter(|&i| !kept[i])
-        .map(|i| CulledPass { pass: PassId(i), reason: "no exported output, history write or side effect depends on it".into() })
+        .map(|i| CulledPass {
+            pass: PassId(i),
+            reason: "no exported output, history write or side effect depends on it".into(),
+        })
         .collect();
 
     let mut pass_shaders = vec![None; decl.passes.len()];
@@ -195,24 +230,43 @@ fn validate_reads(decl: &GraphDecl) -> GraphResult<()> {
     for pass in &decl.passes {
         for (r, read, _) in pass_uses(pass) {
             let Some(res) = decl.resources.get(r) else {
-                return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("uses resource #{r}, which this graph does not have") });
+                return Err(GraphError::InvalidPass {
+                    pass: pass.name.clone(),
+                    message: format!("uses resource #{r}, which this graph does not have"),
+                });
             };
             if let Some(v) = read {
                 if v > res.latest_version() {
-                    return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("reads `{}` version {v}, which was never produced", res.name) });
+                    return Err(GraphError::InvalidPass {
+                        pass: pass.name.clone(),
+                        message: format!(
+                            "reads `{}` version {v}, which was never produced",
+                            res.name
+                        ),
+                    });
                 }
                 if v == 0 && !res.readable_before_write() {
-                    return Err(GraphError::ReadOfUnwritten { pass: pass.name.clone(), resource: res.name.clone() });
+                    return Err(GraphError::ReadOfUnwritten {
+                        pass: pass.name.clone(),
+                        resource: res.name.clone(),
+                    });
                 }
             }
         }
     }
     for res in &decl.resources {
         if let ResourceOrigin::HistoryPrevious { history } = &res.origin {
-            let read = decl.passes.iter().any(|p| pass_uses(p).any(|(r, rd, _)| rd.is_some() && decl.resources[r].name == res.name));
-            let written = decl.resources.iter().any(|c| matches!(&c.origin, ResourceOrigin::HistoryCurrent { history: h } if h == history) && c.latest_version() > 0);
+            let read = decl.passes.iter().any(|p| {
+                pass_uses(p).any(|(r, rd, _)| rd.is_some() && decl.resources[r].name == res.name)
+            });
+            let written = decl.resources.iter().any(|c| {
+                matches!(&c.origin, ResourceOrigin::HistoryCurrent { history: h } if h == history)
+                    && c.latest_version() > 0
+            });
             if read && !written {
-                return Err(GraphError::HistoryNeverWritten { resource: history.clone() });
+                return Err(GraphError::HistoryNeverWritten {
+                    resource: history.clone(),
+                });
             }
         }
     }
@@ -227,43 +281,93 @@ fn validate_attachments(decl: &GraphDecl) -> GraphResult<()> {
         for u in &pass.textures {
             let res = &decl.resources[u.resource()];
             let Some(desc) = res.texture_desc() else {
-                return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("`{}` is a buffer, used as a texture", res.name) });
+                return Err(GraphError::InvalidPass {
+                    pass: pass.name.clone(),
+                    message: format!("`{}` is a buffer, used as a texture", res.name),
+                });
             };
             if let Some(m) = u.mip.filter(|&m| m >= desc.mip_levels) {
-                return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: format!("mip {m} of `{}`, which has {} mip levels (allowed 0..{})", res.name, desc.mip_levels, desc.mip_levels) });
+                return Err(GraphError::InvalidPass {
+                    pass: pass.name.clone(),
+                    message: format!(
+                        "mip {m} of `{}`, which has {} mip levels (allowed 0..{})",
+                        res.name, desc.mip_levels, desc.mip_levels
+                    ),
+                });
             }
             let is_depth = desc.format.is_depth_stencil_format();
             match u.access {
                 TextureAccess::DepthAttachment | TextureAccess::DepthRead if !is_depth => {
-                    return Err(GraphError::FormatMismatch { pass: pass.name.clone(), resource: res.name.clone(), expected: "a depth format".into(), found: desc.format })
+                    return Err(GraphError::FormatMismatch {
+                        pass: pass.name.clone(),
+                        resource: res.name.clone(),
+                        expected: "a depth format".into(),
+                        found: desc.format,
+                    });
                 }
-                TextureAccess::ColorAttachment | TextureAccess::StorageRead | TextureAccess::StorageWrite | TextureAccess::StorageReadWrite if is_depth => {
-                    return Err(GraphError::FormatMismatch { pass: pass.name.clone(), resource: res.name.clone(), expected: "a colour format".into(), found: desc.format })
+                TextureAccess::ColorAttachment
+                | TextureAccess::StorageRead
+                | TextureAccess::StorageWrite
+                | TextureAccess::StorageReadWrite
+                    if is_depth =>
+                {
+                    return Err(GraphError::FormatMismatch {
+                        pass: pass.name.clone(),
+                        resource: res.name.clone(),
+                        expected: "a colour format".into(),
+                        found: desc.format,
+                    });
                 }
                 _ => {}
             }
-            if matches!(u.access, TextureAccess::ColorAttachment | TextureAccess::DepthAttachment | TextureAccess::DepthRead) {
+            if matches!(
+                u.access,
+                TextureAccess::ColorAttachment
+                    | TextureAccess::DepthAttachment
+                    | TextureAccess::DepthRead
+            ) {
                 match &first {
                     None => first = Some((res.name.clone(), desc.size)),
                     Some((name, size)) if *size != desc.size => {
-                        return Err(GraphError::SizeMismatch { pass: pass.name.clone(), resource: res.name.clone(), expected: format!("{size} (the size of `{name}`)"), found: desc.size.to_string() })
+                        return Err(GraphError::SizeMismatch {
+                            pass: pass.name.clone(),
+                            resource: res.name.clone(),
+                            expected: format!("{size} (the size of `{name}`)"),
+                            found: desc.size.to_string(),
+                        });
                     }
                     _ => {}
                 }
             }
         }
         if matches!(pass.kind, PassKind::Copy) {
-            let src = pass.textures.iter().find(|u| u.access == TextureAccess::CopySrc);
-            let dst = pass.textures.iter().find(|u| u.access == TextureAccess::CopyDst);
+            let src = pass
+                .textures
+                .iter()
+                .find(|u| u.access == TextureAccess::CopySrc);
+            let dst = pass
+                .textures
+                .iter()
+                .find(|u| u.access == TextureAccess::CopyDst);
             if let (Some(s), Some(d)) = (src, dst) {
                 let (rs, rd) = (&decl.resources[s.resource()], &decl.resources[d.resource()]);
                 let (ds, dd) = (rs.texture_desc().copied(), rd.texture_desc().copied());
                 if let (Some(ds), Some(dd)) = (ds, dd) {
                     if ds.size != dd.size {
-                        return Err(GraphError::SizeMismatch { pass: pass.name.clone(), resource: rd.name.clone(), expected: format!("{} (the size of `{}`)", ds.size, rs.name), found: dd.size.to_string() });
+                        return Err(GraphError::SizeMismatch {
+                            pass: pass.name.clone(),
+                            resource: rd.name.clone(),
+                            expected: format!("{} (the size of `{}`)", ds.size, rs.name),
+                            found: dd.size.to_string(),
+                        });
                     }
                     if ds.format != dd.format {
-                        return Err(GraphError::FormatMismatch { pass: pass.name.clone(), resource: rd.name.clone(), expected: format!("{:?} (the format of `{}`)", ds.format, rs.name), found: dd.format });
+                        return Err(GraphError::FormatMismatch {
+                            pass: pass.name.clone(),
+                            resource: rd.name.clone(),
+                            expected: format!("{:?} (the format of `{}`)", ds.format, rs.name),
+                            found: dd.format,
+                        });
                     }
                 }
             }
@@ -276,7 +380,13 @@ fn validate_attachments(decl: &GraphDecl) -> GraphResult<()> {
 /// reachable along read-after-write edges.
 fn needed_passes(decl: &GraphDecl, g: &DiGraph<PassId, bool>, nodes: &[NodeIndex]) -> Vec<bool> {
     let mut kept = vec![false; decl.passes.len()];
-    let mut roots: Vec<usize> = decl.passes.iter().enumerate().filter(|(_, p)| p.side_effect).map(|(i, _)| i).collect();
+    let mut roots: Vec<usize> = decl
+        .passes
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.side_effect)
+        .map(|(i, _)| i)
+        .collect();
     for res in &decl.resources {
         let is_root = res.exported || matches!(res.origin, ResourceOrigin::HistoryCurrent { .. });
         if let Some(p) = res.writers.last().filter(|_| is_root) {
@@ -305,7 +415,8 @@ fn stable_order(g: &DiGraph<PassId, bool>, nodes: &[NodeIndex], kept: &[bool]) -
     for e in g.raw_edges() {
         indegree[g[e.target()].0] += 1;
     }
-    let mut ready: BinaryHeap<Reverse<usize>> = (0..n).filter(|&i| indegree[i] == 0).map(Reverse).collect();
+    let mut ready: BinaryHeap<Reverse<usize>> =
+        (0..n).filter(|&i| indegree[i] == 0).map(Reverse).collect();
     let mut order = Vec::with_capacity(n);
     while let Some(Reverse(i)) = ready.pop() {
         if kept[i] {

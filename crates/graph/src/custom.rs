@@ -24,7 +24,8 @@ pub struct BoundTexture {
 impl BoundTexture {
     /// The view of one mip level, or of all levels.
     pub fn view_of(&self, mip: Option<u32>) -> &wgpu::TextureView {
-        mip.and_then(|m| self.mip_views.get(m as usize)).unwrap_or(&self.view)
+        mip.and_then(|m| self.mip_views.get(m as usize))
+            .unwrap_or(&self.view)
     }
 }
 
@@ -56,12 +57,22 @@ pub struct PassContext<'a> {
 
 impl PassContext<'_> {
     fn bound(&self, handle: TextureHandle) -> GraphResult<&BoundTexture> {
-        let declared = self.pass.textures.iter().any(|u| u.resource() == handle.resource_index());
-        let missing = |message: &str| GraphError::MissingResource { resource: format!("{handle:?}"), message: format!("{message} (pass `{}`)", self.pass.name) };
+        let declared = self
+            .pass
+            .textures
+            .iter()
+            .any(|u| u.resource() == handle.resource_index());
+        let missing = |message: &str| GraphError::MissingResource {
+            resource: format!("{handle:?}"),
+            message: format!("{message} (pass `{}`)", self.pass.name),
+        };
         if !declared {
             return Err(missing("the pass did not declare this texture"));
         }
-        self.textures.get(handle.resource_index()).and_then(Option::as_ref).ok_or_else(|| missing("not allocated this frame"))
+        self.textures
+            .get(handle.resource_index())
+            .and_then(Option::as_ref)
+            .ok_or_else(|| missing("not allocated this frame"))
     }
     /// The view of a texture this pass declared.
     pub fn view(&self, handle: TextureHandle) -> GraphResult<&wgpu::TextureView> {
@@ -73,12 +84,22 @@ impl PassContext<'_> {
     }
     /// A buffer this pass declared (e.g. the imported view block).
     pub fn buffer(&self, handle: BufferHandle) -> GraphResult<&wgpu::Buffer> {
-        let declared = self.pass.buffers.iter().any(|u| u.read.or(u.written).is_some_and(|h| h.id == handle.id));
-        let missing = |message: &str| GraphError::MissingResource { resource: format!("{handle:?}"), message: format!("{message} (pass `{}`)", self.pass.name) };
+        let declared = self
+            .pass
+            .buffers
+            .iter()
+            .any(|u| u.read.or(u.written).is_some_and(|h| h.id == handle.id));
+        let missing = |message: &str| GraphError::MissingResource {
+            resource: format!("{handle:?}"),
+            message: format!("{message} (pass `{}`)", self.pass.name),
+        };
         if !declared {
             return Err(missing("the pass did not declare this buffer"));
         }
-        self.buffers.get(handle.resource_index()).and_then(Option::as_ref).ok_or_else(|| missing("not bound this frame"))
+        self.buffers
+            .get(handle.resource_index())
+            .and_then(Option::as_ref)
+            .ok_or_else(|| missing("not bound this frame"))
     }
     /// The shader library of the executor (custom passes load their WGSL through it, so it is
     /// validated and its includes expanded like every other shader).

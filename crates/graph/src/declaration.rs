@@ -11,7 +11,9 @@ use std::sync::Arc;
 
 use crate::custom::CustomPass;
 use crate::error::GraphError;
-use crate::resource::{BufferAccess, BufferDesc, BufferHandle, SizeClass, TextureAccess, TextureDesc, TextureHandle};
+use crate::resource::{
+    BufferAccess, BufferDesc, BufferHandle, SizeClass, TextureAccess, TextureDesc, TextureHandle,
+};
 
 /// Index of a pass in its declaration (declaration order).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -72,11 +74,16 @@ impl ResourceDecl {
     }
     /// The pass that produced `version`, `None` for version 0.
     pub fn producer(&self, version: u32) -> Option<PassId> {
-        version.checked_sub(1).and_then(|v| self.writers.get(v as usize).copied())
+        version
+            .checked_sub(1)
+            .and_then(|v| self.writers.get(v as usize).copied())
     }
     /// True when version 0 holds data before any pass runs.
     pub fn readable_before_write(&self) -> bool {
-        matches!(self.origin, ResourceOrigin::Imported | ResourceOrigin::HistoryPrevious { .. })
+        matches!(
+            self.origin,
+            ResourceOrigin::Imported | ResourceOrigin::HistoryPrevious { .. }
+        )
     }
 }
 
@@ -96,7 +103,10 @@ pub struct TextureUse {
 
 impl TextureUse {
     pub fn resource(&self) -> usize {
-        self.read.or(self.written).map(|h| h.id as usize).unwrap_or(0)
+        self.read
+            .or(self.written)
+            .map(|h| h.id as usize)
+            .unwrap_or(0)
     }
 }
 
@@ -131,9 +141,17 @@ pub enum Dispatch {
 #[derive(Clone)]
 pub enum PassKind {
     /// A compute shader entry point from a WGSL file.
-    Compute { shader: String, entry: String, dispatch: Option<Dispatch> },
+    Compute {
+        shader: String,
+        entry: String,
+        dispatch: Option<Dispatch>,
+    },
     /// A full-screen triangle drawn into the colour attachments.
-    Fullscreen { shader: String, vertex: String, fragment: String },
+    Fullscreen {
+        shader: String,
+        vertex: String,
+        fragment: String,
+    },
     /// A texture-to-texture copy of the pass's `CopySrc` into its `CopyDst`.
     Copy,
     /// User code recording its own commands.
@@ -144,7 +162,9 @@ impl std::fmt::Debug for PassKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             PassKind::Compute { shader, entry, .. } => write!(f, "compute {shader}:{entry}"),
-            PassKind::Fullscreen { shader, fragment, .. } => write!(f, "fullscreen {shader}:{fragment}"),
+            PassKind::Fullscreen {
+                shader, fragment, ..
+            } => write!(f, "fullscreen {shader}:{fragment}"),
             PassKind::Copy => write!(f, "copy"),
             PassKind::Custom(c) => write!(f, "custom {}", c.kind_name()),
         }
@@ -154,8 +174,16 @@ impl std::fmt::Debug for PassKind {
 impl Hash for PassKind {
     fn hash<H: Hasher>(&self, h: &mut H) {
         match self {
-            PassKind::Compute { shader, entry, dispatch } => (0u8, shader, entry, dispatch).hash(h),
-            PassKind::Fullscreen { shader, vertex, fragment } => (1u8, shader, vertex, fragment).hash(h),
+            PassKind::Compute {
+                shader,
+                entry,
+                dispatch,
+            } => (0u8, shader, entry, dispatch).hash(h),
+            PassKind::Fullscreen {
+                shader,
+                vertex,
+                fragment,
+            } => (1u8, shader, vertex, fragment).hash(h),
             PassKind::Copy => 2u8.hash(h),
             PassKind::Custom(c) => (3u8, c.kind_name(), c.cache_key()).hash(h),
         }
@@ -177,7 +205,14 @@ pub struct PassDecl {
 impl PassDecl {
     pub fn is_raster(&self) -> bool {
         matches!(self.kind, PassKind::Fullscreen { .. })
-            || self.textures.iter().any(|u| matches!(u.access, TextureAccess::ColorAttachment | TextureAccess::DepthAttachment | TextureAccess::DepthRead))
+            || self.textures.iter().any(|u| {
+                matches!(
+                    u.access,
+                    TextureAccess::ColorAttachment
+                        | TextureAccess::DepthAttachment
+                        | TextureAccess::DepthRead
+                )
+            })
     }
 }
 
@@ -199,7 +234,15 @@ impl GraphDecl {
         let mut h = std::collections::hash_map::DefaultHasher::new();
         self.resources.hash(&mut h);
         for p in &self.passes {
-            (&p.name, &p.kind, &p.textures, &p.buffers, &p.uniforms, p.side_effect).hash(&mut h);
+            (
+                &p.name,
+                &p.kind,
+                &p.textures,
+                &p.buffers,
+                &p.uniforms,
+                p.side_effect,
+            )
+                .hash(&mut h);
         }
         for u in &self.uniforms {
             (u.pass, &u.binding, &u.initial).hash(&mut h);

@@ -27,9 +27,18 @@ pub fn to_dot(plan: &CompiledGraph) -> String {
         .passes
         .iter()
         .enumerate()
-        .map(|(i, p)| g.add_node(Node::Pass { name: p.name.clone(), culled: !plan.order.iter().any(|o| o.0 == i) }))
+        .map(|(i, p)| {
+            g.add_node(Node::Pass {
+                name: p.name.clone(),
+                culled: !plan.order.iter().any(|o| o.0 == i),
+            })
+        })
         .collect();
-    let resources: Vec<NodeIndex> = decl.resources.iter().map(|r| g.add_node(Node::Resource(r.name.clone()))).collect();
+    let resources: Vec<NodeIndex> = decl
+        .resources
+        .iter()
+        .map(|r| g.add_node(Node::Resource(r.name.clone())))
+        .collect();
     for (i, p) in decl.passes.iter().enumerate() {
         for u in &p.textures {
             let r = resources[u.resource()];
@@ -44,7 +53,9 @@ pub fn to_dot(plan: &CompiledGraph) -> String {
             }
         }
         for u in &p.buffers {
-            let Some(h) = u.read.or(u.written) else { continue };
+            let Some(h) = u.read.or(u.written) else {
+                continue;
+            };
             let r = resources[h.id as usize];
             if u.written.is_some() {
                 g.add_edge(passes[i], r, format!("{:?}", u.access));
@@ -54,10 +65,21 @@ pub fn to_dot(plan: &CompiledGraph) -> String {
         }
     }
     let node_attrs = |_, (_, n): (NodeIndex, &Node)| match n {
-        Node::Pass { culled: true, .. } => "shape=box, style=filled, fillcolor=lightgrey, fontcolor=grey40, color=grey60".to_string(),
+        Node::Pass { culled: true, .. } => {
+            "shape=box, style=filled, fillcolor=lightgrey, fontcolor=grey40, color=grey60"
+                .to_string()
+        }
         Node::Pass { .. } => "shape=box, style=filled, fillcolor=lightblue".to_string(),
         Node::Resource(_) => "shape=ellipse".to_string(),
     };
     let edge_attrs = |_, _| String::new();
-    format!("{}", Dot::with_attr_getters(&g, &[Config::RankDir(petgraph::dot::RankDir::LR)], &edge_attrs, &node_attrs))
+    format!(
+        "{}",
+        Dot::with_attr_getters(
+            &g,
+            &[Config::RankDir(petgraph::dot::RankDir::LR)],
+            &edge_attrs,
+            &node_attrs
+        )
+    )
 }

@@ -12,19 +12,43 @@ pub enum GraphError {
     #[error("cycle in the graph: pass `{pass}` depends (through its reads) on its own output")]
     Cycle { pass: String },
 
-    #[error("pass `{pass}` reads `{resource}`, which no pass writes and which is not imported; write it in an earlier pass or import it")]
+    #[error(
+        "pass `{pass}` reads `{resource}`, which no pass writes and which is not imported; write it in an earlier pass or import it"
+    )]
     ReadOfUnwritten { pass: String, resource: String },
 
-    #[error("conflicting writes to `{resource}`: pass `{second}` writes a version that pass `{first}` already overwrote; write the handle `{first}` returned")]
-    ConflictingWrites { resource: String, first: String, second: String },
+    #[error(
+        "conflicting writes to `{resource}`: pass `{second}` writes a version that pass `{first}` already overwrote; write the handle `{first}` returned"
+    )]
+    ConflictingWrites {
+        resource: String,
+        first: String,
+        second: String,
+    },
 
-    #[error("size mismatch in pass `{pass}`: `{resource}` is {found} but the pass needs {expected}")]
-    SizeMismatch { pass: String, resource: String, expected: String, found: String },
+    #[error(
+        "size mismatch in pass `{pass}`: `{resource}` is {found} but the pass needs {expected}"
+    )]
+    SizeMismatch {
+        pass: String,
+        resource: String,
+        expected: String,
+        found: String,
+    },
 
-    #[error("format mismatch in pass `{pass}`: `{resource}` is {found:?} but the pass needs {expected}")]
-    FormatMismatch { pass: String, resource: String, expected: String, found: wgpu::TextureFormat },
+    #[error(
+        "format mismatch in pass `{pass}`: `{resource}` is {found:?} but the pass needs {expected}"
+    )]
+    FormatMismatch {
+        pass: String,
+        resource: String,
+        expected: String,
+        found: wgpu::TextureFormat,
+    },
 
-    #[error("history resource `{resource}` is read but never written this frame; add a pass that writes it")]
+    #[error(
+        "history resource `{resource}` is read but never written this frame; add a pass that writes it"
+    )]
     HistoryNeverWritten { resource: String },
 
     #[error("pass `{pass}`: {message}")]
@@ -34,25 +58,43 @@ pub enum GraphError {
     UnknownPlugin { name: String, known: Vec<String> },
 
     #[error("invalid parameter `{name}` = {value} for `{owner}`: allowed {allowed}")]
-    InvalidParameter { owner: String, name: String, value: String, allowed: String },
+    InvalidParameter {
+        owner: String,
+        name: String,
+        value: String,
+        allowed: String,
+    },
 
     #[error("invalid config: {0}")]
     Config(String),
 
     #[error("shader `{file}` line {line}: {message}")]
-    Shader { file: String, line: u32, message: String },
+    Shader {
+        file: String,
+        line: u32,
+        message: String,
+    },
 
     #[error("cannot read shader `{file}`: {message}")]
     ShaderFile { file: String, message: String },
 
-    #[error("no GPU adapter found ({detail}). aograph needs a Vulkan device; without a GPU install Mesa's software driver: on Debian/Ubuntu `apt-get install mesa-vulkan-drivers`")]
+    #[error(
+        "no GPU adapter found ({detail}). aograph needs a Vulkan device; without a GPU install Mesa's software driver: on Debian/Ubuntu `apt-get install mesa-vulkan-drivers`"
+    )]
     NoAdapter { detail: String },
 
     #[error("GPU error: {0}")]
     Gpu(String),
 
-    #[error("texture `{resource}` is {format:?}, which this device ({device}) cannot use as {usage}; declare it in a format the device supports for that use")]
-    UnsupportedFormat { resource: String, format: wgpu::TextureFormat, usage: String, device: String },
+    #[error(
+        "texture `{resource}` is {format:?}, which this device ({device}) cannot use as {usage}; declare it in a format the device supports for that use"
+    )]
+    UnsupportedFormat {
+        resource: String,
+        format: wgpu::TextureFormat,
+        usage: String,
+        device: String,
+    },
 
     #[error("resource `{resource}` is not available: {message}")]
     MissingResource { resource: String, message: String },

@@ -16,9 +16,9 @@ use crate::declaration::{PassKind, ResourceKind, ResourceOrigin, UniformHandle};
 use crate::error::{GraphError, GraphResult};
 use crate::gpu::GpuContext;
 use crate::history::HistoryStore;
-use crate::pipeline::{create_pipeline, PassPipeline};
+use crate::pipeline::{PassPipeline, create_pipeline};
 use crate::pool::{PoolKey, PooledTexture, TexturePool};
-use crate::readback::{read_texture, TextureReadback};
+use crate::readback::{TextureReadback, read_texture};
 use crate::resource::{Extent, TextureAccess, TextureHandle};
 use crate::shader::{ShaderBindingKind, ShaderLibrary};
 use crate::timing::{PassTimings, TimestampQueries, TimingSource};
@@ -80,7 +80,10 @@ impl Executor {
                 ..Default::default()
             })
         };
-        let (linear, nearest) = (sampler(wgpu::FilterMode::Linear), sampler(wgpu::FilterMode::Nearest));
+        let (linear, nearest) = (
+            sampler(wgpu::FilterMode::Linear),
+            sampler(wgpu::FilterMode::Nearest),
+        );
         Self {
             gpu,
             shaders: Arc::new(ShaderLibrary::inline_only()),
@@ -114,17 +117,36 @@ impl Executor {
     }
     /// Which timing source the next frame will use.
     pub fn timing_source(&self) -> TimingSource {
-        if self.gpu.has_timestamps() && !self.force_cpu_timing { TimingSource::GpuTimestamps } else { TimingSource::CpuWall }
+        if self.gpu.has_timestamps() && !self.force_cpu_timing {
+            TimingSource::GpuTimestamps
+        } else {
+            TimingSource::CpuWall
+        }
     }
     /// Provides the texture behind imported resource `name`.
     pub fn import_texture(&mut self, name: &str, texture: wgpu::Texture) {
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         let mip_views: Arc<[wgpu::TextureView]> = (0..texture.mip_level_count())
-            .map(|m| texture.create_view(&wgpu::TextureViewDescriptor { base_mip_level: m, mip_level_count: Some(1), ..Default::default() }))
+            .map(|m| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    base_mip_level: m,
+                    mip_level_count: Some(1),
+                    ..Default::default()
+                })
+            })
             .collect();
         let extent = Extent::new(texture.width(), texture.height());
         let serial = self.pool.next_serial();
-        self.imports.insert(name.to_string(), BoundTexture { texture, view, mip_views, extent, serial });
+        self.imports.insert(
+            name.to_string(),
+            BoundTexture {
+                texture,
+                view,
+                mip_views,
+                extent,
+                serial,
+            },
+        );
     }
     /// Provides the buffer behind imported buffer `name`.
     pub fn import_buffer(&mut self, name: &str, buffer: wgpu::Buffer) {
@@ -138,9 +160,20 @@ impl Executor {
     /// output size `output` (false on the first frame, after a resize or format change, after
     /// a reset).
     pub fn history_valid(&self, plan: &CompiledGraph, name: &str, output: Extent) -> bool {
-        let Some(r) = plan.decl.resources.iter().find(|r| matches!(&r.origin, ResourceOrigin::HistoryCurrent { history } if history == name)) else { return false };
-        let Some(desc) = r.texture_desc() else { return false };
-        let key = PoolKey { format: desc.format, extent: desc.size.resolve(output), mip_levels: desc.mip_levels, usage: wgpu::TextureUsages::empty() };
+        let Some(r) = plan.decl.resources.iter().find(
+            |r| matches!(&r.origin, ResourceOrigin::HistoryCurrent { history } if history == name),
+        ) else {
+            return false;
+        };
+        let Some(desc) = r.texture_desc() else {
+            return false;
+        };
+        let key = PoolKey {
+            format: desc.format,
+            extent: desc.size.resolve(output),
+            mip_levels: desc.mip_levels,
+            usage: wgpu::TextureUsages::empty(),
+        };
         self.history.is_valid(name, &key)
     }
     /// Whether every history of `plan` will be valid in its next frame at `output` (what a
@@ -166,14 +199,33 @@ impl Executor {
     }
 
     /// Sets the contents of a uniform block of `plan`; takes effect at the next `execute`.
-    pub fn write_uniform(&mut self, plan: &CompiledGraph, handle: UniformHandle, bytes: &[u8]) -> GraphResult<()> {
+    pub fn write_uniform(
+        &mut self,
+        plan: &CompiledGraph,
+        handle: UniformHandle,
+        bytes: &[u8],
+    ) -> GraphResult<()> {
         self.ensure_state(plan)?;
-        let decl = plan.decl.uniforms.get(handle.0).ok_or_else(|| GraphError::MissingResource { resource: format!("uniform #{}", handle.0), message: "not declared in this plan".into() })?;
+        let decl = plan
+            .decl
+            .uniforms
+            .get(handle.0)
+            .ok_or_else(|| GraphError::MissingResource {
+                resource: format!("uniform #{}", handle.0),
+                message: "not declared in this plan".into(),
+            })?;
         if decl.initial.len() != bytes.len() {
-            return Err(GraphError::InvalidParameter { owner: plan.decl.passes[decl.pass.0].name.clone(), name: decl.binding.clone(), value: format!("{} bytes", bytes.len()), allowed: format!("exactly {} bytes, as declared", decl.initial.len()) });
+            return Err(GraphError::InvalidParameter {
+                owner: plan.decl.passes[decl.pass.0].name.clone(),
+                name: decl.binding.clone(),
+                value: format!("{} bytes", bytes.len()),
+                allowed: format!("exactly {} bytes, as declared", decl.initial.len()),
+            });
         }
         if let Some(state) = &self.state {
-            self.gpu.queue.write_buffer(&state.uniforms[handle.0], 0, bytes);
+            self.gpu
+                .queue
+                .write_buffer(&state.uniforms[handle.0], 0, bytes);
         }
         Ok(())
     }
@@ -188,20 +240,39 @@ impl Executor {
         // adapter's format features) is an error naming the texture, not a validation error.
         for slot in &plan.physical {
             if !self.gpu.supports(slot.desc.format, slot.usage) {
-                let resource = slot.resources.iter().map(|r| decl.resources[*r].name.as_str()).collect::<Vec<_>>().join("`, `");
-                return Err(GraphError::UnsupportedFormat { resource, format: slot.desc.format, usage: format!("{:?}", slot.usage), device: self.gpu.describe() });
+                let resource = slot
+                    .resources
+                    .iter()
+                    .map(|r| decl.resources[*r].name.as_str())
+                    .collect::<Vec<_>>()
+                    .join("`, `");
+                return Err(GraphError::UnsupportedFormat {
+                    resource,
+                    format: slot.desc.format,
+                    usage: format!("{:?}", slot.usage),
+                    device: self.gpu.describe(),
+                });
             }
         }
         let mut pipelines = Vec::with_capacity(decl.passes.len());
         for (i, pass) in decl.passes.iter().enumerate() {
-            pipelines.push(plan.shaders[i].as_ref().and_then(|info| create_pipeline(device, self.gpu.features, decl, pass, info)));
+            pipelines.push(
+                plan.shaders[i]
+                    .as_ref()
+                    .and_then(|info| create_pipeline(device, self.gpu.features, decl, pass, info)),
+            );
         }
         let uniforms = decl
             .uniforms
             .iter()
             .map(|u| {
                 let size = (u.initial.len() as u64).max(16).next_multiple_of(16);
-                let b = device.create_buffer(&wgpu::BufferDescriptor { label: Some(&u.binding), size, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+                let b = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&u.binding),
+                    size,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
                 self.gpu.queue.write_buffer(&b, 0, &u.initial);
                 b
             })
@@ -211,9 +282,23 @@ impl Executor {
             .iter()
             .enumerate()
             .map(|(r, res)| match (&res.kind, &res.origin) {
-                (ResourceKind::Buffer(d), ResourceOrigin::Transient) if plan.lifetimes[r].is_some() => {
-                    let usage = decl.passes.iter().flat_map(|p| p.buffers.iter()).filter(|u| u.read.or(u.written).is_some_and(|h| h.id as usize == r)).fold(wgpu::BufferUsages::COPY_SRC, |acc, u| acc | u.access.usage());
-                    Some(device.create_buffer(&wgpu::BufferDescriptor { label: Some(&res.name), size: d.size.max(4), usage, mapped_at_creation: false }))
+                (ResourceKind::Buffer(d), ResourceOrigin::Transient)
+                    if plan.lifetimes[r].is_some() =>
+                {
+                    let usage = decl
+                        .passes
+                        .iter()
+                        .flat_map(|p| p.buffers.iter())
+                        .filter(|u| u.read.or(u.written).is_some_and(|h| h.id as usize == r))
+                        .fold(wgpu::BufferUsages::COPY_SRC, |acc, u| {
+                            acc | u.access.usage()
+                        });
+                    Some(device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(&res.name),
+                        size: d.size.max(4),
+                        usage,
+                        mapped_at_creation: false,
+                    }))
                 }
                 _ => None,
             })
@@ -222,12 +307,23 @@ impl Executor {
         if !errors.is_empty() {
             return Err(GraphError::Gpu(errors.join("; ")));
         }
-        self.state = Some(PlanState { hash: plan.hash, pipelines, uniforms, buffers, bind_groups: (0..decl.passes.len()).map(|_| None).collect() });
+        self.state = Some(PlanState {
+            hash: plan.hash,
+            pipelines,
+            uniforms,
+            buffers,
+            bind_groups: (0..decl.passes.len()).map(|_| None).collect(),
+        });
         Ok(())
     }
 
     /// Binds every used resource of `plan` to a physical texture or buffer for this frame.
-    fn bind_resources(&mut self, plan: &CompiledGraph, output: Extent, encoder: &mut wgpu::CommandEncoder) -> GraphResult<()> {
+    fn bind_resources(
+        &mut self,
+        plan: &CompiledGraph,
+        output: Extent,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> GraphResult<()> {
         let device = &self.gpu.device;
         let decl = &plan.decl;
         while let Some(t) = self.lent.pop() {
@@ -237,9 +333,22 @@ impl Executor {
         for slot in &plan.physical {
             let extent = slot.desc.size.resolve(output);
             if extent.width > max_dim || extent.height > max_dim {
-                return Err(GraphError::InvalidParameter { owner: "graph".into(), name: "output size".into(), value: output.to_string(), allowed: format!("at most {max_dim} pixels a side on this device") });
+                return Err(GraphError::InvalidParameter {
+                    owner: "graph".into(),
+                    name: "output size".into(),
+                    value: output.to_string(),
+                    allowed: format!("at most {max_dim} pixels a side on this device"),
+                });
             }
-            self.lent.push(self.pool.acquire(device, PoolKey { format: slot.desc.format, extent, mip_levels: slot.desc.mip_levels, usage: slot.usage }));
+            self.lent.push(self.pool.acquire(
+                device,
+                PoolKey {
+                    format: slot.desc.format,
+                    extent,
+                    mip_levels: slot.desc.mip_levels,
+                    usage: slot.usage,
+                },
+            ));
         }
         // Released last-slot-first above, so each slot pops the texture it had last frame and
         // cached bind groups stay valid.
@@ -255,7 +364,16 @@ impl Executor {
                 ResourceKind::Texture(d) => *d,
                 ResourceKind::Buffer(_) => {
                     self.frame_buffers[r] = match res.origin {
-                        ResourceOrigin::Imported => Some(self.import_buffers.get(&res.name).cloned().ok_or_else(|| GraphError::MissingResource { resource: res.name.clone(), message: "imported buffer not provided; call Executor::import_buffer".into() })?),
+                        ResourceOrigin::Imported => {
+                            Some(self.import_buffers.get(&res.name).cloned().ok_or_else(|| {
+                                GraphError::MissingResource {
+                                    resource: res.name.clone(),
+                                    message:
+                                        "imported buffer not provided; call Executor::import_buffer"
+                                            .into(),
+                                }
+                            })?)
+                        }
                         _ => self.state.as_ref().and_then(|s| s.buffers[r].clone()),
                     };
                     continue;
@@ -268,20 +386,46 @@ impl Executor {
                     None => continue,
                 },
                 ResourceOrigin::Imported => {
-                    let t = self.imports.get(&res.name).ok_or_else(|| GraphError::MissingResource { resource: res.name.clone(), message: "imported texture not provided; call Executor::import_texture".into() })?;
+                    let t =
+                        self.imports
+                            .get(&res.name)
+                            .ok_or_else(|| GraphError::MissingResource {
+                                resource: res.name.clone(),
+                                message:
+                                    "imported texture not provided; call Executor::import_texture"
+                                        .into(),
+                            })?;
                     if t.texture.format() != desc.format {
-                        return Err(GraphError::FormatMismatch { pass: "import".into(), resource: res.name.clone(), expected: format!("{:?}", desc.format), found: t.texture.format() });
+                        return Err(GraphError::FormatMismatch {
+                            pass: "import".into(),
+                            resource: res.name.clone(),
+                            expected: format!("{:?}", desc.format),
+                            found: t.texture.format(),
+                        });
                     }
                     if t.extent != extent {
-                        return Err(GraphError::SizeMismatch { pass: "import".into(), resource: res.name.clone(), expected: extent.to_string(), found: t.extent.to_string() });
+                        return Err(GraphError::SizeMismatch {
+                            pass: "import".into(),
+                            resource: res.name.clone(),
+                            expected: extent.to_string(),
+                            found: t.extent.to_string(),
+                        });
                     }
                     t.clone()
                 }
-                ResourceOrigin::HistoryPrevious { history } | ResourceOrigin::HistoryCurrent { history } => {
+                ResourceOrigin::HistoryPrevious { history }
+                | ResourceOrigin::HistoryCurrent { history } => {
                     let usage = history_usage(plan, history);
-                    let key = PoolKey { format: desc.format, extent, mip_levels: desc.mip_levels, usage };
+                    let key = PoolKey {
+                        format: desc.format,
+                        extent,
+                        mip_levels: desc.mip_levels,
+                        usage,
+                    };
                     let pool = &mut self.pool;
-                    let (pair, valid) = self.history.prepare(device, history, key, &mut || pool.next_serial());
+                    let (pair, valid) = self
+                        .history
+                        .prepare(device, history, key, &mut || pool.next_serial());
                     let previous = &pair.textures[1 - pair.current].bound;
                     if matches!(res.origin, ResourceOrigin::HistoryPrevious { .. }) {
                         if !valid {
@@ -299,53 +443,108 @@ impl Executor {
 
     /// Builds (or reuses) the bind groups of every kept pass for this frame's textures.
     fn bind_groups(&mut self, plan: &CompiledGraph) -> GraphResult<()> {
-        let Some(state) = self.state.as_mut() else { return Ok(()) };
+        let Some(state) = self.state.as_mut() else {
+            return Ok(());
+        };
         let decl = &plan.decl;
         for p in &plan.order {
-            let (Some(pipeline), Some(info)) = (&state.pipelines[p.0], &plan.shaders[p.0]) else { continue };
+            let (Some(pipeline), Some(info)) = (&state.pipelines[p.0], &plan.shaders[p.0]) else {
+                continue;
+            };
             let pass = &decl.passes[p.0];
             self.scratch.clear();
             for b in &info.bindings {
                 let serial = match b.kind {
-                    ShaderBindingKind::SampledTexture { .. } | ShaderBindingKind::StorageTexture { .. } => pass
+                    ShaderBindingKind::SampledTexture { .. }
+                    | ShaderBindingKind::StorageTexture { .. } => pass
                         .textures
                         .iter()
                         .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
-                        .and_then(|u| self.frame[u.resource()].as_ref().map(|t| t.serial * 64 + u.mip.unwrap_or(63) as u64))
+                        .and_then(|u| {
+                            self.frame[u.resource()]
+                                .as_ref()
+                                .map(|t| t.serial * 64 + u.mip.unwrap_or(63) as u64)
+                        })
                         .unwrap_or(0),
                     _ => 0,
                 };
                 self.scratch.push(serial);
             }
-            if state.bind_groups[p.0].as_ref().is_some_and(|(k, _)| *k == self.scratch) {
+            if state.bind_groups[p.0]
+                .as_ref()
+                .is_some_and(|(k, _)| *k == self.scratch)
+            {
                 continue;
             }
             let mut groups = Vec::new();
             for (g, layout) in pipeline.groups() {
                 let mut entries = Vec::new();
                 for b in info.bindings.iter().filter(|b| b.group == *g) {
-                    let missing = || GraphError::MissingResource { resource: b.name.clone(), message: format!("pass `{}` has nothing bound to it this frame", pass.name) };
+                    let missing = || GraphError::MissingResource {
+                        resource: b.name.clone(),
+                        message: format!("pass `{}` has nothing bound to it this frame", pass.name),
+                    };
                     let resource = match &b.kind {
-                        ShaderBindingKind::Sampler { linear } => wgpu::BindingResource::Sampler(if *linear { &self.linear } else { &self.nearest }),
-                        ShaderBindingKind::SampledTexture { .. } | ShaderBindingKind::StorageTexture { .. } => {
-                            let u = pass.textures.iter().find(|u| u.binding.as_deref() == Some(b.name.as_str())).ok_or_else(missing)?;
-                            let t = self.frame[u.resource()].as_ref().ok_or_else(missing)?;
-                            let storage = matches!(b.kind, ShaderBindingKind::StorageTexture { .. });
-                            wgpu::BindingResource::TextureView(t.view_of(if storage { u.mip.or(Some(0)) } else { u.mip }))
+                        ShaderBindingKind::Sampler { linear } => {
+                            wgpu::BindingResource::Sampler(if *linear {
+                                &self.linear
+                            } else {
+                                &self.nearest
+                            })
                         }
-                        ShaderBindingKind::Uniform { .. } | ShaderBindingKind::StorageBuffer { .. } => {
-                            if let Some(h) = pass.uniforms.iter().find(|h| decl.uniforms[h.0].binding == b.name) {
+                        ShaderBindingKind::SampledTexture { .. }
+                        | ShaderBindingKind::StorageTexture { .. } => {
+                            let u = pass
+                                .textures
+                                .iter()
+                                .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
+                                .ok_or_else(missing)?;
+                            let t = self.frame[u.resource()].as_ref().ok_or_else(missing)?;
+                            let storage =
+                                matches!(b.kind, ShaderBindingKind::StorageTexture { .. });
+                            wgpu::BindingResource::TextureView(t.view_of(if storage {
+                                u.mip.or(Some(0))
+                            } else {
+                                u.mip
+                            }))
+                        }
+                        ShaderBindingKind::Uniform { .. }
+                        | ShaderBindingKind::StorageBuffer { .. } => {
+                            if let Some(h) = pass
+                                .uniforms
+                                .iter()
+                                .find(|h| decl.uniforms[h.0].binding == b.name)
+                            {
                                 state.uniforms[h.0].as_entire_binding()
                             } else {
-                                let u = pass.buffers.iter().find(|u| u.binding.as_deref() == Some(b.name.as_str())).ok_or_else(missing)?;
+                                let u = pass
+                                    .buffers
+                                    .iter()
+                                    .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
+                                    .ok_or_else(missing)?;
                                 let h = u.read.or(u.written).ok_or_else(missing)?;
-                                self.frame_buffers[h.id as usize].as_ref().ok_or_else(missing)?.as_entire_binding()
+                                self.frame_buffers[h.id as usize]
+                                    .as_ref()
+                                    .ok_or_else(missing)?
+                                    .as_entire_binding()
                             }
                         }
                     };
-                    entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
+                    entries.push(wgpu::BindGroupEntry {
+                        binding: b.binding,
+                        resource,
+                    });
                 }
-                groups.push((*g, self.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&pass.name), layout, entries: &entries })));
+                groups.push((
+                    *g,
+                    self.gpu
+                        .device
+                        .create_bind_group(&wgpu::BindGroupDescriptor {
+                            label: Some(&pass.name),
+                            layout,
+                            entries: &entries,
+                        }),
+                ));
             }
             state.bind_groups[p.0] = Some((self.scratch.clone(), groups));
         }
@@ -355,13 +554,20 @@ impl Executor {
     /// Runs one frame of `plan` at output size `output`.
     pub fn execute(&mut self, plan: &Arc<CompiledGraph>, output: Extent) -> GraphResult<()> {
         if output.width == 0 || output.height == 0 {
-            return Err(GraphError::InvalidParameter { owner: "graph".into(), name: "output size".into(), value: output.to_string(), allowed: "width and height of at least 1 pixel".into() });
+            return Err(GraphError::InvalidParameter {
+                owner: "graph".into(),
+                name: "output size".into(),
+                value: output.to_string(),
+                allowed: "width and height of at least 1 pixel".into(),
+            });
         }
         self.collect_timings()?;
         self.ensure_state(plan)?;
         self.output = output;
         let device = self.gpu.device.clone();
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("aograph frame") });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("aograph frame"),
+        });
         self.bind_resources(plan, output, &mut encoder)?;
         self.bind_groups(plan)?;
         let n = plan.order.len() as u32;
@@ -390,7 +596,12 @@ impl Executor {
                 encoder.pop_debug_group();
             }
             if !gpu_timing {
-                let done = std::mem::replace(&mut encoder, device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("aograph frame") }));
+                let done = std::mem::replace(
+                    &mut encoder,
+                    device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("aograph frame"),
+                    }),
+                );
                 self.gpu.queue.submit([done.finish()]);
                 self.gpu.wait_idle()?;
                 self.pass_ms[pos] = started.elapsed().as_secs_f64() * 1000.0;
@@ -403,9 +614,17 @@ impl Executor {
         if let (true, Some(ts)) = (gpu_timing, self.timestamps.as_mut()) {
             ts.start_map();
         }
-        if self.timed_plan.as_ref().is_none_or(|t| !Arc::ptr_eq(t, plan)) {
+        if self
+            .timed_plan
+            .as_ref()
+            .is_none_or(|t| !Arc::ptr_eq(t, plan))
+        {
             self.timed_plan = Some(plan.clone());
-            self.timings.passes = plan.order.iter().map(|p| (plan.decl.passes[p.0].name.clone(), 0.0)).collect();
+            self.timings.passes = plan
+                .order
+                .iter()
+                .map(|p| (plan.decl.passes[p.0].name.clone(), 0.0))
+                .collect();
         }
         if !gpu_timing {
             self.timings.source = Some(TimingSource::CpuWall);
@@ -414,7 +633,9 @@ impl Executor {
             }
         }
         let written = plan.decl.resources.iter().filter_map(|r| match &r.origin {
-            ResourceOrigin::HistoryCurrent { history } if r.latest_version() > 0 => Some(history.as_str()),
+            ResourceOrigin::HistoryCurrent { history } if r.latest_version() > 0 => {
+                Some(history.as_str())
+            }
             _ => None,
         });
         self.history.end_frame(written);
@@ -427,24 +648,50 @@ impl Executor {
         Ok(())
     }
 
-    fn record_pass(&self, plan: &CompiledGraph, pos: usize, encoder: &mut wgpu::CommandEncoder) -> GraphResult<()> {
+    fn record_pass(
+        &self,
+        plan: &CompiledGraph,
+        pos: usize,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> GraphResult<()> {
         let p = plan.order[pos];
         let pass = &plan.decl.passes[p.0];
         let state = self.state.as_ref();
         let pipeline = state.and_then(|s| s.pipelines[p.0].as_ref());
-        let groups = state.and_then(|s| s.bind_groups[p.0].as_ref()).map(|(_, g)| g.as_slice()).unwrap_or(&[]);
-        let view_of = |u: &crate::TextureUse| self.frame[u.resource()].as_ref().map(|t| t.view_of(u.mip.or(Some(0))));
+        let groups = state
+            .and_then(|s| s.bind_groups[p.0].as_ref())
+            .map(|(_, g)| g.as_slice())
+            .unwrap_or(&[]);
+        let view_of = |u: &crate::TextureUse| {
+            self.frame[u.resource()]
+                .as_ref()
+                .map(|t| t.view_of(u.mip.or(Some(0))))
+        };
         match (&pass.kind, pipeline) {
-            (PassKind::Compute { dispatch, .. }, Some(PassPipeline::Compute { pipeline, workgroup, .. })) => {
+            (
+                PassKind::Compute { dispatch, .. },
+                Some(PassPipeline::Compute {
+                    pipeline,
+                    workgroup,
+                    ..
+                }),
+            ) => {
                 let counts = match dispatch {
                     Some(crate::Dispatch::Threads { size, mip }) => {
                         let e = size.resolve(self.output).mip(*mip);
-                        [e.width.div_ceil(workgroup[0].max(1)), e.height.div_ceil(workgroup[1].max(1)), 1]
+                        [
+                            e.width.div_ceil(workgroup[0].max(1)),
+                            e.height.div_ceil(workgroup[1].max(1)),
+                            1,
+                        ]
                     }
                     Some(crate::Dispatch::Workgroups(w)) => *w,
                     None => [0, 0, 0],
                 };
-                let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&pass.name), timestamp_writes: None });
+                let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(&pass.name),
+                    timestamp_writes: None,
+                });
                 cp.set_pipeline(pipeline);
                 for (g, bg) in groups {
                     cp.set_bind_group(*g, bg, &[]);
@@ -453,16 +700,62 @@ impl Executor {
             }
             (PassKind::Fullscreen { .. }, Some(PassPipeline::Render { pipeline, .. })) => {
                 let mut color = Vec::new();
-                for u in pass.textures.iter().filter(|u| u.access == TextureAccess::ColorAttachment) {
-                    let view = view_of(u).ok_or_else(|| GraphError::MissingResource { resource: format!("#{}", u.resource()), message: "colour attachment not bound".into() })?;
-                    let load = if u.read.is_some() { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) };
-                    color.push(Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops: wgpu::Operations { load, store: wgpu::StoreOp::Store } }));
+                for u in pass
+                    .textures
+                    .iter()
+                    .filter(|u| u.access == TextureAccess::ColorAttachment)
+                {
+                    let view = view_of(u).ok_or_else(|| GraphError::MissingResource {
+                        resource: format!("#{}", u.resource()),
+                        message: "colour attachment not bound".into(),
+                    })?;
+                    let load = if u.read.is_some() {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                    };
+                    color.push(Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load,
+                            store: wgpu::StoreOp::Store,
+                        },
+                    }));
                 }
-                let depth = pass.textures.iter().find(|u| matches!(u.access, TextureAccess::DepthAttachment | TextureAccess::DepthRead)).and_then(|u| {
-                    let load = if u.read.is_some() { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(1.0) };
-                    view_of(u).map(|view| wgpu::RenderPassDepthStencilAttachment { view, depth_ops: Some(wgpu::Operations { load, store: wgpu::StoreOp::Store }), stencil_ops: None })
+                let depth = pass
+                    .textures
+                    .iter()
+                    .find(|u| {
+                        matches!(
+                            u.access,
+                            TextureAccess::DepthAttachment | TextureAccess::DepthRead
+                        )
+                    })
+                    .and_then(|u| {
+                        let load = if u.read.is_some() {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(1.0)
+                        };
+                        view_of(u).map(|view| wgpu::RenderPassDepthStencilAttachment {
+                            view,
+                            depth_ops: Some(wgpu::Operations {
+                                load,
+                                store: wgpu::StoreOp::Store,
+                            }),
+                            stencil_ops: None,
+                        })
+                    });
+                let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(&pass.name),
+                    color_attachments: &color,
+                    depth_stencil_attachment: depth,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
                 });
-                let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor { label: Some(&pass.name), color_attachments: &color, depth_stencil_attachment: depth, timestamp_writes: None, occlusion_query_set: None, multiview_mask: None });
                 rp.set_pipeline(pipeline);
                 for (g, bg) in groups {
                     rp.set_bind_group(*g, bg, &[]);
@@ -470,25 +763,70 @@ impl Executor {
                 rp.draw(0..3, 0..1);
             }
             (PassKind::Copy, _) => {
-                let src = pass.textures.iter().find(|u| u.access == TextureAccess::CopySrc).and_then(|u| self.frame[u.resource()].as_ref());
-                let dst = pass.textures.iter().find(|u| u.access == TextureAccess::CopyDst).and_then(|u| self.frame[u.resource()].as_ref());
+                let src = pass
+                    .textures
+                    .iter()
+                    .find(|u| u.access == TextureAccess::CopySrc)
+                    .and_then(|u| self.frame[u.resource()].as_ref());
+                let dst = pass
+                    .textures
+                    .iter()
+                    .find(|u| u.access == TextureAccess::CopyDst)
+                    .and_then(|u| self.frame[u.resource()].as_ref());
                 let (Some(src), Some(dst)) = (src, dst) else {
-                    return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: "a copy pass needs one copy source and one copy destination".into() });
+                    return Err(GraphError::InvalidPass {
+                        pass: pass.name.clone(),
+                        message: "a copy pass needs one copy source and one copy destination"
+                            .into(),
+                    });
                 };
-                for mip in 0..src.texture.mip_level_count().min(dst.texture.mip_level_count()) {
+                for mip in 0..src
+                    .texture
+                    .mip_level_count()
+                    .min(dst.texture.mip_level_count())
+                {
                     let e = src.extent.mip(mip);
                     encoder.copy_texture_to_texture(
-                        wgpu::TexelCopyTextureInfo { texture: &src.texture, mip_level: mip, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
-                        wgpu::TexelCopyTextureInfo { texture: &dst.texture, mip_level: mip, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
-                        wgpu::Extent3d { width: e.width, height: e.height, depth_or_array_layers: 1 },
+                        wgpu::TexelCopyTextureInfo {
+                            texture: &src.texture,
+                            mip_level: mip,
+                            origin: wgpu::Origin3d::ZERO,
+                            aspect: wgpu::TextureAspect::All,
+                        },
+                        wgpu::TexelCopyTextureInfo {
+                            texture: &dst.texture,
+                            mip_level: mip,
+                            origin: wgpu::Origin3d::ZERO,
+                            aspect: wgpu::TextureAspect::All,
+                        },
+                        wgpu::Extent3d {
+                            width: e.width,
+                            height: e.height,
+                            depth_or_array_layers: 1,
+                        },
                     );
                 }
             }
             (PassKind::Custom(custom), _) => {
-                let mut ctx = PassContext { device: &self.gpu.device, queue: &self.gpu.queue, encoder, output: self.output, pass, textures: &self.frame, buffers: &self.frame_buffers, shaders: &self.shaders, features: self.gpu.features };
+                let mut ctx = PassContext {
+                    device: &self.gpu.device,
+                    queue: &self.gpu.queue,
+                    encoder,
+                    output: self.output,
+                    pass,
+                    textures: &self.frame,
+                    buffers: &self.frame_buffers,
+                    shaders: &self.shaders,
+                    features: self.gpu.features,
+                };
                 custom.record(&mut ctx)?;
             }
-            _ => return Err(GraphError::InvalidPass { pass: pass.name.clone(), message: "no pipeline could be created for this pass".into() }),
+            _ => {
+                return Err(GraphError::InvalidPass {
+                    pass: pass.name.clone(),
+                    message: "no pipeline could be created for this pass".into(),
+                });
+            }
         }
         Ok(())
     }
@@ -513,19 +851,41 @@ impl Executor {
     }
 
     /// Reads an exported or history texture of the last frame back to the CPU (mip 0).
-    pub fn read_texture(&self, plan: &CompiledGraph, handle: TextureHandle) -> GraphResult<TextureReadback> {
+    pub fn read_texture(
+        &self,
+        plan: &CompiledGraph,
+        handle: TextureHandle,
+    ) -> GraphResult<TextureReadback> {
         self.read_texture_mip(plan, handle, 0)
     }
 
     /// Reads one mip level of an exported or history texture of the last frame.
-    pub fn read_texture_mip(&self, plan: &CompiledGraph, handle: TextureHandle, mip: u32) -> GraphResult<TextureReadback> {
+    pub fn read_texture_mip(
+        &self,
+        plan: &CompiledGraph,
+        handle: TextureHandle,
+        mip: u32,
+    ) -> GraphResult<TextureReadback> {
         let r = handle.id as usize;
-        let res = plan.decl.resources.get(r).ok_or_else(|| GraphError::MissingResource { resource: format!("{handle:?}"), message: "not a resource of this plan".into() })?;
+        let res = plan
+            .decl
+            .resources
+            .get(r)
+            .ok_or_else(|| GraphError::MissingResource {
+                resource: format!("{handle:?}"),
+                message: "not a resource of this plan".into(),
+            })?;
         let readable = res.exported || !matches!(res.origin, ResourceOrigin::Transient);
         if !readable {
             return Err(GraphError::MissingResource { resource: res.name.clone(), message: "only exported, imported and history textures can be read back; call GraphBuilder::export on it".into() });
         }
-        let t = self.frame.get(r).and_then(Option::as_ref).ok_or_else(|| GraphError::MissingResource { resource: res.name.clone(), message: "not produced by the last frame (was it culled, or has no frame run?)".into() })?;
+        let t = self.frame.get(r).and_then(Option::as_ref).ok_or_else(|| {
+            GraphError::MissingResource {
+                resource: res.name.clone(),
+                message: "not produced by the last frame (was it culled, or has no frame run?)"
+                    .into(),
+            }
+        })?;
         read_texture(&self.gpu.device, &self.gpu.queue, &t.texture, mip)
     }
 }
@@ -542,10 +902,23 @@ fn clear_texture(gpu: &GpuContext, encoder: &mut wgpu::CommandEncoder, texture: 
         let row = e.width * crate::resource::texel_bytes(texture.format()) as u32;
         let zeros = vec![0u8; (row * e.height) as usize];
         gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo { texture, mip_level: mip, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: mip,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
             &zeros,
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(e.height) },
-            wgpu::Extent3d { width: e.width, height: e.height, depth_or_array_layers: 1 },
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(e.height),
+            },
+            wgpu::Extent3d {
+                width: e.width,
+                height: e.height,
+                depth_or_array_layers: 1,
+            },
         );
     }
 }

@@ -26,7 +26,15 @@ pub enum GBufferChannel {
 }
 
 impl GBufferChannel {
-    pub const ALL: [GBufferChannel; 7] = [Self::Depth, Self::LinearDepth, Self::Normals, Self::Positions, Self::Albedo, Self::DirectLight, Self::Motion];
+    pub const ALL: [GBufferChannel; 7] = [
+        Self::Depth,
+        Self::LinearDepth,
+        Self::Normals,
+        Self::Positions,
+        Self::Albedo,
+        Self::DirectLight,
+        Self::Motion,
+    ];
     /// The channel's default format (`Depth`: [`DepthFormat::default`]; a set may choose
     /// another depth format, see [`GBufferChannels::depth_format`]).
     pub fn format(self) -> wgpu::TextureFormat {
@@ -115,11 +123,21 @@ impl GBufferChannels {
     }
     /// Channels of both; face normals if either asks; a non-default depth format wins.
     pub fn union(self, o: Self) -> Self {
-        let depth_format = if self.depth_format != DepthFormat::default() { self.depth_format } else { o.depth_format };
-        Self { bits: self.bits | o.bits, face_normals: self.face_normals || o.face_normals, depth_format }
+        let depth_format = if self.depth_format != DepthFormat::default() {
+            self.depth_format
+        } else {
+            o.depth_format
+        };
+        Self {
+            bits: self.bits | o.bits,
+            face_normals: self.face_normals || o.face_normals,
+            depth_format,
+        }
     }
     pub fn iter(&self) -> impl Iterator<Item = GBufferChannel> + '_ {
-        GBufferChannel::ALL.into_iter().filter(|c| self.contains(*c))
+        GBufferChannel::ALL
+            .into_iter()
+            .filter(|c| self.contains(*c))
     }
 }
 

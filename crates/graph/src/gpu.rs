@@ -31,9 +31,16 @@ impl GpuContext {
         desc.flags = wgpu::InstanceFlags::from_env_or_default();
         let instance = wgpu::Instance::new(desc);
         let adapter = instance
-            .request_adapter(&wgpu::RequestAdapterOptions { power_preference: wgpu::PowerPreference::HighPerformance, force_fallback_adapter: false, compatible_surface: None, ..Default::default() })
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: None,
+                ..Default::default()
+            })
             .await
-            .map_err(|e| GraphError::NoAdapter { detail: e.to_string() })?;
+            .map_err(|e| GraphError::NoAdapter {
+                detail: e.to_string(),
+            })?;
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
             | wgpu::Features::FLOAT32_FILTERABLE
@@ -44,11 +51,20 @@ impl GpuContext {
         // A full g-buffer (positions, normals, albedo, direct light, linear depth, motion: 52
         // bytes per sample by WebGPU's cost table) exceeds the default limit of 32; use what
         // the adapter supports.
-        limits.max_color_attachment_bytes_per_sample = limits.max_color_attachment_bytes_per_sample.max(adapter.limits().max_color_attachment_bytes_per_sample);
+        limits.max_color_attachment_bytes_per_sample = limits
+            .max_color_attachment_bytes_per_sample
+            .max(adapter.limits().max_color_attachment_bytes_per_sample);
         let (device, queue) = adapter
-            .request_device(&wgpu::DeviceDescriptor { label: Some("aograph"), required_features: features, required_limits: limits, ..Default::default() })
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("aograph"),
+                required_features: features,
+                required_limits: limits,
+                ..Default::default()
+            })
             .await
-            .map_err(|e| GraphError::NoAdapter { detail: format!("the adapter refused a device: {e}") })?;
+            .map_err(|e| GraphError::NoAdapter {
+                detail: format!("the adapter refused a device: {e}"),
+            })?;
         let errors: Arc<Mutex<Vec<String>>> = Arc::default();
         let sink = errors.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
@@ -57,7 +73,14 @@ impl GpuContext {
             }
         }));
         let info = adapter.get_info();
-        Ok(Self { adapter, device, queue, info, features, errors })
+        Ok(Self {
+            adapter,
+            device,
+            queue,
+            info,
+            features,
+            errors,
+        })
     }
 
     /// True when textures of `format` can have `usage` on this device: the adapter's own
@@ -65,14 +88,25 @@ impl GpuContext {
     /// WebGPU's guaranteed ones otherwise. Storage usage also needs write-only storage access
     /// (R16Float storage, for instance, is not core WebGPU: most Vulkan devices have it).
     pub fn supports(&self, format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> bool {
-        let f = if self.features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) { self.adapter.get_texture_format_features(format) } else { format.guaranteed_format_features(self.features) };
-        let storage_ok = !usage.contains(wgpu::TextureUsages::STORAGE_BINDING) || f.flags.contains(wgpu::TextureFormatFeatureFlags::STORAGE_WRITE_ONLY);
+        let f = if self
+            .features
+            .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+        {
+            self.adapter.get_texture_format_features(format)
+        } else {
+            format.guaranteed_format_features(self.features)
+        };
+        let storage_ok = !usage.contains(wgpu::TextureUsages::STORAGE_BINDING)
+            || f.flags
+                .contains(wgpu::TextureFormatFeatureFlags::STORAGE_WRITE_ONLY);
         f.allowed_usages.contains(usage) && storage_ok
     }
 
     /// True when GPU timestamps can be written between passes.
     pub fn has_timestamps(&self) -> bool {
-        self.features.contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+        self.features.contains(
+            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
+        )
     }
 
     /// Whether passes are wrapped in debug groups. Mesa's lavapipe (llvmpipe driver, as in
@@ -93,31 +127,43 @@ impl GpuContext {
 
     /// "name (backend, device type)".
     pub fn describe(&self) -> String {
-        format!("{} ({:?}, {:?})", self.info.name, self.info.backend, self.info.device_type)
+        format!(
+            "{} ({:?}, {:?})",
+            self.info.name, self.info.backend, self.info.device_type
+        )
     }
 
     /// Validation errors collected since the last call.
     pub fn take_errors(&self) -> Vec<String> {
-        self.errors.lock().map(|mut v| std::mem::take(&mut *v)).unwrap_or_default()
+        self.errors
+            .lock()
+            .map(|mut v| std::mem::take(&mut *v))
+            .unwrap_or_default()
     }
 
     /// Blocks until the GPU has finished all submitted work.
     pub fn wait_idle(&self) -> GraphResult<()> {
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| GraphError::Gpu(e.to_string()))
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GraphError::Gpu(e.to_string()))
     }
 }
 
 /// For tests: a device, `None` (with a printed reason) when there is none and
 /// `AOGRAPH_REQUIRE_GPU` is unset; an error when it is set, so CI cannot skip GPU tests.
 pub fn test_gpu() -> Option<Arc<GpuContext>> {
-    static GPU: std::sync::OnceLock<Result<Arc<GpuContext>, GraphError>> = std::sync::OnceLock::new();
+    static GPU: std::sync::OnceLock<Result<Arc<GpuContext>, GraphError>> =
+        std::sync::OnceLock::new();
     match GPU.get_or_init(|| GpuContext::new().map(Arc::new)) {
         Ok(g) => Some(g.clone()),
         Err(e) => {
             if std::env::var_os("AOGRAPH_REQUIRE_GPU").is_some_and(|v| v != "0") {
                 panic!("AOGRAPH_REQUIRE_GPU is set but no GPU device is available: {e}");
             }
-            eprintln!("SKIPPED: GPU test skipped, no adapter ({e}); set AOGRAPH_REQUIRE_GPU=1 to make this an error");
+            eprintln!(
+                "SKIPPED: GPU test skipped, no adapter ({e}); set AOGRAPH_REQUIRE_GPU=1 to make this an error"
+            );
             None
         }
     }

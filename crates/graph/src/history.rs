@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use crate::pool::{create_texture, PoolKey, PooledTexture};
+use crate::pool::{PoolKey, PooledTexture, create_texture};
 
 /// Both textures of one history and which one is written this frame.
 pub struct HistoryPair {
@@ -26,7 +26,10 @@ pub struct HistoryStore {
 impl HistoryStore {
     /// Whether `name`'s previous value will be valid for a frame with textures of `key`.
     pub fn is_valid(&self, name: &str, key: &PoolKey) -> bool {
-        !self.reset_all && self.pairs.get(name).is_some_and(|p| p.valid && p.key.format == key.format && p.key.extent == key.extent)
+        !self.reset_all
+            && self.pairs.get(name).is_some_and(|p| {
+                p.valid && p.key.format == key.format && p.key.extent == key.extent
+            })
     }
     /// Invalidates every history (a camera cut).
     pub fn reset(&mut self) {
@@ -34,13 +37,30 @@ impl HistoryStore {
     }
     /// The pair for this frame, created or recreated when its descriptor changed. Returns the
     /// pair and whether its previous value is valid.
-    pub fn prepare(&mut self, device: &wgpu::Device, name: &str, key: PoolKey, serials: &mut impl FnMut() -> u64) -> (&mut HistoryPair, bool) {
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        name: &str,
+        key: PoolKey,
+        serials: &mut impl FnMut() -> u64,
+    ) -> (&mut HistoryPair, bool) {
         let reset = self.reset_all;
         let fits = self.pairs.get(name).is_some_and(|p| p.key == key);
         if !fits {
             let label = format!("history {name}");
-            let textures = [create_texture(device, &label, key, serials()), create_texture(device, &label, key, serials())];
-            self.pairs.insert(name.to_string(), HistoryPair { textures, current: 0, valid: false, key });
+            let textures = [
+                create_texture(device, &label, key, serials()),
+                create_texture(device, &label, key, serials()),
+            ];
+            self.pairs.insert(
+                name.to_string(),
+                HistoryPair {
+                    textures,
+                    current: 0,
+                    valid: false,
+                    key,
+                },
+            );
         }
         let pair = self.pairs.get_mut(name).expect("inserted above");
         if reset {

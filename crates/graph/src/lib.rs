@@ -29,21 +29,33 @@ mod timing;
 mod view;
 
 pub use builder::{GraphBuilder, HistoryTexture, PassBuilder};
-pub use compile::{compile, CompileOptions, CompiledGraph, CulledPass, GraphCompiler};
+pub use compile::{CompileOptions, CompiledGraph, CulledPass, GraphCompiler, compile};
 pub use custom::{BoundTexture, CustomPass, NoopPass, PassContext};
-pub use declaration::{BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind, ResourceDecl, ResourceKind, ResourceOrigin, TextureUse, UniformDecl, UniformHandle};
+pub use declaration::{
+    BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind, ResourceDecl, ResourceKind,
+    ResourceOrigin, TextureUse, UniformDecl, UniformHandle,
+};
 pub use dot::to_dot;
 pub use error::{GraphError, GraphResult};
 pub use execute::Executor;
 pub use gbuffer_channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
-pub use gpu::{test_gpu, GpuContext};
-pub use lifetime::{texture_bytes, Lifetime, PhysicalTexture};
-pub use plugin::{check_range, parse_params, GraphConfig, GraphPlugin, OutputConfig, ParamSpec, PluginConfig, PluginIo, PluginRegistry};
+pub use gpu::{GpuContext, test_gpu};
+pub use lifetime::{Lifetime, PhysicalTexture, texture_bytes};
+pub use plugin::{
+    GraphConfig, GraphPlugin, OutputConfig, ParamSpec, PluginConfig, PluginIo, PluginRegistry,
+    check_range, parse_params,
+};
 pub use pool::PoolKey;
-pub use readback::{read_texture, TextureReadback};
-pub use resource::{texel_bytes, Buffer, BufferAccess, BufferDesc, BufferHandle, Extent, Handle, SizeClass, Texture, TextureAccess, TextureDesc, TextureHandle};
-pub use shader::{intermediate_variant, ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo, INTERMEDIATE_ALIAS};
+pub use readback::{TextureReadback, read_texture};
+pub use resource::{
+    Buffer, BufferAccess, BufferDesc, BufferHandle, Extent, Handle, SizeClass, Texture,
+    TextureAccess, TextureDesc, TextureHandle, texel_bytes,
+};
+pub use shader::{
+    INTERMEDIATE_ALIAS, ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary,
+    ShaderModuleInfo, intermediate_variant,
+};
 pub use summary::summary;
 pub use timing::{PassTimings, TimingSource};
-pub use view::{Mat4Cols, ViewUniforms, VIEW_BUFFER};
+pub use view::{Mat4Cols, VIEW_BUFFER, ViewUniforms};
 pub use wgpu;

@@ -44,10 +44,22 @@ pub(crate) fn plan_lifetimes(decl: &GraphDecl, order: &[PassId], reuse: bool) ->
     let mut usage = vec![wgpu::TextureUsages::empty(); n];
     for (pos, p) in order.iter().enumerate() {
         let pass = &decl.passes[p.0];
-        let ids = pass.textures.iter().map(|u| (u.resource(), u.access.usage())).chain(pass.buffers.iter().map(|u| (u.read.or(u.written).map(|h| h.id as usize).unwrap_or(0), wgpu::TextureUsages::empty())));
+        let ids = pass
+            .textures
+            .iter()
+            .map(|u| (u.resource(), u.access.usage()))
+            .chain(pass.buffers.iter().map(|u| {
+                (
+                    u.read.or(u.written).map(|h| h.id as usize).unwrap_or(0),
+                    wgpu::TextureUsages::empty(),
+                )
+            }));
         for (r, u) in ids {
             usage[r] |= u;
-            let l = lifetimes[r].get_or_insert(Lifetime { first: pos, last: pos });
+            let l = lifetimes[r].get_or_insert(Lifetime {
+                first: pos,
+                last: pos,
+            });
             l.last = l.last.max(pos);
         }
     }
@@ -63,18 +75,36 @@ pub(crate) fn plan_lifetimes(decl: &GraphDecl, order: &[PassId], reuse: bool) ->
 
     // Greedy interval assignment, in order of first use.
     let mut transient: Vec<usize> = (0..n)
-        .filter(|&r| lifetimes[r].is_some() && decl.resources[r].origin == ResourceOrigin::Transient && matches!(decl.resources[r].kind, ResourceKind::Texture(_)))
+        .filter(|&r| {
+            lifetimes[r].is_some()
+                && decl.resources[r].origin == ResourceOrigin::Transient
+                && matches!(decl.resources[r].kind, ResourceKind::Texture(_))
+        })
         .collect();
     transient.sort_by_key(|&r| (lifetimes[r].map(|l| l.first), r));
     let mut physical: Vec<PhysicalTexture> = Vec::new();
     let mut slot_of = vec![None; n];
     for r in transient {
-        let (Some(life), Some(desc)) = (lifetimes[r], decl.resources[r].texture_desc().copied()) else { continue };
-        let free = reuse.then(|| physical.iter().position(|s| s.desc == desc && s.busy_until < life.first)).flatten();
+        let (Some(life), Some(desc)) = (lifetimes[r], decl.resources[r].texture_desc().copied())
+        else {
+            continue;
+        };
+        let free = reuse
+            .then(|| {
+                physical
+                    .iter()
+                    .position(|s| s.desc == desc && s.busy_until < life.first)
+            })
+            .flatten();
         let slot = match free {
             Some(s) => s,
             None => {
-                physical.push(PhysicalTexture { desc, usage: wgpu::TextureUsages::empty(), resources: Vec::new(), busy_until: 0 });
+                physical.push(PhysicalTexture {
+                    desc,
+                    usage: wgpu::TextureUsages::empty(),
+                    resources: Vec::new(),
+                    busy_until: 0,
+                });
                 physical.len() - 1
             }
         };
@@ -84,7 +114,12 @@ pub(crate) fn plan_lifetimes(decl: &GraphDecl, order: &[PassId], reuse: bool) ->
         s.busy_until = life.last;
         slot_of[r] = Some(slot);
     }
-    LifetimePlan { lifetimes, physical, slot_of, usage }
+    LifetimePlan {
+        lifetimes,
+        physical,
+        slot_of,
+        usage,
+    }
 }
 
 /// Texture bytes of a plan at an output size: (with reuse as planned, if every transient
@@ -94,12 +129,16 @@ pub fn texture_bytes(plan: &crate::CompiledGraph, output: Extent) -> (u64, u64) 
     let mut unshared = 0;
     let mut persistent = 0;
     for (r, res) in decl.resources.iter().enumerate() {
-        let (Some(desc), Some(_)) = (res.texture_desc(), plan.lifetimes[r]) else { continue };
+        let (Some(desc), Some(_)) = (res.texture_desc(), plan.lifetimes[r]) else {
+            continue;
+        };
         match res.origin {
             ResourceOrigin::Transient => unshared += desc.bytes(output),
             ResourceOrigin::Imported => persistent += desc.bytes(output),
             // History keeps two textures (previous and current) per name; count it once per half.
-            ResourceOrigin::HistoryPrevious { .. } | ResourceOrigin::HistoryCurrent { .. } => persistent += desc.bytes(output),
+            ResourceOrigin::HistoryPrevious { .. } | ResourceOrigin::HistoryCurrent { .. } => {
+                persistent += desc.bytes(output)
+            }
         }
     }
     let shared: u64 = plan.physical.iter().map(|s| s.desc.bytes(output)).sum();

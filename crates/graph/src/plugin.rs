@@ -7,8 +7,8 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use serde::de::DeserializeOwned;
 use serde::Deserialize;
+use serde::de::DeserializeOwned;
 
 use crate::builder::GraphBuilder;
 use crate::error::{GraphError, GraphResult};
@@ -31,7 +31,10 @@ pub struct PluginIo {
 
 impl PluginIo {
     pub fn get(&self, name: &str) -> Option<TextureHandle> {
-        self.textures.iter().find(|(n, _)| n == name).map(|(_, h)| *h)
+        self.textures
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, h)| *h)
     }
     pub fn with(mut self, name: &str, h: TextureHandle) -> Self {
         self.textures.push((name.to_string(), h));
@@ -39,7 +42,16 @@ impl PluginIo {
     }
     /// The input `name`, or an error naming the plugin and what it needs.
     pub fn require(&self, plugin: &str, name: &str) -> GraphResult<TextureHandle> {
-        self.get(name).ok_or_else(|| GraphError::Config(format!("plugin `{plugin}` needs an input texture named `{name}`; it was given: [{}]", self.textures.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", "))))
+        self.get(name).ok_or_else(|| {
+            GraphError::Config(format!(
+                "plugin `{plugin}` needs an input texture named `{name}`; it was given: [{}]",
+                self.textures
+                    .iter()
+                    .map(|(n, _)| n.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })
     }
 }
 
@@ -49,7 +61,12 @@ pub trait GraphPlugin: Send + Sync {
     fn description(&self) -> &str;
     fn parameters(&self) -> Vec<ParamSpec>;
     /// Adds the plugin's passes, reading `inputs`, with parameters from `params`.
-    fn build(&self, builder: &mut GraphBuilder, inputs: &PluginIo, params: &toml::Table) -> GraphResult<PluginIo>;
+    fn build(
+        &self,
+        builder: &mut GraphBuilder,
+        inputs: &PluginIo,
+        params: &toml::Table,
+    ) -> GraphResult<PluginIo>;
 }
 
 /// Plugins by name.
@@ -64,14 +81,20 @@ impl PluginRegistry {
     }
     /// Adds (or replaces) a plugin under its name.
     pub fn register(&mut self, plugin: impl GraphPlugin + 'static) {
-        self.plugins.insert(plugin.name().to_string(), Arc::new(plugin));
+        self.plugins
+            .insert(plugin.name().to_string(), Arc::new(plugin));
     }
     pub fn names(&self) -> Vec<String> {
         self.plugins.keys().cloned().collect()
     }
     /// The plugin `name`, or [`GraphError::UnknownPlugin`] listing the known ones.
     pub fn get(&self, name: &str) -> GraphResult<&Arc<dyn GraphPlugin>> {
-        self.plugins.get(name).ok_or_else(|| GraphError::UnknownPlugin { name: name.to_string(), known: self.names() })
+        self.plugins
+            .get(name)
+            .ok_or_else(|| GraphError::UnknownPlugin {
+                name: name.to_string(),
+                known: self.names(),
+            })
     }
     pub fn iter(&self) -> impl Iterator<Item = &Arc<dyn GraphPlugin>> {
         self.plugins.values()
@@ -81,15 +104,31 @@ impl PluginRegistry {
 /// Deserialises a plugin's parameter table into its struct; unknown keys and wrong types are
 /// errors naming the plugin and what is allowed.
 pub fn parse_params<T: DeserializeOwned>(plugin: &str, params: &toml::Table) -> GraphResult<T> {
-    T::deserialize(toml::Value::Table(params.clone())).map_err(|e| GraphError::Config(format!("parameters of `{plugin}`: {}", e.to_string().trim())))
+    T::deserialize(toml::Value::Table(params.clone())).map_err(|e| {
+        GraphError::Config(format!(
+            "parameters of `{plugin}`: {}",
+            e.to_string().trim()
+        ))
+    })
 }
 
 /// Checks `lo <= value <= hi`, else [`GraphError::InvalidParameter`].
-pub fn check_range<T: PartialOrd + std::fmt::Display>(owner: &str, name: &str, value: T, lo: T, hi: T) -> GraphResult<()> {
+pub fn check_range<T: PartialOrd + std::fmt::Display>(
+    owner: &str,
+    name: &str,
+    value: T,
+    lo: T,
+    hi: T,
+) -> GraphResult<()> {
     if value >= lo && value <= hi {
         Ok(())
     } else {
-        Err(GraphError::InvalidParameter { owner: owner.into(), name: name.into(), value: value.to_string(), allowed: format!("{lo} to {hi}") })
+        Err(GraphError::InvalidParameter {
+            owner: owner.into(),
+            name: name.into(),
+            value: value.to_string(),
+            allowed: format!("{lo} to {hi}"),
+        })
     }
 }
 
@@ -122,12 +161,20 @@ pub struct GraphConfig {
 
 impl GraphConfig {
     pub fn from_toml(text: &str) -> GraphResult<Self> {
-        let c: GraphConfig = toml::from_str(text).map_err(|e| GraphError::Config(e.to_string().trim().to_string()))?;
+        let c: GraphConfig = toml::from_str(text)
+            .map_err(|e| GraphError::Config(e.to_string().trim().to_string()))?;
         if c.output.width == 0 || c.output.height == 0 {
-            return Err(GraphError::InvalidParameter { owner: "output".into(), name: "width/height".into(), value: format!("{}x{}", c.output.width, c.output.height), allowed: "at least 1 pixel a side".into() });
+            return Err(GraphError::InvalidParameter {
+                owner: "output".into(),
+                name: "width/height".into(),
+                value: format!("{}x{}", c.output.width, c.output.height),
+                allowed: "at least 1 pixel a side".into(),
+            });
         }
         if c.plugins.is_empty() {
-            return Err(GraphError::Config("the config lists no [[plugin]]; add at least one".into()));
+            return Err(GraphError::Config(
+                "the config lists no [[plugin]]; add at least one".into(),
+            ));
         }
         Ok(c)
     }

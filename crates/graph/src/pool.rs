@@ -26,10 +26,19 @@ pub struct PooledTexture {
 }
 
 /// Creates a texture with a full view and one view per mip.
-pub fn create_texture(device: &wgpu::Device, label: &str, key: PoolKey, serial: u64) -> PooledTexture {
+pub fn create_texture(
+    device: &wgpu::Device,
+    label: &str,
+    key: PoolKey,
+    serial: u64,
+) -> PooledTexture {
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d { width: key.extent.width, height: key.extent.height, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width: key.extent.width,
+            height: key.extent.height,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: key.mip_levels,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -39,9 +48,25 @@ pub fn create_texture(device: &wgpu::Device, label: &str, key: PoolKey, serial: 
     });
     let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
     let mip_views = (0..key.mip_levels)
-        .map(|m| texture.create_view(&wgpu::TextureViewDescriptor { base_mip_level: m, mip_level_count: Some(1), ..Default::default() }))
+        .map(|m| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                base_mip_level: m,
+                mip_level_count: Some(1),
+                ..Default::default()
+            })
+        })
         .collect();
-    PooledTexture { key, bound: BoundTexture { texture, view, mip_views, extent: key.extent, serial }, last_used: 0 }
+    PooledTexture {
+        key,
+        bound: BoundTexture {
+            texture,
+            view,
+            mip_views,
+            extent: key.extent,
+            serial,
+        },
+        last_used: 0,
+    }
 }
 
 /// Free textures by descriptor, plus counters.

@@ -2,7 +2,7 @@
 //! 256-byte alignment, a blocking map, and unpadding. Used by tests, the reference and the CLI.
 
 use crate::error::{GraphError, GraphResult};
-use crate::resource::{texel_bytes, Extent};
+use crate::resource::{Extent, texel_bytes};
 
 /// Tightly packed texels of one mip level.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,12 +34,30 @@ impl TextureReadback {
         use wgpu::TextureFormat as F;
         let b = &self.bytes;
         Ok(match self.format {
-            F::R32Float | F::Rg32Float | F::Rgba32Float | F::Depth32Float => b.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect(),
-            F::R16Float | F::Rg16Float | F::Rgba16Float => b.chunks_exact(2).map(|c| f16_to_f32(u16::from_le_bytes([c[0], c[1]]))).collect(),
-            F::R8Unorm | F::Rg8Unorm | F::Rgba8Unorm | F::Rgba8UnormSrgb | F::Bgra8Unorm => b.iter().map(|&v| v as f32 / 255.0).collect(),
-            F::R16Unorm | F::Rgba16Unorm => b.chunks_exact(2).map(|c| u16::from_le_bytes([c[0], c[1]]) as f32 / 65535.0).collect(),
-            F::R32Uint => b.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f32).collect(),
-            f => return Err(GraphError::Gpu(format!("reading back {f:?} as floats is not supported"))),
+            F::R32Float | F::Rg32Float | F::Rgba32Float | F::Depth32Float => b
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+            F::R16Float | F::Rg16Float | F::Rgba16Float => b
+                .chunks_exact(2)
+                .map(|c| f16_to_f32(u16::from_le_bytes([c[0], c[1]])))
+                .collect(),
+            F::R8Unorm | F::Rg8Unorm | F::Rgba8Unorm | F::Rgba8UnormSrgb | F::Bgra8Unorm => {
+                b.iter().map(|&v| v as f32 / 255.0).collect()
+            }
+            F::R16Unorm | F::Rgba16Unorm => b
+                .chunks_exact(2)
+                .map(|c| u16::from_le_bytes([c[0], c[1]]) as f32 / 65535.0)
+                .collect(),
+            F::R32Uint => b
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f32)
+                .collect(),
+            f => {
+                return Err(GraphError::Gpu(format!(
+                    "reading back {f:?} as floats is not supported"
+                )));
+            }
         })
     }
     /// Channel `c` of every texel as f32.
@@ -50,35 +68,79 @@ impl TextureReadback {
 }
 
 /// Copies mip `mip` of `texture` to the CPU (blocking).
-pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, mip: u32) -> GraphResult<TextureReadback> {
+pub fn read_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    mip: u32,
+) -> GraphResult<TextureReadback> {
     let format = texture.format();
     let extent = Extent::new(texture.width(), texture.height()).mip(mip);
-    let aspect = if format.is_depth_stencil_format() { wgpu::TextureAspect::DepthOnly } else { wgpu::TextureAspect::All };
+    let aspect = if format.is_depth_stencil_format() {
+        wgpu::TextureAspect::DepthOnly
+    } else {
+        wgpu::TextureAspect::All
+    };
     let texel = texel_bytes(format) as u32;
     let row = extent.width * texel;
-    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor { label: Some("readback"), size: padded as u64 * extent.height as u64, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-    let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+    let padded =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: padded as u64 * extent.height as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("readback"),
+    });
     enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { texture, mip_level: mip, origin: wgpu::Origin3d::ZERO, aspect },
-        wgpu::TexelCopyBufferInfo { buffer: &buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(extent.height) } },
-        wgpu::Extent3d { width: extent.width, height: extent.height, depth_or_array_layers: 1 },
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: mip,
+            origin: wgpu::Origin3d::ZERO,
+            aspect,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(extent.height),
+            },
+        },
+        wgpu::Extent3d {
+            width: extent.width,
+            height: extent.height,
+            depth_or_array_layers: 1,
+        },
     );
     queue.submit([enc.finish()]);
     let (tx, rx) = std::sync::mpsc::channel();
     buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);
     });
-    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GraphError::Gpu(e.to_string()))?;
-    rx.recv().map_err(|e| GraphError::Gpu(e.to_string()))?.map_err(|e| GraphError::Gpu(e.to_string()))?;
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GraphError::Gpu(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GraphError::Gpu(e.to_string()))?
+        .map_err(|e| GraphError::Gpu(e.to_string()))?;
     let mut bytes = Vec::with_capacity((row * extent.height) as usize);
     {
-        let view = buffer.slice(..).get_mapped_range().map_err(|e| GraphError::Gpu(e.to_string()))?;
+        let view = buffer
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| GraphError::Gpu(e.to_string()))?;
         for y in 0..extent.height as usize {
             let start = y * padded as usize;
             bytes.extend_from_slice(&view[start..start + row as usize]);
         }
     }
     buffer.unmap();
-    Ok(TextureReadback { extent, format, bytes })
+    Ok(TextureReadback {
+        extent,
+        format,
+        bytes,
+    })
 }

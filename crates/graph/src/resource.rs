@@ -53,11 +53,15 @@ impl SizeClass {
     pub const FULL: SizeClass = SizeClass::Relative { divisor: 1 };
     /// 1/2^k of the output, rounded up.
     pub fn half_pow(k: u32) -> Self {
-        SizeClass::Relative { divisor: 1 << k.min(30) }
+        SizeClass::Relative {
+            divisor: 1 << k.min(30),
+        }
     }
     /// Level `level` of a pyramid that divides by `factor` per level, rounded up.
     pub fn pyramid_level(factor: u32, level: u32) -> Self {
-        SizeClass::Relative { divisor: factor.max(1).saturating_pow(level) }
+        SizeClass::Relative {
+            divisor: factor.max(1).saturating_pow(level),
+        }
     }
     pub fn fixed(width: u32, height: u32) -> Self {
         SizeClass::Fixed(Extent::new(width, height))
@@ -67,7 +71,10 @@ impl SizeClass {
         match self {
             SizeClass::Relative { divisor } => {
                 let d = divisor.max(1);
-                Extent::new(output.width.div_ceil(d).max(1), output.height.div_ceil(d).max(1))
+                Extent::new(
+                    output.width.div_ceil(d).max(1),
+                    output.height.div_ceil(d).max(1),
+                )
             }
             SizeClass::Fixed(e) => Extent::new(e.width.max(1), e.height.max(1)),
         }
@@ -95,7 +102,11 @@ pub struct TextureDesc {
 
 impl TextureDesc {
     pub fn new(format: wgpu::TextureFormat, size: SizeClass) -> Self {
-        Self { format, size, mip_levels: 1 }
+        Self {
+            format,
+            size,
+            mip_levels: 1,
+        }
     }
     pub fn with_mips(mut self, mip_levels: u32) -> Self {
         self.mip_levels = mip_levels.max(1);
@@ -105,7 +116,9 @@ impl TextureDesc {
     pub fn bytes(&self, output: Extent) -> u64 {
         let base = self.size.resolve(output);
         let texel = texel_bytes(self.format);
-        (0..self.mip_levels).map(|m| base.mip(m).pixels() * texel).sum()
+        (0..self.mip_levels)
+            .map(|m| base.mip(m).pixels() * texel)
+            .sum()
     }
 }
 
@@ -139,7 +152,11 @@ pub struct Handle<K> {
 
 impl<K> Handle<K> {
     pub(crate) fn new(id: u32, version: u32) -> Self {
-        Self { id, version, _kind: PhantomData }
+        Self {
+            id,
+            version,
+            _kind: PhantomData,
+        }
     }
     /// The resource's index in its graph.
     pub fn resource_index(&self) -> usize {
@@ -203,10 +220,24 @@ pub enum TextureAccess {
 
 impl TextureAccess {
     pub fn reads(self) -> bool {
-        matches!(self, Self::Sampled | Self::StorageRead | Self::StorageReadWrite | Self::DepthRead | Self::CopySrc)
+        matches!(
+            self,
+            Self::Sampled
+                | Self::StorageRead
+                | Self::StorageReadWrite
+                | Self::DepthRead
+                | Self::CopySrc
+        )
     }
     pub fn writes(self) -> bool {
-        matches!(self, Self::StorageWrite | Self::StorageReadWrite | Self::ColorAttachment | Self::DepthAttachment | Self::CopyDst)
+        matches!(
+            self,
+            Self::StorageWrite
+                | Self::StorageReadWrite
+                | Self::ColorAttachment
+                | Self::DepthAttachment
+                | Self::CopyDst
+        )
     }
     /// The wgpu usage this access needs.
     pub fn usage(self) -> wgpu::TextureUsages {
@@ -234,10 +265,16 @@ pub enum BufferAccess {
 
 impl BufferAccess {
     pub fn reads(self) -> bool {
-        matches!(self, Self::Uniform | Self::StorageRead | Self::StorageReadWrite | Self::CopySrc)
+        matches!(
+            self,
+            Self::Uniform | Self::StorageRead | Self::StorageReadWrite | Self::CopySrc
+        )
     }
     pub fn writes(self) -> bool {
-        matches!(self, Self::StorageWrite | Self::StorageReadWrite | Self::CopyDst)
+        matches!(
+            self,
+            Self::StorageWrite | Self::StorageReadWrite | Self::CopyDst
+        )
     }
     pub fn usage(self) -> wgpu::BufferUsages {
         use wgpu::BufferUsages as U;

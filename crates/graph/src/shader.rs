@@ -34,9 +34,15 @@ use crate::error::{GraphError, GraphResult};
 #[derive(Clone, Debug, PartialEq)]
 pub enum ShaderBindingKind {
     /// `texture_2d<T>` (or `texture_depth_2d` when `depth`).
-    SampledTexture { depth: bool, scalar: naga::ScalarKind },
+    SampledTexture {
+        depth: bool,
+        scalar: naga::ScalarKind,
+    },
     /// `texture_storage_2d<format, access>`.
-    StorageTexture { format: wgpu::TextureFormat, access: wgpu::StorageTextureAccess },
+    StorageTexture {
+        format: wgpu::TextureFormat,
+        access: wgpu::StorageTextureAccess,
+    },
     /// `sampler`: names containing `linear` get a bilinear clamp sampler, others nearest clamp.
     Sampler { linear: bool },
     /// `var<uniform>` of `size` bytes.
@@ -82,11 +88,25 @@ impl ShaderModuleInfo {
     /// Bind group layout entries reflected from the module, by group, for passes that build
     /// their own pipelines. `format_of` names the texture format bound to a global, which
     /// decides whether a float texture is declared filterable.
-    pub fn layout_entries(&self, visibility: wgpu::ShaderStages, features: wgpu::Features, format_of: impl Fn(&str) -> Option<wgpu::TextureFormat>) -> Vec<(u32, Vec<wgpu::BindGroupLayoutEntry>)> {
-        let mut groups: std::collections::BTreeMap<u32, Vec<wgpu::BindGroupLayoutEntry>> = Default::default();
+    pub fn layout_entries(
+        &self,
+        visibility: wgpu::ShaderStages,
+        features: wgpu::Features,
+        format_of: impl Fn(&str) -> Option<wgpu::TextureFormat>,
+    ) -> Vec<(u32, Vec<wgpu::BindGroupLayoutEntry>)> {
+        let mut groups: std::collections::BTreeMap<u32, Vec<wgpu::BindGroupLayoutEntry>> =
+            Default::default();
         for b in &self.bindings {
             let ty = crate::pipeline::binding_type(&b.kind, format_of(&b.name), features);
-            groups.entry(b.group).or_default().push(wgpu::BindGroupLayoutEntry { binding: b.binding, visibility, ty, count: None });
+            groups
+                .entry(b.group)
+                .or_default()
+                .push(wgpu::BindGroupLayoutEntry {
+                    binding: b.binding,
+                    visibility,
+                    ty,
+                    count: None,
+                });
         }
         groups.into_iter().collect()
     }
@@ -109,11 +129,19 @@ struct Segment {
 impl ShaderLibrary {
     /// Shaders are read from files under `root`.
     pub fn new(root: impl Into<PathBuf>) -> Self {
-        Self { root: Some(root.into()), inline: Mutex::default(), cache: Mutex::default() }
+        Self {
+            root: Some(root.into()),
+            inline: Mutex::default(),
+            cache: Mutex::default(),
+        }
     }
     /// No files; inline sources only (GPU-free tests).
     pub fn inline_only() -> Self {
-        Self { root: None, inline: Mutex::default(), cache: Mutex::default() }
+        Self {
+            root: None,
+            inline: Mutex::default(),
+            cache: Mutex::default(),
+        }
     }
     pub fn root(&self) -> Option<&Path> {
         self.root.as_deref()
@@ -129,10 +157,16 @@ impl ShaderLibrary {
             return Ok(s.clone());
         }
         let Some(root) = &self.root else {
-            return Err(GraphError::ShaderFile { file: name.into(), message: "no inline shader of that name and no shader directory".into() });
+            return Err(GraphError::ShaderFile {
+                file: name.into(),
+                message: "no inline shader of that name and no shader directory".into(),
+            });
         };
         let path = root.join(name);
-        std::fs::read_to_string(&path).map_err(|e| GraphError::ShaderFile { file: path.display().to_string(), message: e.to_string() })
+        std::fs::read_to_string(&path).map_err(|e| GraphError::ShaderFile {
+            file: path.display().to_string(),
+            message: e.to_string(),
+        })
     }
 
     /// Every `.wgsl` file under the root, relative paths, sorted.
@@ -169,11 +203,20 @@ impl ShaderLibrary {
     /// declares the `IntermediateStorage` alias (see the module docs).
     pub fn variants(&self, name: &str) -> GraphResult<Vec<String>> {
         let (source, _) = self.expand(name)?;
-        Ok(if half_intermediate(&source).is_some() { vec![intermediate_variant(name, wgpu::TextureFormat::R16Float)] } else { Vec::new() })
+        Ok(if half_intermediate(&source).is_some() {
+            vec![intermediate_variant(name, wgpu::TextureFormat::R16Float)]
+        } else {
+            Vec::new()
+        })
     }
 
     fn expand(&self, name: &str) -> GraphResult<(String, Vec<Segment>)> {
-        let mut out = Expansion { source: String::new(), segments: Vec::new(), line: 1, seen: Vec::new() };
+        let mut out = Expansion {
+            source: String::new(),
+            segments: Vec::new(),
+            line: 1,
+            seen: Vec::new(),
+        };
         self.append(name, &mut out)?;
         Ok((out.source, out.segments))
     }
@@ -193,7 +236,11 @@ impl ShaderLibrary {
             if let Some(rest) = t.strip_prefix("#include") {
                 let inc = rest.trim().trim_matches('"').to_string();
                 if inc.is_empty() {
-                    return Err(GraphError::Shader { file: name.into(), line: i as u32 + 1, message: "`#include` needs a file name in quotes".into() });
+                    return Err(GraphError::Shader {
+                        file: name.into(),
+                        line: i as u32 + 1,
+                        message: "`#include` needs a file name in quotes".into(),
+                    });
                 }
                 includes.push(inc);
                 body_start = i + 1;
@@ -204,7 +251,10 @@ impl ShaderLibrary {
         for inc in &includes {
             self.append(inc, out)?;
         }
-        out.segments.push(Segment { start: out.line, file: name.to_string() });
+        out.segments.push(Segment {
+            start: out.line,
+            file: name.to_string(),
+        });
         for (i, l) in text.lines().enumerate() {
             if i >= body_start {
                 out.source.push_str(l);
@@ -244,11 +294,18 @@ enum Variant {
 }
 
 fn parse_variant(name: &str) -> GraphResult<(&str, Variant)> {
-    let Some((file, suffix)) = name.split_once('?') else { return Ok((name, Variant::AsWritten)) };
+    let Some((file, suffix)) = name.split_once('?') else {
+        return Ok((name, Variant::AsWritten));
+    };
     match suffix {
         "intermediate=r32float" => Ok((file, Variant::AsWritten)),
         "intermediate=r16float" => Ok((file, Variant::HalfIntermediate)),
-        _ => Err(GraphError::ShaderFile { file: name.into(), message: format!("unknown shader variant `?{suffix}`; known: `?intermediate=r16float`, `?intermediate=r32float`") }),
+        _ => Err(GraphError::ShaderFile {
+            file: name.into(),
+            message: format!(
+                "unknown shader variant `?{suffix}`; known: `?intermediate=r16float`, `?intermediate=r32float`"
+            ),
+        }),
     }
 }
 
@@ -260,7 +317,12 @@ fn half_intermediate(source: &str) -> Option<String> {
     let mut found = false;
     for line in source.split_inclusive('\n') {
         let t = line.trim_start();
-        let declares = t.strip_prefix("alias").is_some_and(|r| r.starts_with(char::is_whitespace) && r.trim_start().strip_prefix(INTERMEDIATE_ALIAS).is_some_and(|r| r.trim_start().starts_with('=')));
+        let declares = t.strip_prefix("alias").is_some_and(|r| {
+            r.starts_with(char::is_whitespace)
+                && r.trim_start()
+                    .strip_prefix(INTERMEDIATE_ALIAS)
+                    .is_some_and(|r| r.trim_start().starts_with('='))
+        });
         let open = line.find("texture_storage_2d<");
         match (declares, open) {
             (true, Some(open)) => {
@@ -289,7 +351,9 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 }
 
 fn collect_wgsl(root: &Path, dir: &Path, out: &mut Vec<String>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in entries.flatten() {
         let p = e.path();
         if p.is_dir() {
@@ -304,17 +368,32 @@ fn collect_wgsl(root: &Path, dir: &Path, out: &mut Vec<String>) {
 
 /// Maps a line of the expanded source to (file, line in that file).
 fn locate(segments: &[Segment], line: u32) -> (String, u32) {
-    let seg = segments.iter().rev().find(|s| s.start <= line).unwrap_or(&segments[0]);
+    let seg = segments
+        .iter()
+        .rev()
+        .find(|s| s.start <= line)
+        .unwrap_or(&segments[0]);
     (seg.file.clone(), line - seg.start + 1)
 }
 
-fn parse_and_reflect(name: &str, source: String, segments: &[Segment]) -> GraphResult<ShaderModuleInfo> {
+fn parse_and_reflect(
+    name: &str,
+    source: String,
+    segments: &[Segment],
+) -> GraphResult<ShaderModuleInfo> {
     let module = naga::front::wgsl::parse_str(&source).map_err(|e| {
         let line = e.location(&source).map(|l| l.line_number).unwrap_or(1);
         let (file, line) = locate(segments, line);
-        GraphError::Shader { file, line, message: e.message().to_string() }
+        GraphError::Shader {
+            file,
+            line,
+            message: e.message().to_string(),
+        }
     })?;
-    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+    let mut validator = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    );
     validator.validate(&module).map_err(|e| {
         let line = e.location(&source).map(|l| l.line_number).unwrap_or(1);
         let (file, line) = locate(segments, line);
@@ -325,15 +404,28 @@ fn parse_and_reflect(name: &str, source: String, segments: &[Segment]) -> GraphR
             message.push_str(&s.to_string());
             src = s.source();
         }
-        GraphError::Shader { file, line, message }
+        GraphError::Shader {
+            file,
+            line,
+            message,
+        }
     })?;
     let bindings = reflect_bindings(name, &module)?;
     let entries = module
         .entry_points
         .iter()
-        .map(|e| ShaderEntry { name: e.name.clone(), stage: e.stage, workgroup_size: e.workgroup_size })
+        .map(|e| ShaderEntry {
+            name: e.name.clone(),
+            stage: e.stage,
+            workgroup_size: e.workgroup_size,
+        })
         .collect();
-    Ok(ShaderModuleInfo { name: name.to_string(), source, bindings, entries })
+    Ok(ShaderModuleInfo {
+        name: name.to_string(),
+        source,
+        bindings,
+        entries,
+    })
 }
 
 fn reflect_bindings(name: &str, module: &naga::Module) -> GraphResult<Vec<ShaderBinding>> {
@@ -341,13 +433,35 @@ fn reflect_bindings(name: &str, module: &naga::Module) -> GraphResult<Vec<Shader
     for (_, var) in module.global_variables.iter() {
         let Some(rb) = &var.binding else { continue };
         let gname = var.name.clone().unwrap_or_default();
-        let unsupported = |what: &str| GraphError::Shader { file: name.into(), line: 0, message: format!("global `{gname}`: {what} is not supported by the graph's binding reflection") };
+        let unsupported = |what: &str| GraphError::Shader {
+            file: name.into(),
+            line: 0,
+            message: format!(
+                "global `{gname}`: {what} is not supported by the graph's binding reflection"
+            ),
+        };
         let kind = match (&module.types[var.ty].inner, var.space) {
-            (naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: false, class }, _) => match class {
-                naga::ImageClass::Sampled { kind, multi: false } => ShaderBindingKind::SampledTexture { depth: false, scalar: *kind },
-                naga::ImageClass::Depth { multi: false } => ShaderBindingKind::SampledTexture { depth: true, scalar: naga::ScalarKind::Float },
+            (
+                naga::TypeInner::Image {
+                    dim: naga::ImageDimension::D2,
+                    arrayed: false,
+                    class,
+                },
+                _,
+            ) => match class {
+                naga::ImageClass::Sampled { kind, multi: false } => {
+                    ShaderBindingKind::SampledTexture {
+                        depth: false,
+                        scalar: *kind,
+                    }
+                }
+                naga::ImageClass::Depth { multi: false } => ShaderBindingKind::SampledTexture {
+                    depth: true,
+                    scalar: naga::ScalarKind::Float,
+                },
                 naga::ImageClass::Storage { format, access } => {
-                    let format = storage_format(*format).ok_or_else(|| unsupported(&format!("storage format {format:?}")))?;
+                    let format = storage_format(*format)
+                        .ok_or_else(|| unsupported(&format!("storage format {format:?}")))?;
                     let load = access.contains(naga::StorageAccess::LOAD);
                     let store = access.contains(naga::StorageAccess::STORE);
                     let access = match (load, store) {
@@ -359,14 +473,30 @@ fn reflect_bindings(name: &str, module: &naga::Module) -> GraphResult<Vec<Shader
                 }
                 _ => return Err(unsupported("a multisampled or external texture")),
             },
-            (naga::TypeInner::Image { .. }, _) => return Err(unsupported("a texture other than a plain texture_2d")),
-            (naga::TypeInner::Sampler { comparison: false }, _) => ShaderBindingKind::Sampler { linear: gname.contains("linear") },
-            (naga::TypeInner::Sampler { comparison: true }, _) => return Err(unsupported("a comparison sampler")),
-            (ty, naga::AddressSpace::Uniform) => ShaderBindingKind::Uniform { size: ty.size(module.to_ctx()) as u64 },
-            (ty, naga::AddressSpace::Storage { access }) => ShaderBindingKind::StorageBuffer { read_only: !access.contains(naga::StorageAccess::STORE), size: ty.size(module.to_ctx()) as u64 },
+            (naga::TypeInner::Image { .. }, _) => {
+                return Err(unsupported("a texture other than a plain texture_2d"));
+            }
+            (naga::TypeInner::Sampler { comparison: false }, _) => ShaderBindingKind::Sampler {
+                linear: gname.contains("linear"),
+            },
+            (naga::TypeInner::Sampler { comparison: true }, _) => {
+                return Err(unsupported("a comparison sampler"));
+            }
+            (ty, naga::AddressSpace::Uniform) => ShaderBindingKind::Uniform {
+                size: ty.size(module.to_ctx()) as u64,
+            },
+            (ty, naga::AddressSpace::Storage { access }) => ShaderBindingKind::StorageBuffer {
+                read_only: !access.contains(naga::StorageAccess::STORE),
+                size: ty.size(module.to_ctx()) as u64,
+            },
             _ => return Err(unsupported("this kind of global")),
         };
-        out.push(ShaderBinding { name: gname, group: rb.group, binding: rb.binding, kind });
+        out.push(ShaderBinding {
+            name: gname,
+            group: rb.group,
+            binding: rb.binding,
+            kind,
+        });
     }
     Ok(out)
 }

@@ -11,17 +11,38 @@ use crate::error::{GraphError, GraphResult};
 use crate::resource::{BufferAccess, TextureAccess};
 use crate::shader::{ShaderBindingKind, ShaderLibrary, ShaderModuleInfo};
 
-pub(crate) fn check_pass_shader(decl: &GraphDecl, p: PassId, shaders: &ShaderLibrary) -> GraphResult<Option<Arc<ShaderModuleInfo>>> {
+pub(crate) fn check_pass_shader(
+    decl: &GraphDecl,
+    p: PassId,
+    shaders: &ShaderLibrary,
+) -> GraphResult<Option<Arc<ShaderModuleInfo>>> {
     let pass = &decl.passes[p.0];
-    let invalid = |message: String| GraphError::InvalidPass { pass: pass.name.clone(), message };
+    let invalid = |message: String| GraphError::InvalidPass {
+        pass: pass.name.clone(),
+        message,
+    };
     let (shader, entries): (&str, Vec<(&str, naga::ShaderStage)>) = match &pass.kind {
-        PassKind::Compute { shader, entry, dispatch } => {
+        PassKind::Compute {
+            shader,
+            entry,
+            dispatch,
+        } => {
             if dispatch.is_none() {
                 return Err(invalid("a compute pass needs a dispatch size (`dispatch_over`, `dispatch_size` or `dispatch_workgroups`)".into()));
             }
             (shader, vec![(entry.as_str(), naga::ShaderStage::Compute)])
         }
-        PassKind::Fullscreen { shader, vertex, fragment } => (shader, vec![(vertex.as_str(), naga::ShaderStage::Vertex), (fragment.as_str(), naga::ShaderStage::Fragment)]),
+        PassKind::Fullscreen {
+            shader,
+            vertex,
+            fragment,
+        } => (
+            shader,
+            vec![
+                (vertex.as_str(), naga::ShaderStage::Vertex),
+                (fragment.as_str(), naga::ShaderStage::Fragment),
+            ],
+        ),
         PassKind::Copy | PassKind::Custom(_) => return Ok(None),
     };
     let info = shaders.load(shader)?;
@@ -29,37 +50,81 @@ pub(crate) fn check_pass_shader(decl: &GraphDecl, p: PassId, shaders: &ShaderLib
         match info.entry(name) {
             Some(e) if e.stage == stage => {}
             _ => {
-                let have: Vec<_> = info.entries.iter().map(|e| format!("{} ({:?})", e.name, e.stage)).collect();
-                return Err(invalid(format!("shader `{shader}` has no {stage:?} entry point `{name}`; it has: {}", have.join(", "))));
+                let have: Vec<_> = info
+                    .entries
+                    .iter()
+                    .map(|e| format!("{} ({:?})", e.name, e.stage))
+                    .collect();
+                return Err(invalid(format!(
+                    "shader `{shader}` has no {stage:?} entry point `{name}`; it has: {}",
+                    have.join(", ")
+                )));
             }
         }
     }
     for b in &info.bindings {
         check_binding_supplied(decl, pass, &info, &b.name, &b.kind)?;
     }
-    let named = pass.textures.iter().filter_map(|u| u.binding.as_deref())
+    let named = pass
+        .textures
+        .iter()
+        .filter_map(|u| u.binding.as_deref())
         .chain(pass.buffers.iter().filter_map(|u| u.binding.as_deref()))
-        .chain(pass.uniforms.iter().map(|u| decl.uniforms[u.0].binding.as_str()));
+        .chain(
+            pass.uniforms
+                .iter()
+                .map(|u| decl.uniforms[u.0].binding.as_str()),
+        );
     for name in named {
         if info.binding(name).is_none() {
             let have: Vec<_> = info.bindings.iter().map(|b| b.name.as_str()).collect();
-            return Err(invalid(format!("shader `{shader}` has no binding `{name}`; it has: {}", have.join(", "))));
+            return Err(invalid(format!(
+                "shader `{shader}` has no binding `{name}`; it has: {}",
+                have.join(", ")
+            )));
         }
     }
     Ok(Some(info))
 }
 
-fn check_binding_supplied(decl: &GraphDecl, pass: &PassDecl, info: &ShaderModuleInfo, name: &str, kind: &ShaderBindingKind) -> GraphResult<()> {
-    let invalid = |message: String| GraphError::InvalidPass { pass: pass.name.clone(), message };
-    let tex = pass.textures.iter().find(|u| u.binding.as_deref() == Some(name));
-    let buf = pass.buffers.iter().find(|u| u.binding.as_deref() == Some(name));
-    let uni = pass.uniforms.iter().map(|u| &decl.uniforms[u.0]).find(|u| u.binding == name);
-    let missing = || invalid(format!("shader `{}` binds `{name}` ({kind:?}) but the pass supplies nothing for it", info.name));
+fn check_binding_supplied(
+    decl: &GraphDecl,
+    pass: &PassDecl,
+    info: &ShaderModuleInfo,
+    name: &str,
+    kind: &ShaderBindingKind,
+) -> GraphResult<()> {
+    let invalid = |message: String| GraphError::InvalidPass {
+        pass: pass.name.clone(),
+        message,
+    };
+    let tex = pass
+        .textures
+        .iter()
+        .find(|u| u.binding.as_deref() == Some(name));
+    let buf = pass
+        .buffers
+        .iter()
+        .find(|u| u.binding.as_deref() == Some(name));
+    let uni = pass
+        .uniforms
+        .iter()
+        .map(|u| &decl.uniforms[u.0])
+        .find(|u| u.binding == name);
+    let missing = || {
+        invalid(format!(
+            "shader `{}` binds `{name}` ({kind:?}) but the pass supplies nothing for it",
+            info.name
+        ))
+    };
     match kind {
         ShaderBindingKind::Sampler { .. } => Ok(()),
         ShaderBindingKind::SampledTexture { .. } => match tex {
             Some(u) if u.access == TextureAccess::Sampled => Ok(()),
-            Some(u) => Err(invalid(format!("`{name}` is a sampled texture in the shader but the pass declares {:?}", u.access))),
+            Some(u) => Err(invalid(format!(
+                "`{name}` is a sampled texture in the shader but the pass declares {:?}",
+                u.access
+            ))),
             None => Err(missing()),
         },
         ShaderBindingKind::StorageTexture { format, access } => {
@@ -71,18 +136,32 @@ fn check_binding_supplied(decl: &GraphDecl, pass: &PassDecl, info: &ShaderModule
                 _ => u.access == TextureAccess::StorageReadWrite,
             };
             if !ok_access {
-                return Err(invalid(format!("`{name}` is a {access:?} storage texture in the shader but the pass declares {:?}", u.access)));
+                return Err(invalid(format!(
+                    "`{name}` is a {access:?} storage texture in the shader but the pass declares {:?}",
+                    u.access
+                )));
             }
             match res.texture_desc() {
                 Some(d) if d.format == *format => Ok(()),
-                Some(d) => Err(GraphError::FormatMismatch { pass: pass.name.clone(), resource: res.name.clone(), expected: format!("{format:?} (shader `{}` binding `{name}`)", info.name), found: d.format }),
-                None => Err(invalid(format!("`{name}` is a texture in the shader but `{}` is a buffer", res.name))),
+                Some(d) => Err(GraphError::FormatMismatch {
+                    pass: pass.name.clone(),
+                    resource: res.name.clone(),
+                    expected: format!("{format:?} (shader `{}` binding `{name}`)", info.name),
+                    found: d.format,
+                }),
+                None => Err(invalid(format!(
+                    "`{name}` is a texture in the shader but `{}` is a buffer",
+                    res.name
+                ))),
             }
         }
         ShaderBindingKind::Uniform { size } => {
             if let Some(u) = uni {
                 if (u.initial.len() as u64) < *size {
-                    return Err(invalid(format!("uniform `{name}` has {} bytes but the shader's type needs {size}", u.initial.len())));
+                    return Err(invalid(format!(
+                        "uniform `{name}` has {} bytes but the shader's type needs {size}",
+                        u.initial.len()
+                    )));
                 }
                 return Ok(());
             }
@@ -93,7 +172,10 @@ fn check_binding_supplied(decl: &GraphDecl, pass: &PassDecl, info: &ShaderModule
         }
         ShaderBindingKind::StorageBuffer { read_only, .. } => match buf {
             Some(b) if *read_only != b.access.writes() => Ok(()),
-            Some(b) => Err(invalid(format!("`{name}` read_only={read_only} in the shader but the pass declares {:?}", b.access))),
+            Some(b) => Err(invalid(format!(
+                "`{name}` read_only={read_only} in the shader but the pass declares {:?}",
+                b.access
+            ))),
             None => Err(missing()),
         },
     }

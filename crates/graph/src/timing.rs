@@ -37,12 +37,21 @@ impl PassTimings {
         self.passes.iter().map(|(_, ms)| ms).sum()
     }
     pub fn get(&self, pass: &str) -> Option<f64> {
-        self.passes.iter().find(|(n, _)| n == pass).map(|(_, ms)| *ms)
+        self.passes
+            .iter()
+            .find(|(n, _)| n == pass)
+            .map(|(_, ms)| *ms)
     }
     /// A two-column table: pass, milliseconds.
     pub fn table(&self) -> String {
         let mut s = String::new();
-        let width = self.passes.iter().map(|(n, _)| n.len()).max().unwrap_or(4).max(4);
+        let width = self
+            .passes
+            .iter()
+            .map(|(n, _)| n.len())
+            .max()
+            .unwrap_or(4)
+            .max(4);
         let _ = writeln!(s, "{:<width$}  {:>10}", "pass", "ms");
         for (n, ms) in &self.passes {
             let _ = writeln!(s, "{n:<width$}  {ms:>10.4}");
@@ -77,10 +86,33 @@ impl TimestampQueries {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, passes: u32) -> Self {
         let capacity = (passes * 2).max(2);
         let bytes = capacity as u64 * 8;
-        let set = device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("aograph timestamps"), ty: wgpu::QueryType::Timestamp, count: capacity });
-        let resolve = device.create_buffer(&wgpu::BufferDescriptor { label: Some("timestamp resolve"), size: bytes, usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor { label: Some("timestamp readback"), size: bytes, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-        Self { set, resolve, readback, capacity, pending: None, map: Arc::default(), generation: 0, period_ns: queue.get_timestamp_period() }
+        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("aograph timestamps"),
+            ty: wgpu::QueryType::Timestamp,
+            count: capacity,
+        });
+        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamp resolve"),
+            size: bytes,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamp readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            set,
+            resolve,
+            readback,
+            capacity,
+            pending: None,
+            map: Arc::default(),
+            generation: 0,
+            period_ns: queue.get_timestamp_period(),
+        }
     }
     pub fn fits(&self, passes: u32) -> bool {
         passes * 2 <= self.capacity
@@ -109,21 +141,36 @@ impl TimestampQueries {
         flag.store(tag | MAP_PENDING, Ordering::Release);
         // Only this generation's map may change the state (a cancelled map's late callback
         // must not overwrite the next one's).
-        self.readback.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let done = tag | if r.is_ok() { MAP_DONE } else { MAP_FAILED };
-            let _ = flag.compare_exchange(tag | MAP_PENDING, done, Ordering::AcqRel, Ordering::Acquire);
-        });
+        self.readback
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                let done = tag | if r.is_ok() { MAP_DONE } else { MAP_FAILED };
+                let _ = flag.compare_exchange(
+                    tag | MAP_PENDING,
+                    done,
+                    Ordering::AcqRel,
+                    Ordering::Acquire,
+                );
+            });
     }
     fn map_state(&self) -> u32 {
         let v = self.map.load(Ordering::Acquire);
-        if v >> 2 == self.generation { v & 3 } else { MAP_IDLE }
+        if v >> 2 == self.generation {
+            v & 3
+        } else {
+            MAP_IDLE
+        }
     }
     /// Waits for the in-flight timestamps and writes per-pass milliseconds into `out`.
     pub fn collect(&mut self, device: &wgpu::Device, out: &mut [f64]) -> GraphResult<bool> {
-        let Some(passes) = self.pending.take() else { return Ok(false) };
+        let Some(passes) = self.pending.take() else {
+            return Ok(false);
+        };
         // The callback may be running on another thread that polled first: wait for it.
         for _ in 0..MAP_WAIT_POLLS {
-            device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GraphError::Gpu(e.to_string()))?;
+            device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| GraphError::Gpu(e.to_string()))?;
             if self.map_state() != MAP_PENDING {
                 break;
             }
@@ -140,8 +187,17 @@ impl TimestampQueries {
             _ => return Ok(false),
         }
         {
-            let view = self.readback.slice(..passes as u64 * 16).get_mapped_range().map_err(|e| GraphError::Gpu(e.to_string()))?;
-            let stamp = |i: usize| view.get(i * 8..i * 8 + 8).and_then(|b| b.try_into().ok()).map(u64::from_le_bytes).unwrap_or(0);
+            let view = self
+                .readback
+                .slice(..passes as u64 * 16)
+                .get_mapped_range()
+                .map_err(|e| GraphError::Gpu(e.to_string()))?;
+            let stamp = |i: usize| {
+                view.get(i * 8..i * 8 + 8)
+                    .and_then(|b| b.try_into().ok())
+                    .map(u64::from_le_bytes)
+                    .unwrap_or(0)
+            };
             for (i, ms) in out.iter_mut().enumerate().take(passes as usize) {
                 let (a, b) = (stamp(2 * i), stamp(2 * i + 1));
                 *ms = b.saturating_sub(a) as f64 * self.period_ns as f64 / 1.0e6;

@@ -4,8 +4,8 @@
 //! (command encoder, pass recording, submission).
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use aograph_graph::*;
 
@@ -50,7 +50,11 @@ fn steady_state_frames_do_not_allocate_more_over_time() {
     let hist = b.history_texture("h", desc);
     let mut cur = hist.previous;
     for i in 0..50 {
-        let t = if i == 49 { hist.current } else { b.create_texture(&format!("t{i}"), desc) };
+        let t = if i == 49 {
+            hist.current
+        } else {
+            b.create_texture(&format!("t{i}"), desc)
+        };
         let mut p = b.compute_pass(&format!("p{i}"), "inc.wgsl", "main");
         p.sample("src", cur);
         cur = p.write_storage("dst", t);
@@ -73,7 +77,10 @@ fn steady_state_frames_do_not_allocate_more_over_time() {
         per_frame.push((ALLOCS.load(Ordering::Relaxed) - before) as f64 / 50.0);
     }
     println!("heap allocations per frame (50 compute passes, steady state): {per_frame:?}");
-    assert!(per_frame[2] <= per_frame[0] * 1.05 + 1.0, "allocations grow over frames: {per_frame:?}");
+    assert!(
+        per_frame[2] <= per_frame[0] * 1.05 + 1.0,
+        "allocations grow over frames: {per_frame:?}"
+    );
     // The executor itself allocates nothing per pass: what remains is wgpu's per-command cost,
     // bounded well under 100 allocations per pass.
     assert!(per_frame[2] < 50.0 * 100.0, "{per_frame:?}");

@@ -44,15 +44,30 @@ fn declare(uniform: &[u8], extra: bool) -> GraphDecl {
 }
 
 fn params(radius: f32, strength: f32) -> Vec<u8> {
-    [radius, strength, 0.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect()
+    [radius, strength, 0.0, 0.0]
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .collect()
 }
 
 #[test]
 fn identical_declaration_compiles_once_and_shares_the_plan() {
     let lib = library();
     let mut c = GraphCompiler::new();
-    let a = c.compile(declare(&params(1.0, 1.0), false), &lib, CompileOptions::default()).unwrap();
-    let b = c.compile(declare(&params(1.0, 1.0), false), &lib, CompileOptions::default()).unwrap();
+    let a = c
+        .compile(
+            declare(&params(1.0, 1.0), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
+    let b = c
+        .compile(
+            declare(&params(1.0, 1.0), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
     assert!(Arc::ptr_eq(&a, &b));
     assert_eq!(c.compile_count(), 1);
     assert_eq!(a.pass_names(), vec!["blur0"]);
@@ -64,8 +79,20 @@ fn changing_uniform_initial_contents_recompiles_so_parameters_take_effect() {
     // `Executor::write_uniform` instead), so the cached plan never carries stale parameters.
     let lib = library();
     let mut c = GraphCompiler::new();
-    let a = c.compile(declare(&params(1.0, 1.0), false), &lib, CompileOptions::default()).unwrap();
-    let b = c.compile(declare(&params(4.0, 0.5), false), &lib, CompileOptions::default()).unwrap();
+    let a = c
+        .compile(
+            declare(&params(1.0, 1.0), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
+    let b = c
+        .compile(
+            declare(&params(4.0, 0.5), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
     assert!(!Arc::ptr_eq(&a, &b));
     assert_eq!(c.compile_count(), 2);
     assert_eq!(b.decl.uniforms[0].initial, params(4.0, 0.5));
@@ -77,21 +104,44 @@ fn changing_uniform_initial_contents_recompiles_so_parameters_take_effect() {
 fn same_uniform_contents_hit_the_cache() {
     let lib = library();
     let mut c = GraphCompiler::new();
-    let a = c.compile(declare(&params(4.0, 0.5), false), &lib, CompileOptions::default()).unwrap();
-    let b = c.compile(declare(&params(4.0, 0.5), false), &lib, CompileOptions::default()).unwrap();
+    let a = c
+        .compile(
+            declare(&params(4.0, 0.5), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
+    let b = c
+        .compile(
+            declare(&params(4.0, 0.5), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
     assert!(Arc::ptr_eq(&a, &b));
     assert_eq!(c.compile_count(), 1);
-    assert_eq!(declare(&params(4.0, 0.5), false).structure_hash(), declare(&params(4.0, 0.5), false).structure_hash());
+    assert_eq!(
+        declare(&params(4.0, 0.5), false).structure_hash(),
+        declare(&params(4.0, 0.5), false).structure_hash()
+    );
 }
 
 #[test]
 fn changing_uniform_size_recompiles() {
     let lib = library();
     let mut c = GraphCompiler::new();
-    let a = c.compile(declare(&params(1.0, 1.0), false), &lib, CompileOptions::default()).unwrap();
+    let a = c
+        .compile(
+            declare(&params(1.0, 1.0), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
     let mut bigger = params(1.0, 1.0);
     bigger.extend_from_slice(&[0; 16]);
-    let b = c.compile(declare(&bigger, false), &lib, CompileOptions::default()).unwrap();
+    let b = c
+        .compile(declare(&bigger, false), &lib, CompileOptions::default())
+        .unwrap();
     assert!(!Arc::ptr_eq(&a, &b));
     assert_eq!(c.compile_count(), 2);
 }
@@ -100,14 +150,32 @@ fn changing_uniform_size_recompiles() {
 fn changing_structure_recompiles() {
     let lib = library();
     let mut c = GraphCompiler::new();
-    let a = c.compile(declare(&params(1.0, 1.0), false), &lib, CompileOptions::default()).unwrap();
-    let b = c.compile(declare(&params(1.0, 1.0), true), &lib, CompileOptions::default()).unwrap();
+    let a = c
+        .compile(
+            declare(&params(1.0, 1.0), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
+    let b = c
+        .compile(
+            declare(&params(1.0, 1.0), true),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
     assert!(!Arc::ptr_eq(&a, &b));
     assert_ne!(a.hash, b.hash);
     assert_eq!(c.compile_count(), 2);
     assert_eq!(b.pass_names(), vec!["blur0", "blur1"]);
     // Going back to the first structure hits the cache again.
-    let a2 = c.compile(declare(&params(1.0, 1.0), false), &lib, CompileOptions::default()).unwrap();
+    let a2 = c
+        .compile(
+            declare(&params(1.0, 1.0), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
     assert!(Arc::ptr_eq(&a, &a2));
     assert_eq!(c.compile_count(), 2);
 }
@@ -116,8 +184,20 @@ fn changing_structure_recompiles() {
 fn changing_compile_options_recompiles() {
     let lib = library();
     let mut c = GraphCompiler::new();
-    let a = c.compile(declare(&params(1.0, 1.0), true), &lib, CompileOptions { reuse: true }).unwrap();
-    let b = c.compile(declare(&params(1.0, 1.0), true), &lib, CompileOptions { reuse: false }).unwrap();
+    let a = c
+        .compile(
+            declare(&params(1.0, 1.0), true),
+            &lib,
+            CompileOptions { reuse: true },
+        )
+        .unwrap();
+    let b = c
+        .compile(
+            declare(&params(1.0, 1.0), true),
+            &lib,
+            CompileOptions { reuse: false },
+        )
+        .unwrap();
     assert!(!Arc::ptr_eq(&a, &b));
     assert_eq!(a.hash, b.hash, "same declaration, different options");
     assert_eq!(c.compile_count(), 2);
@@ -128,7 +208,10 @@ fn changing_an_export_changes_the_hash() {
     let build = |export: bool| {
         let mut b = GraphBuilder::new();
         let t = b.create_texture("t", r32());
-        let t1 = b.custom_pass("p", NoopPass).side_effect().write_storage("dst", t);
+        let t1 = b
+            .custom_pass("p", NoopPass)
+            .side_effect()
+            .write_storage("dst", t);
         if export {
             b.export(t1);
         }
@@ -163,7 +246,11 @@ fn custom_pass_cache_key_enters_the_hash() {
     assert_ne!(build(1).structure_hash(), build(2).structure_hash());
     let mut nb = GraphBuilder::new();
     nb.custom_pass("p", NoopPass).side_effect();
-    assert_ne!(nb.build().structure_hash(), build(0).structure_hash(), "kind name enters the hash");
+    assert_ne!(
+        nb.build().structure_hash(),
+        build(0).structure_hash(),
+        "kind name enters the hash"
+    );
 }
 
 #[test]
@@ -171,11 +258,19 @@ fn failed_compile_is_not_cached() {
     let lib = ShaderLibrary::inline_only();
     let mut c = GraphCompiler::new();
     let decl = declare(&params(1.0, 1.0), false);
-    assert!(matches!(c.compile(decl, &lib, CompileOptions::default()), Err(GraphError::ShaderFile { .. })));
+    assert!(matches!(
+        c.compile(decl, &lib, CompileOptions::default()),
+        Err(GraphError::ShaderFile { .. })
+    ));
     assert_eq!(c.compile_count(), 0);
     lib.add_inline("blur.wgsl", BLUR);
-    let plan = c.compile(declare(&params(1.0, 1.0), false), &lib, CompileOptions::default()).unwrap();
+    let plan = c
+        .compile(
+            declare(&params(1.0, 1.0), false),
+            &lib,
+            CompileOptions::default(),
+        )
+        .unwrap();
     assert_eq!(c.compile_count(), 1);
     assert_eq!(plan.pass_names(), vec!["blur0"]);
 }
-

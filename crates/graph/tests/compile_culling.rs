@@ -8,7 +8,12 @@ fn desc() -> TextureDesc {
 }
 
 fn compile_ok(b: GraphBuilder) -> CompiledGraph {
-    compile(b.build(), &ShaderLibrary::inline_only(), CompileOptions::default()).expect("graph compiles")
+    compile(
+        b.build(),
+        &ShaderLibrary::inline_only(),
+        CompileOptions::default(),
+    )
+    .expect("graph compiles")
 }
 
 fn pass(b: &mut GraphBuilder, name: &str, inputs: &[TextureHandle]) -> (PassId, TextureHandle) {
@@ -32,7 +37,11 @@ fn culls_pass_whose_output_is_unused() {
     assert_eq!(plan.culled_names(), vec!["unused"]);
     assert_eq!(plan.culled.len(), 1);
     assert_eq!(plan.culled[0].pass, unused);
-    assert!(plan.culled[0].reason.contains("no exported output"), "reason: {}", plan.culled[0].reason);
+    assert!(
+        plan.culled[0].reason.contains("no exported output"),
+        "reason: {}",
+        plan.culled[0].reason
+    );
     assert!(!plan.is_kept(unused));
 }
 
@@ -67,7 +76,9 @@ fn side_effect_pass_and_its_inputs_are_kept() {
     let mut b = GraphBuilder::new();
     let (_, a) = pass(&mut b, "a", &[]);
     let (_, _) = pass(&mut b, "other", &[]);
-    b.custom_pass("present", NoopPass).sample("src", a).side_effect();
+    b.custom_pass("present", NoopPass)
+        .sample("src", a)
+        .side_effect();
     let plan = compile_ok(b);
     assert_eq!(plan.pass_names(), vec!["a", "present"]);
     assert_eq!(plan.culled_names(), vec!["other"]);
@@ -87,8 +98,16 @@ fn history_write_keeps_its_writer_without_export() {
     let plan = compile_ok(b);
     assert_eq!(plan.pass_names(), vec!["a", "accumulate"]);
     assert_eq!(plan.culled_names(), vec!["unrelated"]);
-    assert_eq!(plan.slot_of[h.current.resource_index()], None, "history is not pooled");
-    assert_eq!(plan.slot_of[h.previous.resource_index()], None, "history is not pooled");
+    assert_eq!(
+        plan.slot_of[h.current.resource_index()],
+        None,
+        "history is not pooled"
+    );
+    assert_eq!(
+        plan.slot_of[h.previous.resource_index()],
+        None,
+        "history is not pooled"
+    );
 }
 
 #[test]
@@ -109,7 +128,9 @@ fn read_write_chain_keeps_every_pass() {
     let t = b.create_texture("t", desc());
     let t1 = b.custom_pass("init", NoopPass).write_storage("out", t);
     let t2 = b.custom_pass("rw1", NoopPass).read_write_storage("rw", t1);
-    let t3 = b.custom_pass("rw2", NoopPass).write_texture(TextureAccess::StorageReadWrite, t2);
+    let t3 = b
+        .custom_pass("rw2", NoopPass)
+        .write_texture(TextureAccess::StorageReadWrite, t2);
     b.export(t3);
     let plan = compile_ok(b);
     assert_eq!(plan.pass_names(), vec!["init", "rw1", "rw2"]);
@@ -133,7 +154,9 @@ fn exporting_an_intermediate_version_keeps_its_final_writer_chain() {
     let mut b = GraphBuilder::new();
     let t = b.create_texture("t", desc());
     let t1 = b.custom_pass("init", NoopPass).write_storage("out", t);
-    let _t2 = b.custom_pass("update", NoopPass).read_write_storage("rw", t1);
+    let _t2 = b
+        .custom_pass("update", NoopPass)
+        .read_write_storage("rw", t1);
     b.export(t1);
     let plan = compile_ok(b);
     assert_eq!(plan.pass_names(), vec!["init", "update"]);
@@ -160,7 +183,8 @@ fn culled_pass_with_broken_shader_is_not_checked() {
     let mut b = GraphBuilder::new();
     let (_, a) = pass(&mut b, "a", &[]);
     let t = b.create_texture("dead", desc());
-    b.compute_pass("dead", "missing.wgsl", "main").write_storage("dst", t);
+    b.compute_pass("dead", "missing.wgsl", "main")
+        .write_storage("dst", t);
     b.export(a);
     let plan = compile_ok(b);
     assert_eq!(plan.culled_names(), vec!["dead"]);

@@ -12,7 +12,10 @@ fn rgba() -> TextureDesc {
 /// gbuffer (imported) -> ao -> blur -> composite (exported); "debug_view" is culled.
 fn plan(reuse: bool) -> CompiledGraph {
     let mut b = GraphBuilder::new();
-    let depth = b.import_texture("depth", TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL));
+    let depth = b.import_texture(
+        "depth",
+        TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL),
+    );
     let ao = b.create_texture("ao_raw", rgba());
     let ao1 = {
         let mut p = b.custom_pass("ao", NoopPass);
@@ -38,12 +41,19 @@ fn plan(reuse: bool) -> CompiledGraph {
         p.write_storage("dst", out)
     };
     b.export(out1);
-    compile(b.build(), &ShaderLibrary::inline_only(), CompileOptions { reuse }).unwrap()
+    compile(
+        b.build(),
+        &ShaderLibrary::inline_only(),
+        CompileOptions { reuse },
+    )
+    .unwrap()
 }
 
 fn node_line<'a>(dot: &'a str, name: &str) -> &'a str {
     let label = format!("label = \"{name}\"");
-    dot.lines().find(|l| l.contains(&label)).unwrap_or_else(|| panic!("no node {name} in\n{dot}"))
+    dot.lines()
+        .find(|l| l.contains(&label))
+        .unwrap_or_else(|| panic!("no node {name} in\n{dot}"))
 }
 
 #[test]
@@ -52,7 +62,17 @@ fn dot_is_a_digraph_with_every_pass_and_resource() {
     let dot = to_dot(&p);
     assert!(dot.trim_start().starts_with("digraph"), "{dot}");
     assert!(dot.trim_end().ends_with('}'));
-    for name in ["ao", "blur", "debug_view", "composite", "depth", "ao_raw", "ao_blurred", "debug", "final"] {
+    for name in [
+        "ao",
+        "blur",
+        "debug_view",
+        "composite",
+        "depth",
+        "ao_raw",
+        "ao_blurred",
+        "debug",
+        "final",
+    ] {
         node_line(&dot, name);
     }
 }
@@ -63,7 +83,10 @@ fn dot_draws_culled_passes_grey_and_kept_ones_not() {
     assert_eq!(p.culled_names(), vec!["debug_view"]);
     let dot = to_dot(&p);
     let culled = node_line(&dot, "debug_view");
-    assert!(culled.contains("fillcolor=lightgrey") && culled.contains("shape=box"), "{culled}");
+    assert!(
+        culled.contains("fillcolor=lightgrey") && culled.contains("shape=box"),
+        "{culled}"
+    );
     for kept in ["ao", "blur", "composite"] {
         let l = node_line(&dot, kept);
         assert!(!l.contains("grey"), "{l}");
@@ -86,20 +109,42 @@ fn dot_has_one_edge_per_read_and_write() {
 fn summary_lists_order_culled_passes_and_bytes() {
     let p = plan(true);
     let s = summary(&p, HD);
-    assert!(s.contains("3 passes kept, 1 culled, output 1920x1080"), "{s}");
-    let pos = |needle: &str| s.find(needle).unwrap_or_else(|| panic!("{needle:?} missing from\n{s}"));
+    assert!(
+        s.contains("3 passes kept, 1 culled, output 1920x1080"),
+        "{s}"
+    );
+    let pos = |needle: &str| {
+        s.find(needle)
+            .unwrap_or_else(|| panic!("{needle:?} missing from\n{s}"))
+    };
     assert!(pos("  0. ao [custom noop]") < pos("  1. blur [custom noop]"));
     assert!(pos("  1. blur [custom noop]") < pos("  2. composite [custom noop]"));
-    assert!(s.contains("culled:\n     - debug_view: no exported output"), "{s}");
-    assert!(s.contains("reads  depth Sampled 1920x1080 R32Float (imported)"), "{s}");
-    assert!(s.contains("writes ao_raw StorageWrite 1920x1080 Rgba16Float -> texture 0"), "{s}");
+    assert!(
+        s.contains("culled:\n     - debug_view: no exported output"),
+        "{s}"
+    );
+    assert!(
+        s.contains("reads  depth Sampled 1920x1080 R32Float (imported)"),
+        "{s}"
+    );
+    assert!(
+        s.contains("writes ao_raw StorageWrite 1920x1080 Rgba16Float -> texture 0"),
+        "{s}"
+    );
     let (with, without) = texture_bytes(&p, HD);
     let one = 1920 * 1080 * 8;
     let depth = 1920 * 1080 * 4;
     // ao_raw [0,1], ao_blurred [1,2], final [2,2] exported: ao_raw and final share.
     assert_eq!((with, without), (2 * one + depth, 3 * one + depth));
-    assert!(s.contains(&format!("with reuse, ")) && s.contains(&format!("without ({with} / {without} bytes)")), "{s}");
-    assert!(s.contains("physical textures: 2 for 3 transient resources"), "{s}");
+    assert!(
+        s.contains(&format!("with reuse, "))
+            && s.contains(&format!("without ({with} / {without} bytes)")),
+        "{s}"
+    );
+    assert!(
+        s.contains("physical textures: 2 for 3 transient resources"),
+        "{s}"
+    );
 }
 
 #[test]
@@ -109,7 +154,10 @@ fn summary_without_reuse_reports_equal_totals() {
     let (with, without) = texture_bytes(&p, HD);
     assert_eq!(with, without);
     assert!(s.contains(&format!("({with} / {without} bytes)")), "{s}");
-    assert!(s.contains("physical textures: 3 for 3 transient resources"), "{s}");
+    assert!(
+        s.contains("physical textures: 3 for 3 transient resources"),
+        "{s}"
+    );
 }
 
 #[test]
@@ -118,7 +166,12 @@ fn summary_omits_culled_section_when_nothing_is_culled() {
     let t = b.create_texture("t", rgba());
     let t1 = b.custom_pass("only", NoopPass).write_storage("dst", t);
     b.export(t1);
-    let p = compile(b.build(), &ShaderLibrary::inline_only(), CompileOptions::default()).unwrap();
+    let p = compile(
+        b.build(),
+        &ShaderLibrary::inline_only(),
+        CompileOptions::default(),
+    )
+    .unwrap();
     let s = summary(&p, Extent::new(4, 4));
     assert!(!s.contains("culled:"), "{s}");
     assert!(s.contains("1 passes kept, 0 culled"));

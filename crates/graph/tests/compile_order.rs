@@ -8,7 +8,12 @@ fn desc() -> TextureDesc {
 }
 
 fn compile_ok(b: GraphBuilder) -> CompiledGraph {
-    compile(b.build(), &ShaderLibrary::inline_only(), CompileOptions::default()).expect("graph compiles")
+    compile(
+        b.build(),
+        &ShaderLibrary::inline_only(),
+        CompileOptions::default(),
+    )
+    .expect("graph compiles")
 }
 
 /// A side-effect pass writing its own fresh texture and reading `inputs`; returns (id, output).
@@ -91,7 +96,10 @@ fn diamond_orders_join_after_both_branches() {
 fn reversed_declaration_built_by_reopening_runs_reversed() {
     // Declare d, c, b, a; then reopen so that a -> b -> c -> d.
     let mut b = GraphBuilder::new();
-    let ids: Vec<(PassId, TextureHandle)> = ["d", "c", "b", "a"].iter().map(|n| pass(&mut b, n, &[])).collect();
+    let ids: Vec<(PassId, TextureHandle)> = ["d", "c", "b", "a"]
+        .iter()
+        .map(|n| pass(&mut b, n, &[]))
+        .collect();
     for w in ids.windows(2) {
         // w[0] (declared earlier) reads w[1]'s output.
         b.pass(w[0].0).sample("prev", w[1].1);
@@ -113,8 +121,15 @@ fn reader_of_old_version_runs_before_the_overwrite() {
     b.export(t2);
     let plan = compile_ok(b);
     assert_eq!(plan.pass_names(), vec!["a", "r", "w"]);
-    let (a, r) = (plan.decl.pass_by_name("a").unwrap(), plan.decl.pass_by_name("r").unwrap());
-    assert_eq!(plan.edges, vec![(a, r)], "edges lists only producer -> consumer data edges");
+    let (a, r) = (
+        plan.decl.pass_by_name("a").unwrap(),
+        plan.decl.pass_by_name("r").unwrap(),
+    );
+    assert_eq!(
+        plan.edges,
+        vec![(a, r)],
+        "edges lists only producer -> consumer data edges"
+    );
 }
 
 #[test]
@@ -143,7 +158,11 @@ fn compiled_order_respects_every_edge() {
     let pos = |p: PassId| plan.order.iter().position(|&o| o == p).unwrap();
     assert_eq!(plan.edges.len(), 4);
     for &(from, to) in &plan.edges {
-        assert!(pos(from) < pos(to), "{from:?} before {to:?} in {:?}", plan.pass_names());
+        assert!(
+            pos(from) < pos(to),
+            "{from:?} before {to:?} in {:?}",
+            plan.pass_names()
+        );
     }
     assert_eq!(plan.pass_names(), vec!["p1", "p2", "p0", "p3"]);
     let _ = (p1, p2);
@@ -171,14 +190,20 @@ fn compute_and_fullscreen_passes_get_their_reflected_shader() {
          }\n",
     );
     let mut b = GraphBuilder::new();
-    let ao = b.create_texture("ao", TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL));
+    let ao = b.create_texture(
+        "ao",
+        TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL),
+    );
     let ao1 = {
         let mut p = b.compute_pass("fill", "fill.wgsl", "main");
         let h = p.write_storage("dst", ao);
         p.dispatch_over(h);
         h
     };
-    let out = b.create_texture("out", TextureDesc::new(TextureFormat::Rgba8Unorm, SizeClass::FULL));
+    let out = b.create_texture(
+        "out",
+        TextureDesc::new(TextureFormat::Rgba8Unorm, SizeClass::FULL),
+    );
     let out1 = {
         let mut p = b.fullscreen_pass("show", "show.wgsl", "vs", "fs");
         p.sample("src", ao1);
@@ -188,8 +213,14 @@ fn compute_and_fullscreen_passes_get_their_reflected_shader() {
     b.pass(side).side_effect();
     let plan = compile(b.build(), &lib, CompileOptions::default()).expect("compiles");
     assert_eq!(plan.pass_names(), vec!["fill", "show", "custom"]);
-    assert_eq!(plan.shaders[0].as_ref().map(|s| s.name.as_str()), Some("fill.wgsl"));
-    assert_eq!(plan.shaders[1].as_ref().map(|s| s.name.as_str()), Some("show.wgsl"));
+    assert_eq!(
+        plan.shaders[0].as_ref().map(|s| s.name.as_str()),
+        Some("fill.wgsl")
+    );
+    assert_eq!(
+        plan.shaders[1].as_ref().map(|s| s.name.as_str()),
+        Some("show.wgsl")
+    );
     assert!(plan.shaders[2].is_none(), "custom passes have no shader");
 }
 
@@ -203,7 +234,9 @@ fn reader_of_old_version_runs_before_a_later_kept_overwrite_when_the_next_writer
     let v1 = b.custom_pass("w1", NoopPass).write_storage("out", t);
     let v2 = b.custom_pass("w2", NoopPass).write_storage("out", v1);
     let v3 = b.custom_pass("w3", NoopPass).write_storage("out", v2);
-    b.custom_pass("late", NoopPass).sample("old", v1).side_effect();
+    b.custom_pass("late", NoopPass)
+        .sample("old", v1)
+        .side_effect();
     b.export(v3);
     let plan = compile_ok(b);
     assert_eq!(plan.culled_names(), vec!["w2"]);
@@ -219,7 +252,9 @@ fn in_place_update_after_culled_overwrites_still_follows_the_stale_reader() {
     let v2 = b.custom_pass("w2", NoopPass).write_storage("out", v1);
     let v3 = b.custom_pass("w3", NoopPass).write_storage("out", v2);
     let v4 = b.custom_pass("rw", NoopPass).read_write_storage("rw", v3);
-    b.custom_pass("late", NoopPass).sample("old", v1).side_effect();
+    b.custom_pass("late", NoopPass)
+        .sample("old", v1)
+        .side_effect();
     b.export(v4);
     let plan = compile_ok(b);
     assert_eq!(plan.culled_names(), vec!["w2"]);

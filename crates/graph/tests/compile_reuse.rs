@@ -10,7 +10,12 @@ fn rgba(size: SizeClass) -> TextureDesc {
 }
 
 fn compile_with(b: GraphBuilder, reuse: bool) -> CompiledGraph {
-    compile(b.build(), &ShaderLibrary::inline_only(), CompileOptions { reuse }).expect("graph compiles")
+    compile(
+        b.build(),
+        &ShaderLibrary::inline_only(),
+        CompileOptions { reuse },
+    )
+    .expect("graph compiles")
 }
 
 /// a -> b -> c -> d, each writing its own texture of `desc`, d's output exported.
@@ -46,7 +51,10 @@ fn isolated(descs: &[TextureDesc]) -> (GraphBuilder, Vec<TextureHandle>) {
 fn lifetimes_span_first_to_last_use_in_the_order() {
     let (mut b, outs) = chain(3, rgba(SizeClass::FULL));
     // A late reader of t0 extends its lifetime to position 3.
-    b.custom_pass("late", NoopPass).sample("src", outs[0]).sample("src2", outs[2]).side_effect();
+    b.custom_pass("late", NoopPass)
+        .sample("src", outs[0])
+        .sample("src2", outs[2])
+        .side_effect();
     let plan = compile_with(b, true);
     assert_eq!(plan.pass_names(), vec!["p0", "p1", "p2", "late"]);
     let life = |h: TextureHandle| plan.lifetimes[h.resource_index()];
@@ -63,10 +71,15 @@ fn exported_resource_lives_to_the_end_of_the_frame() {
     b.export(e1);
     for i in 1..3 {
         let t = b.create_texture(&format!("t{i}"), rgba(SizeClass::FULL));
-        b.custom_pass(&format!("p{i}"), NoopPass).side_effect().write_storage("dst", t);
+        b.custom_pass(&format!("p{i}"), NoopPass)
+            .side_effect()
+            .write_storage("dst", t);
     }
     let plan = compile_with(b, true);
-    assert_eq!(plan.lifetimes[e.resource_index()], Some(Lifetime { first: 0, last: 2 }));
+    assert_eq!(
+        plan.lifetimes[e.resource_index()],
+        Some(Lifetime { first: 0, last: 2 })
+    );
 }
 
 #[test]
@@ -88,7 +101,10 @@ fn equal_descriptors_with_disjoint_lifetimes_share_a_texture() {
     assert_eq!(slot(0), slot(2));
     assert_eq!(slot(1), slot(3));
     assert_ne!(slot(0), slot(1));
-    assert_eq!(plan.physical[slot(0)].resources, vec![outs[0].resource_index(), outs[2].resource_index()]);
+    assert_eq!(
+        plan.physical[slot(0)].resources,
+        vec![outs[0].resource_index(), outs[2].resource_index()]
+    );
     assert_eq!(plan.physical[slot(0)].desc, rgba(SizeClass::FULL));
 }
 
@@ -97,7 +113,10 @@ fn overlapping_lifetimes_never_share() {
     let (b, outs) = chain(2, rgba(SizeClass::FULL));
     let plan = compile_with(b, true);
     // p1 reads t0 and writes t1 at the same position.
-    assert_ne!(plan.slot_of[outs[0].resource_index()], plan.slot_of[outs[1].resource_index()]);
+    assert_ne!(
+        plan.slot_of[outs[0].resource_index()],
+        plan.slot_of[outs[1].resource_index()]
+    );
     assert_eq!(plan.physical.len(), 2);
 }
 
@@ -129,7 +148,10 @@ fn exported_resource_is_never_reused_by_a_later_resource() {
     b.export(outs[0]);
     let plan = compile_with(b, true);
     let slot = |i: usize| plan.slot_of[outs[i].resource_index()].unwrap();
-    assert_eq!(plan.physical[slot(0)].resources, vec![outs[0].resource_index()]);
+    assert_eq!(
+        plan.physical[slot(0)].resources,
+        vec![outs[0].resource_index()]
+    );
     assert_ne!(slot(1), slot(0));
     assert_ne!(slot(2), slot(0));
     assert_eq!(slot(1), slot(2), "the non-exported ones still share");
@@ -162,7 +184,10 @@ fn texture_bytes_with_reuse_are_exact_and_at_most_without() {
 #[test]
 fn texture_bytes_count_imported_and_history_in_both_totals() {
     let mut b = GraphBuilder::new();
-    let depth = b.import_texture("depth", TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL));
+    let depth = b.import_texture(
+        "depth",
+        TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL),
+    );
     let h = b.history_texture("hist", rgba(SizeClass::half_pow(1)));
     let t = b.create_texture("t", rgba(SizeClass::FULL));
     {
@@ -174,13 +199,19 @@ fn texture_bytes_count_imported_and_history_in_both_totals() {
     let plan = compile_with(b, true);
     let persistent = 1920 * 1080 * 4 + 2 * 960 * 540 * 8;
     let transient = 1920 * 1080 * 8;
-    assert_eq!(texture_bytes(&plan, HD), (persistent + transient, persistent + transient));
+    assert_eq!(
+        texture_bytes(&plan, HD),
+        (persistent + transient, persistent + transient)
+    );
 }
 
 #[test]
 fn every_used_transient_texture_has_a_slot_with_its_descriptor() {
     let (mut b, outs) = chain(3, rgba(SizeClass::half_pow(2)));
-    let extra = b.create_texture("extra", TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL));
+    let extra = b.create_texture(
+        "extra",
+        TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL),
+    );
     {
         let mut p = b.custom_pass("extra", NoopPass);
         p.sample("src", outs[1]).side_effect();

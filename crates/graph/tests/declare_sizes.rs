@@ -7,7 +7,10 @@ const ODD: Extent = Extent::new(97, 61);
 
 #[test]
 fn full_size_class_resolves_to_the_output() {
-    assert_eq!(SizeClass::FULL.resolve(Extent::new(1920, 1080)), Extent::new(1920, 1080));
+    assert_eq!(
+        SizeClass::FULL.resolve(Extent::new(1920, 1080)),
+        Extent::new(1920, 1080)
+    );
     assert_eq!(SizeClass::FULL.resolve(ODD), ODD);
     assert_eq!(SizeClass::half_pow(0), SizeClass::FULL);
 }
@@ -17,17 +20,35 @@ fn half_pow_rounds_odd_sizes_up() {
     assert_eq!(SizeClass::half_pow(1).resolve(ODD), Extent::new(49, 31));
     assert_eq!(SizeClass::half_pow(2).resolve(ODD), Extent::new(25, 16));
     assert_eq!(SizeClass::half_pow(3).resolve(ODD), Extent::new(13, 8));
-    assert_eq!(SizeClass::half_pow(1).resolve(Extent::new(1920, 1080)), Extent::new(960, 540));
+    assert_eq!(
+        SizeClass::half_pow(1).resolve(Extent::new(1920, 1080)),
+        Extent::new(960, 540)
+    );
 }
 
 #[test]
 fn pyramid_level_with_factor_three_rounds_up() {
     assert_eq!(SizeClass::pyramid_level(3, 0).resolve(ODD), ODD);
-    assert_eq!(SizeClass::pyramid_level(3, 1).resolve(ODD), Extent::new(33, 21));
-    assert_eq!(SizeClass::pyramid_level(3, 2).resolve(ODD), Extent::new(11, 7));
-    assert_eq!(SizeClass::pyramid_level(3, 3).resolve(ODD), Extent::new(4, 3));
-    assert_eq!(SizeClass::pyramid_level(3, 4).resolve(ODD), Extent::new(2, 1));
-    assert_eq!(SizeClass::pyramid_level(3, 2), SizeClass::Relative { divisor: 9 });
+    assert_eq!(
+        SizeClass::pyramid_level(3, 1).resolve(ODD),
+        Extent::new(33, 21)
+    );
+    assert_eq!(
+        SizeClass::pyramid_level(3, 2).resolve(ODD),
+        Extent::new(11, 7)
+    );
+    assert_eq!(
+        SizeClass::pyramid_level(3, 3).resolve(ODD),
+        Extent::new(4, 3)
+    );
+    assert_eq!(
+        SizeClass::pyramid_level(3, 4).resolve(ODD),
+        Extent::new(2, 1)
+    );
+    assert_eq!(
+        SizeClass::pyramid_level(3, 2),
+        SizeClass::Relative { divisor: 9 }
+    );
 }
 
 #[test]
@@ -36,9 +57,15 @@ fn nested_division_equals_division_by_the_product() {
         for a in 1..=9u32 {
             for b in 1..=9u32 {
                 let nested = w.div_ceil(a).div_ceil(b);
-                let direct = SizeClass::Relative { divisor: a * b }.resolve(Extent::new(w, 301 - w));
+                let direct =
+                    SizeClass::Relative { divisor: a * b }.resolve(Extent::new(w, 301 - w));
                 assert_eq!(direct.width, nested, "w={w} a={a} b={b}");
-                assert_eq!(direct.height, (301 - w).div_ceil(a).div_ceil(b), "h={} a={a} b={b}", 301 - w);
+                assert_eq!(
+                    direct.height,
+                    (301 - w).div_ceil(a).div_ceil(b),
+                    "h={} a={a} b={b}",
+                    301 - w
+                );
             }
         }
     }
@@ -48,7 +75,11 @@ fn nested_division_equals_division_by_the_product() {
 fn pyramid_levels_match_repeated_rounding_up() {
     let mut e = ODD;
     for level in 0..8 {
-        assert_eq!(SizeClass::pyramid_level(3, level).resolve(ODD), e, "level {level}");
+        assert_eq!(
+            SizeClass::pyramid_level(3, level).resolve(ODD),
+            e,
+            "level {level}"
+        );
         e = Extent::new(e.width.div_ceil(3), e.height.div_ceil(3));
     }
 }
@@ -62,13 +93,26 @@ fn fixed_size_ignores_the_output() {
 
 #[test]
 fn resolved_size_is_never_below_one_pixel() {
-    assert_eq!(SizeClass::half_pow(10).resolve(Extent::new(3, 2)), Extent::new(1, 1));
+    assert_eq!(
+        SizeClass::half_pow(10).resolve(Extent::new(3, 2)),
+        Extent::new(1, 1)
+    );
     assert_eq!(SizeClass::half_pow(31).resolve(ODD), Extent::new(1, 1));
-    assert_eq!(SizeClass::pyramid_level(3, 40).resolve(ODD), Extent::new(1, 1));
+    assert_eq!(
+        SizeClass::pyramid_level(3, 40).resolve(ODD),
+        Extent::new(1, 1)
+    );
     assert_eq!(SizeClass::fixed(0, 0).resolve(ODD), Extent::new(1, 1));
     assert_eq!(SizeClass::fixed(0, 7).resolve(ODD), Extent::new(1, 7));
-    assert_eq!(SizeClass::Relative { divisor: 0 }.resolve(ODD), ODD, "divisor 0 is treated as 1");
-    assert_eq!(SizeClass::FULL.resolve(Extent::new(0, 0)), Extent::new(1, 1));
+    assert_eq!(
+        SizeClass::Relative { divisor: 0 }.resolve(ODD),
+        ODD,
+        "divisor 0 is treated as 1"
+    );
+    assert_eq!(
+        SizeClass::FULL.resolve(Extent::new(0, 0)),
+        Extent::new(1, 1)
+    );
 }
 
 #[test]

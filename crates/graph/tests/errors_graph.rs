@@ -8,7 +8,11 @@ fn rgba(size: SizeClass) -> TextureDesc {
 }
 
 fn compile_err(b: GraphBuilder) -> GraphError {
-    match compile(b.build(), &ShaderLibrary::inline_only(), CompileOptions::default()) {
+    match compile(
+        b.build(),
+        &ShaderLibrary::inline_only(),
+        CompileOptions::default(),
+    ) {
         Ok(plan) => panic!("expected an error, compiled {:?}", plan.pass_names()),
         Err(e) => e,
     }
@@ -17,7 +21,10 @@ fn compile_err(b: GraphBuilder) -> GraphError {
 fn assert_names(e: &GraphError, names: &[&str]) {
     let msg = e.to_string();
     for n in names {
-        assert!(msg.contains(&format!("`{n}`")), "message {msg:?} should name `{n}`");
+        assert!(
+            msg.contains(&format!("`{n}`")),
+            "message {msg:?} should name `{n}`"
+        );
     }
 }
 
@@ -38,7 +45,9 @@ fn cycle_between_two_reopened_passes() {
         GraphError::Cycle { pass } => assert!(pass == "pa" || pass == "pb", "cycle names {pass}"),
         other => panic!("expected Cycle, got {other:?}"),
     }
-    let GraphError::Cycle { pass } = &e else { unreachable!() };
+    let GraphError::Cycle { pass } = &e else {
+        unreachable!()
+    };
     assert_names(&e, &[pass]);
     assert!(e.to_string().contains("cycle"));
 }
@@ -47,7 +56,10 @@ fn cycle_between_two_reopened_passes() {
 fn cycle_through_a_longer_loop_is_found_even_when_culled() {
     // a -> b -> c -> a, nothing exported: still an error, not silently culled.
     let mut b = GraphBuilder::new();
-    let ids: Vec<PassId> = ["a", "b", "c"].iter().map(|n| b.custom_pass(n, NoopPass).id()).collect();
+    let ids: Vec<PassId> = ["a", "b", "c"]
+        .iter()
+        .map(|n| b.custom_pass(n, NoopPass).id())
+        .collect();
     let outs: Vec<TextureHandle> = ids
         .iter()
         .enumerate()
@@ -66,9 +78,17 @@ fn cycle_through_a_longer_loop_is_found_even_when_culled() {
 fn read_of_never_written_transient() {
     let mut b = GraphBuilder::new();
     let t = b.create_texture("gbuffer", rgba(SizeClass::FULL));
-    b.custom_pass("shade", NoopPass).sample("src", t).side_effect();
+    b.custom_pass("shade", NoopPass)
+        .sample("src", t)
+        .side_effect();
     let e = compile_err(b);
-    assert_eq!(e, GraphError::ReadOfUnwritten { pass: "shade".into(), resource: "gbuffer".into() });
+    assert_eq!(
+        e,
+        GraphError::ReadOfUnwritten {
+            pass: "shade".into(),
+            resource: "gbuffer".into()
+        }
+    );
     assert_names(&e, &["shade", "gbuffer"]);
 }
 
@@ -89,7 +109,14 @@ fn writing_a_stale_handle_is_a_conflicting_write() {
     b.custom_pass("second", NoopPass).write_storage("out", t);
     b.export(t1);
     let e = compile_err(b);
-    assert_eq!(e, GraphError::ConflictingWrites { resource: "accum".into(), first: "first".into(), second: "second".into() });
+    assert_eq!(
+        e,
+        GraphError::ConflictingWrites {
+            resource: "accum".into(),
+            first: "first".into(),
+            second: "second".into()
+        }
+    );
     assert_names(&e, &["accum", "first", "second"]);
 }
 
@@ -101,7 +128,14 @@ fn two_writes_of_the_same_version_conflict() {
     let _t2 = b.custom_pass("b", NoopPass).read_write_storage("rw", t1);
     b.custom_pass("c", NoopPass).read_write_storage("rw", t1);
     let e = compile_err(b);
-    assert_eq!(e, GraphError::ConflictingWrites { resource: "t".into(), first: "b".into(), second: "c".into() });
+    assert_eq!(
+        e,
+        GraphError::ConflictingWrites {
+            resource: "t".into(),
+            first: "b".into(),
+            second: "c".into()
+        }
+    );
 }
 
 #[test]
@@ -119,7 +153,12 @@ fn colour_attachments_of_different_size_classes_mismatch() {
     let e = compile_err(b);
     assert_eq!(
         e,
-        GraphError::SizeMismatch { pass: "mrt".into(), resource: "half_rt".into(), expected: "full (the size of `full_rt`)".into(), found: "1/2".into() }
+        GraphError::SizeMismatch {
+            pass: "mrt".into(),
+            resource: "half_rt".into(),
+            expected: "full (the size of `full_rt`)".into(),
+            found: "1/2".into()
+        }
     );
     assert_names(&e, &["mrt", "half_rt", "full_rt"]);
 }
@@ -137,14 +176,20 @@ fn fullscreen_pass_with_mismatched_attachments_is_a_size_mismatch() {
     };
     b.export(out);
     let e = compile_err(b);
-    assert!(matches!(&e, GraphError::SizeMismatch { pass, resource, found, .. } if pass == "composite" && resource == "c" && found == "fixed 64x64"), "{e:?}");
+    assert!(
+        matches!(&e, GraphError::SizeMismatch { pass, resource, found, .. } if pass == "composite" && resource == "c" && found == "fixed 64x64"),
+        "{e:?}"
+    );
 }
 
 #[test]
 fn depth_attachment_of_different_size_is_a_size_mismatch() {
     let mut b = GraphBuilder::new();
     let color = b.create_texture("color", rgba(SizeClass::FULL));
-    let depth = b.create_texture("depth", TextureDesc::new(TextureFormat::Depth32Float, SizeClass::half_pow(1)));
+    let depth = b.create_texture(
+        "depth",
+        TextureDesc::new(TextureFormat::Depth32Float, SizeClass::half_pow(1)),
+    );
     let out = {
         let mut p = b.custom_pass("draw", NoopPass);
         let o = p.color_attachment(color);
@@ -152,7 +197,9 @@ fn depth_attachment_of_different_size_is_a_size_mismatch() {
         o
     };
     b.export(out);
-    assert!(matches!(compile_err(b), GraphError::SizeMismatch { pass, resource, .. } if pass == "draw" && resource == "depth"));
+    assert!(
+        matches!(compile_err(b), GraphError::SizeMismatch { pass, resource, .. } if pass == "draw" && resource == "depth")
+    );
 }
 
 #[test]
@@ -166,7 +213,12 @@ fn copy_between_different_sizes_is_a_size_mismatch() {
     let e = compile_err(b);
     assert_eq!(
         e,
-        GraphError::SizeMismatch { pass: "downcopy".into(), resource: "dst".into(), expected: "full (the size of `src`)".into(), found: "1/2".into() }
+        GraphError::SizeMismatch {
+            pass: "downcopy".into(),
+            resource: "dst".into(),
+            expected: "full (the size of `src`)".into(),
+            found: "1/2".into()
+        }
     );
 }
 
@@ -174,12 +226,18 @@ fn copy_between_different_sizes_is_a_size_mismatch() {
 fn copy_between_different_formats_is_a_format_mismatch() {
     let mut b = GraphBuilder::new();
     let src = b.create_texture("src", rgba(SizeClass::FULL));
-    let dst = b.create_texture("dst", TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL));
+    let dst = b.create_texture(
+        "dst",
+        TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL),
+    );
     let src1 = b.custom_pass("fill", NoopPass).write_storage("out", src);
     let dst1 = b.copy_pass("copy", src1, dst);
     b.export(dst1);
     let e = compile_err(b);
-    assert!(matches!(&e, GraphError::FormatMismatch { pass, resource, found, .. } if pass == "copy" && resource == "dst" && *found == TextureFormat::R32Float), "{e:?}");
+    assert!(
+        matches!(&e, GraphError::FormatMismatch { pass, resource, found, .. } if pass == "copy" && resource == "dst" && *found == TextureFormat::R32Float),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -191,7 +249,12 @@ fn depth_attachment_with_colour_format_is_a_format_mismatch() {
     let e = compile_err(b);
     assert_eq!(
         e,
-        GraphError::FormatMismatch { pass: "zprepass".into(), resource: "not_depth".into(), expected: "a depth format".into(), found: TextureFormat::Rgba16Float }
+        GraphError::FormatMismatch {
+            pass: "zprepass".into(),
+            resource: "not_depth".into(),
+            expected: "a depth format".into(),
+            found: TextureFormat::Rgba16Float
+        }
     );
     assert_names(&e, &["zprepass", "not_depth"]);
     assert!(e.to_string().contains("Rgba16Float"));
@@ -200,10 +263,15 @@ fn depth_attachment_with_colour_format_is_a_format_mismatch() {
 #[test]
 fn colour_attachment_with_depth_format_is_a_format_mismatch() {
     let mut b = GraphBuilder::new();
-    let t = b.create_texture("depth", TextureDesc::new(TextureFormat::Depth32Float, SizeClass::FULL));
+    let t = b.create_texture(
+        "depth",
+        TextureDesc::new(TextureFormat::Depth32Float, SizeClass::FULL),
+    );
     let t1 = b.custom_pass("draw", NoopPass).color_attachment(t);
     b.export(t1);
-    assert!(matches!(compile_err(b), GraphError::FormatMismatch { expected, resource, .. } if expected == "a colour format" && resource == "depth"));
+    assert!(
+        matches!(compile_err(b), GraphError::FormatMismatch { expected, resource, .. } if expected == "a colour format" && resource == "depth")
+    );
 }
 
 #[test]
@@ -218,7 +286,12 @@ fn history_read_but_never_written() {
     };
     b.export(out1);
     let e = compile_err(b);
-    assert_eq!(e, GraphError::HistoryNeverWritten { resource: "taa".into() });
+    assert_eq!(
+        e,
+        GraphError::HistoryNeverWritten {
+            resource: "taa".into()
+        }
+    );
     assert_names(&e, &["taa"]);
 }
 
@@ -238,7 +311,12 @@ fn mip_out_of_range_is_an_invalid_pass() {
     match &e {
         GraphError::InvalidPass { pass, message } => {
             assert_eq!(pass, "reader");
-            assert!(message.contains("mip 2") && message.contains("`pyramid`") && message.contains("0..2"), "{message}");
+            assert!(
+                message.contains("mip 2")
+                    && message.contains("`pyramid`")
+                    && message.contains("0..2"),
+                "{message}"
+            );
         }
         other => panic!("expected InvalidPass, got {other:?}"),
     }
@@ -249,14 +327,21 @@ fn first_write_of_a_mip_of_a_fresh_mipped_texture_compiles() {
     // Building a mip chain: mip 0 is written first (nothing to keep yet), then each level.
     let mut b = GraphBuilder::new();
     let t = b.create_texture("pyramid", rgba(SizeClass::FULL).with_mips(3));
-    let mut cur = b.custom_pass("mip0", NoopPass).write_storage_mip("dst", t, 0);
+    let mut cur = b
+        .custom_pass("mip0", NoopPass)
+        .write_storage_mip("dst", t, 0);
     for m in 1..3 {
         let mut p = b.custom_pass(&format!("mip{m}"), NoopPass);
         p.sample_mip("src", cur, m - 1);
         cur = p.write_storage_mip("dst", cur, m);
     }
     b.export(cur);
-    let plan = compile(b.build(), &ShaderLibrary::inline_only(), CompileOptions::default()).expect("a mip chain compiles");
+    let plan = compile(
+        b.build(),
+        &ShaderLibrary::inline_only(),
+        CompileOptions::default(),
+    )
+    .expect("a mip chain compiles");
     assert_eq!(plan.pass_names(), vec!["mip0", "mip1", "mip2"]);
 }
 
@@ -264,9 +349,13 @@ fn first_write_of_a_mip_of_a_fresh_mipped_texture_compiles() {
 fn writing_a_mip_out_of_range_of_a_fresh_texture_is_an_invalid_pass() {
     let mut b = GraphBuilder::new();
     let t = b.create_texture("pyramid", rgba(SizeClass::FULL).with_mips(4));
-    let t1 = b.custom_pass("writer", NoopPass).write_storage_mip("dst", t, 4);
+    let t1 = b
+        .custom_pass("writer", NoopPass)
+        .write_storage_mip("dst", t, 4);
     b.export(t1);
-    assert!(matches!(compile_err(b), GraphError::InvalidPass { pass, message } if pass == "writer" && message.contains("mip 4")));
+    assert!(
+        matches!(compile_err(b), GraphError::InvalidPass { pass, message } if pass == "writer" && message.contains("mip 4"))
+    );
 }
 
 #[test]
@@ -277,6 +366,8 @@ fn handle_from_another_graph_is_an_invalid_pass_not_a_panic() {
     }
     let foreign = other.create_texture("foreign", rgba(SizeClass::FULL));
     let mut b = GraphBuilder::new();
-    b.custom_pass("p", NoopPass).sample("src", foreign).side_effect();
+    b.custom_pass("p", NoopPass)
+        .sample("src", foreign)
+        .side_effect();
     assert!(matches!(compile_err(b), GraphError::InvalidPass { pass, .. } if pass == "p"));
 }

@@ -26,7 +26,10 @@ fn library() -> ShaderLibrary {
     let lib = ShaderLibrary::inline_only();
     lib.add_inline("filter.wgsl", FILTER);
     lib.add_inline("inplace.wgsl", INPLACE);
-    lib.add_inline("bad.wgsl", "@compute @workgroup_size(1)\nfn main() {\n    let x = ;\n}\n");
+    lib.add_inline(
+        "bad.wgsl",
+        "@compute @workgroup_size(1)\nfn main() {\n    let x = ;\n}\n",
+    );
     lib
 }
 
@@ -35,7 +38,10 @@ fn r32() -> TextureDesc {
 }
 
 /// An imported input, an output of `out_desc`, and a "filter" compute pass set up by `f`.
-fn filter_graph(out_desc: TextureDesc, f: impl FnOnce(&mut PassBuilder<'_>, TextureHandle, TextureHandle) -> TextureHandle) -> GraphBuilder {
+fn filter_graph(
+    out_desc: TextureDesc,
+    f: impl FnOnce(&mut PassBuilder<'_>, TextureHandle, TextureHandle) -> TextureHandle,
+) -> GraphBuilder {
     let mut b = GraphBuilder::new();
     let src = b.import_texture("input", r32());
     let dst = b.create_texture("filtered", out_desc);
@@ -74,7 +80,15 @@ fn fully_supplied_compute_pass_compiles() {
     });
     let plan = compile_result(b).expect("compiles");
     assert_eq!(plan.pass_names(), vec!["filter"]);
-    assert_eq!(plan.shaders[0].as_ref().unwrap().entry("main").unwrap().workgroup_size, [8, 8, 1]);
+    assert_eq!(
+        plan.shaders[0]
+            .as_ref()
+            .unwrap()
+            .entry("main")
+            .unwrap()
+            .workgroup_size,
+        [8, 8, 1]
+    );
 }
 
 #[test]
@@ -99,7 +113,10 @@ fn shader_binding_not_supplied_names_the_binding() {
     });
     let (pass, message) = invalid_pass(b);
     assert_eq!(pass, "filter");
-    assert!(message.contains("`src`") && message.contains("filter.wgsl"), "{message}");
+    assert!(
+        message.contains("`src`") && message.contains("filter.wgsl"),
+        "{message}"
+    );
     assert!(message.contains("supplies nothing"), "{message}");
 }
 
@@ -126,7 +143,10 @@ fn named_binding_missing_from_shader_lists_what_the_shader_has() {
     });
     let (pass, message) = invalid_pass(b);
     assert_eq!(pass, "filter");
-    assert_eq!(message, "shader `filter.wgsl` has no binding `extra_input`; it has: src, dst, params, linear_clamp");
+    assert_eq!(
+        message,
+        "shader `filter.wgsl` has no binding `extra_input`; it has: src, dst, params, linear_clamp"
+    );
 }
 
 #[test]
@@ -145,19 +165,30 @@ fn misnamed_uniform_is_reported() {
 
 #[test]
 fn storage_format_differing_from_shader_is_a_format_mismatch() {
-    let b = filter_graph(TextureDesc::new(TextureFormat::Rgba16Float, SizeClass::FULL), |p, src, dst| {
-        p.sample("src", src);
-        p.uniform("params", &params());
-        let out = p.write_storage("dst", dst);
-        p.dispatch_over(out);
-        out
-    });
+    let b = filter_graph(
+        TextureDesc::new(TextureFormat::Rgba16Float, SizeClass::FULL),
+        |p, src, dst| {
+            p.sample("src", src);
+            p.uniform("params", &params());
+            let out = p.write_storage("dst", dst);
+            p.dispatch_over(out);
+            out
+        },
+    );
     let e = compile_result(b).unwrap_err();
     match &e {
-        GraphError::FormatMismatch { pass, resource, expected, found } => {
+        GraphError::FormatMismatch {
+            pass,
+            resource,
+            expected,
+            found,
+        } => {
             assert_eq!(pass, "filter");
             assert_eq!(resource, "filtered");
-            assert!(expected.contains("R32Float") && expected.contains("`dst`"), "{expected}");
+            assert!(
+                expected.contains("R32Float") && expected.contains("`dst`"),
+                "{expected}"
+            );
             assert_eq!(*found, TextureFormat::Rgba16Float);
         }
         other => panic!("expected FormatMismatch, got {other:?}"),
@@ -180,7 +211,12 @@ fn storage_access_differing_from_shader_is_invalid() {
     b.export(t2);
     let (pass, message) = invalid_pass(b);
     assert_eq!(pass, "halve");
-    assert!(message.contains("`img`") && message.contains("ReadWrite") && message.contains("StorageWrite"), "{message}");
+    assert!(
+        message.contains("`img`")
+            && message.contains("ReadWrite")
+            && message.contains("StorageWrite"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -209,7 +245,10 @@ fn sampled_binding_supplied_as_storage_is_invalid() {
         out
     });
     let (_, message) = invalid_pass(b);
-    assert!(message.contains("`src` is a sampled texture") && message.contains("StorageRead"), "{message}");
+    assert!(
+        message.contains("`src` is a sampled texture") && message.contains("StorageRead"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -222,7 +261,10 @@ fn uniform_smaller_than_shader_type_is_invalid() {
         out
     });
     let (_, message) = invalid_pass(b);
-    assert!(message.contains("uniform `params` has 8 bytes") && message.contains("32"), "{message}");
+    assert!(
+        message.contains("uniform `params` has 8 bytes") && message.contains("32"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -239,14 +281,22 @@ fn missing_entry_point_lists_the_shader_entries() {
     b.export(t2);
     let (pass, message) = invalid_pass(b);
     assert_eq!(pass, "halve");
-    assert!(message.contains("`mian`") && message.contains("main (Compute)"), "{message}");
+    assert!(
+        message.contains("`mian`") && message.contains("main (Compute)"),
+        "{message}"
+    );
 }
 
 #[test]
 fn fullscreen_pass_with_compute_entry_is_invalid() {
     let mut b = GraphBuilder::new();
-    let t = b.create_texture("out", TextureDesc::new(TextureFormat::Rgba8Unorm, SizeClass::FULL));
-    let t1 = b.fullscreen_pass("show", "inplace.wgsl", "main", "main").color_attachment(t);
+    let t = b.create_texture(
+        "out",
+        TextureDesc::new(TextureFormat::Rgba8Unorm, SizeClass::FULL),
+    );
+    let t1 = b
+        .fullscreen_pass("show", "inplace.wgsl", "main", "main")
+        .color_attachment(t);
     b.export(t1);
     let (pass, message) = invalid_pass(b);
     assert_eq!(pass, "show");
@@ -265,7 +315,10 @@ fn syntax_error_in_a_pass_shader_fails_compile_with_file_and_line() {
     };
     b.export(t1);
     let e = compile_result(b).unwrap_err();
-    assert!(matches!(&e, GraphError::Shader { file, line: 3, .. } if file == "bad.wgsl"), "{e:?}");
+    assert!(
+        matches!(&e, GraphError::Shader { file, line: 3, .. } if file == "bad.wgsl"),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -279,5 +332,7 @@ fn missing_shader_file_fails_compile() {
         h
     };
     b.export(t1);
-    assert!(matches!(compile_result(b), Err(GraphError::ShaderFile { file, .. }) if file == "ghost.wgsl"));
+    assert!(
+        matches!(compile_result(b), Err(GraphError::ShaderFile { file, .. }) if file == "ghost.wgsl")
+    );
 }

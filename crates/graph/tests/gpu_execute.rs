@@ -74,7 +74,10 @@ fn shaders() -> ShaderLibrary {
 }
 
 fn params(scale: f32, offset: f32) -> Vec<u8> {
-    [scale, offset, 0.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect()
+    [scale, offset, 0.0, 0.0]
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .collect()
 }
 
 fn pattern(x: u32, y: u32) -> f32 {
@@ -97,7 +100,9 @@ fn expected(w: u32, h: u32, scale: f32, offset: f32) -> Vec<f32> {
 fn render_blur_scale(b: &mut GraphBuilder) -> (TextureHandle, UniformHandle) {
     let desc = TextureDesc::new(R32Float, SizeClass::FULL);
     let img = b.create_texture("pattern", desc);
-    let img = b.fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs").color_attachment(img);
+    let img = b
+        .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
+        .color_attachment(img);
     let tmp = b.create_texture("blurred", desc);
     let mut blur = b.compute_pass("blur", "blur.wgsl", "main");
     blur.sample("src", img);
@@ -118,15 +123,21 @@ fn render_blur_and_compute_match_cpu_arithmetic() {
     let Some(gpu) = test_gpu() else { return };
     let mut b = GraphBuilder::new();
     let (out, uniform) = render_blur_scale(&mut b);
-    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).expect("compiles"));
+    let plan =
+        Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).expect("compiles"));
     let mut exec = Executor::new(gpu.clone());
     let size = Extent::new(64, 48);
     exec.execute(&plan, size).expect("first frame");
     let got = exec.read_texture(&plan, out).unwrap().to_f32().unwrap();
-    assert_eq!(got, expected(64, 48, 2.0, 1.0), "values are multiples of 1/64, so GPU and CPU agree exactly");
+    assert_eq!(
+        got,
+        expected(64, 48, 2.0, 1.0),
+        "values are multiples of 1/64, so GPU and CPU agree exactly"
+    );
 
     // Per-frame uniform update, same plan.
-    exec.write_uniform(&plan, uniform, &params(-1.0, 0.5)).unwrap();
+    exec.write_uniform(&plan, uniform, &params(-1.0, 0.5))
+        .unwrap();
     exec.execute(&plan, size).unwrap();
     let got = exec.read_texture(&plan, out).unwrap().to_f32().unwrap();
     assert_eq!(got, expected(64, 48, -1.0, 0.5));
@@ -154,11 +165,19 @@ fn accumulate_graph() -> (Arc<CompiledGraph>, TextureHandle) {
     p.sample("previous", hist.previous);
     let cur = p.write_storage("current", hist.current);
     p.dispatch_over(cur);
-    (Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap()), cur)
+    (
+        Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap()),
+        cur,
+    )
 }
 
 fn all_equal(exec: &Executor, plan: &CompiledGraph, h: TextureHandle, v: f32) -> bool {
-    exec.read_texture(plan, h).unwrap().to_f32().unwrap().iter().all(|&x| x == v)
+    exec.read_texture(plan, h)
+        .unwrap()
+        .to_f32()
+        .unwrap()
+        .iter()
+        .all(|&x| x == v)
 }
 
 #[test]
@@ -167,13 +186,22 @@ fn history_is_invalid_on_first_frame_then_reads_previous_values() {
     let (plan, cur) = accumulate_graph();
     let mut exec = Executor::new(gpu);
     let size = Extent::new(32, 32);
-    assert!(!exec.history_valid(&plan, "count", size), "first frame has no history");
+    assert!(
+        !exec.history_valid(&plan, "count", size),
+        "first frame has no history"
+    );
     exec.execute(&plan, size).unwrap();
-    assert!(all_equal(&exec, &plan, cur, 1.0), "invalid previous reads as zero");
+    assert!(
+        all_equal(&exec, &plan, cur, 1.0),
+        "invalid previous reads as zero"
+    );
     for frame in 2..=3 {
         assert!(exec.history_valid(&plan, "count", size));
         exec.execute(&plan, size).unwrap();
-        assert!(all_equal(&exec, &plan, cur, frame as f32), "frame {frame} adds to the previous value");
+        assert!(
+            all_equal(&exec, &plan, cur, frame as f32),
+            "frame {frame} adds to the previous value"
+        );
     }
 }
 
@@ -187,22 +215,33 @@ fn resize_and_reset_invalidate_history() {
     }
     assert!(all_equal(&exec, &plan, cur, 3.0));
     let resized = Extent::new(40, 24);
-    assert!(!exec.history_valid(&plan, "count", resized), "a resize invalidates");
+    assert!(
+        !exec.history_valid(&plan, "count", resized),
+        "a resize invalidates"
+    );
     exec.execute(&plan, resized).unwrap();
     assert!(all_equal(&exec, &plan, cur, 1.0));
     exec.execute(&plan, resized).unwrap();
     assert!(all_equal(&exec, &plan, cur, 2.0));
     exec.reset_history();
-    assert!(!exec.history_valid(&plan, "count", resized), "a reset (camera cut) invalidates");
+    assert!(
+        !exec.history_valid(&plan, "count", resized),
+        "a reset (camera cut) invalidates"
+    );
     exec.execute(&plan, resized).unwrap();
-    assert!(all_equal(&exec, &plan, cur, 1.0), "nothing from before the cut survives");
+    assert!(
+        all_equal(&exec, &plan, cur, 1.0),
+        "nothing from before the cut survives"
+    );
 }
 
 /// A chain of blurs through same-descriptor intermediates: reuse folds them into two textures.
 fn blur_chain(b: &mut GraphBuilder, n: usize) -> TextureHandle {
     let desc = TextureDesc::new(R32Float, SizeClass::FULL);
     let img = b.create_texture("pattern", desc);
-    let mut cur = b.fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs").color_attachment(img);
+    let mut cur = b
+        .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
+        .color_attachment(img);
     for i in 0..n {
         let t = b.create_texture(&format!("blur{i}"), desc);
         let mut p = b.compute_pass(&format!("blur{i}"), "blur.wgsl", "main");
@@ -229,7 +268,12 @@ fn reuse_on_and_off_give_identical_images() {
         images.push(exec.read_texture(&plan, out).unwrap().bytes);
     }
     assert_eq!(images[0], images[1]);
-    assert!(physical[0] < physical[1], "reuse {} textures, without {}", physical[0], physical[1]);
+    assert!(
+        physical[0] < physical[1],
+        "reuse {} textures, without {}",
+        physical[0],
+        physical[1]
+    );
 }
 
 #[test]
@@ -243,9 +287,16 @@ fn timings_name_every_pass_from_both_sources() {
         exec.force_cpu_timing(cpu);
         exec.execute(&plan, Extent::new(64, 64)).unwrap();
         let t = exec.timings().unwrap().clone();
-        assert_eq!(t.passes.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(), ["pattern", "blur0", "blur1", "blur2"]);
+        assert_eq!(
+            t.passes.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
+            ["pattern", "blur0", "blur1", "blur2"]
+        );
         assert!(t.passes.iter().all(|(_, ms)| ms.is_finite() && *ms >= 0.0));
-        let expected = if cpu || !gpu.has_timestamps() { TimingSource::CpuWall } else { TimingSource::GpuTimestamps };
+        let expected = if cpu || !gpu.has_timestamps() {
+            TimingSource::CpuWall
+        } else {
+            TimingSource::GpuTimestamps
+        };
         assert_eq!(t.source, Some(expected));
         assert!(t.table().contains("blur2") && t.table().contains("total"));
     }
@@ -261,9 +312,17 @@ fn pool_does_not_grow_across_resizes() {
     exec.execute(&plan, Extent::new(16, 16)).unwrap();
     let steady = exec.pool_texture_count();
     for i in 0..40u32 {
-        let size = if (i / 5) % 2 == 0 { Extent::new(16, 16) } else { Extent::new(24, 8) };
+        let size = if (i / 5) % 2 == 0 {
+            Extent::new(16, 16)
+        } else {
+            Extent::new(24, 8)
+        };
         exec.execute(&plan, size).unwrap();
-        assert!(exec.pool_texture_count() <= steady * 2, "frame {i}: pool holds {}", exec.pool_texture_count());
+        assert!(
+            exec.pool_texture_count() <= steady * 2,
+            "frame {i}: pool holds {}",
+            exec.pool_texture_count()
+        );
         if i % 5 != 0 {
             assert_eq!(exec.pool_texture_count(), steady, "frame {i}: steady state");
         }
@@ -299,7 +358,11 @@ fn missing_import_is_reported_by_name() {
     // With the import provided, the blur of a constant image is that constant.
     let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: None,
-        size: wgpu::Extent3d { width: 8, height: 8, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width: 8,
+            height: 8,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -308,10 +371,26 @@ fn missing_import_is_reported_by_name() {
         view_formats: &[],
     });
     let data: Vec<u8> = (0..64).flat_map(|_| 0.75f32.to_le_bytes()).collect();
-    gpu.queue.write_texture(tex.as_image_copy(), &data, wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(32), rows_per_image: None }, tex.size());
+    gpu.queue.write_texture(
+        tex.as_image_copy(),
+        &data,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(32),
+            rows_per_image: None,
+        },
+        tex.size(),
+    );
     exec.import_texture("gbuffer.depth", tex);
     exec.execute(&plan, Extent::new(8, 8)).unwrap();
-    assert!(exec.read_texture(&plan, out).unwrap().to_f32().unwrap().iter().all(|&v| v == 0.75));
+    assert!(
+        exec.read_texture(&plan, out)
+            .unwrap()
+            .to_f32()
+            .unwrap()
+            .iter()
+            .all(|&v| v == 0.75)
+    );
 }
 
 /// Two executors on two threads share one device, as two renderers in one application (or
@@ -328,7 +407,8 @@ fn executors_on_two_threads_keep_their_timestamp_readback_unmapped() {
             std::thread::spawn(move || {
                 let mut b = GraphBuilder::new();
                 blur_chain(&mut b, 2);
-                let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+                let plan =
+                    Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
                 let mut exec = Executor::new(gpu.clone());
                 let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
                 for frame in 0..150u32 {
@@ -353,7 +433,14 @@ fn supports_reports_format_usages() {
     let Some(gpu) = test_gpu() else { return };
     let storage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
     assert!(gpu.supports(R32Float, storage));
-    assert!(gpu.supports(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT));
+    assert!(gpu.supports(
+        wgpu::TextureFormat::Depth32Float,
+        wgpu::TextureUsages::RENDER_ATTACHMENT
+    ));
     assert!(!gpu.supports(wgpu::TextureFormat::Depth32Float, storage));
-    println!("{}: r16float storage {}", gpu.describe(), gpu.supports(wgpu::TextureFormat::R16Float, storage));
+    println!(
+        "{}: r16float storage {}",
+        gpu.describe(),
+        gpu.supports(wgpu::TextureFormat::R16Float, storage)
+    );
 }

@@ -1,17 +1,29 @@
 //! Property tests on random DAGs: order, culling, lifetimes, reuse and determinism, each
 //! checked against an independent recomputation from the generated graph.
 
-use std::collections::{BTreeSet, BinaryHeap};
 use std::cmp::Reverse;
+use std::collections::{BTreeSet, BinaryHeap};
 
 use aograph_graph::wgpu::TextureFormat;
 use aograph_graph::*;
 use proptest::prelude::*;
 
 const DESCS: [TextureDesc; 3] = [
-    TextureDesc { format: TextureFormat::Rgba16Float, size: SizeClass::FULL, mip_levels: 1 },
-    TextureDesc { format: TextureFormat::R32Float, size: SizeClass::FULL, mip_levels: 1 },
-    TextureDesc { format: TextureFormat::Rgba16Float, size: SizeClass::Relative { divisor: 2 }, mip_levels: 1 },
+    TextureDesc {
+        format: TextureFormat::Rgba16Float,
+        size: SizeClass::FULL,
+        mip_levels: 1,
+    },
+    TextureDesc {
+        format: TextureFormat::R32Float,
+        size: SizeClass::FULL,
+        mip_levels: 1,
+    },
+    TextureDesc {
+        format: TextureFormat::Rgba16Float,
+        size: SizeClass::Relative { divisor: 2 },
+        mip_levels: 1,
+    },
 ];
 
 /// A random DAG of passes. Pass `i` writes its own texture `t{i}`; an edge (j, i) means pass
@@ -29,7 +41,10 @@ struct Dag {
 
 fn dag() -> impl Strategy<Value = Dag> {
     (2usize..40).prop_flat_map(|n| {
-        let rank = prop_oneof![Just((0..n).collect::<Vec<usize>>()), Just((0..n).collect::<Vec<usize>>()).prop_shuffle()];
+        let rank = prop_oneof![
+            Just((0..n).collect::<Vec<usize>>()),
+            Just((0..n).collect::<Vec<usize>>()).prop_shuffle()
+        ];
         (
             rank,
             proptest::collection::vec(0u8..100, n * n),
@@ -47,7 +62,13 @@ fn dag() -> impl Strategy<Value = Dag> {
                         }
                     }
                 }
-                Dag { n, edges, exports, side_effects, descs }
+                Dag {
+                    n,
+                    edges,
+                    exports,
+                    side_effects,
+                    descs,
+                }
             })
     })
 }
@@ -85,13 +106,20 @@ fn declare(d: &Dag) -> GraphDecl {
 }
 
 fn compile_dag(d: &Dag, reuse: bool) -> CompiledGraph {
-    compile(declare(d), &ShaderLibrary::inline_only(), CompileOptions { reuse }).expect("an acyclic random graph compiles")
+    compile(
+        declare(d),
+        &ShaderLibrary::inline_only(),
+        CompileOptions { reuse },
+    )
+    .expect("an acyclic random graph compiles")
 }
 
 /// Passes from which an export or a side effect is reachable (reverse DFS from the roots).
 fn expected_kept(d: &Dag) -> Vec<bool> {
     let mut kept = vec![false; d.n];
-    let mut stack: Vec<usize> = (0..d.n).filter(|&i| d.exports[i] || d.side_effects[i]).collect();
+    let mut stack: Vec<usize> = (0..d.n)
+        .filter(|&i| d.exports[i] || d.side_effects[i])
+        .collect();
     while let Some(i) = stack.pop() {
         if std::mem::replace(&mut kept[i], true) {
             continue;
@@ -109,7 +137,10 @@ fn expected_order(d: &Dag, kept: &[bool]) -> Vec<usize> {
             indeg[i] += 1;
         }
     }
-    let mut ready: BinaryHeap<Reverse<usize>> = (0..d.n).filter(|&i| kept[i] && indeg[i] == 0).map(Reverse).collect();
+    let mut ready: BinaryHeap<Reverse<usize>> = (0..d.n)
+        .filter(|&i| kept[i] && indeg[i] == 0)
+        .map(Reverse)
+        .collect();
     let mut order = Vec::new();
     while let Some(Reverse(i)) = ready.pop() {
         order.push(i);

@@ -14,8 +14,16 @@ use aograph_graph::*;
 use proptest::prelude::*;
 
 const DESCS: [TextureDesc; 2] = [
-    TextureDesc { format: TextureFormat::Rgba16Float, size: SizeClass::FULL, mip_levels: 1 },
-    TextureDesc { format: TextureFormat::R32Float, size: SizeClass::FULL, mip_levels: 1 },
+    TextureDesc {
+        format: TextureFormat::Rgba16Float,
+        size: SizeClass::FULL,
+        mip_levels: 1,
+    },
+    TextureDesc {
+        format: TextureFormat::R32Float,
+        size: SizeClass::FULL,
+        mip_levels: 1,
+    },
 ];
 
 #[derive(Clone, Copy, Debug)]
@@ -39,13 +47,20 @@ fn prog() -> impl Strategy<Value = Prog> {
             2 => (0..r).prop_map(Op::ReadWrite),
             4 => (0..r, any::<u8>()).prop_map(|(r, pick)| Op::Read(r, pick)),
         ];
-        let pass = (proptest::collection::vec(op, 1..3), proptest::bool::weighted(0.08));
+        let pass = (
+            proptest::collection::vec(op, 1..3),
+            proptest::bool::weighted(0.08),
+        );
         (
             proptest::collection::vec(0..DESCS.len(), r),
             proptest::collection::vec(pass, n),
             proptest::collection::vec(proptest::bool::weighted(0.4), r),
         )
-            .prop_map(|(descs, passes, exports)| Prog { descs, passes, exports })
+            .prop_map(|(descs, passes, exports)| Prog {
+                descs,
+                passes,
+                exports,
+            })
     })
 }
 
@@ -61,9 +76,18 @@ struct Model {
 
 fn declare(p: &Prog) -> (GraphDecl, Model) {
     let mut b = GraphBuilder::new();
-    let mut latest: Vec<TextureHandle> = p.descs.iter().enumerate().map(|(i, d)| b.create_texture(&format!("r{i}"), DESCS[*d])).collect();
+    let mut latest: Vec<TextureHandle> = p
+        .descs
+        .iter()
+        .enumerate()
+        .map(|(i, d)| b.create_texture(&format!("r{i}"), DESCS[*d]))
+        .collect();
     let mut versions: Vec<Vec<TextureHandle>> = latest.iter().map(|h| vec![*h]).collect();
-    let mut model = Model { uses: Vec::new(), producer: vec![Vec::new(); p.descs.len()], side_effects: Vec::new() };
+    let mut model = Model {
+        uses: Vec::new(),
+        producer: vec![Vec::new(); p.descs.len()],
+        side_effects: Vec::new(),
+    };
     for (pi, (ops, side)) in p.passes.iter().enumerate() {
         let mut pb = b.custom_pass(&format!("p{pi}"), NoopPass);
         if *side {
@@ -121,7 +145,8 @@ impl Model {
         self.uses.len()
     }
     fn producer(&self, r: usize, v: u32) -> Option<usize> {
-        v.checked_sub(1).and_then(|i| self.producer[r].get(i as usize).copied())
+        v.checked_sub(1)
+            .and_then(|i| self.producer[r].get(i as usize).copied())
     }
     /// (from, to, is_data) for read-after-write, write-after-read and write-after-write.
     fn edges(&self) -> Vec<(usize, usize, bool)> {
@@ -174,7 +199,10 @@ impl Model {
         for &(_, b, _) in &edges {
             indeg[b] += 1;
         }
-        let mut ready: BinaryHeap<Reverse<usize>> = (0..self.n()).filter(|&i| indeg[i] == 0).map(Reverse).collect();
+        let mut ready: BinaryHeap<Reverse<usize>> = (0..self.n())
+            .filter(|&i| indeg[i] == 0)
+            .map(Reverse)
+            .collect();
         let mut order = Vec::new();
         let mut visited = 0;
         while let Some(Reverse(i)) = ready.pop() {
@@ -207,13 +235,18 @@ fn simulate(plan: &CompiledGraph, model: &Model, exports: &[bool]) -> Result<(),
             if let Some(v) = read {
                 let slot = plan.slot_of[r].ok_or(format!("r{r} read by p{pi} has no texture"))?;
                 if contents[slot] != Some((r, v)) {
-                    return Err(format!("p{pi} reads r{r} v{v} but texture {slot} holds {:?}; order {:?}", contents[slot], plan.pass_names()));
+                    return Err(format!(
+                        "p{pi} reads r{r} v{v} but texture {slot} holds {:?}; order {:?}",
+                        contents[slot],
+                        plan.pass_names()
+                    ));
                 }
             }
         }
         for &(r, _, written) in &model.uses[pi] {
             if let Some(w) = written {
-                let slot = plan.slot_of[r].ok_or(format!("r{r} written by p{pi} has no texture"))?;
+                let slot =
+                    plan.slot_of[r].ok_or(format!("r{r} written by p{pi} has no texture"))?;
                 contents[slot] = Some((r, w));
             }
         }
@@ -223,7 +256,10 @@ fn simulate(plan: &CompiledGraph, model: &Model, exports: &[bool]) -> Result<(),
         if e && last > 0 {
             let slot = plan.slot_of[r].ok_or(format!("exported r{r} has no texture"))?;
             if contents[slot] != Some((r, last)) {
-                return Err(format!("exported r{r} should end at v{last} but texture {slot} holds {:?}", contents[slot]));
+                return Err(format!(
+                    "exported r{r} should end at v{last} but texture {slot} holds {:?}",
+                    contents[slot]
+                ));
             }
         }
     }
@@ -287,10 +323,19 @@ fn generator_covers_stale_reads_overwrites_and_cycles() {
             cycles += 1;
             continue;
         }
-        let plan = compile(decl, &ShaderLibrary::inline_only(), CompileOptions::default()).unwrap();
+        let plan = compile(
+            decl,
+            &ShaderLibrary::inline_only(),
+            CompileOptions::default(),
+        )
+        .unwrap();
         let pos = |i: usize| plan.order.iter().position(|o| o.index() == i);
         // A kept write-after-read edge whose reader was declared after the overwriter.
-        war += model.edges().iter().any(|&(a, b, data)| !data && a > b && pos(a).is_some() && pos(b).is_some()) as usize;
+        war += model
+            .edges()
+            .iter()
+            .any(|&(a, b, data)| !data && a > b && pos(a).is_some() && pos(b).is_some())
+            as usize;
         culled += !plan.culled.is_empty() as usize;
         shared += plan.physical.iter().any(|s| s.resources.len() > 1) as usize;
     }

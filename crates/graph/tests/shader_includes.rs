@@ -7,7 +7,10 @@ use aograph_graph::{GraphError, ShaderLibrary};
 fn nested_includes_are_expanded_once_each() {
     let lib = ShaderLibrary::inline_only();
     lib.add_inline("common/a.wgsl", "fn a() -> f32 { return 1.0; }\n");
-    lib.add_inline("common/b.wgsl", "#include \"common/a.wgsl\"\nfn b() -> f32 { return a() + 1.0; }\n");
+    lib.add_inline(
+        "common/b.wgsl",
+        "#include \"common/a.wgsl\"\nfn b() -> f32 { return a() + 1.0; }\n",
+    );
     lib.add_inline("main.wgsl", "#include \"common/a.wgsl\"\n#include \"common/b.wgsl\"\n@compute @workgroup_size(1)\nfn main() { let x = a() + b(); }\n");
     let info = lib.load("main.wgsl").unwrap();
     assert_eq!(info.source.matches("fn a()").count(), 1, "{}", info.source);
@@ -17,11 +20,22 @@ fn nested_includes_are_expanded_once_each() {
 #[test]
 fn error_in_a_nested_include_names_that_file_and_line() {
     let lib = ShaderLibrary::inline_only();
-    lib.add_inline("common/a.wgsl", "// a\nfn a() -> f32 { return missing_name; }\n");
-    lib.add_inline("common/b.wgsl", "#include \"common/a.wgsl\"\nfn b() -> f32 { return a(); }\n");
-    lib.add_inline("main.wgsl", "#include \"common/b.wgsl\"\n@compute @workgroup_size(1)\nfn main() { let x = b(); }\n");
+    lib.add_inline(
+        "common/a.wgsl",
+        "// a\nfn a() -> f32 { return missing_name; }\n",
+    );
+    lib.add_inline(
+        "common/b.wgsl",
+        "#include \"common/a.wgsl\"\nfn b() -> f32 { return a(); }\n",
+    );
+    lib.add_inline(
+        "main.wgsl",
+        "#include \"common/b.wgsl\"\n@compute @workgroup_size(1)\nfn main() { let x = b(); }\n",
+    );
     match lib.load("main.wgsl") {
-        Err(GraphError::Shader { file, line, .. }) => assert_eq!((file.as_str(), line), ("common/a.wgsl", 2)),
+        Err(GraphError::Shader { file, line, .. }) => {
+            assert_eq!((file.as_str(), line), ("common/a.wgsl", 2))
+        }
         other => panic!("{other:?}"),
     }
 }

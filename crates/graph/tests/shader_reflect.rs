@@ -41,7 +41,11 @@ fn lib_with(files: &[(&str, &str)]) -> ShaderLibrary {
 fn shader_err(lib: &ShaderLibrary, name: &str) -> (String, u32, String) {
     match lib.load(name) {
         Ok(_) => panic!("{name} should not validate"),
-        Err(GraphError::Shader { file, line, message }) => (file, line, message),
+        Err(GraphError::Shader {
+            file,
+            line,
+            message,
+        }) => (file, line, message),
         Err(other) => panic!("expected a Shader error, got {other:?}"),
     }
 }
@@ -50,20 +54,89 @@ fn shader_err(lib: &ShaderLibrary, name: &str) -> (String, u32, String) {
 fn reflects_every_binding_with_group_binding_and_kind() {
     let lib = lib_with(&[("all.wgsl", ALL_KINDS)]);
     let info = lib.load("all.wgsl").expect("valid shader");
-    let b = |name: &str, group: u32, binding: u32, kind: ShaderBindingKind| ShaderBinding { name: name.into(), group, binding, kind };
+    let b = |name: &str, group: u32, binding: u32, kind: ShaderBindingKind| ShaderBinding {
+        name: name.into(),
+        group,
+        binding,
+        kind,
+    };
     use ShaderBindingKind as K;
     let expected = vec![
-        b("src", 0, 0, K::SampledTexture { depth: false, scalar: naga::ScalarKind::Float }),
-        b("dst", 0, 1, K::StorageTexture { format: TextureFormat::R32Float, access: StorageTextureAccess::WriteOnly }),
+        b(
+            "src",
+            0,
+            0,
+            K::SampledTexture {
+                depth: false,
+                scalar: naga::ScalarKind::Float,
+            },
+        ),
+        b(
+            "dst",
+            0,
+            1,
+            K::StorageTexture {
+                format: TextureFormat::R32Float,
+                access: StorageTextureAccess::WriteOnly,
+            },
+        ),
         b("params", 0, 2, K::Uniform { size: 32 }),
         b("linear_clamp", 0, 3, K::Sampler { linear: true }),
         b("nearest_clamp", 0, 4, K::Sampler { linear: false }),
-        b("weights", 1, 0, K::StorageBuffer { read_only: true, size: 64 }),
-        b("accum", 1, 1, K::StorageTexture { format: TextureFormat::Rgba16Float, access: StorageTextureAccess::ReadWrite }),
-        b("depth", 1, 2, K::SampledTexture { depth: true, scalar: naga::ScalarKind::Float }),
-        b("ids", 1, 3, K::SampledTexture { depth: false, scalar: naga::ScalarKind::Uint }),
-        b("counters", 2, 0, K::StorageBuffer { read_only: false, size: 32 }),
-        b("ro", 2, 1, K::StorageTexture { format: TextureFormat::R32Float, access: StorageTextureAccess::ReadOnly }),
+        b(
+            "weights",
+            1,
+            0,
+            K::StorageBuffer {
+                read_only: true,
+                size: 64,
+            },
+        ),
+        b(
+            "accum",
+            1,
+            1,
+            K::StorageTexture {
+                format: TextureFormat::Rgba16Float,
+                access: StorageTextureAccess::ReadWrite,
+            },
+        ),
+        b(
+            "depth",
+            1,
+            2,
+            K::SampledTexture {
+                depth: true,
+                scalar: naga::ScalarKind::Float,
+            },
+        ),
+        b(
+            "ids",
+            1,
+            3,
+            K::SampledTexture {
+                depth: false,
+                scalar: naga::ScalarKind::Uint,
+            },
+        ),
+        b(
+            "counters",
+            2,
+            0,
+            K::StorageBuffer {
+                read_only: false,
+                size: 32,
+            },
+        ),
+        b(
+            "ro",
+            2,
+            1,
+            K::StorageTexture {
+                format: TextureFormat::R32Float,
+                access: StorageTextureAccess::ReadOnly,
+            },
+        ),
     ];
     assert_eq!(info.bindings, expected);
     assert_eq!(info.binding("params").map(|b| b.binding), Some(2));
@@ -78,11 +151,22 @@ fn reflects_compute_entry_points_and_workgroup_sizes() {
     assert_eq!(
         info.entries,
         vec![
-            ShaderEntry { name: "main".into(), stage: naga::ShaderStage::Compute, workgroup_size: [8, 4, 1] },
-            ShaderEntry { name: "reduce".into(), stage: naga::ShaderStage::Compute, workgroup_size: [64, 1, 1] },
+            ShaderEntry {
+                name: "main".into(),
+                stage: naga::ShaderStage::Compute,
+                workgroup_size: [8, 4, 1]
+            },
+            ShaderEntry {
+                name: "reduce".into(),
+                stage: naga::ShaderStage::Compute,
+                workgroup_size: [64, 1, 1]
+            },
         ]
     );
-    assert_eq!(info.entry("reduce").map(|e| e.workgroup_size), Some([64, 1, 1]));
+    assert_eq!(
+        info.entry("reduce").map(|e| e.workgroup_size),
+        Some([64, 1, 1])
+    );
     assert!(info.entry("missing").is_none());
 }
 
@@ -97,8 +181,18 @@ fn reflects_vertex_and_fragment_entry_points() {
                }\n";
     let lib = lib_with(&[("fs.wgsl", src)]);
     let info = lib.load("fs.wgsl").unwrap();
-    let stages: Vec<_> = info.entries.iter().map(|e| (e.name.as_str(), e.stage)).collect();
-    assert_eq!(stages, vec![("vs", naga::ShaderStage::Vertex), ("fs", naga::ShaderStage::Fragment)]);
+    let stages: Vec<_> = info
+        .entries
+        .iter()
+        .map(|e| (e.name.as_str(), e.stage))
+        .collect();
+    assert_eq!(
+        stages,
+        vec![
+            ("vs", naga::ShaderStage::Vertex),
+            ("fs", naga::ShaderStage::Fragment)
+        ]
+    );
     assert_eq!(info.bindings.len(), 1);
 }
 
@@ -115,7 +209,11 @@ fn uniform_size_follows_wgsl_layout_rules() {
     let sizes: Vec<_> = info.bindings.iter().map(|b| b.kind.clone()).collect();
     assert_eq!(
         sizes,
-        vec![ShaderBindingKind::Uniform { size: 16 }, ShaderBindingKind::Uniform { size: 80 }, ShaderBindingKind::Uniform { size: 4 }]
+        vec![
+            ShaderBindingKind::Uniform { size: 16 },
+            ShaderBindingKind::Uniform { size: 80 },
+            ShaderBindingKind::Uniform { size: 4 }
+        ]
     );
 }
 
@@ -149,20 +247,30 @@ fn include_is_expanded_before_the_file_and_keeps_its_line_numbers() {
 #[test]
 fn missing_shader_is_a_shader_file_error() {
     let lib = ShaderLibrary::inline_only();
-    assert!(matches!(lib.load("nope.wgsl"), Err(GraphError::ShaderFile { file, .. }) if file == "nope.wgsl"));
+    assert!(
+        matches!(lib.load("nope.wgsl"), Err(GraphError::ShaderFile { file, .. }) if file == "nope.wgsl")
+    );
     assert!(lib.files().is_empty());
     assert!(lib.root().is_none());
 }
 
 #[test]
 fn missing_include_is_a_shader_file_error_naming_the_include() {
-    let lib = lib_with(&[("a.wgsl", "#include \"common/gone.wgsl\"\n@compute @workgroup_size(1) fn main() {}\n")]);
-    assert!(matches!(lib.load("a.wgsl"), Err(GraphError::ShaderFile { file, .. }) if file == "common/gone.wgsl"));
+    let lib = lib_with(&[(
+        "a.wgsl",
+        "#include \"common/gone.wgsl\"\n@compute @workgroup_size(1) fn main() {}\n",
+    )]);
+    assert!(
+        matches!(lib.load("a.wgsl"), Err(GraphError::ShaderFile { file, .. }) if file == "common/gone.wgsl")
+    );
 }
 
 #[test]
 fn include_without_a_name_is_an_error_at_its_line() {
-    let lib = lib_with(&[("a.wgsl", "// header\n#include \"\"\n@compute @workgroup_size(1) fn main() {}\n")]);
+    let lib = lib_with(&[(
+        "a.wgsl",
+        "// header\n#include \"\"\n@compute @workgroup_size(1) fn main() {}\n",
+    )]);
     let (file, line, message) = shader_err(&lib, "a.wgsl");
     assert_eq!((file.as_str(), line), ("a.wgsl", 2));
     assert!(message.contains("#include"), "{message}");
@@ -177,7 +285,10 @@ fn syntax_error_reports_file_and_line() {
     assert_eq!(line, 3);
     assert!(!message.is_empty());
     let e = lib.load("bad.wgsl").unwrap_err();
-    assert!(e.to_string().starts_with("shader `bad.wgsl` line 3:"), "{e}");
+    assert!(
+        e.to_string().starts_with("shader `bad.wgsl` line 3:"),
+        "{e}"
+    );
 }
 
 const COMMON: &str = "// shared helpers\nfn helper(v: f32) -> f32 {\n    return v * 2.0;\n}\n";
@@ -207,8 +318,14 @@ fn errors_map_through_several_includes() {
         ("common/x.wgsl", COMMON),
         ("common/y.wgsl", second),
         ("common/z.wgsl", third),
-        ("two.wgsl", "#include \"common/x.wgsl\"\n#include \"common/y.wgsl\"\n// body\n@compute @workgroup_size(1)\nfn main() {\n    let a = twice(helper(1.0));\n    let b: f32 = a +;\n}\n"),
-        ("three.wgsl", "#include \"common/x.wgsl\"\n#include \"common/y.wgsl\"\n#include \"common/z.wgsl\"\n@compute @workgroup_size(1) fn main() {}\n"),
+        (
+            "two.wgsl",
+            "#include \"common/x.wgsl\"\n#include \"common/y.wgsl\"\n// body\n@compute @workgroup_size(1)\nfn main() {\n    let a = twice(helper(1.0));\n    let b: f32 = a +;\n}\n",
+        ),
+        (
+            "three.wgsl",
+            "#include \"common/x.wgsl\"\n#include \"common/y.wgsl\"\n#include \"common/z.wgsl\"\n@compute @workgroup_size(1) fn main() {}\n",
+        ),
     ]);
     assert_eq!(shader_err(&lib, "two.wgsl").0, "two.wgsl");
     assert_eq!(shader_err(&lib, "two.wgsl").1, 7);
@@ -218,7 +335,8 @@ fn errors_map_through_several_includes() {
 
 #[test]
 fn type_error_reports_file_and_line() {
-    let src = "@compute @workgroup_size(1)\nfn main() {\n    let a = 1.0;\n    let b: f32 = 1u;\n}\n";
+    let src =
+        "@compute @workgroup_size(1)\nfn main() {\n    let a = 1.0;\n    let b: f32 = 1u;\n}\n";
     let lib = lib_with(&[("types.wgsl", src)]);
     let (file, line, _) = shader_err(&lib, "types.wgsl");
     assert_eq!((file.as_str(), line), ("types.wgsl", 4));
@@ -240,16 +358,26 @@ fn shaders_directory_lists_wgsl_files_sorted() {
     std::fs::create_dir_all(dir.join("common")).unwrap();
     std::fs::write(dir.join("b.wgsl"), "#include \"common/x.wgsl\"\n@compute @workgroup_size(4) fn main() { let v = helper(2.0); }\n").unwrap();
     std::fs::write(dir.join("common/x.wgsl"), COMMON).unwrap();
-    std::fs::write(dir.join("a.wgsl"), "@compute @workgroup_size(1) fn main() {}\n").unwrap();
+    std::fs::write(
+        dir.join("a.wgsl"),
+        "@compute @workgroup_size(1) fn main() {}\n",
+    )
+    .unwrap();
     std::fs::write(dir.join("notes.txt"), "not a shader").unwrap();
     let lib = ShaderLibrary::new(&dir);
     assert_eq!(lib.files(), vec!["a.wgsl", "b.wgsl", "common/x.wgsl"]);
     for f in lib.files() {
         lib.load(&f).unwrap_or_else(|e| panic!("{f}: {e}"));
     }
-    assert_eq!(lib.load("b.wgsl").unwrap().entries[0].workgroup_size, [4, 1, 1]);
+    assert_eq!(
+        lib.load("b.wgsl").unwrap().entries[0].workgroup_size,
+        [4, 1, 1]
+    );
     // An inline source shadows the file of the same name.
     lib.add_inline("a.wgsl", "@compute @workgroup_size(16) fn main() {}\n");
-    assert_eq!(lib.load("a.wgsl").unwrap().entries[0].workgroup_size, [16, 1, 1]);
+    assert_eq!(
+        lib.load("a.wgsl").unwrap().entries[0].workgroup_size,
+        [16, 1, 1]
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -2,7 +2,7 @@
 //! the only thing rewritten, only from a 32-bit float format, and asking for a variant a file
 //! does not have is an error naming the file.
 
-use aograph_graph::{intermediate_variant, wgpu, GraphError, ShaderBindingKind, ShaderLibrary};
+use aograph_graph::{GraphError, ShaderBindingKind, ShaderLibrary, intermediate_variant, wgpu};
 
 const WRITER: &str = "// a pass with one intermediate output and one fixed r32float output\n\
 alias IntermediateStorage = texture_storage_2d<r32float, write>;\n\
@@ -32,46 +32,128 @@ fn storage_format(lib: &ShaderLibrary, name: &str, global: &str) -> wgpu::Textur
 #[test]
 fn the_half_variant_rewrites_only_the_alias_line() {
     let lib = lib(&[("w.wgsl", WRITER)]);
-    assert_eq!(storage_format(&lib, "w.wgsl", "raw"), wgpu::TextureFormat::R32Float);
-    assert_eq!(storage_format(&lib, "w.wgsl?intermediate=r32float", "raw"), wgpu::TextureFormat::R32Float);
+    assert_eq!(
+        storage_format(&lib, "w.wgsl", "raw"),
+        wgpu::TextureFormat::R32Float
+    );
+    assert_eq!(
+        storage_format(&lib, "w.wgsl?intermediate=r32float", "raw"),
+        wgpu::TextureFormat::R32Float
+    );
     let half = "w.wgsl?intermediate=r16float";
-    assert_eq!(storage_format(&lib, half, "raw"), wgpu::TextureFormat::R16Float);
-    assert_eq!(storage_format(&lib, half, "fixed"), wgpu::TextureFormat::R32Float, "lines other than the alias keep their format");
+    assert_eq!(
+        storage_format(&lib, half, "raw"),
+        wgpu::TextureFormat::R16Float
+    );
+    assert_eq!(
+        storage_format(&lib, half, "fixed"),
+        wgpu::TextureFormat::R32Float,
+        "lines other than the alias keep their format"
+    );
     let (a, b) = (lib.load("w.wgsl").unwrap(), lib.load(half).unwrap());
     assert_eq!(a.source.lines().count(), b.source.lines().count());
-    let changed: Vec<_> = a.source.lines().zip(b.source.lines()).filter(|(x, y)| x != y).collect();
-    assert_eq!(changed, [("alias IntermediateStorage = texture_storage_2d<r32float, write>;", "alias IntermediateStorage = texture_storage_2d<r16float, write>;")]);
+    let changed: Vec<_> = a
+        .source
+        .lines()
+        .zip(b.source.lines())
+        .filter(|(x, y)| x != y)
+        .collect();
+    assert_eq!(
+        changed,
+        [(
+            "alias IntermediateStorage = texture_storage_2d<r32float, write>;",
+            "alias IntermediateStorage = texture_storage_2d<r16float, write>;"
+        )]
+    );
 }
 
 #[test]
 fn multi_channel_aliases_halve_to_the_same_channel_count() {
-    for (full, half, wgpu_half) in [("rg32float", "rg16float", wgpu::TextureFormat::Rg16Float), ("rgba32float", "rgba16float", wgpu::TextureFormat::Rgba16Float)] {
-        let src = WRITER.replace("<r32float, write>;\n@group(0) @binding(0)", &format!("<{full}, write>;\n@group(0) @binding(0)"));
+    for (full, half, wgpu_half) in [
+        ("rg32float", "rg16float", wgpu::TextureFormat::Rg16Float),
+        (
+            "rgba32float",
+            "rgba16float",
+            wgpu::TextureFormat::Rgba16Float,
+        ),
+    ] {
+        let src = WRITER.replace(
+            "<r32float, write>;\n@group(0) @binding(0)",
+            &format!("<{full}, write>;\n@group(0) @binding(0)"),
+        );
         assert!(src.contains(full), "{src}");
         let lib = lib(&[("w.wgsl", &src)]);
-        assert_eq!(storage_format(&lib, "w.wgsl?intermediate=r16float", "raw"), wgpu_half, "{full} -> {half}");
+        assert_eq!(
+            storage_format(&lib, "w.wgsl?intermediate=r16float", "raw"),
+            wgpu_half,
+            "{full} -> {half}"
+        );
     }
 }
 
 #[test]
 fn the_alias_may_come_from_an_include() {
-    let lib = lib(&[("common/out.wgsl", "alias IntermediateStorage = texture_storage_2d<r32float, write>;\n"), ("w.wgsl", &format!("#include \"common/out.wgsl\"\n{}", WRITER.replace("alias IntermediateStorage = texture_storage_2d<r32float, write>;\n", "")))]);
-    assert_eq!(storage_format(&lib, "w.wgsl?intermediate=r16float", "raw"), wgpu::TextureFormat::R16Float);
+    let lib = lib(&[
+        (
+            "common/out.wgsl",
+            "alias IntermediateStorage = texture_storage_2d<r32float, write>;\n",
+        ),
+        (
+            "w.wgsl",
+            &format!(
+                "#include \"common/out.wgsl\"\n{}",
+                WRITER.replace(
+                    "alias IntermediateStorage = texture_storage_2d<r32float, write>;\n",
+                    ""
+                )
+            ),
+        ),
+    ]);
+    assert_eq!(
+        storage_format(&lib, "w.wgsl?intermediate=r16float", "raw"),
+        wgpu::TextureFormat::R16Float
+    );
 }
 
 #[test]
 fn a_variant_the_file_does_not_have_is_an_error() {
-    let plain = WRITER.replace("alias IntermediateStorage = texture_storage_2d<r32float, write>;\n", "\n").replace("var raw: IntermediateStorage", "var raw: texture_storage_2d<r32float, write>");
-    let already_half = WRITER.replace("<r32float, write>;\n@group(0) @binding(0)", "<r16float, write>;\n@group(0) @binding(0)");
-    let lib = lib(&[("plain.wgsl", &plain), ("half.wgsl", &already_half), ("w.wgsl", WRITER)]);
+    let plain = WRITER
+        .replace(
+            "alias IntermediateStorage = texture_storage_2d<r32float, write>;\n",
+            "\n",
+        )
+        .replace(
+            "var raw: IntermediateStorage",
+            "var raw: texture_storage_2d<r32float, write>",
+        );
+    let already_half = WRITER.replace(
+        "<r32float, write>;\n@group(0) @binding(0)",
+        "<r16float, write>;\n@group(0) @binding(0)",
+    );
+    let lib = lib(&[
+        ("plain.wgsl", &plain),
+        ("half.wgsl", &already_half),
+        ("w.wgsl", WRITER),
+    ]);
     assert!(lib.load("plain.wgsl").is_ok() && lib.load("half.wgsl").is_ok());
     for name in ["plain.wgsl", "half.wgsl"] {
-        let e = lib.load(&format!("{name}?intermediate=r16float")).unwrap_err();
-        assert!(matches!(&e, GraphError::Shader { file, .. } if file == name), "{e}");
+        let e = lib
+            .load(&format!("{name}?intermediate=r16float"))
+            .unwrap_err();
+        assert!(
+            matches!(&e, GraphError::Shader { file, .. } if file == name),
+            "{e}"
+        );
         assert!(e.to_string().contains("alias IntermediateStorage"), "{e}");
     }
-    let e = lib.load("w.wgsl?intermediate=rgba8unorm").unwrap_err().to_string();
-    assert!(e.contains("unknown shader variant") && e.contains("intermediate=r16float"), "{e}");
+    let e = lib
+        .load("w.wgsl?intermediate=rgba8unorm")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("unknown shader variant") && e.contains("intermediate=r16float"),
+        "{e}"
+    );
     let e = lib.load("w.wgsl?precision=half").unwrap_err().to_string();
     assert!(e.contains("unknown shader variant"), "{e}");
 }
@@ -80,7 +162,10 @@ fn a_variant_the_file_does_not_have_is_an_error() {
 fn variants_lists_the_half_variant_of_files_with_the_alias() {
     let plain = "@compute @workgroup_size(1) fn main() {}\n";
     let lib = lib(&[("plain.wgsl", plain), ("w.wgsl", WRITER)]);
-    assert_eq!(lib.variants("w.wgsl").unwrap(), ["w.wgsl?intermediate=r16float"]);
+    assert_eq!(
+        lib.variants("w.wgsl").unwrap(),
+        ["w.wgsl?intermediate=r16float"]
+    );
     assert!(lib.variants("plain.wgsl").unwrap().is_empty());
 }
 
@@ -93,11 +178,20 @@ fn errors_keep_their_line_numbers_in_the_variant() {
         e => panic!("{e}"),
     };
     assert_eq!(line("w.wgsl"), ("w.wgsl".to_string(), 8));
-    assert_eq!(line("w.wgsl?intermediate=r16float"), ("w.wgsl".to_string(), 8));
+    assert_eq!(
+        line("w.wgsl?intermediate=r16float"),
+        ("w.wgsl".to_string(), 8)
+    );
 }
 
 #[test]
 fn intermediate_variant_names() {
-    assert_eq!(intermediate_variant("ao/ssao/ao.wgsl", wgpu::TextureFormat::R16Float), "ao/ssao/ao.wgsl?intermediate=r16float");
-    assert_eq!(intermediate_variant("ao/ssao/ao.wgsl", wgpu::TextureFormat::R32Float), "ao/ssao/ao.wgsl");
+    assert_eq!(
+        intermediate_variant("ao/ssao/ao.wgsl", wgpu::TextureFormat::R16Float),
+        "ao/ssao/ao.wgsl?intermediate=r16float"
+    );
+    assert_eq!(
+        intermediate_variant("ao/ssao/ao.wgsl", wgpu::TextureFormat::R32Float),
+        "ao/ssao/ao.wgsl"
+    );
 }

@@ -30,7 +30,10 @@ pub fn view_uniforms(f: &ViewFrame) -> ViewUniforms {
         if i.is_finite() { i } else { Mat4::IDENTITY }
     };
     let (reversed, ortho) = match f.camera.projection {
-        Projection::Perspective { reversed_z_infinite, .. } => (reversed_z_infinite, false),
+        Projection::Perspective {
+            reversed_z_infinite,
+            ..
+        } => (reversed_z_infinite, false),
         Projection::Orthographic { .. } => (false, true),
     };
     let far = f.camera.far();
@@ -41,9 +44,24 @@ pub fn view_uniforms(f: &ViewFrame) -> ViewUniforms {
         inv_view: inv(view).to_cols_array_2d(),
         prev_view_proj: prev_vp.to_cols_array_2d(),
         view_to_prev_clip: (prev_vp * inv(view)).to_cols_array_2d(),
-        viewport: [f.output.width as f32, f.output.height as f32, 1.0 / f.output.width.max(1) as f32, 1.0 / f.output.height.max(1) as f32],
-        near_far: [f.camera.near(), if far.is_finite() { far } else { 0.0 }, reversed as u32 as f32, ortho as u32 as f32],
-        frame: [f.frame_index, f.history_valid as u32, f.camera_cut as u32, 0],
+        viewport: [
+            f.output.width as f32,
+            f.output.height as f32,
+            1.0 / f.output.width.max(1) as f32,
+            1.0 / f.output.height.max(1) as f32,
+        ],
+        near_far: [
+            f.camera.near(),
+            if far.is_finite() { far } else { 0.0 },
+            reversed as u32 as f32,
+            ortho as u32 as f32,
+        ],
+        frame: [
+            f.frame_index,
+            f.history_valid as u32,
+            f.camera_cut as u32,
+            0,
+        ],
         time: [f.time, f.dt, 0.0, 0.0],
     }
 }

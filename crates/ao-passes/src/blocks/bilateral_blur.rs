@@ -24,7 +24,9 @@
 
 use aograph_graph::{GraphBuilder, TextureHandle};
 
-use super::{blur_pass, check_blur, check_intermediate, gaussian_weights, invalid, BlurUniform, BLOCK_FORMAT};
+use super::{
+    BLOCK_FORMAT, BlurUniform, blur_pass, check_blur, check_intermediate, gaussian_weights, invalid,
+};
 use crate::error::AoResult;
 
 /// Parameters of the bilateral blur.
@@ -42,7 +44,12 @@ pub struct BilateralBlur {
 
 impl Default for BilateralBlur {
     fn default() -> Self {
-        Self { sigma: 2.0, taps: 9, depth_sigma: 0.1, normal_power: 8.0 }
+        Self {
+            sigma: 2.0,
+            taps: 9,
+            depth_sigma: 0.1,
+            normal_power: 8.0,
+        }
     }
 }
 
@@ -51,10 +58,20 @@ impl BilateralBlur {
     pub fn validate(&self, prefix: &str) -> AoResult<()> {
         check_blur(prefix, self.sigma, self.taps)?;
         if !(self.depth_sigma.is_finite() && (0.0..=10.0).contains(&self.depth_sigma)) {
-            return Err(invalid(prefix, "depth_sigma", self.depth_sigma, "0 (off) to 10 (relative depth)"));
+            return Err(invalid(
+                prefix,
+                "depth_sigma",
+                self.depth_sigma,
+                "0 (off) to 10 (relative depth)",
+            ));
         }
         if !(self.normal_power.is_finite() && (0.0..=128.0).contains(&self.normal_power)) {
-            return Err(invalid(prefix, "normal_power", self.normal_power, "0 (off) to 128"));
+            return Err(invalid(
+                prefix,
+                "normal_power",
+                self.normal_power,
+                "0 (off) to 128",
+            ));
         }
         Ok(())
     }
@@ -62,18 +79,51 @@ impl BilateralBlur {
 
 /// Adds `<prefix>.bilateral_x` and `<prefix>.bilateral_y` blurring `input` guided by `depth` and
 /// `normals` (same size); returns `<prefix>.bilateral_y` (R32Float, the input's size).
-pub fn bilateral_blur(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: TextureHandle, normals: TextureHandle, params: &BilateralBlur) -> AoResult<TextureHandle> {
+pub fn bilateral_blur(
+    b: &mut GraphBuilder,
+    prefix: &str,
+    input: TextureHandle,
+    depth: TextureHandle,
+    normals: TextureHandle,
+    params: &BilateralBlur,
+) -> AoResult<TextureHandle> {
     bilateral_blur_with_intermediate(b, prefix, input, depth, normals, params, BLOCK_FORMAT)
 }
 
 /// [`bilateral_blur`] with the horizontal pass's texture `<prefix>.bilateral_x` in
 /// `intermediate` (R32Float or R16Float); the output stays R32Float.
-pub fn bilateral_blur_with_intermediate(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: TextureHandle, normals: TextureHandle, params: &BilateralBlur, intermediate: wgpu::TextureFormat) -> AoResult<TextureHandle> {
+pub fn bilateral_blur_with_intermediate(
+    b: &mut GraphBuilder,
+    prefix: &str,
+    input: TextureHandle,
+    depth: TextureHandle,
+    normals: TextureHandle,
+    params: &BilateralBlur,
+    intermediate: wgpu::TextureFormat,
+) -> AoResult<TextureHandle> {
     params.validate(prefix)?;
     check_intermediate(prefix, intermediate)?;
     let weights = gaussian_weights(params.sigma, params.taps);
     let extra = [("depth", depth), ("normals", normals)];
     let shader = "blocks/bilateral_blur.wgsl";
-    let x = blur_pass(b, prefix, "bilateral_x", shader, input, &extra, &BlurUniform::new([1, 0], &weights, params.depth_sigma, params.normal_power), intermediate)?;
-    blur_pass(b, prefix, "bilateral_y", shader, x, &extra, &BlurUniform::new([0, 1], &weights, params.depth_sigma, params.normal_power), BLOCK_FORMAT)
+    let x = blur_pass(
+        b,
+        prefix,
+        "bilateral_x",
+        shader,
+        input,
+        &extra,
+        &BlurUniform::new([1, 0], &weights, params.depth_sigma, params.normal_power),
+        intermediate,
+    )?;
+    blur_pass(
+        b,
+        prefix,
+        "bilateral_y",
+        shader,
+        x,
+        &extra,
+        &BlurUniform::new([0, 1], &weights, params.depth_sigma, params.normal_power),
+        BLOCK_FORMAT,
+    )
 }

@@ -26,7 +26,7 @@
 
 use aograph_graph::{GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 
-use super::{desc_of, invalid, BLOCK_FORMAT};
+use super::{BLOCK_FORMAT, desc_of, invalid};
 use crate::error::AoResult;
 
 /// Parameters of the bilateral upsampling.
@@ -40,7 +40,10 @@ pub struct BilateralUpsample {
 
 impl Default for BilateralUpsample {
     fn default() -> Self {
-        Self { depth_sigma: 0.1, normal_power: 8.0 }
+        Self {
+            depth_sigma: 0.1,
+            normal_power: 8.0,
+        }
     }
 }
 
@@ -70,10 +73,20 @@ impl BilateralUpsample {
     /// Range checks; errors are reported under `prefix`.
     pub fn validate(&self, prefix: &str) -> AoResult<()> {
         if !(self.depth_sigma.is_finite() && self.depth_sigma > 0.0 && self.depth_sigma <= 10.0) {
-            return Err(invalid(prefix, "depth_sigma", self.depth_sigma, "greater than 0 and at most 10 (relative depth)"));
+            return Err(invalid(
+                prefix,
+                "depth_sigma",
+                self.depth_sigma,
+                "greater than 0 and at most 10 (relative depth)",
+            ));
         }
         if !(self.normal_power.is_finite() && (0.0..=128.0).contains(&self.normal_power)) {
-            return Err(invalid(prefix, "normal_power", self.normal_power, "0 (off) to 128"));
+            return Err(invalid(
+                prefix,
+                "normal_power",
+                self.normal_power,
+                "0 (off) to 128",
+            ));
         }
         Ok(())
     }
@@ -82,36 +95,76 @@ impl BilateralUpsample {
 /// Full-resolution pixels per low-resolution texel, from the two size classes.
 pub fn upsample_factor(low: SizeClass, full: SizeClass) -> Option<u32> {
     match (low, full) {
-        (SizeClass::Relative { divisor: lo }, SizeClass::Relative { divisor: hi }) if lo >= hi && lo % hi.max(1) == 0 => Some(lo / hi.max(1)),
+        (SizeClass::Relative { divisor: lo }, SizeClass::Relative { divisor: hi })
+            if lo >= hi && lo % hi.max(1) == 0 =>
+        {
+            Some(lo / hi.max(1))
+        }
         _ => None,
     }
 }
 
 /// Adds `<prefix>.upsample`; returns the full-resolution AO (R32Float, `depth_full`'s size).
-pub fn bilateral_upsample(b: &mut GraphBuilder, prefix: &str, inputs: &UpsampleInputs, params: &BilateralUpsample) -> AoResult<TextureHandle> {
+pub fn bilateral_upsample(
+    b: &mut GraphBuilder,
+    prefix: &str,
+    inputs: &UpsampleInputs,
+    params: &BilateralUpsample,
+) -> AoResult<TextureHandle> {
     params.validate(prefix)?;
     let low = desc_of(b, prefix, "ao", inputs.ao)?.size;
     let depth_low = desc_of(b, prefix, "depth_low", inputs.depth_low)?.size;
     let full = desc_of(b, prefix, "depth_full", inputs.depth_full)?.size;
     if depth_low != low {
-        return Err(invalid(prefix, "depth_low", format!("size {depth_low}"), format!("the low-resolution AO's size ({low})")));
+        return Err(invalid(
+            prefix,
+            "depth_low",
+            format!("size {depth_low}"),
+            format!("the low-resolution AO's size ({low})"),
+        ));
     }
-    let factor = upsample_factor(low, full).ok_or_else(|| invalid(prefix, "ao", format!("size {low} over {full}"), "relative size classes whose divisors divide (e.g. 1/2 over full)"))?;
+    let factor = upsample_factor(low, full).ok_or_else(|| {
+        invalid(
+            prefix,
+            "ao",
+            format!("size {low} over {full}"),
+            "relative size classes whose divisors divide (e.g. 1/2 over full)",
+        )
+    })?;
     if let Some((nl, nf)) = inputs.normals {
-        let (nl, nf) = (desc_of(b, prefix, "normals_low", nl)?.size, desc_of(b, prefix, "normals_full", nf)?.size);
+        let (nl, nf) = (
+            desc_of(b, prefix, "normals_low", nl)?.size,
+            desc_of(b, prefix, "normals_full", nf)?.size,
+        );
         if nl != low || nf != full {
-            return Err(invalid(prefix, "normals", format!("sizes {nl}, {nf}"), format!("the low and full sizes ({low}, {full})")));
+            return Err(invalid(
+                prefix,
+                "normals",
+                format!("sizes {nl}, {nf}"),
+                format!("the low and full sizes ({low}, {full})"),
+            ));
         }
     }
     let name = format!("{prefix}.upsample");
     let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, full));
-    let shader = if inputs.normals.is_some() { "blocks/bilateral_upsample_normals.wgsl" } else { "blocks/bilateral_upsample.wgsl" };
+    let shader = if inputs.normals.is_some() {
+        "blocks/bilateral_upsample_normals.wgsl"
+    } else {
+        "blocks/bilateral_upsample.wgsl"
+    };
     let mut p = b.compute_pass(&name, shader, "main");
-    p.sample("ao", inputs.ao).sample("depth_low", inputs.depth_low).sample("depth_full", inputs.depth_full);
+    p.sample("ao", inputs.ao)
+        .sample("depth_low", inputs.depth_low)
+        .sample("depth_full", inputs.depth_full);
     if let Some((nl, nf)) = inputs.normals {
         p.sample("normals_low", nl).sample("normals_full", nf);
     }
-    let u = UpsampleUniform { factor: factor as f32, depth_sigma: params.depth_sigma, normal_power: params.normal_power, _pad: 0.0 };
+    let u = UpsampleUniform {
+        factor: factor as f32,
+        depth_sigma: params.depth_sigma,
+        normal_power: params.normal_power,
+        _pad: 0.0,
+    };
     p.uniform("params", bytemuck::bytes_of(&u));
     let out = p.write_storage("dst", out);
     p.dispatch_over(out);

@@ -24,7 +24,7 @@
 
 use aograph_graph::{GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 
-use super::{desc_of, invalid, scaled_size, BLOCK_FORMAT};
+use super::{BLOCK_FORMAT, desc_of, invalid, scaled_size};
 use crate::error::AoResult;
 
 /// Most levels a pyramid may have (level 0 included).
@@ -89,15 +89,35 @@ impl DepthPyramid {
 
 /// Adds the passes building levels 1..`levels` - 1 of a `reduction` pyramid over `depth`
 /// (level 0, R32Float linear depth). `levels` counts level 0: 1 adds no pass.
-pub fn depth_pyramid(b: &mut GraphBuilder, prefix: &str, depth: TextureHandle, reduction: DepthReduction, levels: u32) -> AoResult<DepthPyramid> {
+pub fn depth_pyramid(
+    b: &mut GraphBuilder,
+    prefix: &str,
+    depth: TextureHandle,
+    reduction: DepthReduction,
+    levels: u32,
+) -> AoResult<DepthPyramid> {
     if !(1..=MAX_LEVELS).contains(&levels) {
-        return Err(invalid(prefix, "levels", levels, format!("1 to {MAX_LEVELS} (level 0 included)")));
+        return Err(invalid(
+            prefix,
+            "levels",
+            levels,
+            format!("1 to {MAX_LEVELS} (level 0 included)"),
+        ));
     }
     let base = desc_of(b, prefix, "depth", depth)?;
     if base.format != BLOCK_FORMAT {
-        return Err(invalid(prefix, "depth", format!("{:?}", base.format), "an R32Float linear-depth texture"));
+        return Err(invalid(
+            prefix,
+            "depth",
+            format!("{:?}", base.format),
+            "an R32Float linear-depth texture",
+        ));
     }
-    let mut pyramid = DepthPyramid { levels: vec![depth], sizes: vec![base.size], reduction };
+    let mut pyramid = DepthPyramid {
+        levels: vec![depth],
+        sizes: vec![base.size],
+        reduction,
+    };
     for l in 1..levels {
         let size = scaled_size(base.size, reduction.factor(), l);
         let name = format!("{prefix}.depth_level{l}");
@@ -120,7 +140,8 @@ pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Ve
     let mut out = Vec::with_capacity((ow * oh) as usize);
     for y in 0..oh {
         for x in 0..ow {
-            let (mut sum, mut n, mut sky, mut lo, mut hi) = (0.0f32, 0u32, 0u32, f32::INFINITY, 0.0f32);
+            let (mut sum, mut n, mut sky, mut lo, mut hi) =
+                (0.0f32, 0u32, 0u32, f32::INFINITY, 0.0f32);
             for j in 0..k {
                 for i in 0..k {
                     let (sx, sy) = (x * k + i, y * k + j);
@@ -138,7 +159,8 @@ pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Ve
                     hi = hi.max(z);
                 }
             }
-            let centre = || src[((y * k + 1).min(h - 1) * w + (x * k + 1).min(w - 1)) as usize].max(0.0);
+            let centre =
+                || src[((y * k + 1).min(h - 1) * w + (x * k + 1).min(w - 1)) as usize].max(0.0);
             out.push(match reduction {
                 DepthReduction::Average3x3 if n > 0 && sky > 0 => centre(),
                 DepthReduction::Average3x3 if n > 0 => sum / n as f32,

@@ -19,7 +19,7 @@
 
 use aograph_graph::{GraphBuilder, TextureHandle};
 
-use super::{blur_pass, check_blur, check_intermediate, invalid, BlurUniform, BLOCK_FORMAT};
+use super::{BLOCK_FORMAT, BlurUniform, blur_pass, check_blur, check_intermediate, invalid};
 use crate::error::AoResult;
 
 /// Parameters of the separable Gaussian.
@@ -37,7 +37,11 @@ pub struct GaussianBlur {
 impl Default for GaussianBlur {
     /// The Pyramid HBAO denoiser: sigma 1.5, 5 taps, no depth term (spec §3).
     fn default() -> Self {
-        Self { sigma: 1.5, taps: 5, depth_sigma: None }
+        Self {
+            sigma: 1.5,
+            taps: 5,
+            depth_sigma: None,
+        }
     }
 }
 
@@ -47,7 +51,12 @@ impl GaussianBlur {
         check_blur(prefix, self.sigma, self.taps)?;
         if let Some(s) = self.depth_sigma {
             if !(s.is_finite() && s > 0.0 && s <= 10.0) {
-                return Err(invalid(prefix, "depth_sigma", s, "greater than 0 and at most 10 (relative depth)"));
+                return Err(invalid(
+                    prefix,
+                    "depth_sigma",
+                    s,
+                    "greater than 0 and at most 10 (relative depth)",
+                ));
             }
         }
         Ok(())
@@ -58,7 +67,9 @@ impl GaussianBlur {
 pub fn gaussian_weights(sigma: f32, taps: u32) -> Vec<f32> {
     let r = (taps.max(1) as i32 - 1) / 2;
     let s = sigma.max(1e-6) as f64;
-    let raw: Vec<f64> = (-r..=r).map(|k| (-(k * k) as f64 / (2.0 * s * s)).exp()).collect();
+    let raw: Vec<f64> = (-r..=r)
+        .map(|k| (-(k * k) as f64 / (2.0 * s * s)).exp())
+        .collect();
     let sum: f64 = raw.iter().sum();
     raw.iter().map(|w| (w / sum) as f32).collect()
 }
@@ -66,24 +77,62 @@ pub fn gaussian_weights(sigma: f32, taps: u32) -> Vec<f32> {
 /// Adds `<prefix>.blur_x` and `<prefix>.blur_y` blurring `input`; returns the blurred texture
 /// (`<prefix>.blur_y`, R32Float, the input's size). `depth` (linear, 0 = sky, same size) makes
 /// sky write 1 and enables `depth_sigma`.
-pub fn gaussian_blur(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: Option<TextureHandle>, params: &GaussianBlur) -> AoResult<TextureHandle> {
+pub fn gaussian_blur(
+    b: &mut GraphBuilder,
+    prefix: &str,
+    input: TextureHandle,
+    depth: Option<TextureHandle>,
+    params: &GaussianBlur,
+) -> AoResult<TextureHandle> {
     gaussian_blur_with_intermediate(b, prefix, input, depth, params, BLOCK_FORMAT)
 }
 
 /// [`gaussian_blur`] with the horizontal pass's texture `<prefix>.blur_x` in `intermediate`
 /// (a technique's intermediate format, R32Float or R16Float); the output stays R32Float.
-pub fn gaussian_blur_with_intermediate(b: &mut GraphBuilder, prefix: &str, input: TextureHandle, depth: Option<TextureHandle>, params: &GaussianBlur, intermediate: wgpu::TextureFormat) -> AoResult<TextureHandle> {
+pub fn gaussian_blur_with_intermediate(
+    b: &mut GraphBuilder,
+    prefix: &str,
+    input: TextureHandle,
+    depth: Option<TextureHandle>,
+    params: &GaussianBlur,
+    intermediate: wgpu::TextureFormat,
+) -> AoResult<TextureHandle> {
     params.validate(prefix)?;
     check_intermediate(prefix, intermediate)?;
     let weights = gaussian_weights(params.sigma, params.taps);
     let depth_sigma = match (params.depth_sigma, depth) {
-        (Some(_), None) => return Err(invalid(prefix, "depth_sigma", params.depth_sigma.unwrap_or(0.0), "only with a depth input")),
+        (Some(_), None) => {
+            return Err(invalid(
+                prefix,
+                "depth_sigma",
+                params.depth_sigma.unwrap_or(0.0),
+                "only with a depth input",
+            ));
+        }
         (s, _) => s.unwrap_or(0.0),
     };
     let (shader, extra): (&str, Vec<(&str, TextureHandle)>) = match depth {
         Some(d) => ("blocks/gaussian_blur_depth.wgsl", vec![("depth", d)]),
         None => ("blocks/gaussian_blur.wgsl", Vec::new()),
     };
-    let x = blur_pass(b, prefix, "blur_x", shader, input, &extra, &BlurUniform::new([1, 0], &weights, depth_sigma, 0.0), intermediate)?;
-    blur_pass(b, prefix, "blur_y", shader, x, &extra, &BlurUniform::new([0, 1], &weights, depth_sigma, 0.0), BLOCK_FORMAT)
+    let x = blur_pass(
+        b,
+        prefix,
+        "blur_x",
+        shader,
+        input,
+        &extra,
+        &BlurUniform::new([1, 0], &weights, depth_sigma, 0.0),
+        intermediate,
+    )?;
+    blur_pass(
+        b,
+        prefix,
+        "blur_y",
+        shader,
+        x,
+        &extra,
+        &BlurUniform::new([0, 1], &weights, depth_sigma, 0.0),
+        BLOCK_FORMAT,
+    )
 }

@@ -18,7 +18,9 @@
 //!   treat sky taps as absent; nothing writes NaN or infinity (every division has a non-zero
 //!   denominator by construction).
 
-use aograph_graph::{intermediate_variant, Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{
+    Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle, intermediate_variant,
+};
 
 use crate::error::{AoError, AoResult};
 
@@ -31,10 +33,12 @@ pub mod temporal;
 #[cfg(test)]
 mod tests;
 
-pub use bilateral_blur::{bilateral_blur, bilateral_blur_with_intermediate, BilateralBlur};
-pub use bilateral_upsample::{bilateral_upsample, BilateralUpsample, UpsampleInputs};
-pub use depth_pyramid::{depth_pyramid, DepthPyramid, DepthReduction};
-pub use gaussian_blur::{gaussian_blur, gaussian_blur_with_intermediate, gaussian_weights, GaussianBlur};
+pub use bilateral_blur::{BilateralBlur, bilateral_blur, bilateral_blur_with_intermediate};
+pub use bilateral_upsample::{BilateralUpsample, UpsampleInputs, bilateral_upsample};
+pub use depth_pyramid::{DepthPyramid, DepthReduction, depth_pyramid};
+pub use gaussian_blur::{
+    GaussianBlur, gaussian_blur, gaussian_blur_with_intermediate, gaussian_weights,
+};
 
 /// Format of every texture a block creates.
 pub const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -44,13 +48,35 @@ pub const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 pub const MAX_BLUR_RADIUS: u32 = 31;
 
 /// An invalid block parameter, reported under the caller's prefix.
-pub(crate) fn invalid(prefix: &str, name: &str, value: impl std::fmt::Display, allowed: impl Into<String>) -> AoError {
-    AoError::InvalidParameter { technique: prefix.into(), name: name.into(), value: value.to_string(), allowed: allowed.into() }
+pub(crate) fn invalid(
+    prefix: &str,
+    name: &str,
+    value: impl std::fmt::Display,
+    allowed: impl Into<String>,
+) -> AoError {
+    AoError::InvalidParameter {
+        technique: prefix.into(),
+        name: name.into(),
+        value: value.to_string(),
+        allowed: allowed.into(),
+    }
 }
 
 /// The descriptor of `handle`, or an error naming the block and the argument.
-pub(crate) fn desc_of(b: &GraphBuilder, prefix: &str, what: &str, handle: TextureHandle) -> AoResult<TextureDesc> {
-    b.texture_desc(handle).ok_or_else(|| invalid(prefix, what, format!("{handle:?}"), "a texture handle of this graph"))
+pub(crate) fn desc_of(
+    b: &GraphBuilder,
+    prefix: &str,
+    what: &str,
+    handle: TextureHandle,
+) -> AoResult<TextureDesc> {
+    b.texture_desc(handle).ok_or_else(|| {
+        invalid(
+            prefix,
+            what,
+            format!("{handle:?}"),
+            "a texture handle of this graph",
+        )
+    })
 }
 
 /// `size` divided by `factor^level` per axis, rounded up: level `level` of a pyramid built on
@@ -59,8 +85,13 @@ pub(crate) fn desc_of(b: &GraphBuilder, prefix: &str, what: &str, handle: Textur
 pub fn scaled_size(size: SizeClass, factor: u32, level: u32) -> SizeClass {
     let f = factor.max(1).saturating_pow(level);
     match size {
-        SizeClass::Relative { divisor } => SizeClass::Relative { divisor: divisor.max(1).saturating_mul(f) },
-        SizeClass::Fixed(e) => SizeClass::Fixed(Extent::new(e.width.div_ceil(f).max(1), e.height.div_ceil(f).max(1))),
+        SizeClass::Relative { divisor } => SizeClass::Relative {
+            divisor: divisor.max(1).saturating_mul(f),
+        },
+        SizeClass::Fixed(e) => SizeClass::Fixed(Extent::new(
+            e.width.div_ceil(f).max(1),
+            e.height.div_ceil(f).max(1),
+        )),
     }
 }
 
@@ -92,17 +123,34 @@ impl BlurUniform {
         for (k, slot) in w.iter_mut().enumerate().take(radius + 1) {
             *slot = weights[radius + k];
         }
-        Self { axis, radius: radius as i32, depth_sigma, normal_power, _pad: [0.0; 3], weights: w }
+        Self {
+            axis,
+            radius: radius as i32,
+            depth_sigma,
+            normal_power,
+            _pad: [0.0; 3],
+            weights: w,
+        }
     }
 }
 
 /// Checks a separable blur's spatial parameters: sigma in (0, 32], taps odd in 1..=63.
 pub(crate) fn check_blur(prefix: &str, sigma: f32, taps: u32) -> AoResult<()> {
     if !(sigma.is_finite() && sigma > 0.0 && sigma <= 32.0) {
-        return Err(invalid(prefix, "sigma", sigma, "greater than 0 and at most 32 (pixels)"));
+        return Err(invalid(
+            prefix,
+            "sigma",
+            sigma,
+            "greater than 0 and at most 32 (pixels)",
+        ));
     }
     if taps == 0 || taps.is_multiple_of(2) || taps > 2 * MAX_BLUR_RADIUS + 1 {
-        return Err(invalid(prefix, "taps", taps, format!("an odd number from 1 to {}", 2 * MAX_BLUR_RADIUS + 1)));
+        return Err(invalid(
+            prefix,
+            "taps",
+            taps,
+            format!("an odd number from 1 to {}", 2 * MAX_BLUR_RADIUS + 1),
+        ));
     }
     Ok(())
 }
@@ -111,7 +159,12 @@ pub(crate) fn check_blur(prefix: &str, sigma: f32, taps: u32) -> AoResult<()> {
 pub(crate) fn check_intermediate(prefix: &str, format: wgpu::TextureFormat) -> AoResult<()> {
     match format {
         wgpu::TextureFormat::R32Float | wgpu::TextureFormat::R16Float => Ok(()),
-        f => Err(invalid(prefix, "intermediate_format", format!("{f:?}"), "R32Float or R16Float")),
+        f => Err(invalid(
+            prefix,
+            "intermediate_format",
+            format!("{f:?}"),
+            "R32Float or R16Float",
+        )),
     }
 }
 
@@ -119,7 +172,16 @@ pub(crate) fn check_intermediate(prefix: &str, format: wgpu::TextureFormat) -> A
 /// writes a new `format` (R32Float or R16Float) texture of `src`'s size named
 /// `<prefix>.<pass>`, through the shader's variant for that format.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn blur_pass(b: &mut GraphBuilder, prefix: &str, pass: &str, shader: &str, src: TextureHandle, extra: &[(&str, TextureHandle)], uniform: &BlurUniform, format: wgpu::TextureFormat) -> AoResult<TextureHandle> {
+pub(crate) fn blur_pass(
+    b: &mut GraphBuilder,
+    prefix: &str,
+    pass: &str,
+    shader: &str,
+    src: TextureHandle,
+    extra: &[(&str, TextureHandle)],
+    uniform: &BlurUniform,
+    format: wgpu::TextureFormat,
+) -> AoResult<TextureHandle> {
     let size = desc_of(b, prefix, "input", src)?.size;
     let name = format!("{prefix}.{pass}");
     let out = b.create_texture(&name, TextureDesc::new(format, size));

@@ -80,10 +80,13 @@
 //! - [`TemporalMode::Average`] is TSSAO Eqs. 5-6 with one "sample" per frame: a running mean
 //!   over up to n_max frames, then exponential decay with weight 1 / (n_max + 1).
 
-use aograph_graph::{BufferAccess, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, HistoryTexture, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{
+    BufferAccess, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder,
+    HistoryTexture, SizeClass, TextureDesc, TextureHandle,
+};
 use bytemuck::{Pod, Zeroable};
 
-use crate::error::{check_param, AoError, AoResult};
+use crate::error::{AoError, AoResult, check_param};
 use crate::technique::ACCESSIBILITY_FORMAT;
 
 /// Format of the history (AO buffer) and of the reprojected texture.
@@ -121,7 +124,11 @@ pub struct TemporalAccumulation {
 impl Default for TemporalAccumulation {
     /// A running mean over up to 32 frames with epsilon = 0.03.
     fn default() -> Self {
-        Self { epsilon: DEFAULT_EPSILON, n_max: 32, mode: TemporalMode::Average }
+        Self {
+            epsilon: DEFAULT_EPSILON,
+            n_max: 32,
+            mode: TemporalMode::Average,
+        }
     }
 }
 
@@ -131,7 +138,11 @@ pub const DEFAULT_EPSILON: f32 = 0.03;
 impl TemporalAccumulation {
     /// MSSAO's temporal filter (Eqs. 12-14, Table 5): a fixed blend with k = 0.5.
     pub fn mssao() -> Self {
-        Self { epsilon: DEFAULT_EPSILON, n_max: 1, mode: TemporalMode::FixedBlend(0.5) }
+        Self {
+            epsilon: DEFAULT_EPSILON,
+            n_max: 1,
+            mode: TemporalMode::FixedBlend(0.5),
+        }
     }
     /// Range checks; errors are reported under `owner` (the technique or block prefix).
     pub fn validate(&self, owner: &str) -> AoResult<()> {
@@ -139,7 +150,12 @@ impl TemporalAccumulation {
         check_param(owner, "n_max", self.n_max, 1, MAX_N_MAX)?;
         if let TemporalMode::FixedBlend(k) = self.mode {
             if !(k.is_finite() && (0.0..1.0).contains(&k)) {
-                return Err(AoError::InvalidParameter { technique: owner.into(), name: "temporal_k".into(), value: k.to_string(), allowed: "0 to 1 (excluding 1: the current frame must contribute)".into() });
+                return Err(AoError::InvalidParameter {
+                    technique: owner.into(),
+                    name: "temporal_k".into(),
+                    value: k.to_string(),
+                    allowed: "0 to 1 (excluding 1: the current frame must contribute)".into(),
+                });
             }
         }
         Ok(())
@@ -151,7 +167,12 @@ pub fn check_epsilon(owner: &str, name: &str, epsilon: f32) -> AoResult<()> {
     if epsilon.is_finite() && epsilon > 0.0 && epsilon <= 1.0 {
         Ok(())
     } else {
-        Err(AoError::InvalidParameter { technique: owner.into(), name: name.into(), value: epsilon.to_string(), allowed: "greater than 0 and at most 1 (relative depth)".into() })
+        Err(AoError::InvalidParameter {
+            technique: owner.into(),
+            name: name.into(),
+            value: epsilon.to_string(),
+            allowed: "greater than 0 and at most 1 (relative depth)".into(),
+        })
     }
 }
 
@@ -159,7 +180,11 @@ pub fn check_epsilon(owner: &str, name: &str, epsilon: f32) -> AoResult<()> {
 /// requested too: the g-buffer drops it for scenes where nothing moves, and the block then
 /// reprojects through the camera alone.
 pub fn temporal_channels() -> GBufferChannels {
-    GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals, GBufferChannel::Motion])
+    GBufferChannels::of(&[
+        GBufferChannel::LinearDepth,
+        GBufferChannel::Normals,
+        GBufferChannel::Motion,
+    ])
 }
 
 /// What [`add_temporal`] wrote.
@@ -207,21 +232,34 @@ struct AccumulateUniform {
 
 /// Declares the history (AO buffer) `<prefix>.history`: Rgba32Float, full size.
 pub fn ao_history(builder: &mut GraphBuilder, prefix: &str) -> HistoryTexture {
-    builder.history_texture(&format!("{prefix}.history"), TextureDesc::new(HISTORY_FORMAT, SizeClass::FULL))
+    builder.history_texture(
+        &format!("{prefix}.history"),
+        TextureDesc::new(HISTORY_FORMAT, SizeClass::FULL),
+    )
 }
 
 fn channel(gbuffer: &GBufferTextures, prefix: &str, c: GBufferChannel) -> AoResult<TextureHandle> {
-    gbuffer.get(c).ok_or_else(|| AoError::MissingChannel { technique: prefix.into(), channel: c.name().into() })
+    gbuffer.get(c).ok_or_else(|| AoError::MissingChannel {
+        technique: prefix.into(),
+        channel: c.name().into(),
+    })
 }
 
 /// The motion texture to bind: the g-buffer's, or a 1x1 stand-in written by
 /// `<prefix>.zero_motion` (so shaders can always declare the binding).
-fn motion_or_stand_in(builder: &mut GraphBuilder, prefix: &str, gbuffer: &GBufferTextures) -> (TextureHandle, bool) {
+fn motion_or_stand_in(
+    builder: &mut GraphBuilder,
+    prefix: &str,
+    gbuffer: &GBufferTextures,
+) -> (TextureHandle, bool) {
     if let Some(m) = gbuffer.motion {
         return (m, true);
     }
     let name = format!("{prefix}.zero_motion");
-    let t = builder.create_texture(&name, TextureDesc::new(GBufferChannel::Motion.format(), SizeClass::fixed(1, 1)));
+    let t = builder.create_texture(
+        &name,
+        TextureDesc::new(GBufferChannel::Motion.format(), SizeClass::fixed(1, 1)),
+    );
     let mut p = builder.compute_pass(&name, "blocks/temporal_zero.wgsl", "main");
     let t = p.write_storage("dst", t);
     p.dispatch_over(t);
@@ -231,60 +269,130 @@ fn motion_or_stand_in(builder: &mut GraphBuilder, prefix: &str, gbuffer: &GBuffe
 /// Pass `<prefix>.reproject`: reprojects `history_previous` (an [`ao_history`]'s `previous`)
 /// into this frame and applies the disocclusion test with `epsilon`. Reads linear depth,
 /// normals and, when present, motion.
-pub fn add_reprojection(builder: &mut GraphBuilder, prefix: &str, history_previous: TextureHandle, gbuffer: &GBufferTextures, view: BufferHandle, epsilon: f32) -> AoResult<Reprojection> {
+pub fn add_reprojection(
+    builder: &mut GraphBuilder,
+    prefix: &str,
+    history_previous: TextureHandle,
+    gbuffer: &GBufferTextures,
+    view: BufferHandle,
+    epsilon: f32,
+) -> AoResult<Reprojection> {
     check_epsilon(prefix, "temporal_epsilon", epsilon)?;
     let depth = channel(gbuffer, prefix, GBufferChannel::LinearDepth)?;
     let normals = channel(gbuffer, prefix, GBufferChannel::Normals)?;
     let (motion, has_motion) = motion_or_stand_in(builder, prefix, gbuffer);
     let name = format!("{prefix}.reproject");
-    let out = builder.create_texture(&format!("{prefix}.reprojected"), TextureDesc::new(HISTORY_FORMAT, SizeClass::FULL));
+    let out = builder.create_texture(
+        &format!("{prefix}.reprojected"),
+        TextureDesc::new(HISTORY_FORMAT, SizeClass::FULL),
+    );
     let mut p = builder.compute_pass(&name, "blocks/temporal_reproject.wgsl", "main");
-    p.sample("history", history_previous).sample("linear_depth", depth).sample("normals", normals).sample("motion", motion);
+    p.sample("history", history_previous)
+        .sample("linear_depth", depth)
+        .sample("normals", normals)
+        .sample("motion", motion);
     p.read_buffer("view", BufferAccess::Uniform, view);
-    p.uniform("params", bytemuck::bytes_of(&ReprojectUniform { epsilon, has_motion: has_motion as u32, moving_pixels: MOVING_PIXELS, _pad: 0.0 }));
+    p.uniform(
+        "params",
+        bytemuck::bytes_of(&ReprojectUniform {
+            epsilon,
+            has_motion: has_motion as u32,
+            moving_pixels: MOVING_PIXELS,
+            _pad: 0.0,
+        }),
+    );
     let reprojected = p.write_storage("reprojected", out);
     p.dispatch_over(reprojected);
-    Ok(Reprojection { reprojected, motion, has_motion })
+    Ok(Reprojection {
+        reprojected,
+        motion,
+        has_motion,
+    })
 }
 
 /// Adds temporal accumulation on top of `current` (this frame's full-size accessibility,
 /// R32Float or R16Float): reprojection, disocclusion test, blend. Pass and resource names
 /// start with `prefix` (e.g. `mssao.temporal`). Needs the g-buffer's linear depth and normals
 /// ([`temporal_channels`]); the technique using it is temporal (`is_temporal` = true).
-pub fn add_temporal(builder: &mut GraphBuilder, prefix: &str, current: TextureHandle, gbuffer: &GBufferTextures, view: BufferHandle, params: &TemporalAccumulation) -> AoResult<TemporalOutputs> {
+pub fn add_temporal(
+    builder: &mut GraphBuilder,
+    prefix: &str,
+    current: TextureHandle,
+    gbuffer: &GBufferTextures,
+    view: BufferHandle,
+    params: &TemporalAccumulation,
+) -> AoResult<TemporalOutputs> {
     params.validate(prefix)?;
     let depth = channel(gbuffer, prefix, GBufferChannel::LinearDepth)?;
     let history = ao_history(builder, prefix);
-    let r = add_reprojection(builder, prefix, history.previous, gbuffer, view, params.epsilon)?;
+    let r = add_reprojection(
+        builder,
+        prefix,
+        history.previous,
+        gbuffer,
+        view,
+        params.epsilon,
+    )?;
     let (mode, k) = match params.mode {
         TemporalMode::Average => (0, 0.0),
         TemporalMode::FixedBlend(k) => (1, k),
     };
-    let uniform = AccumulateUniform { mode, n_max: params.n_max as f32, k, _pad: 0.0 };
+    let uniform = AccumulateUniform {
+        mode,
+        n_max: params.n_max as f32,
+        k,
+        _pad: 0.0,
+    };
     let name = format!("{prefix}.accumulate");
-    let out = builder.create_texture(&format!("{prefix}.accumulated"), TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL));
+    let out = builder.create_texture(
+        &format!("{prefix}.accumulated"),
+        TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL),
+    );
     let mut p = builder.compute_pass(&name, "blocks/temporal_accumulate.wgsl", "main");
-    p.sample("current", current).sample("reprojected", r.reprojected).sample("linear_depth", depth);
+    p.sample("current", current)
+        .sample("reprojected", r.reprojected)
+        .sample("linear_depth", depth);
     p.uniform("params", bytemuck::bytes_of(&uniform));
     let written = p.write_storage("history", history.current);
     let accumulated = p.write_storage("accumulated", out);
     p.dispatch_over(accumulated);
-    Ok(TemporalOutputs { accumulated, history: HistoryTexture { previous: history.previous, current: written }, reprojected: r.reprojected })
+    Ok(TemporalOutputs {
+        accumulated,
+        history: HistoryTexture {
+            previous: history.previous,
+            current: written,
+        },
+        reprojected: r.reprojected,
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use aograph_graph::{compile, BufferDesc, CompileOptions, ShaderLibrary, ViewUniforms};
+    use aograph_graph::{BufferDesc, CompileOptions, ShaderLibrary, ViewUniforms, compile};
 
     fn plan(with_motion: bool, params: &TemporalAccumulation) -> Vec<String> {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer("view", BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let view = b.import_buffer(
+            "view",
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
         let mut g = GBufferTextures::default();
-        for c in temporal_channels().iter().filter(|c| with_motion || *c != GBufferChannel::Motion) {
-            g.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+        for c in temporal_channels()
+            .iter()
+            .filter(|c| with_motion || *c != GBufferChannel::Motion)
+        {
+            g.set(
+                c,
+                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
+            );
         }
-        let current = b.import_texture("ao", TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL));
+        let current = b.import_texture(
+            "ao",
+            TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL),
+        );
         let out = add_temporal(&mut b, "t", current, &g, view, params).unwrap();
         b.export(out.accumulated);
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
@@ -294,9 +402,18 @@ mod tests {
 
     #[test]
     fn plan_is_reproject_then_accumulate() {
-        assert_eq!(plan(true, &TemporalAccumulation::default()), ["t.reproject", "t.accumulate"]);
-        assert_eq!(plan(true, &TemporalAccumulation::mssao()), ["t.reproject", "t.accumulate"]);
-        assert_eq!(plan(false, &TemporalAccumulation::default()), ["t.zero_motion", "t.reproject", "t.accumulate"]);
+        assert_eq!(
+            plan(true, &TemporalAccumulation::default()),
+            ["t.reproject", "t.accumulate"]
+        );
+        assert_eq!(
+            plan(true, &TemporalAccumulation::mssao()),
+            ["t.reproject", "t.accumulate"]
+        );
+        assert_eq!(
+            plan(false, &TemporalAccumulation::default()),
+            ["t.zero_motion", "t.reproject", "t.accumulate"]
+        );
     }
 
     #[test]
@@ -304,11 +421,32 @@ mod tests {
         let ok = TemporalAccumulation::default();
         assert!(ok.validate("t").is_ok() && TemporalAccumulation::mssao().validate("t").is_ok());
         for (bad, name) in [
-            (TemporalAccumulation { epsilon: 0.0, ..ok }, "temporal_epsilon"),
-            (TemporalAccumulation { epsilon: f32::NAN, ..ok }, "temporal_epsilon"),
+            (
+                TemporalAccumulation { epsilon: 0.0, ..ok },
+                "temporal_epsilon",
+            ),
+            (
+                TemporalAccumulation {
+                    epsilon: f32::NAN,
+                    ..ok
+                },
+                "temporal_epsilon",
+            ),
             (TemporalAccumulation { n_max: 0, ..ok }, "n_max"),
-            (TemporalAccumulation { mode: TemporalMode::FixedBlend(1.0), ..ok }, "temporal_k"),
-            (TemporalAccumulation { mode: TemporalMode::FixedBlend(-0.1), ..ok }, "temporal_k"),
+            (
+                TemporalAccumulation {
+                    mode: TemporalMode::FixedBlend(1.0),
+                    ..ok
+                },
+                "temporal_k",
+            ),
+            (
+                TemporalAccumulation {
+                    mode: TemporalMode::FixedBlend(-0.1),
+                    ..ok
+                },
+                "temporal_k",
+            ),
         ] {
             let e = bad.validate("t").unwrap_err().to_string();
             assert!(e.contains(name), "{e}");
@@ -320,9 +458,29 @@ mod tests {
         let mut b = GraphBuilder::new();
         let view = b.import_buffer("view", BufferDesc { size: 16 });
         let mut g = GBufferTextures::default();
-        g.set(GBufferChannel::LinearDepth, b.import_texture("d", TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL)));
-        let current = b.import_texture("ao", TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL));
-        let e = add_temporal(&mut b, "t", current, &g, view, &TemporalAccumulation::default()).unwrap_err();
-        assert!(matches!(&e, AoError::MissingChannel { channel, .. } if channel == "normals"), "{e}");
+        g.set(
+            GBufferChannel::LinearDepth,
+            b.import_texture(
+                "d",
+                TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
+            ),
+        );
+        let current = b.import_texture(
+            "ao",
+            TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL),
+        );
+        let e = add_temporal(
+            &mut b,
+            "t",
+            current,
+            &g,
+            view,
+            &TemporalAccumulation::default(),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&e, AoError::MissingChannel { channel, .. } if channel == "normals"),
+            "{e}"
+        );
     }
 }

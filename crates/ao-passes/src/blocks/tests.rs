@@ -1,7 +1,10 @@
 //! GPU-free tests of the blocks: plan shape (pass names, sizes), kernel weights, parameter
 //! checks, and compilation against the real shaders (naga validation and binding checks).
 
-use aograph_graph::{compile, CompileOptions, Extent, GraphBuilder, ShaderLibrary, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{
+    CompileOptions, Extent, GraphBuilder, ShaderLibrary, SizeClass, TextureDesc, TextureHandle,
+    compile,
+};
 
 use super::depth_pyramid::reduce_cpu;
 use super::*;
@@ -12,14 +15,22 @@ fn shaders() -> ShaderLibrary {
 }
 
 fn depth_input(b: &mut GraphBuilder, size: SizeClass) -> TextureHandle {
-    b.import_texture("depth", TextureDesc::new(wgpu::TextureFormat::R32Float, size))
+    b.import_texture(
+        "depth",
+        TextureDesc::new(wgpu::TextureFormat::R32Float, size),
+    )
 }
 
 /// Compiles `b` with `outputs` exported; every pass must be kept.
 fn compiles(mut b: GraphBuilder, outputs: &[TextureHandle]) -> Vec<String> {
     outputs.iter().for_each(|h| b.export(*h));
-    let plan = compile(b.build(), &shaders(), CompileOptions::default()).expect("block graph compiles");
-    assert!(plan.culled.is_empty(), "nothing is culled: {:?}", plan.culled_names());
+    let plan =
+        compile(b.build(), &shaders(), CompileOptions::default()).expect("block graph compiles");
+    assert!(
+        plan.culled.is_empty(),
+        "nothing is culled: {:?}",
+        plan.culled_names()
+    );
     plan.pass_names().iter().map(|s| s.to_string()).collect()
 }
 
@@ -38,13 +49,32 @@ fn average_pyramid_has_one_pass_per_level_with_ceil_sizes() {
     let mut b = GraphBuilder::new();
     let d = depth_input(&mut b, SizeClass::FULL);
     let p = depth_pyramid(&mut b, "t", d, DepthReduction::Average3x3, 4).unwrap();
-    let sizes: Vec<Extent> = p.sizes.iter().map(|s| s.resolve(Extent::new(97, 61))).collect();
-    assert_eq!(sizes, [Extent::new(97, 61), Extent::new(33, 21), Extent::new(11, 7), Extent::new(4, 3)]);
-    let e: Vec<Extent> = (0..4).map(|l| level_extent(Extent::new(97, 61), 3, l)).collect();
+    let sizes: Vec<Extent> = p
+        .sizes
+        .iter()
+        .map(|s| s.resolve(Extent::new(97, 61)))
+        .collect();
+    assert_eq!(
+        sizes,
+        [
+            Extent::new(97, 61),
+            Extent::new(33, 21),
+            Extent::new(11, 7),
+            Extent::new(4, 3)
+        ]
+    );
+    let e: Vec<Extent> = (0..4)
+        .map(|l| level_extent(Extent::new(97, 61), 3, l))
+        .collect();
     assert_eq!(e, sizes);
     // The spec's table (§2.2): 1280x720 -> 427x240, 143x80, 48x27, 16x9, 6x3, 2x1.
-    let e: Vec<Extent> = (1..=6).map(|l| level_extent(Extent::new(1280, 720), 3, l)).collect();
-    assert_eq!(e, [(427, 240), (143, 80), (48, 27), (16, 9), (6, 3), (2, 1)].map(|(w, h)| Extent::new(w, h)));
+    let e: Vec<Extent> = (1..=6)
+        .map(|l| level_extent(Extent::new(1280, 720), 3, l))
+        .collect();
+    assert_eq!(
+        e,
+        [(427, 240), (143, 80), (48, 27), (16, 9), (6, 3), (2, 1)].map(|(w, h)| Extent::new(w, h))
+    );
 }
 
 #[test]
@@ -54,8 +84,18 @@ fn min_max_pyramids_halve_and_compose_on_relative_and_fixed_bases() {
         let d = depth_input(&mut b, SizeClass::half_pow(1));
         let p = depth_pyramid(&mut b, "m", d, r, 3).unwrap();
         assert_eq!(p.factor(), 2);
-        assert_eq!(p.sizes, [SizeClass::half_pow(1), SizeClass::half_pow(2), SizeClass::half_pow(3)]);
-        assert_eq!(compiles(b, &[p.levels[2]]), ["m.depth_level1", "m.depth_level2"]);
+        assert_eq!(
+            p.sizes,
+            [
+                SizeClass::half_pow(1),
+                SizeClass::half_pow(2),
+                SizeClass::half_pow(3)
+            ]
+        );
+        assert_eq!(
+            compiles(b, &[p.levels[2]]),
+            ["m.depth_level1", "m.depth_level2"]
+        );
     }
     let mut b = GraphBuilder::new();
     let d = depth_input(&mut b, SizeClass::fixed(97, 61));
@@ -69,9 +109,15 @@ fn pyramid_rejects_bad_level_counts_and_formats() {
     let d = depth_input(&mut b, SizeClass::FULL);
     for levels in [0, MAX_LEVELS_PLUS_ONE] {
         let e = depth_pyramid(&mut b, "t", d, DepthReduction::Average3x3, levels).unwrap_err();
-        assert!(e.to_string().contains("`levels`") && e.to_string().contains("1 to 16"), "{e}");
+        assert!(
+            e.to_string().contains("`levels`") && e.to_string().contains("1 to 16"),
+            "{e}"
+        );
     }
-    let rgba = b.import_texture("n", TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::FULL));
+    let rgba = b.import_texture(
+        "n",
+        TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::FULL),
+    );
     let e = depth_pyramid(&mut b, "t", rgba, DepthReduction::Min2x2, 2).unwrap_err();
     assert!(e.to_string().contains("R32Float"), "{e}");
 }
@@ -99,13 +145,22 @@ fn cpu_reduction_averages_in_bounds_taps_and_takes_the_centre_of_blocks_with_sky
     // A block of geometry is its mean; with one sky texel it is its centre; with a sky centre
     // it is sky.
     let block = [1.0, 1.0, 1.0, 1.0, 10.0, 1.0, 1.0, 1.0, 1.0];
-    assert_eq!(reduce_cpu(&block, 3, 3, DepthReduction::Average3x3).0, [2.0]);
+    assert_eq!(
+        reduce_cpu(&block, 3, 3, DepthReduction::Average3x3).0,
+        [2.0]
+    );
     let mut corner = block;
     corner[0] = 0.0;
-    assert_eq!(reduce_cpu(&corner, 3, 3, DepthReduction::Average3x3).0, [10.0]);
+    assert_eq!(
+        reduce_cpu(&corner, 3, 3, DepthReduction::Average3x3).0,
+        [10.0]
+    );
     let mut centre = block;
     centre[4] = 0.0;
-    assert_eq!(reduce_cpu(&centre, 3, 3, DepthReduction::Average3x3).0, [0.0]);
+    assert_eq!(
+        reduce_cpu(&centre, 3, 3, DepthReduction::Average3x3).0,
+        [0.0]
+    );
 }
 
 #[test]
@@ -119,7 +174,10 @@ fn gaussian_weights_are_normalised_and_match_sigma_1_5_five_taps() {
         let w = gaussian_weights(sigma, taps);
         assert_eq!(w.len(), taps as usize);
         assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-6);
-        assert!(w.iter().zip(w.iter().rev()).all(|(a, b)| a == b), "symmetric");
+        assert!(
+            w.iter().zip(w.iter().rev()).all(|(a, b)| a == b),
+            "symmetric"
+        );
     }
     let u = BlurUniform::new([1, 0], &gaussian_weights(1.5, 5), 0.0, 0.0);
     assert_eq!(u.radius, 2);
@@ -134,53 +192,169 @@ fn w_at(i: usize) -> f32 {
 fn blurs_declare_two_passes_and_compile() {
     let mut b = GraphBuilder::new();
     let d = depth_input(&mut b, SizeClass::FULL);
-    let ao = b.import_texture("ao", TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL));
+    let ao = b.import_texture(
+        "ao",
+        TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
+    );
     let plain = gaussian_blur(&mut b, "g", ao, None, &GaussianBlur::default()).unwrap();
-    let masked = gaussian_blur(&mut b, "gd", ao, Some(d), &GaussianBlur { depth_sigma: Some(0.1), ..Default::default() }).unwrap();
-    let n = b.import_texture("normals", TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::FULL));
+    let masked = gaussian_blur(
+        &mut b,
+        "gd",
+        ao,
+        Some(d),
+        &GaussianBlur {
+            depth_sigma: Some(0.1),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let n = b.import_texture(
+        "normals",
+        TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::FULL),
+    );
     let bil = bilateral_blur(&mut b, "b", ao, d, n, &BilateralBlur::default()).unwrap();
-    assert_eq!(b.texture_desc(bil).unwrap(), TextureDesc::new(BLOCK_FORMAT, SizeClass::FULL));
+    assert_eq!(
+        b.texture_desc(bil).unwrap(),
+        TextureDesc::new(BLOCK_FORMAT, SizeClass::FULL)
+    );
     let names = compiles(b, &[plain, masked, bil]);
-    assert_eq!(names, ["g.blur_x", "g.blur_y", "gd.blur_x", "gd.blur_y", "b.bilateral_x", "b.bilateral_y"]);
+    assert_eq!(
+        names,
+        [
+            "g.blur_x",
+            "g.blur_y",
+            "gd.blur_x",
+            "gd.blur_y",
+            "b.bilateral_x",
+            "b.bilateral_y"
+        ]
+    );
 }
 
 #[test]
 fn blur_parameters_are_checked_with_ranges() {
     let mut b = GraphBuilder::new();
-    let ao = b.import_texture("ao", TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL));
+    let ao = b.import_texture(
+        "ao",
+        TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
+    );
     let cases: [(GaussianBlur, &str); 4] = [
-        (GaussianBlur { taps: 4, ..Default::default() }, "an odd number from 1 to 63"),
-        (GaussianBlur { taps: 65, ..Default::default() }, "an odd number from 1 to 63"),
-        (GaussianBlur { sigma: 0.0, ..Default::default() }, "greater than 0"),
-        (GaussianBlur { depth_sigma: Some(0.1), ..Default::default() }, "only with a depth input"),
+        (
+            GaussianBlur {
+                taps: 4,
+                ..Default::default()
+            },
+            "an odd number from 1 to 63",
+        ),
+        (
+            GaussianBlur {
+                taps: 65,
+                ..Default::default()
+            },
+            "an odd number from 1 to 63",
+        ),
+        (
+            GaussianBlur {
+                sigma: 0.0,
+                ..Default::default()
+            },
+            "greater than 0",
+        ),
+        (
+            GaussianBlur {
+                depth_sigma: Some(0.1),
+                ..Default::default()
+            },
+            "only with a depth input",
+        ),
     ];
     for (p, allowed) in cases {
         let e = gaussian_blur(&mut b, "g", ao, None, &p).unwrap_err();
-        assert!(matches!(&e, AoError::InvalidParameter { technique, .. } if technique == "g"), "{e}");
+        assert!(
+            matches!(&e, AoError::InvalidParameter { technique, .. } if technique == "g"),
+            "{e}"
+        );
         assert!(e.to_string().contains(allowed), "{e}");
     }
-    let e = BilateralBlur { normal_power: -1.0, ..Default::default() }.validate("b").unwrap_err();
+    let e = BilateralBlur {
+        normal_power: -1.0,
+        ..Default::default()
+    }
+    .validate("b")
+    .unwrap_err();
     assert!(e.to_string().contains("0 (off) to 128"), "{e}");
 }
 
 #[test]
 fn upsample_derives_the_factor_from_size_classes_and_compiles() {
-    assert_eq!(bilateral_upsample::upsample_factor(SizeClass::half_pow(1), SizeClass::FULL), Some(2));
-    assert_eq!(bilateral_upsample::upsample_factor(SizeClass::pyramid_level(3, 2), SizeClass::pyramid_level(3, 1)), Some(3));
-    assert_eq!(bilateral_upsample::upsample_factor(SizeClass::fixed(4, 4), SizeClass::FULL), None);
-    assert_eq!(bilateral_upsample::upsample_factor(SizeClass::Relative { divisor: 3 }, SizeClass::half_pow(1)), None);
+    assert_eq!(
+        bilateral_upsample::upsample_factor(SizeClass::half_pow(1), SizeClass::FULL),
+        Some(2)
+    );
+    assert_eq!(
+        bilateral_upsample::upsample_factor(
+            SizeClass::pyramid_level(3, 2),
+            SizeClass::pyramid_level(3, 1)
+        ),
+        Some(3)
+    );
+    assert_eq!(
+        bilateral_upsample::upsample_factor(SizeClass::fixed(4, 4), SizeClass::FULL),
+        None
+    );
+    assert_eq!(
+        bilateral_upsample::upsample_factor(
+            SizeClass::Relative { divisor: 3 },
+            SizeClass::half_pow(1)
+        ),
+        None
+    );
 
     let mut b = GraphBuilder::new();
     let full = depth_input(&mut b, SizeClass::FULL);
     let p = depth_pyramid(&mut b, "u", full, DepthReduction::Min2x2, 2).unwrap();
-    let ao = b.import_texture("ao", TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::half_pow(1)));
-    let nf = b.import_texture("nf", TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::FULL));
-    let nl = b.import_texture("nl", TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::half_pow(1)));
-    let inputs = UpsampleInputs { ao, depth_low: p.levels[1], depth_full: full, normals: None };
+    let ao = b.import_texture(
+        "ao",
+        TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::half_pow(1)),
+    );
+    let nf = b.import_texture(
+        "nf",
+        TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::FULL),
+    );
+    let nl = b.import_texture(
+        "nl",
+        TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::half_pow(1)),
+    );
+    let inputs = UpsampleInputs {
+        ao,
+        depth_low: p.levels[1],
+        depth_full: full,
+        normals: None,
+    };
     let a = bilateral_upsample(&mut b, "u", &inputs, &BilateralUpsample::default()).unwrap();
-    let c = bilateral_upsample(&mut b, "un", &UpsampleInputs { normals: Some((nl, nf)), ..inputs }, &BilateralUpsample::default()).unwrap();
+    let c = bilateral_upsample(
+        &mut b,
+        "un",
+        &UpsampleInputs {
+            normals: Some((nl, nf)),
+            ..inputs
+        },
+        &BilateralUpsample::default(),
+    )
+    .unwrap();
     assert_eq!(b.texture_desc(a).unwrap().size, SizeClass::FULL);
-    let bad = UpsampleInputs { depth_low: full, ..inputs };
-    assert!(bilateral_upsample(&mut b, "x", &bad, &BilateralUpsample::default()).unwrap_err().to_string().contains("depth_low"));
-    assert_eq!(compiles(b, &[a, c]), ["u.depth_level1", "u.upsample", "un.upsample"]);
+    let bad = UpsampleInputs {
+        depth_low: full,
+        ..inputs
+    };
+    assert!(
+        bilateral_upsample(&mut b, "x", &bad, &BilateralUpsample::default())
+            .unwrap_err()
+            .to_string()
+            .contains("depth_low")
+    );
+    assert_eq!(
+        compiles(b, &[a, c]),
+        ["u.depth_level1", "u.upsample", "un.upsample"]
+    );
 }

@@ -38,13 +38,15 @@
 //!   `[ao] intermediate_format`; their writers are the matching shader variants (`ctx.shader`).
 //!   Without the blur `hbao.raw` is the output and stays R32Float.
 
-use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
+use aograph_graph::{
+    BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
+};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::blocks::{gaussian_blur_with_intermediate, GaussianBlur};
-use crate::error::{check_param, AoResult};
-use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique, ACCESSIBILITY_FORMAT};
+use crate::blocks::{GaussianBlur, gaussian_blur_with_intermediate};
+use crate::error::{AoResult, check_param};
+use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, spec};
 
 /// Largest D (Table 1a's largest row is D = 64).
 pub const MAX_DIRECTIONS: u32 = 64;
@@ -69,7 +71,12 @@ pub struct HbaoParams {
 
 impl Default for HbaoParams {
     fn default() -> Self {
-        Self { directions: 8, steps: 10, blur: true, max_screen_radius: 0.5 }
+        Self {
+            directions: 8,
+            steps: 10,
+            blur: true,
+            max_screen_radius: 0.5,
+        }
     }
 }
 
@@ -93,10 +100,26 @@ impl AoTechnique for Hbao {
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
         vec![
-            spec("directions", &format!("1 to {MAX_DIRECTIONS}"), "azimuth directions D (paper rows: 8, 16, 32, 64)"),
-            spec("steps", &format!("1 to {MAX_STEPS}"), "depth samples S per direction (paper rows: 10, 20, 40, 80)"),
-            spec("blur", "true or false", "separable Gaussian, sigma 1.5, 5 taps per axis (paper §3.5)"),
-            spec("max_screen_radius", "0.01 to 2", "cap of the projected radius R, as a fraction of the image height"),
+            spec(
+                "directions",
+                &format!("1 to {MAX_DIRECTIONS}"),
+                "azimuth directions D (paper rows: 8, 16, 32, 64)",
+            ),
+            spec(
+                "steps",
+                &format!("1 to {MAX_STEPS}"),
+                "depth samples S per direction (paper rows: 10, 20, 40, 80)",
+            ),
+            spec(
+                "blur",
+                "true or false",
+                "separable Gaussian, sigma 1.5, 5 taps per axis (paper §3.5)",
+            ),
+            spec(
+                "max_screen_radius",
+                "0.01 to 2",
+                "cap of the projected radius R, as a fraction of the image height",
+            ),
         ]
     }
     fn validate(&self, p: &HbaoParams) -> AoResult<()> {
@@ -113,11 +136,23 @@ impl AoTechnique for Hbao {
 
         // Eqs. 4, 5: D directions x S samples, horizon and attenuation per direction.
         let (raw, shader) = if p.blur {
-            (ctx.intermediate("hbao.raw", SizeClass::FULL), ctx.shader("ao/hbao/ao.wgsl"))
+            (
+                ctx.intermediate("hbao.raw", SizeClass::FULL),
+                ctx.shader("ao/hbao/ao.wgsl"),
+            )
         } else {
-            (ctx.builder.create_texture("hbao.accessibility", TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL)), "ao/hbao/ao.wgsl".to_string())
+            (
+                ctx.builder.create_texture(
+                    "hbao.accessibility",
+                    TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL),
+                ),
+                "ao/hbao/ao.wgsl".to_string(),
+            )
         };
-        let uniform = HbaoUniform { counts: [p.directions, p.steps, 0, 0], shape: [ctx.radius, p.max_screen_radius, 0.0, 0.0] };
+        let uniform = HbaoUniform {
+            counts: [p.directions, p.steps, 0, 0],
+            shape: [ctx.radius, p.max_screen_radius, 0.0, 0.0],
+        };
         let mut pass = ctx.builder.compute_pass("hbao.ao", &shader, "main");
         pass.sample("depth", depth).sample("normals", normals);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
@@ -130,7 +165,14 @@ impl AoTechnique for Hbao {
 
         // §3.5: separable Gaussian, σ = 1.5, 5 taps, horizontal then vertical (the shared
         // block; with depth so sky stays exactly 1 and sky taps are left out).
-        let out = gaussian_blur_with_intermediate(ctx.builder, "hbao", raw, Some(depth), &GaussianBlur::default(), ctx.intermediate_format)?;
+        let out = gaussian_blur_with_intermediate(
+            ctx.builder,
+            "hbao",
+            raw,
+            Some(depth),
+            &GaussianBlur::default(),
+            ctx.intermediate_format,
+        )?;
         Ok(AoOutput::new(out))
     }
 }
@@ -139,16 +181,34 @@ impl AoTechnique for Hbao {
 mod tests {
     use super::*;
     use crate::{AoError, DynAoTechnique};
-    use aograph_graph::{compile, BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms};
+    use aograph_graph::{
+        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms,
+        compile,
+    };
 
     fn plan_names(params: &HbaoParams) -> Vec<String> {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer("view", BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let view = b.import_buffer(
+            "view",
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
         let mut g = GBufferTextures::default();
         for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            g.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+            g.set(
+                c,
+                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
+            );
         }
-        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: g, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: "hbao" };
+        let mut ctx = AoBuildContext {
+            builder: &mut b,
+            gbuffer: g,
+            view,
+            radius: 1.0,
+            intermediate_format: wgpu::TextureFormat::R32Float,
+            technique: "hbao",
+        };
         let out = AoTechnique::build(&Hbao, &mut ctx, params).unwrap();
         b.export(out.accessibility);
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
@@ -158,34 +218,67 @@ mod tests {
 
     #[test]
     fn plan_is_ao_then_separable_gaussian() {
-        assert_eq!(plan_names(&HbaoParams::default()), ["hbao.ao", "hbao.blur_x", "hbao.blur_y"]);
-        assert_eq!(plan_names(&HbaoParams { directions: 64, steps: 80, ..Default::default() }), ["hbao.ao", "hbao.blur_x", "hbao.blur_y"]);
+        assert_eq!(
+            plan_names(&HbaoParams::default()),
+            ["hbao.ao", "hbao.blur_x", "hbao.blur_y"]
+        );
+        assert_eq!(
+            plan_names(&HbaoParams {
+                directions: 64,
+                steps: 80,
+                ..Default::default()
+            }),
+            ["hbao.ao", "hbao.blur_x", "hbao.blur_y"]
+        );
     }
 
     #[test]
     fn without_blur_the_plan_is_one_pass() {
-        assert_eq!(plan_names(&HbaoParams { blur: false, ..Default::default() }), ["hbao.ao"]);
+        assert_eq!(
+            plan_names(&HbaoParams {
+                blur: false,
+                ..Default::default()
+            }),
+            ["hbao.ao"]
+        );
     }
 
     #[test]
     fn reads_depth_and_normals_only() {
         let c = AoTechnique::channels(&Hbao, &HbaoParams::default());
-        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        assert_eq!(
+            c.iter().collect::<Vec<_>>(),
+            [GBufferChannel::LinearDepth, GBufferChannel::Normals]
+        );
     }
 
     #[test]
     fn paper_rows_are_accepted() {
         for (d, s) in [(8, 10), (16, 20), (32, 40), (64, 80)] {
-            assert!(Hbao.check(&format!("directions = {d}\nsteps = {s}").parse().unwrap()).is_ok(), "({d}, {s})");
+            assert!(
+                Hbao.check(&format!("directions = {d}\nsteps = {s}").parse().unwrap())
+                    .is_ok(),
+                "({d}, {s})"
+            );
         }
     }
 
     #[test]
     fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [("directions", "0", "1 to 64"), ("directions", "65", "1 to 64"), ("steps", "0", "1 to 128"), ("steps", "129", "1 to 128"), ("max_screen_radius", "2.5", "0.01 to 2"), ("max_screen_radius", "nan", "0.01 to 2")] {
+        for (key, value, range) in [
+            ("directions", "0", "1 to 64"),
+            ("directions", "65", "1 to 64"),
+            ("steps", "0", "1 to 128"),
+            ("steps", "129", "1 to 128"),
+            ("max_screen_radius", "2.5", "0.01 to 2"),
+            ("max_screen_radius", "nan", "0.01 to 2"),
+        ] {
             let table: toml::Table = format!("{key} = {value}").parse().unwrap();
             let e = Hbao.check(&table).unwrap_err();
-            assert!(matches!(e, AoError::InvalidParameter { .. }), "{key} = {value}: {e}");
+            assert!(
+                matches!(e, AoError::InvalidParameter { .. }),
+                "{key} = {value}: {e}"
+            );
             let msg = e.to_string();
             assert!(msg.contains(key) && msg.contains(range), "{msg}");
         }
@@ -193,7 +286,10 @@ mod tests {
 
     #[test]
     fn unknown_keys_and_wrong_types_are_rejected() {
-        let e = Hbao.check(&"direction = 8".parse().unwrap()).unwrap_err().to_string();
+        let e = Hbao
+            .check(&"direction = 8".parse().unwrap())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("direction") && e.contains("directions"), "{e}");
         assert!(Hbao.check(&"blur = 1".parse().unwrap()).is_err());
         assert!(Hbao.check(&"directions = -1".parse().unwrap()).is_err());

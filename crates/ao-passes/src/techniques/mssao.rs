@@ -73,9 +73,11 @@ mod tests;
 use aograph_graph::{GBufferChannel, GBufferChannels, ParamSpec, TextureHandle};
 use serde::{Deserialize, Serialize};
 
-use crate::blocks::temporal::{add_temporal, temporal_channels, TemporalAccumulation, TemporalMode, DEFAULT_EPSILON};
-use crate::error::{check_param, AoResult};
-use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
+use crate::blocks::temporal::{
+    DEFAULT_EPSILON, TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
+};
+use crate::error::{AoResult, check_param};
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
 
 use passes::{Level, MssaoUniform};
 
@@ -114,7 +116,17 @@ pub struct MssaoParams {
 
 impl Default for MssaoParams {
     fn default() -> Self {
-        Self { levels: 4, d_threshold: 1.0, r_max: 5.0, normal_power: 8.0, depth_power: 16.0, bilateral_blur: true, temporal: false, temporal_k: 0.5, temporal_epsilon: DEFAULT_EPSILON }
+        Self {
+            levels: 4,
+            d_threshold: 1.0,
+            r_max: 5.0,
+            normal_power: 8.0,
+            depth_power: 16.0,
+            bilateral_blur: true,
+            temporal: false,
+            temporal_k: 0.5,
+            temporal_epsilon: DEFAULT_EPSILON,
+        }
     }
 }
 
@@ -128,15 +140,51 @@ impl AoTechnique for Mssao {
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
         vec![
-            spec("levels", &format!("1 to {MAX_LEVELS}"), "number of resolutions n, each half the previous (Sec. 4.2)"),
-            spec("d_threshold", "0 to 1000", "depth range (scene units) above which downsampling keeps the second-nearest sub-pixel instead of the median (Table 2)"),
-            spec("r_max", "1 to 8", "kernel radius cap in pixels of each level (Eq. 5)"),
-            spec("normal_power", "0 to 64", "t_n, exponent of the normal weight (Eq. 8)"),
-            spec("depth_power", "0 to 64", "t_z, exponent of the depth weight 1 / (1 + |dz|) (Eq. 9)"),
-            spec("bilateral_blur", "true or false", "weigh the 3x3 blur by Eqs. 8-9 as well (Sec. 4.5)"),
-            spec("temporal", "true or false", "temporal filter: reprojection, depth test and fixed blend (Eqs. 12-14, Table 5)"),
-            spec("temporal_k", "0 to 0.99", "k, history weight when the reprojection test passes (Eq. 14)"),
-            spec("temporal_epsilon", "0.0001 to 1", "relative depth tolerance |1 - z_prev / z| of the reprojection test (Eq. 13)"),
+            spec(
+                "levels",
+                &format!("1 to {MAX_LEVELS}"),
+                "number of resolutions n, each half the previous (Sec. 4.2)",
+            ),
+            spec(
+                "d_threshold",
+                "0 to 1000",
+                "depth range (scene units) above which downsampling keeps the second-nearest sub-pixel instead of the median (Table 2)",
+            ),
+            spec(
+                "r_max",
+                "1 to 8",
+                "kernel radius cap in pixels of each level (Eq. 5)",
+            ),
+            spec(
+                "normal_power",
+                "0 to 64",
+                "t_n, exponent of the normal weight (Eq. 8)",
+            ),
+            spec(
+                "depth_power",
+                "0 to 64",
+                "t_z, exponent of the depth weight 1 / (1 + |dz|) (Eq. 9)",
+            ),
+            spec(
+                "bilateral_blur",
+                "true or false",
+                "weigh the 3x3 blur by Eqs. 8-9 as well (Sec. 4.5)",
+            ),
+            spec(
+                "temporal",
+                "true or false",
+                "temporal filter: reprojection, depth test and fixed blend (Eqs. 12-14, Table 5)",
+            ),
+            spec(
+                "temporal_k",
+                "0 to 0.99",
+                "k, history weight when the reprojection test passes (Eq. 14)",
+            ),
+            spec(
+                "temporal_epsilon",
+                "0.0001 to 1",
+                "relative depth tolerance |1 - z_prev / z| of the reprojection test (Eq. 13)",
+            ),
         ]
     }
     fn validate(&self, p: &MssaoParams) -> AoResult<()> {
@@ -155,7 +203,11 @@ impl AoTechnique for Mssao {
         // self-occlude on coarse meshes).
         let spatial = GBufferChannels::of(&[GBufferChannel::Positions]).with_face_normals();
         // The temporal block reads linear depth (Eq. 13) and motion where the scene moves.
-        if p.temporal { spatial.union(temporal_channels()) } else { spatial }
+        if p.temporal {
+            spatial.union(temporal_channels())
+        } else {
+            spatial
+        }
     }
     fn is_temporal(&self, p: &MssaoParams) -> bool {
         p.temporal
@@ -164,7 +216,10 @@ impl AoTechnique for Mssao {
         self.validate(p)?;
         let radius = ctx.radius;
         let uniform = |level: u32| MssaoUniform::new(p, radius, level);
-        let finest = Level { positions: ctx.channel(GBufferChannel::Positions)?, normals: ctx.channel(GBufferChannel::Normals)? };
+        let finest = Level {
+            positions: ctx.channel(GBufferChannel::Positions)?,
+            normals: ctx.channel(GBufferChannel::Normals)?,
+        };
         // Table 2: the g-buffer pyramid.
         let mut pyramid = vec![finest];
         for l in 1..p.levels {
@@ -186,8 +241,19 @@ impl AoTechnique for Mssao {
             return Ok(AoOutput::new(accessibility));
         }
         // Sec. 4.6, Table 5: reprojection, Eq. 13's test and Eq. 14's blend.
-        let filter = TemporalAccumulation { epsilon: p.temporal_epsilon, n_max: 1, mode: TemporalMode::FixedBlend(p.temporal_k) };
-        let t = add_temporal(ctx.builder, "mssao.temporal", accessibility, &ctx.gbuffer, ctx.view, &filter)?;
+        let filter = TemporalAccumulation {
+            epsilon: p.temporal_epsilon,
+            n_max: 1,
+            mode: TemporalMode::FixedBlend(p.temporal_k),
+        };
+        let t = add_temporal(
+            ctx.builder,
+            "mssao.temporal",
+            accessibility,
+            &ctx.gbuffer,
+            ctx.view,
+            &filter,
+        )?;
         Ok(AoOutput::new(t.accumulated))
     }
 }

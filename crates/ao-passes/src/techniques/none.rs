@@ -33,7 +33,9 @@ impl AoTechnique for NoAo {
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, _: &NoParams) -> AoResult<AoOutput> {
         let out = ctx.accessibility_texture("ao");
-        let mut p = ctx.builder.compute_pass("none.fill", "ao/none.wgsl", "main");
+        let mut p = ctx
+            .builder
+            .compute_pass("none.fill", "ao/none.wgsl", "main");
         let out = p.write_storage("ao", out);
         p.dispatch_over(out);
         Ok(AoOutput::new(out))

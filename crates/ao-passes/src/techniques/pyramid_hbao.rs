@@ -47,9 +47,9 @@
 use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass};
 use serde::{Deserialize, Serialize};
 
-use crate::blocks::{depth_pyramid, gaussian_blur_with_intermediate, DepthReduction, GaussianBlur};
-use crate::error::{check_param, AoError, AoResult};
-use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
+use crate::blocks::{DepthReduction, GaussianBlur, depth_pyramid, gaussian_blur_with_intermediate};
+use crate::error::{AoError, AoResult, check_param};
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
 
 const NAME: &str = "pyramid-hbao";
 /// Pyramid reduction factor K (spec §2.2).
@@ -83,7 +83,16 @@ pub struct PyramidHbaoParams {
 
 impl Default for PyramidHbaoParams {
     fn default() -> Self {
-        Self { levels: 4, directions: 8, step_count: 4, initial_step: 1.0, angle_bias: 0.0, blur: true, blur_sigma: 1.5, blur_taps: 5 }
+        Self {
+            levels: 4,
+            directions: 8,
+            step_count: 4,
+            initial_step: 1.0,
+            angle_bias: 0.0,
+            blur: true,
+            blur_sigma: 1.5,
+            blur_taps: 5,
+        }
     }
 }
 
@@ -111,14 +120,42 @@ impl AoTechnique for PyramidHbao {
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
         vec![
-            spec("levels", "1 to 5", "pyramid levels L, level 0 included; the reach grows 3x per level"),
+            spec(
+                "levels",
+                "1 to 5",
+                "pyramid levels L, level 0 included; the reach grows 3x per level",
+            ),
             spec("directions", "1 to 32", "azimuth directions D (paper: 8)"),
-            spec("step_count", "1 to 16", "reads per direction and pyramid level"),
-            spec("initial_step", "0.25 to 16", "initial step s0 in full-resolution pixels (x3 per level)"),
-            spec("angle_bias", "0 to 30", "tangent-angle bias in degrees (0 = the paper's estimator)"),
-            spec("blur", "true or false", "run the separable Gaussian denoiser"),
-            spec("blur_sigma", "0.1 to 8", "Gaussian sigma in pixels (paper: 1.5)"),
-            spec("blur_taps", "odd, 1 to 31", "Gaussian taps per axis (paper: 5)"),
+            spec(
+                "step_count",
+                "1 to 16",
+                "reads per direction and pyramid level",
+            ),
+            spec(
+                "initial_step",
+                "0.25 to 16",
+                "initial step s0 in full-resolution pixels (x3 per level)",
+            ),
+            spec(
+                "angle_bias",
+                "0 to 30",
+                "tangent-angle bias in degrees (0 = the paper's estimator)",
+            ),
+            spec(
+                "blur",
+                "true or false",
+                "run the separable Gaussian denoiser",
+            ),
+            spec(
+                "blur_sigma",
+                "0.1 to 8",
+                "Gaussian sigma in pixels (paper: 1.5)",
+            ),
+            spec(
+                "blur_taps",
+                "odd, 1 to 31",
+                "Gaussian taps per axis (paper: 5)",
+            ),
         ]
     }
     fn validate(&self, p: &PyramidHbaoParams) -> AoResult<()> {
@@ -129,7 +166,12 @@ impl AoTechnique for PyramidHbao {
         check_param(NAME, "angle_bias", p.angle_bias, 0.0, 30.0)?;
         check_param(NAME, "blur_sigma", p.blur_sigma, 0.1, 8.0)?;
         if p.blur_taps.is_multiple_of(2) || !(1..=31).contains(&p.blur_taps) {
-            return Err(AoError::InvalidParameter { technique: NAME.into(), name: "blur_taps".into(), value: p.blur_taps.to_string(), allowed: "an odd number from 1 to 31".into() });
+            return Err(AoError::InvalidParameter {
+                technique: NAME.into(),
+                name: "blur_taps".into(),
+                value: p.blur_taps.to_string(),
+                allowed: "an odd number from 1 to 31".into(),
+            });
         }
         Ok(())
     }
@@ -140,10 +182,20 @@ impl AoTechnique for PyramidHbao {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         // 1. Depth pyramid, K = 3, 3x3 mean (§3.3).
-        let pyramid = depth_pyramid(ctx.builder, NAME, depth, DepthReduction::Average3x3, p.levels)?;
+        let pyramid = depth_pyramid(
+            ctx.builder,
+            NAME,
+            depth,
+            DepthReduction::Average3x3,
+            p.levels,
+        )?;
         debug_assert_eq!(pyramid.factor(), K);
         // 2. AO at the output resolution (§3.4; no upsampling, §3).
-        let target = if p.blur { ctx.intermediate("pyramid-hbao.ao", SizeClass::FULL) } else { ctx.accessibility_texture("pyramid-hbao.ao") };
+        let target = if p.blur {
+            ctx.intermediate("pyramid-hbao.ao", SizeClass::FULL)
+        } else {
+            ctx.accessibility_texture("pyramid-hbao.ao")
+        };
         let uniform = AoUniform {
             radius: ctx.radius,
             initial_step: p.initial_step,
@@ -155,7 +207,11 @@ impl AoTechnique for PyramidHbao {
             _pad: 0,
         };
         // The raw AO is an intermediate when blurred: its writer is the matching shader variant.
-        let shader = if p.blur { ctx.shader("ao/pyramid_hbao/ao.wgsl") } else { "ao/pyramid_hbao/ao.wgsl".to_string() };
+        let shader = if p.blur {
+            ctx.shader("ao/pyramid_hbao/ao.wgsl")
+        } else {
+            "ao/pyramid_hbao/ao.wgsl".to_string()
+        };
         let mut pass = ctx.builder.compute_pass("pyramid-hbao.ao", &shader, "main");
         pass.sample("depth", depth);
         for l in 1..MAX_LEVELS as usize {
@@ -171,14 +227,28 @@ impl AoTechnique for PyramidHbao {
             return Ok(AoOutput::new(raw));
         }
         // 3. Separable Gaussian, sigma 1.5, 5 taps (§3.5, §4).
-        let blur = GaussianBlur { sigma: p.blur_sigma, taps: p.blur_taps, depth_sigma: None };
-        Ok(AoOutput::new(gaussian_blur_with_intermediate(ctx.builder, NAME, raw, Some(depth), &blur, ctx.intermediate_format)?))
+        let blur = GaussianBlur {
+            sigma: p.blur_sigma,
+            taps: p.blur_taps,
+            depth_sigma: None,
+        };
+        Ok(AoOutput::new(gaussian_blur_with_intermediate(
+            ctx.builder,
+            NAME,
+            raw,
+            Some(depth),
+            &blur,
+            ctx.intermediate_format,
+        )?))
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use aograph_graph::{compile, BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, TextureDesc, ViewUniforms, VIEW_BUFFER};
+    use aograph_graph::{
+        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, TextureDesc,
+        VIEW_BUFFER, ViewUniforms, compile,
+    };
 
     use super::*;
     use crate::technique::DynAoTechnique;
@@ -186,15 +256,40 @@ mod tests {
     /// Builds the technique with `params` over imported g-buffer channels; the kept pass names.
     fn plan(params: &str) -> AoResult<Vec<String>> {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let view = b.import_buffer(
+            VIEW_BUFFER,
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
         let mut gbuffer = GBufferTextures::default();
         for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            gbuffer.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+            gbuffer.set(
+                c,
+                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
+            );
         }
-        let mut ctx = AoBuildContext { builder: &mut b, gbuffer, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: NAME };
-        let out = DynAoTechnique::build(&PyramidHbao, &mut ctx, &params.parse::<toml::Table>().unwrap())?;
+        let mut ctx = AoBuildContext {
+            builder: &mut b,
+            gbuffer,
+            view,
+            radius: 1.0,
+            intermediate_format: wgpu::TextureFormat::R32Float,
+            technique: NAME,
+        };
+        let out = DynAoTechnique::build(
+            &PyramidHbao,
+            &mut ctx,
+            &params.parse::<toml::Table>().unwrap(),
+        )?;
         b.export(out.accessibility);
-        assert_eq!(b.texture_desc(out.accessibility), Some(TextureDesc::new(crate::ACCESSIBILITY_FORMAT, SizeClass::FULL)));
+        assert_eq!(
+            b.texture_desc(out.accessibility),
+            Some(TextureDesc::new(
+                crate::ACCESSIBILITY_FORMAT,
+                SizeClass::FULL
+            ))
+        );
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
         let plan = compile(b.build(), &shaders, CompileOptions::default())?;
         assert!(plan.culled.is_empty(), "{:?}", plan.culled_names());
@@ -204,12 +299,24 @@ mod tests {
     #[test]
     fn plan_has_the_spec_passes_for_every_level_count() {
         for l in 1..=MAX_LEVELS {
-            let mut want: Vec<String> = (1..l).map(|i| format!("pyramid-hbao.depth_level{i}")).collect();
-            want.extend(["pyramid-hbao.ao", "pyramid-hbao.blur_x", "pyramid-hbao.blur_y"].map(String::from));
+            let mut want: Vec<String> = (1..l)
+                .map(|i| format!("pyramid-hbao.depth_level{i}"))
+                .collect();
+            want.extend(
+                [
+                    "pyramid-hbao.ao",
+                    "pyramid-hbao.blur_x",
+                    "pyramid-hbao.blur_y",
+                ]
+                .map(String::from),
+            );
             assert_eq!(plan(&format!("levels = {l}")).unwrap(), want, "L = {l}");
         }
         assert_eq!(plan("").unwrap().len(), 3 + 3, "default L = 4");
-        assert_eq!(plan("levels = 2\nblur = false").unwrap(), ["pyramid-hbao.depth_level1", "pyramid-hbao.ao"]);
+        assert_eq!(
+            plan("levels = 2\nblur = false").unwrap(),
+            ["pyramid-hbao.depth_level1", "pyramid-hbao.ao"]
+        );
     }
 
     #[test]
@@ -219,50 +326,113 @@ mod tests {
             ("levels = 6", "`levels` = 6", "allowed 1 to 5"),
             ("directions = 0", "`directions` = 0", "allowed 1 to 32"),
             ("step_count = 17", "`step_count` = 17", "allowed 1 to 16"),
-            ("initial_step = 0.1", "`initial_step` = 0.1", "allowed 0.25 to 16"),
+            (
+                "initial_step = 0.1",
+                "`initial_step` = 0.1",
+                "allowed 0.25 to 16",
+            ),
             ("angle_bias = 45.0", "`angle_bias` = 45", "allowed 0 to 30"),
-            ("blur_taps = 4", "`blur_taps` = 4", "an odd number from 1 to 31"),
+            (
+                "blur_taps = 4",
+                "`blur_taps` = 4",
+                "an odd number from 1 to 31",
+            ),
             ("blur_sigma = 0.0", "`blur_sigma` = 0", "allowed 0.1 to 8"),
         ];
         for (toml, what, allowed) in cases {
-            let e = PyramidHbao.check(&toml.parse().unwrap()).unwrap_err().to_string();
-            assert!(e.contains(what) && e.contains(allowed) && e.contains("pyramid-hbao"), "{toml}: {e}");
+            let e = PyramidHbao
+                .check(&toml.parse().unwrap())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(what) && e.contains(allowed) && e.contains("pyramid-hbao"),
+                "{toml}: {e}"
+            );
         }
-        let e = PyramidHbao.check(&"step = 2".parse().unwrap()).unwrap_err().to_string();
-        assert!(e.contains("unknown field `step`") && e.contains("step_count"), "{e}");
+        let e = PyramidHbao
+            .check(&"step = 2".parse().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("unknown field `step`") && e.contains("step_count"),
+            "{e}"
+        );
         assert!(PyramidHbao.check(&toml::Table::new()).is_ok());
     }
 
     #[test]
     fn r16float_intermediates_use_the_half_shader_variants() {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let view = b.import_buffer(
+            VIEW_BUFFER,
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
         let mut gbuffer = GBufferTextures::default();
         for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            gbuffer.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+            gbuffer.set(
+                c,
+                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
+            );
         }
-        let mut ctx = AoBuildContext { builder: &mut b, gbuffer, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R16Float, technique: NAME };
-        let out = AoTechnique::build(&PyramidHbao, &mut ctx, &PyramidHbaoParams::default()).unwrap();
+        let mut ctx = AoBuildContext {
+            builder: &mut b,
+            gbuffer,
+            view,
+            radius: 1.0,
+            intermediate_format: wgpu::TextureFormat::R16Float,
+            technique: NAME,
+        };
+        let out =
+            AoTechnique::build(&PyramidHbao, &mut ctx, &PyramidHbaoParams::default()).unwrap();
         b.export(out.accessibility);
-        assert_eq!(b.texture_desc(out.accessibility).map(|d| d.format), Some(crate::ACCESSIBILITY_FORMAT), "the output stays R32Float");
+        assert_eq!(
+            b.texture_desc(out.accessibility).map(|d| d.format),
+            Some(crate::ACCESSIBILITY_FORMAT),
+            "the output stays R32Float"
+        );
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
         let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
-        let shader_of = |pass: &str| match &plan.decl.passes.iter().find(|p| p.name == pass).unwrap().kind {
+        let shader_of = |pass: &str| match &plan
+            .decl
+            .passes
+            .iter()
+            .find(|p| p.name == pass)
+            .unwrap()
+            .kind
+        {
             aograph_graph::PassKind::Compute { shader, .. } => shader.clone(),
             _ => unreachable!(),
         };
-        assert_eq!(shader_of("pyramid-hbao.ao"), "ao/pyramid_hbao/ao.wgsl?intermediate=r16float");
-        assert_eq!(shader_of("pyramid-hbao.blur_x"), "blocks/gaussian_blur_depth.wgsl?intermediate=r16float");
-        assert_eq!(shader_of("pyramid-hbao.blur_y"), "blocks/gaussian_blur_depth.wgsl");
+        assert_eq!(
+            shader_of("pyramid-hbao.ao"),
+            "ao/pyramid_hbao/ao.wgsl?intermediate=r16float"
+        );
+        assert_eq!(
+            shader_of("pyramid-hbao.blur_x"),
+            "blocks/gaussian_blur_depth.wgsl?intermediate=r16float"
+        );
+        assert_eq!(
+            shader_of("pyramid-hbao.blur_y"),
+            "blocks/gaussian_blur_depth.wgsl"
+        );
     }
 
     #[test]
     fn reads_depth_and_normals_and_documents_every_parameter() {
         let c = AoTechnique::channels(&PyramidHbao, &PyramidHbaoParams::default());
-        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        assert_eq!(
+            c.iter().collect::<Vec<_>>(),
+            [GBufferChannel::LinearDepth, GBufferChannel::Normals]
+        );
         let specs = PyramidHbao.parameters();
         let defaults = toml::Value::try_from(PyramidHbaoParams::default()).unwrap();
-        assert_eq!(specs.len(), defaults.as_table().unwrap().len(), "one spec per parameter");
+        assert_eq!(
+            specs.len(),
+            defaults.as_table().unwrap().len(),
+            "one spec per parameter"
+        );
         assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
     }
 }

@@ -34,12 +34,14 @@
 //!   writer is the matching variant of shaders/ao/ssao/ao.wgsl (`ctx.shader`); the blurred
 //!   output is R32Float like every technique's.
 
-use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
+use aograph_graph::{
+    BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
+};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{check_param, AoResult};
-use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique, ACCESSIBILITY_FORMAT};
+use crate::error::{AoResult, check_param};
+use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, spec};
 
 /// Largest sample count (size of the kernel array in the uniform block).
 pub const MAX_SAMPLES: u32 = 64;
@@ -60,7 +62,11 @@ pub struct SsaoParams {
 
 impl Default for SsaoParams {
     fn default() -> Self {
-        Self { samples: 16, bias: 0.025, max_screen_radius: 0.5 }
+        Self {
+            samples: 16,
+            bias: 0.025,
+            max_screen_radius: 0.5,
+        }
     }
 }
 
@@ -113,9 +119,21 @@ impl AoTechnique for Ssao {
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
         vec![
-            spec("samples", &format!("4 to {MAX_SAMPLES}"), "sample points per pixel"),
-            spec("bias", "0 to 0.5", "depth bias as a fraction of R: a sample counts as occluded only this far behind the depth buffer"),
-            spec("max_screen_radius", "0.01 to 2", "cap of the projected radius R, as a fraction of the image height"),
+            spec(
+                "samples",
+                &format!("4 to {MAX_SAMPLES}"),
+                "sample points per pixel",
+            ),
+            spec(
+                "bias",
+                "0 to 0.5",
+                "depth bias as a fraction of R: a sample counts as occluded only this far behind the depth buffer",
+            ),
+            spec(
+                "max_screen_radius",
+                "0.01 to 2",
+                "cap of the projected radius R, as a fraction of the image height",
+            ),
         ]
     }
     fn validate(&self, p: &SsaoParams) -> AoResult<()> {
@@ -129,7 +147,11 @@ impl AoTechnique for Ssao {
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &SsaoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
-        let mut uniform = SsaoUniform { counts: [p.samples, 0, 0, 0], shape: [ctx.radius, p.bias, p.max_screen_radius, 0.0], kernel: [[0.0; 4]; MAX_SAMPLES as usize] };
+        let mut uniform = SsaoUniform {
+            counts: [p.samples, 0, 0, 0],
+            shape: [ctx.radius, p.bias, p.max_screen_radius, 0.0],
+            kernel: [[0.0; 4]; MAX_SAMPLES as usize],
+        };
         for (k, s) in uniform.kernel.iter_mut().zip(hemisphere_kernel(p.samples)) {
             *k = [s[0], s[1], s[2], 0.0];
         }
@@ -145,8 +167,13 @@ impl AoTechnique for Ssao {
         pass.dispatch_over(raw);
 
         // Pass 2: 4x4 box blur over the rotation tile.
-        let out = ctx.builder.create_texture("ssao.accessibility", TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL));
-        let mut pass = ctx.builder.compute_pass("ssao.blur", "ao/ssao/blur.wgsl", "main");
+        let out = ctx.builder.create_texture(
+            "ssao.accessibility",
+            TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL),
+        );
+        let mut pass = ctx
+            .builder
+            .compute_pass("ssao.blur", "ao/ssao/blur.wgsl", "main");
         pass.sample("raw", raw).sample("depth", depth);
         let out = pass.write_storage("ao", out);
         pass.dispatch_over(out);
@@ -158,16 +185,34 @@ impl AoTechnique for Ssao {
 mod tests {
     use super::*;
     use crate::{AoError, DynAoTechnique};
-    use aograph_graph::{compile, BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms};
+    use aograph_graph::{
+        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms,
+        compile,
+    };
 
     fn plan_names(params: &SsaoParams) -> Vec<String> {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer("view", BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let view = b.import_buffer(
+            "view",
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
         let mut g = GBufferTextures::default();
         for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            g.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+            g.set(
+                c,
+                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
+            );
         }
-        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: g, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: "ssao" };
+        let mut ctx = AoBuildContext {
+            builder: &mut b,
+            gbuffer: g,
+            view,
+            radius: 1.0,
+            intermediate_format: wgpu::TextureFormat::R32Float,
+            technique: "ssao",
+        };
         let out = AoTechnique::build(&Ssao, &mut ctx, params).unwrap();
         b.export(out.accessibility);
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
@@ -178,30 +223,58 @@ mod tests {
     #[test]
     fn plan_is_ao_then_blur() {
         assert_eq!(plan_names(&SsaoParams::default()), ["ssao.ao", "ssao.blur"]);
-        assert_eq!(plan_names(&SsaoParams { samples: MAX_SAMPLES, ..Default::default() }), ["ssao.ao", "ssao.blur"]);
+        assert_eq!(
+            plan_names(&SsaoParams {
+                samples: MAX_SAMPLES,
+                ..Default::default()
+            }),
+            ["ssao.ao", "ssao.blur"]
+        );
     }
 
     #[test]
     fn reads_depth_and_normals_only() {
         let c = AoTechnique::channels(&Ssao, &SsaoParams::default());
-        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        assert_eq!(
+            c.iter().collect::<Vec<_>>(),
+            [GBufferChannel::LinearDepth, GBufferChannel::Normals]
+        );
     }
 
     #[test]
     fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [("samples", "3", "4 to 64"), ("samples", "65", "4 to 64"), ("bias", "-0.1", "0 to 0.5"), ("bias", "nan", "0 to 0.5"), ("max_screen_radius", "0", "0.01 to 2")] {
+        for (key, value, range) in [
+            ("samples", "3", "4 to 64"),
+            ("samples", "65", "4 to 64"),
+            ("bias", "-0.1", "0 to 0.5"),
+            ("bias", "nan", "0 to 0.5"),
+            ("max_screen_radius", "0", "0.01 to 2"),
+        ] {
             let table: toml::Table = format!("{key} = {value}").parse().unwrap();
             let e = Ssao.check(&table).unwrap_err();
-            assert!(matches!(e, AoError::InvalidParameter { .. }), "{key} = {value}: {e}");
+            assert!(
+                matches!(e, AoError::InvalidParameter { .. }),
+                "{key} = {value}: {e}"
+            );
             let msg = e.to_string();
             assert!(msg.contains(key) && msg.contains(range), "{msg}");
         }
-        assert!(Ssao.check(&"samples = 4\nbias = 0.0\nmax_screen_radius = 2.0".parse().unwrap()).is_ok());
+        assert!(
+            Ssao.check(
+                &"samples = 4\nbias = 0.0\nmax_screen_radius = 2.0"
+                    .parse()
+                    .unwrap()
+            )
+            .is_ok()
+        );
     }
 
     #[test]
     fn unknown_keys_are_rejected() {
-        let e = Ssao.check(&"sample = 8".parse().unwrap()).unwrap_err().to_string();
+        let e = Ssao
+            .check(&"sample = 8".parse().unwrap())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("sample") && e.contains("samples"), "{e}");
     }
 
@@ -218,11 +291,23 @@ mod tests {
         for n in [4, 16, MAX_SAMPLES] {
             let k = hemisphere_kernel(n);
             assert_eq!(k.len(), n as usize);
-            let lengths: Vec<f32> = k.iter().map(|s| (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt()).collect();
-            assert!(k.iter().all(|s| s[2] >= 0.0 && s.iter().all(|c| c.is_finite())));
-            assert!(lengths.iter().all(|l| (0.099..=1.0).contains(l)), "{lengths:?}");
+            let lengths: Vec<f32> = k
+                .iter()
+                .map(|s| (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt())
+                .collect();
+            assert!(
+                k.iter()
+                    .all(|s| s[2] >= 0.0 && s.iter().all(|c| c.is_finite()))
+            );
+            assert!(
+                lengths.iter().all(|l| (0.099..=1.0).contains(l)),
+                "{lengths:?}"
+            );
             let inner = lengths.iter().filter(|l| **l < 0.55).count();
-            assert!(inner * 2 > n as usize, "more than half the points within half the radius: {inner}/{n}");
+            assert!(
+                inner * 2 > n as usize,
+                "more than half the points within half the radius: {inner}/{n}"
+            );
         }
     }
 }

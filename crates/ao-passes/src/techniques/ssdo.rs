@@ -65,13 +65,16 @@
 pub mod kernel;
 pub mod lighting;
 
-use aograph_graph::{BufferAccess, BufferDesc, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{
+    BufferAccess, BufferDesc, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
+    TextureHandle,
+};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{check_param, AoResult};
-use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique};
+use crate::error::{AoResult, check_param};
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
 pub use kernel::MAX_SAMPLES;
-pub use lighting::{LightingUniforms, LIGHTING_BUFFER};
+pub use lighting::{LIGHTING_BUFFER, LightingUniforms};
 
 /// Format of the radiance outputs (the intermediates follow `intermediate_format`).
 pub const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -104,7 +107,16 @@ pub struct SsdoParams {
 
 impl Default for SsdoParams {
     fn default() -> Self {
-        Self { samples: 8, bounce: true, distance_clamp: 1.0, sender_area_scale: 1.0, fade_start: 0.8, bias: 0.01, light_lobe: 4.0, sky_gradient: 0.0 }
+        Self {
+            samples: 8,
+            bounce: true,
+            distance_clamp: 1.0,
+            sender_area_scale: 1.0,
+            fade_start: 0.8,
+            bias: 0.01,
+            light_lobe: 4.0,
+            sky_gradient: 0.0,
+        }
     }
 }
 
@@ -115,7 +127,12 @@ impl SsdoParams {
         let area = self.sender_area_scale * std::f32::consts::PI * radius * radius / n as f32; // E3
         kernel::SsdoUniform {
             shape: [radius, self.fade_start * radius, self.bias * radius, area],
-            light: [self.distance_clamp, self.light_lobe, self.sky_gradient, BLUR_PLANE_TOLERANCE * radius],
+            light: [
+                self.distance_clamp,
+                self.light_lobe,
+                self.sky_gradient,
+                BLUR_PLANE_TOLERANCE * radius,
+            ],
             counts: [n, self.bounce as u32, 0, 0],
             samples: kernel::sample_table(n),
         }
@@ -132,14 +149,46 @@ impl AoTechnique for Ssdo {
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
         vec![
-            spec("samples", &format!("4 to {MAX_SAMPLES}"), "N, sample points per pixel (the paper uses 8 and 16)"),
-            spec("bounce", "true or false", "one indirect bounce from occluding sender patches (off: ssdo_indirect is zero)"),
-            spec("distance_clamp", "0.0001 to 10000", "lower clamp of the sender distance in the form factor, scene units (the paper: 1)"),
-            spec("sender_area_scale", "0 to 16", "multiplier on the sender patch area pi R^2 / N: colour-bleeding strength"),
-            spec("fade_start", "0 to 1", "blockers fade out between this fraction of R and R"),
-            spec("bias", "0 to 0.5", "depth bias of the visibility test as a fraction of R"),
-            spec("light_lobe", "1 to 64", "exponent of the per-sample weight of the directional light, max(0, w.l)^k"),
-            spec("sky_gradient", "0 to 1", "environment = ambient * (1 + g * up): 0 is the scene's constant ambient"),
+            spec(
+                "samples",
+                &format!("4 to {MAX_SAMPLES}"),
+                "N, sample points per pixel (the paper uses 8 and 16)",
+            ),
+            spec(
+                "bounce",
+                "true or false",
+                "one indirect bounce from occluding sender patches (off: ssdo_indirect is zero)",
+            ),
+            spec(
+                "distance_clamp",
+                "0.0001 to 10000",
+                "lower clamp of the sender distance in the form factor, scene units (the paper: 1)",
+            ),
+            spec(
+                "sender_area_scale",
+                "0 to 16",
+                "multiplier on the sender patch area pi R^2 / N: colour-bleeding strength",
+            ),
+            spec(
+                "fade_start",
+                "0 to 1",
+                "blockers fade out between this fraction of R and R",
+            ),
+            spec(
+                "bias",
+                "0 to 0.5",
+                "depth bias of the visibility test as a fraction of R",
+            ),
+            spec(
+                "light_lobe",
+                "1 to 64",
+                "exponent of the per-sample weight of the directional light, max(0, w.l)^k",
+            ),
+            spec(
+                "sky_gradient",
+                "0 to 1",
+                "environment = ambient * (1 + g * up): 0 is the scene's constant ambient",
+            ),
         ]
     }
     fn validate(&self, p: &SsdoParams) -> AoResult<()> {
@@ -152,28 +201,46 @@ impl AoTechnique for Ssdo {
         check_param("ssdo", "sky_gradient", p.sky_gradient, 0.0, 1.0)
     }
     fn channels(&self, _: &SsdoParams) -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::Normals, GBufferChannel::Positions, GBufferChannel::Albedo, GBufferChannel::DirectLight])
+        GBufferChannels::of(&[
+            GBufferChannel::Normals,
+            GBufferChannel::Positions,
+            GBufferChannel::Albedo,
+            GBufferChannel::DirectLight,
+        ])
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &SsdoParams) -> AoResult<AoOutput> {
         let positions = ctx.channel(GBufferChannel::Positions)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         let albedo = ctx.channel(GBufferChannel::Albedo)?;
         let direct_light = ctx.channel(GBufferChannel::DirectLight)?;
-        let lighting = ctx.builder.import_buffer(LIGHTING_BUFFER, BufferDesc { size: std::mem::size_of::<LightingUniforms>() as u64 });
+        let lighting = ctx.builder.import_buffer(
+            LIGHTING_BUFFER,
+            BufferDesc {
+                size: std::mem::size_of::<LightingUniforms>() as u64,
+            },
+        );
         let uniform = p.uniform(ctx.radius);
         let params = bytemuck::bytes_of(&uniform);
-        let radiance_texture = |ctx: &mut AoBuildContext<'_>, name: &str| ctx.builder.create_texture(name, TextureDesc::new(RADIANCE_FORMAT, SizeClass::FULL));
+        let radiance_texture = |ctx: &mut AoBuildContext<'_>, name: &str| {
+            ctx.builder
+                .create_texture(name, TextureDesc::new(RADIANCE_FORMAT, SizeClass::FULL))
+        };
         let intermediate = |ctx: &mut AoBuildContext<'_>, name: &str| {
             let f = ctx.intermediate_rgba_format();
-            ctx.builder.create_texture(name, TextureDesc::new(f, SizeClass::FULL))
+            ctx.builder
+                .create_texture(name, TextureDesc::new(f, SizeClass::FULL))
         };
 
         // Pass 1: direct light with directional occlusion (E1) + accessibility in alpha.
         let raw_direct = intermediate(ctx, "ssdo.raw_direct");
         let shader = ctx.shader("ao/ssdo/direct.wgsl");
         let mut pass = ctx.builder.compute_pass("ssdo.direct", &shader, "main");
-        pass.sample("positions", positions).sample("normals", normals).sample("albedo", albedo).sample("direct_light", direct_light);
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view).read_buffer("lighting", BufferAccess::Uniform, lighting);
+        pass.sample("positions", positions)
+            .sample("normals", normals)
+            .sample("albedo", albedo)
+            .sample("direct_light", direct_light);
+        pass.read_buffer("view", BufferAccess::Uniform, ctx.view)
+            .read_buffer("lighting", BufferAccess::Uniform, lighting);
         pass.uniform("params", params);
         let raw_direct = pass.write_storage("radiance", raw_direct);
         pass.dispatch_over(raw_direct);
@@ -183,7 +250,10 @@ impl AoTechnique for Ssdo {
             let raw = intermediate(ctx, "ssdo.raw_indirect");
             let shader = ctx.shader("ao/ssdo/indirect.wgsl");
             let mut pass = ctx.builder.compute_pass("ssdo.indirect", &shader, "main");
-            pass.sample("positions", positions).sample("normals", normals).sample("albedo", albedo).sample("radiance", raw_direct);
+            pass.sample("positions", positions)
+                .sample("normals", normals)
+                .sample("albedo", albedo)
+                .sample("radiance", raw_direct);
             pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
             pass.uniform("params", params);
             let raw = pass.write_storage("indirect", raw);
@@ -200,7 +270,10 @@ impl AoTechnique for Ssdo {
         let indirect_x = intermediate(ctx, "ssdo.indirect_x");
         let shader = ctx.shader("ao/ssdo/blur_x.wgsl");
         let mut pass = ctx.builder.compute_pass("ssdo.blur_x", &shader, "main");
-        pass.sample("positions", positions).sample("normals", normals).sample("radiance", raw_direct).sample("bounce", raw_indirect.unwrap_or(raw_direct));
+        pass.sample("positions", positions)
+            .sample("normals", normals)
+            .sample("radiance", raw_direct)
+            .sample("bounce", raw_indirect.unwrap_or(raw_direct));
         pass.uniform("params", params);
         let direct_x = pass.write_storage("direct_x", direct_x);
         let indirect_x = pass.write_storage("indirect_x", indirect_x);
@@ -209,14 +282,25 @@ impl AoTechnique for Ssdo {
         let ao = ctx.accessibility_texture("ssdo.accessibility");
         let direct_out = radiance_texture(ctx, "ssdo_direct");
         let indirect_out = radiance_texture(ctx, "ssdo_indirect");
-        let mut pass = ctx.builder.compute_pass("ssdo.blur_y", "ao/ssdo/blur_y.wgsl", "main");
-        pass.sample("positions", positions).sample("normals", normals).sample("radiance", direct_x).sample("bounce", indirect_x);
+        let mut pass = ctx
+            .builder
+            .compute_pass("ssdo.blur_y", "ao/ssdo/blur_y.wgsl", "main");
+        pass.sample("positions", positions)
+            .sample("normals", normals)
+            .sample("radiance", direct_x)
+            .sample("bounce", indirect_x);
         pass.uniform("params", params);
         let ao = pass.write_storage("ao", ao);
         let direct_out = pass.write_storage("ssdo_direct", direct_out);
         let indirect_out = pass.write_storage("ssdo_indirect", indirect_out);
         pass.dispatch_over(ao);
-        Ok(AoOutput { accessibility: ao, extra: vec![("ssdo_direct".into(), direct_out), ("ssdo_indirect".into(), indirect_out)] })
+        Ok(AoOutput {
+            accessibility: ao,
+            extra: vec![
+                ("ssdo_direct".into(), direct_out),
+                ("ssdo_indirect".into(), indirect_out),
+            ],
+        })
     }
 }
 
@@ -224,39 +308,78 @@ impl AoTechnique for Ssdo {
 mod tests {
     use super::*;
     use crate::{AoError, DynAoTechnique};
-    use aograph_graph::{compile, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms};
+    use aograph_graph::{
+        CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms, compile,
+    };
 
     fn plan(params: &SsdoParams) -> (Vec<String>, Vec<String>) {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer("view", BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let view = b.import_buffer(
+            "view",
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
         let mut g = GBufferTextures::default();
         for c in AoTechnique::channels(&Ssdo, params).iter() {
-            g.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+            g.set(
+                c,
+                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
+            );
         }
-        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: g, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: "ssdo" };
+        let mut ctx = AoBuildContext {
+            builder: &mut b,
+            gbuffer: g,
+            view,
+            radius: 1.0,
+            intermediate_format: wgpu::TextureFormat::R32Float,
+            technique: "ssdo",
+        };
         let out = AoTechnique::build(&Ssdo, &mut ctx, params).unwrap();
         b.export(out.accessibility);
         out.extra.iter().for_each(|(_, h)| b.export(*h));
         let extra = out.extra.iter().map(|(n, _)| n.clone()).collect();
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
         let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
-        (plan.pass_names().into_iter().map(String::from).collect(), extra)
+        (
+            plan.pass_names().into_iter().map(String::from).collect(),
+            extra,
+        )
     }
 
     #[test]
     fn plan_is_direct_indirect_blur_and_bounce_off_drops_the_indirect_pass() {
         let (passes, extra) = plan(&SsdoParams::default());
-        assert_eq!(passes, ["ssdo.direct", "ssdo.indirect", "ssdo.blur_x", "ssdo.blur_y"]);
+        assert_eq!(
+            passes,
+            ["ssdo.direct", "ssdo.indirect", "ssdo.blur_x", "ssdo.blur_y"]
+        );
         assert_eq!(extra, ["ssdo_direct", "ssdo_indirect"]);
-        let (passes, extra) = plan(&SsdoParams { bounce: false, samples: 16, ..Default::default() });
+        let (passes, extra) = plan(&SsdoParams {
+            bounce: false,
+            samples: 16,
+            ..Default::default()
+        });
         assert_eq!(passes, ["ssdo.direct", "ssdo.blur_x", "ssdo.blur_y"]);
-        assert_eq!(extra, ["ssdo_direct", "ssdo_indirect"], "the indirect output exists (zero) without the bounce");
+        assert_eq!(
+            extra,
+            ["ssdo_direct", "ssdo_indirect"],
+            "the indirect output exists (zero) without the bounce"
+        );
     }
 
     #[test]
     fn reads_colour_and_direct_light() {
         let c = AoTechnique::channels(&Ssdo, &SsdoParams::default());
-        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::Normals, GBufferChannel::Positions, GBufferChannel::Albedo, GBufferChannel::DirectLight]);
+        assert_eq!(
+            c.iter().collect::<Vec<_>>(),
+            [
+                GBufferChannel::Normals,
+                GBufferChannel::Positions,
+                GBufferChannel::Albedo,
+                GBufferChannel::DirectLight
+            ]
+        );
     }
 
     #[test]
@@ -273,7 +396,10 @@ mod tests {
         ] {
             let table: toml::Table = format!("{key} = {value}").parse().unwrap();
             let e = Ssdo.check(&table).unwrap_err();
-            assert!(matches!(e, AoError::InvalidParameter { .. }), "{key} = {value}: {e}");
+            assert!(
+                matches!(e, AoError::InvalidParameter { .. }),
+                "{key} = {value}: {e}"
+            );
             let msg = e.to_string();
             assert!(msg.contains(key) && msg.contains(range), "{msg}");
         }
@@ -283,25 +409,49 @@ mod tests {
 
     #[test]
     fn unknown_keys_are_rejected() {
-        let e = Ssdo.check(&"bounces = false".parse().unwrap()).unwrap_err().to_string();
+        let e = Ssdo
+            .check(&"bounces = false".parse().unwrap())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("bounces") && e.contains("bounce"), "{e}");
-        assert!(Ssdo.check(&"bounce = 1".parse().unwrap()).is_err(), "bounce is a boolean");
+        assert!(
+            Ssdo.check(&"bounce = 1".parse().unwrap()).is_err(),
+            "bounce is a boolean"
+        );
     }
 
     #[test]
     fn every_parameter_has_a_spec_and_default() {
         let specs = DynAoTechnique::parameters(&Ssdo);
         let names: Vec<_> = specs.iter().map(|s| s.name).collect();
-        assert_eq!(names, ["samples", "bounce", "distance_clamp", "sender_area_scale", "fade_start", "bias", "light_lobe", "sky_gradient"]);
+        assert_eq!(
+            names,
+            [
+                "samples",
+                "bounce",
+                "distance_clamp",
+                "sender_area_scale",
+                "fade_start",
+                "bias",
+                "light_lobe",
+                "sky_gradient"
+            ]
+        );
         assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
     }
 
     #[test]
     fn uniform_carries_the_sender_area_and_the_sets() {
         let u = SsdoParams::default().uniform(2.0);
-        assert!((u.shape[3] - std::f32::consts::PI * 4.0 / 8.0).abs() < 1e-6, "A_s = pi r^2 / N");
+        assert!(
+            (u.shape[3] - std::f32::consts::PI * 4.0 / 8.0).abs() < 1e-6,
+            "A_s = pi r^2 / N"
+        );
         assert_eq!(u.counts, [8, 1, 0, 0]);
         assert!(u.samples[16 * 15 + 7] != [0.0; 4] && u.samples[16 * 15 + 8] == [0.0; 4]);
-        assert_eq!(std::mem::size_of::<kernel::SsdoUniform>(), 48 + 16 * 16 * 16);
+        assert_eq!(
+            std::mem::size_of::<kernel::SsdoUniform>(),
+            48 + 16 * 16 * 16
+        );
     }
 }

@@ -88,13 +88,15 @@
 //!   n_max clamp bounds it as the paper says, but at small image sizes it is visible (the
 //!   `dynamic` test reports it).
 
-use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
+use aograph_graph::{
+    BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
+};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::temporal::{add_reprojection, ao_history, check_epsilon};
-use crate::error::{check_one_of, check_param, AoError, AoResult};
-use crate::technique::{spec, AoBuildContext, AoOutput, AoTechnique, ACCESSIBILITY_FORMAT};
+use crate::error::{AoError, AoResult, check_one_of, check_param};
+use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, spec};
 
 /// Largest k1 / k2 (new samples per pixel and frame).
 pub const MAX_SAMPLES: u32 = 64;
@@ -121,7 +123,11 @@ pub fn halton_table() -> Vec<[f32; 4]> {
     }
     (1..=HALTON_LENGTH)
         .map(|i| {
-            let (u1, u2, u3) = (radical_inverse(i, 2), radical_inverse(i, 3), radical_inverse(i, 5));
+            let (u1, u2, u3) = (
+                radical_inverse(i, 2),
+                radical_inverse(i, 3),
+                radical_inverse(i, 5),
+            );
             let (r, phi) = (u1.sqrt(), std::f32::consts::TAU * u2);
             [r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt(), u3]
         })
@@ -222,20 +228,76 @@ impl AoTechnique for Tssao {
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
         vec![
-            spec("k1", &format!("1 to {MAX_SAMPLES}"), "new samples per frame while convergence < c_spatial (paper: 32)"),
-            spec("k2", &format!("1 to {MAX_SAMPLES}"), "new samples per frame once converged (paper: 8 to 16)"),
-            spec("n_max", &format!("1 to {HALTON_LENGTH}"), "cap of the per-pixel sample count n_t (paper: 500 to 1500)"),
-            spec("c_spatial", "0 to 1", "convergence below which k1 samples are taken (paper: 0.3)"),
-            spec("c_rot", "0 to 1", "convergence from which the per-pixel pattern rotation is off (paper: 0.5)"),
-            spec("c_adaptive", "0.001 to 1", "convergence from which the spatial filter is off (paper: 0.2)"),
-            spec("n_smooth", "0 to n_max", "n_t is clamped to this when only the neighbourhood test fails (paper: 32 to 64; 0 = reset)"),
-            spec("depth_epsilon", "greater than 0, at most 1", "relative depth tolerance of the disocclusion test, Eq. 7"),
-            spec("neighbour_epsilon", "greater than 0, at most 1", "tolerance of the neighbourhood test, Eq. 8, as a fraction of R"),
-            spec("filter_width", &format!("odd, 1 to {MAX_FILTER_WIDTH}"), "spatial filter taps per axis (paper: 5)"),
-            spec("filter_sigma", "0.01 to 10", "sigma of the filter's world-space Gaussian, as a fraction of R"),
-            spec("steps", &format!("1 to {MAX_STEPS}"), "points tested along each sample's segment for the visibility V"),
-            spec("falloff", "\"none\" or \"quadratic\"", "distance falloff D of Eq. 2: none (binary) or 1 - (t/R)^2"),
-            spec("max_screen_radius", "0.01 to 2", "cap of the projected radius R, as a fraction of the image height"),
+            spec(
+                "k1",
+                &format!("1 to {MAX_SAMPLES}"),
+                "new samples per frame while convergence < c_spatial (paper: 32)",
+            ),
+            spec(
+                "k2",
+                &format!("1 to {MAX_SAMPLES}"),
+                "new samples per frame once converged (paper: 8 to 16)",
+            ),
+            spec(
+                "n_max",
+                &format!("1 to {HALTON_LENGTH}"),
+                "cap of the per-pixel sample count n_t (paper: 500 to 1500)",
+            ),
+            spec(
+                "c_spatial",
+                "0 to 1",
+                "convergence below which k1 samples are taken (paper: 0.3)",
+            ),
+            spec(
+                "c_rot",
+                "0 to 1",
+                "convergence from which the per-pixel pattern rotation is off (paper: 0.5)",
+            ),
+            spec(
+                "c_adaptive",
+                "0.001 to 1",
+                "convergence from which the spatial filter is off (paper: 0.2)",
+            ),
+            spec(
+                "n_smooth",
+                "0 to n_max",
+                "n_t is clamped to this when only the neighbourhood test fails (paper: 32 to 64; 0 = reset)",
+            ),
+            spec(
+                "depth_epsilon",
+                "greater than 0, at most 1",
+                "relative depth tolerance of the disocclusion test, Eq. 7",
+            ),
+            spec(
+                "neighbour_epsilon",
+                "greater than 0, at most 1",
+                "tolerance of the neighbourhood test, Eq. 8, as a fraction of R",
+            ),
+            spec(
+                "filter_width",
+                &format!("odd, 1 to {MAX_FILTER_WIDTH}"),
+                "spatial filter taps per axis (paper: 5)",
+            ),
+            spec(
+                "filter_sigma",
+                "0.01 to 10",
+                "sigma of the filter's world-space Gaussian, as a fraction of R",
+            ),
+            spec(
+                "steps",
+                &format!("1 to {MAX_STEPS}"),
+                "points tested along each sample's segment for the visibility V",
+            ),
+            spec(
+                "falloff",
+                "\"none\" or \"quadratic\"",
+                "distance falloff D of Eq. 2: none (binary) or 1 - (t/R)^2",
+            ),
+            spec(
+                "max_screen_radius",
+                "0.01 to 2",
+                "cap of the projected radius R, as a fraction of the image height",
+            ),
         ]
     }
     fn validate(&self, p: &TssaoParams) -> AoResult<()> {
@@ -250,7 +312,12 @@ impl AoTechnique for Tssao {
         check_epsilon(t, "depth_epsilon", p.depth_epsilon)?;
         check_epsilon(t, "neighbour_epsilon", p.neighbour_epsilon)?;
         if p.filter_width.is_multiple_of(2) || !(1..=MAX_FILTER_WIDTH).contains(&p.filter_width) {
-            return Err(AoError::InvalidParameter { technique: t.into(), name: "filter_width".into(), value: p.filter_width.to_string(), allowed: format!("an odd number from 1 to {MAX_FILTER_WIDTH}") });
+            return Err(AoError::InvalidParameter {
+                technique: t.into(),
+                name: "filter_width".into(),
+                value: p.filter_width.to_string(),
+                allowed: format!("an odd number from 1 to {MAX_FILTER_WIDTH}"),
+            });
         }
         check_param(t, "filter_sigma", p.filter_sigma, 0.01, 10.0)?;
         check_param(t, "steps", p.steps, 1, MAX_STEPS)?;
@@ -259,7 +326,11 @@ impl AoTechnique for Tssao {
     }
     fn channels(&self, _: &TssaoParams) -> GBufferChannels {
         // Motion is dropped by the g-buffer for scenes where nothing moves.
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals, GBufferChannel::Motion])
+        GBufferChannels::of(&[
+            GBufferChannel::LinearDepth,
+            GBufferChannel::Normals,
+            GBufferChannel::Motion,
+        ])
     }
     fn is_temporal(&self, _: &TssaoParams) -> bool {
         true
@@ -271,19 +342,36 @@ impl AoTechnique for Tssao {
 
         // The AO buffer and its reprojection (shared temporal block: Eqs. 3 and 7).
         let history = ao_history(ctx.builder, "tssao");
-        let r = add_reprojection(ctx.builder, "tssao", history.previous, &ctx.gbuffer, ctx.view, p.depth_epsilon)?;
+        let r = add_reprojection(
+            ctx.builder,
+            "tssao",
+            history.previous,
+            &ctx.gbuffer,
+            ctx.view,
+            p.depth_epsilon,
+        )?;
 
         // k new samples, Eq. 8, Eqs. 5-6: writes the AO buffer.
         let uniform = SampleUniform {
             counts: [p.k1, p.k2, p.steps, 0],
             modes: [p.n_smooth, falloff, HALTON_LENGTH, 0],
             thresholds: [p.c_spatial, p.c_rot, p.n_max as f32, ctx.radius],
-            tolerances: [p.depth_epsilon, p.neighbour_epsilon * ctx.radius, p.max_screen_radius, 0.0],
+            tolerances: [
+                p.depth_epsilon,
+                p.neighbour_epsilon * ctx.radius,
+                p.max_screen_radius,
+                0.0,
+            ],
         };
         let entry = if r.has_motion { "main_dynamic" } else { "main" };
-        let mut pass = ctx.builder.compute_pass("tssao.sample", "ao/tssao/sample.wgsl", entry);
-        pass.sample("reprojected", r.reprojected).sample("previous", history.previous);
-        pass.sample("depth", depth).sample("normals", normals).sample("motion", r.motion);
+        let mut pass = ctx
+            .builder
+            .compute_pass("tssao.sample", "ao/tssao/sample.wgsl", entry);
+        pass.sample("reprojected", r.reprojected)
+            .sample("previous", history.previous);
+        pass.sample("depth", depth)
+            .sample("normals", normals)
+            .sample("motion", r.motion);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         pass.uniform("halton", bytemuck::cast_slice(&halton_table()));
@@ -291,11 +379,24 @@ impl AoTechnique for Tssao {
         pass.dispatch_over(buffer);
 
         // Eqs. 9-10 into the output; the AO buffer keeps the unfiltered values.
-        let out = ctx.builder.create_texture("tssao.filtered", TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL));
-        let mut pass = ctx.builder.compute_pass("tssao.filter", "ao/tssao/filter.wgsl", "main");
+        let out = ctx.builder.create_texture(
+            "tssao.filtered",
+            TextureDesc::new(ACCESSIBILITY_FORMAT, SizeClass::FULL),
+        );
+        let mut pass = ctx
+            .builder
+            .compute_pass("tssao.filter", "ao/tssao/filter.wgsl", "main");
         pass.sample("ao_buffer", buffer).sample("depth", depth);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
-        let filter = FilterUniform { size: [(p.filter_width / 2) as i32, 0, 0, 0], shape: [p.filter_sigma * ctx.radius, p.c_adaptive, p.n_max as f32, 0.0] };
+        let filter = FilterUniform {
+            size: [(p.filter_width / 2) as i32, 0, 0, 0],
+            shape: [
+                p.filter_sigma * ctx.radius,
+                p.c_adaptive,
+                p.n_max as f32,
+                0.0,
+            ],
+        };
         pass.uniform("params", bytemuck::bytes_of(&filter));
         let out = pass.write_storage("dst", out);
         pass.dispatch_over(out);
@@ -307,17 +408,38 @@ impl AoTechnique for Tssao {
 mod tests {
     use super::*;
     use crate::DynAoTechnique;
-    use aograph_graph::{compile, BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms};
+    use aograph_graph::{
+        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms,
+        compile,
+    };
 
     fn plan_names(with_motion: bool) -> Vec<String> {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer("view", BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+        let view = b.import_buffer(
+            "view",
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
         let mut g = GBufferTextures::default();
         let channels = AoTechnique::channels(&Tssao, &TssaoParams::default());
-        for c in channels.iter().filter(|c| with_motion || *c != GBufferChannel::Motion) {
-            g.set(c, b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)));
+        for c in channels
+            .iter()
+            .filter(|c| with_motion || *c != GBufferChannel::Motion)
+        {
+            g.set(
+                c,
+                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
+            );
         }
-        let mut ctx = AoBuildContext { builder: &mut b, gbuffer: g, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: "tssao" };
+        let mut ctx = AoBuildContext {
+            builder: &mut b,
+            gbuffer: g,
+            view,
+            radius: 1.0,
+            intermediate_format: wgpu::TextureFormat::R32Float,
+            technique: "tssao",
+        };
         let out = AoTechnique::build(&Tssao, &mut ctx, &TssaoParams::default()).unwrap();
         b.export(out.accessibility);
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
@@ -327,15 +449,33 @@ mod tests {
 
     #[test]
     fn plan_is_reproject_sample_filter() {
-        assert_eq!(plan_names(true), ["tssao.reproject", "tssao.sample", "tssao.filter"]);
-        assert_eq!(plan_names(false), ["tssao.zero_motion", "tssao.reproject", "tssao.sample", "tssao.filter"]);
+        assert_eq!(
+            plan_names(true),
+            ["tssao.reproject", "tssao.sample", "tssao.filter"]
+        );
+        assert_eq!(
+            plan_names(false),
+            [
+                "tssao.zero_motion",
+                "tssao.reproject",
+                "tssao.sample",
+                "tssao.filter"
+            ]
+        );
     }
 
     #[test]
     fn is_temporal_and_reads_depth_normals_motion() {
         assert!(DynAoTechnique::is_temporal(&Tssao, &toml::Table::new()).unwrap());
         let c = AoTechnique::channels(&Tssao, &TssaoParams::default());
-        assert_eq!(c.iter().collect::<Vec<_>>(), [GBufferChannel::LinearDepth, GBufferChannel::Normals, GBufferChannel::Motion]);
+        assert_eq!(
+            c.iter().collect::<Vec<_>>(),
+            [
+                GBufferChannel::LinearDepth,
+                GBufferChannel::Normals,
+                GBufferChannel::Motion
+            ]
+        );
     }
 
     #[test]
@@ -359,16 +499,30 @@ mod tests {
         ] {
             let table: toml::Table = format!("{key} = {value}").parse().unwrap();
             let e = Tssao.check(&table).unwrap_err();
-            assert!(matches!(e, AoError::InvalidParameter { .. }), "{key} = {value}: {e}");
+            assert!(
+                matches!(e, AoError::InvalidParameter { .. }),
+                "{key} = {value}: {e}"
+            );
             let msg = e.to_string();
             assert!(msg.contains(key) && msg.contains(range), "{msg}");
         }
-        assert!(Tssao.check(&"k1 = 64\nk2 = 16\nn_max = 1500\nn_smooth = 64\nfalloff = \"quadratic\"".parse().unwrap()).is_ok());
+        assert!(
+            Tssao
+                .check(
+                    &"k1 = 64\nk2 = 16\nn_max = 1500\nn_smooth = 64\nfalloff = \"quadratic\""
+                        .parse()
+                        .unwrap()
+                )
+                .is_ok()
+        );
     }
 
     #[test]
     fn unknown_keys_are_rejected() {
-        let e = Tssao.check(&"k3 = 8".parse().unwrap()).unwrap_err().to_string();
+        let e = Tssao
+            .check(&"k3 = 8".parse().unwrap())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("k3") && e.contains("k2"), "{e}");
     }
 
@@ -385,22 +539,38 @@ mod tests {
     fn halton_table_is_a_cosine_distributed_pattern_the_shader_declares() {
         let t = halton_table();
         assert_eq!(t.len(), HALTON_LENGTH as usize);
-        assert!(HALTON_LENGTH.is_power_of_two(), "the shader wraps indices with a mask");
+        assert!(
+            HALTON_LENGTH.is_power_of_two(),
+            "the shader wraps indices with a mask"
+        );
         for p in &t {
             let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-            assert!((len - 1.0).abs() < 1e-5 && p[2] >= 0.0 && (0.0..1.0).contains(&p[3]), "{p:?}");
+            assert!(
+                (len - 1.0).abs() < 1e-5 && p[2] >= 0.0 && (0.0..1.0).contains(&p[3]),
+                "{p:?}"
+            );
         }
         // Cosine-distributed: E[cos theta] = 2/3 over the hemisphere.
         let mean_cos = t.iter().map(|p| p[2] as f64).sum::<f64>() / t.len() as f64;
         assert!((mean_cos - 2.0 / 3.0).abs() < 0.01, "{mean_cos}");
-        let shader = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders/ao/tssao/sample.wgsl")).unwrap();
-        assert!(shader.contains(&format!("array<vec4<f32>, {HALTON_LENGTH}>")), "sample.wgsl's table length must be HALTON_LENGTH");
+        let shader = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shaders/ao/tssao/sample.wgsl"
+        ))
+        .unwrap();
+        assert!(
+            shader.contains(&format!("array<vec4<f32>, {HALTON_LENGTH}>")),
+            "sample.wgsl's table length must be HALTON_LENGTH"
+        );
     }
 
     #[test]
     fn paper_defaults() {
         let p = TssaoParams::default();
-        assert_eq!((p.k1, p.k2, p.n_max, p.n_smooth, p.filter_width), (32, 8, 500, 32, 5));
+        assert_eq!(
+            (p.k1, p.k2, p.n_max, p.n_smooth, p.filter_width),
+            (32, 8, 500, 32, 5)
+        );
         assert_eq!((p.c_spatial, p.c_rot, p.c_adaptive), (0.3, 0.5, 0.2));
     }
 }

@@ -9,7 +9,10 @@ mod raster;
 
 use std::sync::{Arc, Mutex};
 
-use aograph_graph::{BufferAccess, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, SizeClass, TextureDesc};
+use aograph_graph::{
+    BufferAccess, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder,
+    SizeClass, TextureDesc,
+};
 
 use crate::model::Scene;
 pub use raster::GBufferRaster;
@@ -41,18 +44,38 @@ impl GBufferClock {
 /// Which channels to write: what the consumers asked for, pruned by what the scene needs
 /// (a static scene gets no motion vectors: every motion would be zero).
 pub fn required_channels(requested: GBufferChannels, scene: &Scene) -> GBufferChannels {
-    if scene.is_static() { requested.without(GBufferChannel::Motion) } else { requested }
+    if scene.is_static() {
+        requested.without(GBufferChannel::Motion)
+    } else {
+        requested
+    }
 }
 
 /// Declares the g-buffer pass. `view` is the imported `View` uniform buffer. Returns the
 /// handles of the channels written (others are `None`).
-pub fn add_gbuffer(builder: &mut GraphBuilder, scene: Arc<Scene>, channels: GBufferChannels, view: BufferHandle, clock: GBufferClock) -> GBufferTextures {
+pub fn add_gbuffer(
+    builder: &mut GraphBuilder,
+    scene: Arc<Scene>,
+    channels: GBufferChannels,
+    view: BufferHandle,
+    clock: GBufferClock,
+) -> GBufferTextures {
     let mut out = GBufferTextures::default();
     let depth_desc = TextureDesc::new(channels.depth_format.format(), SizeClass::FULL);
-    let depth = builder.create_texture(if channels.contains(GBufferChannel::Depth) { "gbuffer.depth" } else { "gbuffer.zbuffer" }, depth_desc);
+    let depth = builder.create_texture(
+        if channels.contains(GBufferChannel::Depth) {
+            "gbuffer.depth"
+        } else {
+            "gbuffer.zbuffer"
+        },
+        depth_desc,
+    );
     let mut targets = Vec::new();
     for c in channels.iter().filter(|c| *c != GBufferChannel::Depth) {
-        let h = builder.create_texture(&format!("gbuffer.{}", c.name()), TextureDesc::new(c.format(), SizeClass::FULL));
+        let h = builder.create_texture(
+            &format!("gbuffer.{}", c.name()),
+            TextureDesc::new(c.format(), SizeClass::FULL),
+        );
         targets.push((c, h));
     }
     let raster = GBufferRaster::new(scene, channels, targets.clone(), depth, view, clock);

@@ -7,7 +7,10 @@
 
 use std::sync::{Arc, Mutex};
 
-use aograph_graph::{BufferHandle, CustomPass, GBufferChannel, GBufferChannels, GraphError, GraphResult, PassContext, TextureHandle};
+use aograph_graph::{
+    BufferHandle, CustomPass, GBufferChannel, GBufferChannels, GraphError, GraphResult,
+    PassContext, TextureHandle,
+};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
@@ -64,40 +67,128 @@ pub struct GBufferRaster {
 }
 
 impl GBufferRaster {
-    pub(super) fn new(scene: Arc<Scene>, channels: GBufferChannels, targets: Vec<(GBufferChannel, TextureHandle)>, depth: TextureHandle, view: BufferHandle, clock: GBufferClock) -> Self {
-        Self { scene, channels, targets, depth, view, clock, state: Mutex::new(None) }
+    pub(super) fn new(
+        scene: Arc<Scene>,
+        channels: GBufferChannels,
+        targets: Vec<(GBufferChannel, TextureHandle)>,
+        depth: TextureHandle,
+        view: BufferHandle,
+        clock: GBufferClock,
+    ) -> Self {
+        Self {
+            scene,
+            channels,
+            targets,
+            depth,
+            view,
+            clock,
+            state: Mutex::new(None),
+        }
     }
 
     fn reversed_z(&self) -> bool {
-        matches!(self.scene.camera.projection, Projection::Perspective { reversed_z_infinite: true, .. })
+        matches!(
+            self.scene.camera.projection,
+            Projection::Perspective {
+                reversed_z_infinite: true,
+                ..
+            }
+        )
     }
 
     fn create_state(&self, ctx: &PassContext<'_>) -> GraphResult<GpuState> {
         let device = ctx.device;
         let info = ctx.shaders().load(SHADER)?;
-        let entries = info.layout_entries(wgpu::ShaderStages::VERTEX_FRAGMENT, ctx.features(), |_| None);
-        let group0 = entries.into_iter().find(|(g, _)| *g == 0).map(|(_, e)| e).unwrap_or_default();
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("gbuffer"), entries: &group0 });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("gbuffer"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(SHADER), source: wgpu::ShaderSource::Wgsl(info.source.as_str().into()) });
+        let entries =
+            info.layout_entries(wgpu::ShaderStages::VERTEX_FRAGMENT, ctx.features(), |_| {
+                None
+            });
+        let group0 = entries
+            .into_iter()
+            .find(|(g, _)| *g == 0)
+            .map(|(_, e)| e)
+            .unwrap_or_default();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gbuffer"),
+            entries: &group0,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gbuffer"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(SHADER),
+            source: wgpu::ShaderSource::Wgsl(info.source.as_str().into()),
+        });
         // Locations 0..5 in the shader's order; unrequested channels get no target.
-        let order = [GBufferChannel::LinearDepth, GBufferChannel::Normals, GBufferChannel::Positions, GBufferChannel::Albedo, GBufferChannel::DirectLight, GBufferChannel::Motion];
+        let order = [
+            GBufferChannel::LinearDepth,
+            GBufferChannel::Normals,
+            GBufferChannel::Positions,
+            GBufferChannel::Albedo,
+            GBufferChannel::DirectLight,
+            GBufferChannel::Motion,
+        ];
         let targets: Vec<Option<wgpu::ColorTargetState>> = order
             .iter()
-            .map(|c| self.targets.iter().any(|(t, _)| t == c).then(|| wgpu::ColorTargetState { format: c.format(), blend: None, write_mask: wgpu::ColorWrites::ALL }))
+            .map(|c| {
+                self.targets
+                    .iter()
+                    .any(|(t, _)| t == c)
+                    .then(|| wgpu::ColorTargetState {
+                        format: c.format(),
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })
+            })
             .collect();
         let meshes = self.upload_meshes(device);
         let n = self.scene.instances.len().max(1);
-        let instances = device.create_buffer(&wgpu::BufferDescriptor { label: Some("gbuffer instances"), size: (n * std::mem::size_of::<InstanceGpu>()) as u64, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let instances = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("gbuffer instances"),
+            size: (n * std::mem::size_of::<InstanceGpu>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let l = &self.scene.light;
         let dir = l.direction.try_normalize().unwrap_or(glam::Vec3::NEG_Y);
-        let light = LightGpu { direction: [dir.x, dir.y, dir.z, 0.0], color: [l.color[0] * l.intensity, l.color[1] * l.intensity, l.color[2] * l.intensity, 0.0] };
-        let light = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("gbuffer light"), contents: bytemuck::bytes_of(&light), usage: wgpu::BufferUsages::UNIFORM });
-        Ok(GpuState { meshes, instances, light, pipelines: [None, None], module, pipeline_layout, color_targets: targets, layout, bind_group: None, staging: Vec::with_capacity(n) })
+        let light = LightGpu {
+            direction: [dir.x, dir.y, dir.z, 0.0],
+            color: [
+                l.color[0] * l.intensity,
+                l.color[1] * l.intensity,
+                l.color[2] * l.intensity,
+                0.0,
+            ],
+        };
+        let light = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("gbuffer light"),
+            contents: bytemuck::bytes_of(&light),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        Ok(GpuState {
+            meshes,
+            instances,
+            light,
+            pipelines: [None, None],
+            module,
+            pipeline_layout,
+            color_targets: targets,
+            layout,
+            bind_group: None,
+            staging: Vec::with_capacity(n),
+        })
     }
 
-    fn create_pipeline(&self, device: &wgpu::Device, state: &GpuState, reversed: bool) -> wgpu::RenderPipeline {
-        let (module, pipeline_layout, targets) = (&state.module, &state.pipeline_layout, &state.color_targets);
+    fn create_pipeline(
+        &self,
+        device: &wgpu::Device,
+        state: &GpuState,
+        reversed: bool,
+    ) -> wgpu::RenderPipeline {
+        let (module, pipeline_layout, targets) =
+            (&state.module, &state.pipeline_layout, &state.color_targets);
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: 24,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -106,37 +197,87 @@ impl GBufferRaster {
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("gbuffer"),
             layout: Some(pipeline_layout),
-            vertex: wgpu::VertexState { module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout)] },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout)],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: self.channels.depth_format.format(),
                 depth_write_enabled: Some(true),
-                depth_compare: Some(if reversed { wgpu::CompareFunction::Greater } else { wgpu::CompareFunction::Less }),
+                depth_compare: Some(if reversed {
+                    wgpu::CompareFunction::Greater
+                } else {
+                    wgpu::CompareFunction::Less
+                }),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
             multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module, entry_point: Some(if self.channels.face_normals { "fs_face" } else { "fs_smooth" }), compilation_options: Default::default(), targets }),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(if self.channels.face_normals {
+                    "fs_face"
+                } else {
+                    "fs_smooth"
+                }),
+                compilation_options: Default::default(),
+                targets,
+            }),
             multiview_mask: None,
             cache: None,
         })
     }
 
     fn upload_meshes(&self, device: &wgpu::Device) -> Vec<MeshGpu> {
-        self
-            .scene
+        self.scene
             .meshes
             .iter()
             .map(|m| {
-                let verts: Vec<[f32; 6]> = m.positions.iter().enumerate().map(|(i, p)| {
-                    let n = m.normals.get(i).copied().unwrap_or(glam::Vec3::Z);
-                    [p.x, p.y, p.z, n.x, n.y, n.z]
-                }).collect();
-                let indices: Vec<u32> = m.indices.iter().copied().filter(|&i| (i as usize) < m.positions.len()).collect();
-                let indices = if indices.len() == m.indices.len() { indices } else { Vec::new() };
+                let verts: Vec<[f32; 6]> = m
+                    .positions
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| {
+                        let n = m.normals.get(i).copied().unwrap_or(glam::Vec3::Z);
+                        [p.x, p.y, p.z, n.x, n.y, n.z]
+                    })
+                    .collect();
+                let indices: Vec<u32> = m
+                    .indices
+                    .iter()
+                    .copied()
+                    .filter(|&i| (i as usize) < m.positions.len())
+                    .collect();
+                let indices = if indices.len() == m.indices.len() {
+                    indices
+                } else {
+                    Vec::new()
+                };
                 MeshGpu {
-                    vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("mesh vertices"), contents: bytemuck::cast_slice(if verts.is_empty() { &[[0f32; 6]] } else { verts.as_slice() }), usage: wgpu::BufferUsages::VERTEX }),
-                    indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("mesh indices"), contents: bytemuck::cast_slice(if indices.is_empty() { &[0u32] } else { indices.as_slice() }), usage: wgpu::BufferUsages::INDEX }),
+                    vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("mesh vertices"),
+                        contents: bytemuck::cast_slice(if verts.is_empty() {
+                            &[[0f32; 6]]
+                        } else {
+                            verts.as_slice()
+                        }),
+                        usage: wgpu::BufferUsages::VERTEX,
+                    }),
+                    indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("mesh indices"),
+                        contents: bytemuck::cast_slice(if indices.is_empty() {
+                            &[0u32]
+                        } else {
+                            indices.as_slice()
+                        }),
+                        usage: wgpu::BufferUsages::INDEX,
+                    }),
                     index_count: (indices.len() / 3 * 3) as u32,
                 }
             })
@@ -151,37 +292,80 @@ impl CustomPass for GBufferRaster {
     fn cache_key(&self) -> u64 {
         // The plan depends on which scene is drawn and how.
         let s = &*self.scene as *const Scene as u64;
-        s ^ ((self.channels.face_normals as u64) << 63) ^ ((self.reversed_z() as u64) << 62) ^ ((self.channels.depth_format as u64) << 60)
+        s ^ ((self.channels.face_normals as u64) << 63)
+            ^ ((self.reversed_z() as u64) << 62)
+            ^ ((self.channels.depth_format as u64) << 60)
     }
     fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        let mut guard = self.state.lock().map_err(|_| GraphError::Gpu("g-buffer state poisoned by an earlier panic".into()))?;
+        let mut guard = self
+            .state
+            .lock()
+            .map_err(|_| GraphError::Gpu("g-buffer state poisoned by an earlier panic".into()))?;
         if guard.is_none() {
             *guard = Some(self.create_state(ctx)?);
         }
-        let Some(state) = guard.as_mut() else { return Ok(()) };
+        let Some(state) = guard.as_mut() else {
+            return Ok(());
+        };
         let frame = self.clock.get();
         state.staging.clear();
         for inst in &self.scene.instances {
-            let color = self.scene.materials.get(self.scene.meshes.get(inst.mesh).map(|m| m.material).unwrap_or(0)).map(|m| m.base_color).unwrap_or([0.8, 0.8, 0.8, 1.0]);
-            state.staging.push(InstanceGpu { model: inst.transform_at(frame.time).to_cols_array_2d(), prev_model: inst.transform_at(frame.prev_time).to_cols_array_2d(), color });
+            let color = self
+                .scene
+                .materials
+                .get(
+                    self.scene
+                        .meshes
+                        .get(inst.mesh)
+                        .map(|m| m.material)
+                        .unwrap_or(0),
+                )
+                .map(|m| m.base_color)
+                .unwrap_or([0.8, 0.8, 0.8, 1.0]);
+            state.staging.push(InstanceGpu {
+                model: inst.transform_at(frame.time).to_cols_array_2d(),
+                prev_model: inst.transform_at(frame.prev_time).to_cols_array_2d(),
+                color,
+            });
         }
         if !state.staging.is_empty() {
-            ctx.queue.write_buffer(&state.instances, 0, bytemuck::cast_slice(&state.staging));
+            ctx.queue
+                .write_buffer(&state.instances, 0, bytemuck::cast_slice(&state.staging));
         }
         let view_buffer = ctx.buffer(self.view)?.clone();
-        if state.bind_group.as_ref().is_none_or(|(b, _)| *b != view_buffer) {
+        if state
+            .bind_group
+            .as_ref()
+            .is_none_or(|(b, _)| *b != view_buffer)
+        {
             let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("gbuffer"),
                 layout: &state.layout,
                 entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: view_buffer.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: state.instances.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 2, resource: state.light.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: view_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: state.instances.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: state.light.as_entire_binding(),
+                    },
                 ],
             });
             state.bind_group = Some((view_buffer, bg));
         }
-        let order = [GBufferChannel::LinearDepth, GBufferChannel::Normals, GBufferChannel::Positions, GBufferChannel::Albedo, GBufferChannel::DirectLight, GBufferChannel::Motion];
+        let order = [
+            GBufferChannel::LinearDepth,
+            GBufferChannel::Normals,
+            GBufferChannel::Positions,
+            GBufferChannel::Albedo,
+            GBufferChannel::DirectLight,
+            GBufferChannel::Motion,
+        ];
         let mut views = Vec::with_capacity(order.len());
         for c in order {
             views.push(match self.targets.iter().find(|(t, _)| *t == c) {
@@ -191,7 +375,17 @@ impl CustomPass for GBufferRaster {
         }
         let color: Vec<Option<wgpu::RenderPassColorAttachment>> = views
             .iter()
-            .map(|v| v.as_ref().map(|view| wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store } }))
+            .map(|v| {
+                v.as_ref().map(|view| wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
             .collect();
         let depth_view = ctx.view(self.depth)?.clone();
         let reversed = frame.reversed_z.unwrap_or_else(|| self.reversed_z());
@@ -203,7 +397,14 @@ impl CustomPass for GBufferRaster {
         let mut rp = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
             color_attachments: &color,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: &depth_view, depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(clear_depth), store: wgpu::StoreOp::Store }), stencil_ops: None }),
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear_depth),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
             timestamp_writes: None,
             occlusion_query_set: None,
             multiview_mask: None,
@@ -215,7 +416,9 @@ impl CustomPass for GBufferRaster {
             rp.set_bind_group(0, bg, &[]);
         }
         for (i, inst) in self.scene.instances.iter().enumerate() {
-            let Some(mesh) = state.meshes.get(inst.mesh) else { continue };
+            let Some(mesh) = state.meshes.get(inst.mesh) else {
+                continue;
+            };
             if mesh.index_count == 0 {
                 continue;
             }

@@ -51,7 +51,11 @@ impl MssaoUniform {
     }
 }
 
-fn common(p: &mut aograph_graph::PassBuilder<'_>, view: aograph_graph::BufferHandle, u: &MssaoUniform) {
+fn common(
+    p: &mut aograph_graph::PassBuilder<'_>,
+    view: aograph_graph::BufferHandle,
+    u: &MssaoUniform,
+) {
     p.read_buffer("view", BufferAccess::Uniform, view);
     p.uniform("params", bytemuck::bytes_of(u));
 }
@@ -59,12 +63,23 @@ fn common(p: &mut aograph_graph::PassBuilder<'_>, view: aograph_graph::BufferHan
 /// `mssao.downsample{l}`: level l of the g-buffer pyramid from level l - 1 (Table 2).
 pub fn downsample(ctx: &mut AoBuildContext<'_>, l: u32, src: Level, u: &MssaoUniform) -> Level {
     let size = SizeClass::half_pow(l);
-    let positions = ctx.builder.create_texture(&format!("mssao.positions{l}"), TextureDesc::new(POSITION_FORMAT, size));
-    let normals = ctx.builder.create_texture(&format!("mssao.normals{l}"), TextureDesc::new(NORMAL_FORMAT, size));
+    let positions = ctx.builder.create_texture(
+        &format!("mssao.positions{l}"),
+        TextureDesc::new(POSITION_FORMAT, size),
+    );
+    let normals = ctx.builder.create_texture(
+        &format!("mssao.normals{l}"),
+        TextureDesc::new(NORMAL_FORMAT, size),
+    );
     let view = ctx.view;
-    let mut p = ctx.builder.compute_pass(&format!("mssao.downsample{l}"), "ao/mssao/downsample.wgsl", "main");
+    let mut p = ctx.builder.compute_pass(
+        &format!("mssao.downsample{l}"),
+        "ao/mssao/downsample.wgsl",
+        "main",
+    );
     common(&mut p, view, u);
-    p.sample("src_positions", src.positions).sample("src_normals", src.normals);
+    p.sample("src_positions", src.positions)
+        .sample("src_normals", src.normals);
     let positions = p.write_storage("dst_positions", positions);
     let normals = p.write_storage("dst_normals", normals);
     p.dispatch_over(positions);
@@ -73,16 +88,34 @@ pub fn downsample(ctx: &mut AoBuildContext<'_>, l: u32, src: Level, u: &MssaoUni
 
 /// `mssao.ao{l}` for a level l >= 1: the tuple of Eq. 10. `far` is the blurred tuple of level
 /// l + 1 with that level's g-buffer (None at the coarsest level).
-pub fn ao_level(ctx: &mut AoBuildContext<'_>, l: u32, g: Level, far: Option<(TextureHandle, Level)>, u: &MssaoUniform) -> TextureHandle {
+pub fn ao_level(
+    ctx: &mut AoBuildContext<'_>,
+    l: u32,
+    g: Level,
+    far: Option<(TextureHandle, Level)>,
+    u: &MssaoUniform,
+) -> TextureHandle {
     // The per-level tuple (AO_max, sum, count) at the intermediate precision (module docs).
-    let tuple = ctx.builder.create_texture(&format!("mssao.tuple{l}"), TextureDesc::new(ctx.intermediate_rgba_format(), SizeClass::half_pow(l)));
-    let shader = ctx.shader(if far.is_some() { "ao/mssao/ao_level.wgsl" } else { "ao/mssao/ao_coarsest.wgsl" });
+    let tuple = ctx.builder.create_texture(
+        &format!("mssao.tuple{l}"),
+        TextureDesc::new(ctx.intermediate_rgba_format(), SizeClass::half_pow(l)),
+    );
+    let shader = ctx.shader(if far.is_some() {
+        "ao/mssao/ao_level.wgsl"
+    } else {
+        "ao/mssao/ao_coarsest.wgsl"
+    });
     let view = ctx.view;
-    let mut p = ctx.builder.compute_pass(&format!("mssao.ao{l}"), &shader, "main");
+    let mut p = ctx
+        .builder
+        .compute_pass(&format!("mssao.ao{l}"), &shader, "main");
     common(&mut p, view, u);
-    p.sample("positions", g.positions).sample("normals", g.normals);
+    p.sample("positions", g.positions)
+        .sample("normals", g.normals);
     if let Some((coarse, cg)) = far {
-        p.sample("coarse_ao", coarse).sample("coarse_positions", cg.positions).sample("coarse_normals", cg.normals);
+        p.sample("coarse_ao", coarse)
+            .sample("coarse_positions", cg.positions)
+            .sample("coarse_normals", cg.normals);
     }
     let tuple = p.write_storage("ao", tuple);
     p.dispatch_over(tuple);
@@ -90,13 +123,26 @@ pub fn ao_level(ctx: &mut AoBuildContext<'_>, l: u32, g: Level, far: Option<(Tex
 }
 
 /// `mssao.blur{l}`: the 3x3 low-pass filter of level l's tuple before upsampling (Table 4).
-pub fn blur(ctx: &mut AoBuildContext<'_>, l: u32, tuple: TextureHandle, g: Level, u: &MssaoUniform) -> TextureHandle {
-    let out = ctx.builder.create_texture(&format!("mssao.blurred{l}"), TextureDesc::new(ctx.intermediate_rgba_format(), SizeClass::half_pow(l)));
+pub fn blur(
+    ctx: &mut AoBuildContext<'_>,
+    l: u32,
+    tuple: TextureHandle,
+    g: Level,
+    u: &MssaoUniform,
+) -> TextureHandle {
+    let out = ctx.builder.create_texture(
+        &format!("mssao.blurred{l}"),
+        TextureDesc::new(ctx.intermediate_rgba_format(), SizeClass::half_pow(l)),
+    );
     let view = ctx.view;
     let shader = ctx.shader("ao/mssao/blur.wgsl");
-    let mut p = ctx.builder.compute_pass(&format!("mssao.blur{l}"), &shader, "main");
+    let mut p = ctx
+        .builder
+        .compute_pass(&format!("mssao.blur{l}"), &shader, "main");
     common(&mut p, view, u);
-    p.sample("positions", g.positions).sample("normals", g.normals).sample("src", tuple);
+    p.sample("positions", g.positions)
+        .sample("normals", g.normals)
+        .sample("src", tuple);
     let out = p.write_storage("dst", out);
     p.dispatch_over(out);
     out
@@ -104,15 +150,27 @@ pub fn blur(ctx: &mut AoBuildContext<'_>, l: u32, tuple: TextureHandle, g: Level
 
 /// `mssao.ao0`: the finest level, Eq. 11, the accessibility output. `far` as in [`ao_level`]
 /// (None when n = 1).
-pub fn ao_finest(ctx: &mut AoBuildContext<'_>, g: Level, far: Option<(TextureHandle, Level)>, u: &MssaoUniform) -> TextureHandle {
+pub fn ao_finest(
+    ctx: &mut AoBuildContext<'_>,
+    g: Level,
+    far: Option<(TextureHandle, Level)>,
+    u: &MssaoUniform,
+) -> TextureHandle {
     let out = ctx.accessibility_texture("ao");
-    let shader = if far.is_some() { "ao/mssao/ao_final.wgsl" } else { "ao/mssao/ao_single.wgsl" };
+    let shader = if far.is_some() {
+        "ao/mssao/ao_final.wgsl"
+    } else {
+        "ao/mssao/ao_single.wgsl"
+    };
     let view = ctx.view;
     let mut p = ctx.builder.compute_pass("mssao.ao0", shader, "main");
     common(&mut p, view, u);
-    p.sample("positions", g.positions).sample("normals", g.normals);
+    p.sample("positions", g.positions)
+        .sample("normals", g.normals);
     if let Some((coarse, cg)) = far {
-        p.sample("coarse_ao", coarse).sample("coarse_positions", cg.positions).sample("coarse_normals", cg.normals);
+        p.sample("coarse_ao", coarse)
+            .sample("coarse_positions", cg.positions)
+            .sample("coarse_normals", cg.normals);
     }
     let out = p.write_storage("accessibility", out);
     p.dispatch_over(out);

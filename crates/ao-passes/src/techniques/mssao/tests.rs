@@ -2,7 +2,10 @@
 //! against the real WGSL, so bindings and formats are checked too), parameter validation and
 //! the uniform layout.
 
-use aograph_graph::{compile, BufferDesc, CompileOptions, CompiledGraph, GBufferChannel, GBufferTextures, GraphBuilder, ShaderLibrary, TextureDesc, ViewUniforms, VIEW_BUFFER};
+use aograph_graph::{
+    BufferDesc, CompileOptions, CompiledGraph, GBufferChannel, GBufferTextures, GraphBuilder,
+    ShaderLibrary, TextureDesc, VIEW_BUFFER, ViewUniforms, compile,
+};
 
 use super::passes::MssaoUniform;
 use super::{Mssao, MssaoParams};
@@ -17,21 +20,45 @@ fn shaders() -> ShaderLibrary {
 fn plan(params: &str) -> Result<CompiledGraph, AoError> {
     let table: toml::Table = params.parse().expect("test TOML");
     let mut b = GraphBuilder::new();
-    let view = b.import_buffer(VIEW_BUFFER, BufferDesc { size: std::mem::size_of::<ViewUniforms>() as u64 });
+    let view = b.import_buffer(
+        VIEW_BUFFER,
+        BufferDesc {
+            size: std::mem::size_of::<ViewUniforms>() as u64,
+        },
+    );
     let mut gbuffer = GBufferTextures::default();
-    for c in [GBufferChannel::Positions, GBufferChannel::Normals, GBufferChannel::LinearDepth] {
-        gbuffer.set(c, b.import_texture(&format!("gbuffer.{}", c.name()), TextureDesc::new(c.format(), aograph_graph::SizeClass::FULL)));
+    for c in [
+        GBufferChannel::Positions,
+        GBufferChannel::Normals,
+        GBufferChannel::LinearDepth,
+    ] {
+        gbuffer.set(
+            c,
+            b.import_texture(
+                &format!("gbuffer.{}", c.name()),
+                TextureDesc::new(c.format(), aograph_graph::SizeClass::FULL),
+            ),
+        );
     }
     let registry = TechniqueRegistry::with_builtins();
     let technique = registry.get("mssao")?.clone();
-    let mut ctx = AoBuildContext { builder: &mut b, gbuffer, view, radius: 1.0, intermediate_format: wgpu::TextureFormat::R32Float, technique: "mssao" };
+    let mut ctx = AoBuildContext {
+        builder: &mut b,
+        gbuffer,
+        view,
+        radius: 1.0,
+        intermediate_format: wgpu::TextureFormat::R32Float,
+        technique: "mssao",
+    };
     let out = technique.build(&mut ctx, &table)?;
     b.export(out.accessibility);
     Ok(compile(b.build(), &shaders(), CompileOptions::default())?)
 }
 
 fn expected(levels: u32) -> Vec<String> {
-    let mut names: Vec<String> = (1..levels).map(|l| format!("mssao.downsample{l}")).collect();
+    let mut names: Vec<String> = (1..levels)
+        .map(|l| format!("mssao.downsample{l}"))
+        .collect();
     for l in (1..levels).rev() {
         names.push(format!("mssao.ao{l}"));
         names.push(format!("mssao.blur{l}"));
@@ -45,7 +72,18 @@ fn plan_has_one_downsample_and_one_ao_pass_per_level_and_the_upsample_chain() {
     let four = plan("").unwrap();
     assert_eq!(
         four.pass_names(),
-        ["mssao.downsample1", "mssao.downsample2", "mssao.downsample3", "mssao.ao3", "mssao.blur3", "mssao.ao2", "mssao.blur2", "mssao.ao1", "mssao.blur1", "mssao.ao0"]
+        [
+            "mssao.downsample1",
+            "mssao.downsample2",
+            "mssao.downsample3",
+            "mssao.ao3",
+            "mssao.blur3",
+            "mssao.ao2",
+            "mssao.blur2",
+            "mssao.ao1",
+            "mssao.blur1",
+            "mssao.ao0"
+        ]
     );
     let one = plan("levels = 1").unwrap();
     assert_eq!(one.pass_names(), ["mssao.ao0"]);
@@ -53,14 +91,19 @@ fn plan_has_one_downsample_and_one_ao_pass_per_level_and_the_upsample_chain() {
     assert_eq!(eight.pass_names(), expected(8));
     assert_eq!(eight.pass_names().len(), 7 + 8 + 7);
     for p in [&one, &four, &eight] {
-        assert!(p.culled.is_empty(), "nothing is culled: {:?}", p.culled_names());
+        assert!(
+            p.culled.is_empty(),
+            "nothing is culled: {:?}",
+            p.culled_names()
+        );
     }
 }
 
 #[test]
 fn every_level_count_compiles_against_the_shaders() {
     for levels in 1..=8 {
-        let p = plan(&format!("levels = {levels}")).unwrap_or_else(|e| panic!("levels = {levels}: {e}"));
+        let p = plan(&format!("levels = {levels}"))
+            .unwrap_or_else(|e| panic!("levels = {levels}: {e}"));
         assert_eq!(p.pass_names(), expected(levels));
     }
 }
@@ -84,19 +127,38 @@ fn out_of_range_parameters_name_the_parameter_and_the_range() {
         let e = t.check(&toml.parse().unwrap()).unwrap_err();
         let m = e.to_string();
         assert!(matches!(e, AoError::InvalidParameter { .. }), "{toml}: {m}");
-        assert!(m.contains(&format!("`{name}`")) && m.contains(range) && m.contains("mssao"), "{toml}: {m}");
+        assert!(
+            m.contains(&format!("`{name}`")) && m.contains(range) && m.contains("mssao"),
+            "{toml}: {m}"
+        );
     }
     assert!(t.check(&toml::Table::new()).is_ok());
-    assert!(t.check(&"levels = 8\nr_max = 8.0\nd_threshold = 0.0".parse().unwrap()).is_ok());
+    assert!(
+        t.check(
+            &"levels = 8\nr_max = 8.0\nd_threshold = 0.0"
+                .parse()
+                .unwrap()
+        )
+        .is_ok()
+    );
 }
 
 #[test]
 fn unknown_keys_and_wrong_types_are_rejected_with_the_parameter_list() {
     let registry = TechniqueRegistry::with_builtins();
     let t = registry.get("mssao").unwrap();
-    let m = t.check(&"level = 4".parse().unwrap()).unwrap_err().to_string();
-    assert!(m.contains("level") && m.contains("levels") && m.contains("d_threshold"), "{m}");
-    let m = t.check(&"levels = \"four\"".parse().unwrap()).unwrap_err().to_string();
+    let m = t
+        .check(&"level = 4".parse().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        m.contains("level") && m.contains("levels") && m.contains("d_threshold"),
+        "{m}"
+    );
+    let m = t
+        .check(&"levels = \"four\"".parse().unwrap())
+        .unwrap_err()
+        .to_string();
     assert!(m.contains("[ao.mssao]"), "{m}");
 }
 
@@ -104,33 +166,77 @@ fn unknown_keys_and_wrong_types_are_rejected_with_the_parameter_list() {
 fn temporal_filter_appends_the_shared_block() {
     let p = plan("temporal = true").unwrap();
     let mut want = expected(4);
-    want.extend(["mssao.temporal.zero_motion", "mssao.temporal.reproject", "mssao.temporal.accumulate"].map(String::from));
+    want.extend(
+        [
+            "mssao.temporal.zero_motion",
+            "mssao.temporal.reproject",
+            "mssao.temporal.accumulate",
+        ]
+        .map(String::from),
+    );
     assert_eq!(p.pass_names(), want);
-    let c = AoTechnique::channels(&Mssao, &MssaoParams { temporal: true, ..Default::default() });
-    assert!(c.contains(GBufferChannel::LinearDepth) && c.contains(GBufferChannel::Motion) && c.face_normals);
-    assert!(AoTechnique::is_temporal(&Mssao, &MssaoParams { temporal: true, ..Default::default() }));
+    let c = AoTechnique::channels(
+        &Mssao,
+        &MssaoParams {
+            temporal: true,
+            ..Default::default()
+        },
+    );
+    assert!(
+        c.contains(GBufferChannel::LinearDepth)
+            && c.contains(GBufferChannel::Motion)
+            && c.face_normals
+    );
+    assert!(AoTechnique::is_temporal(
+        &Mssao,
+        &MssaoParams {
+            temporal: true,
+            ..Default::default()
+        }
+    ));
     assert!(!AoTechnique::is_temporal(&Mssao, &MssaoParams::default()));
 }
 
 #[test]
 fn defaults_are_the_papers_and_every_parameter_is_documented() {
     let p = MssaoParams::default();
-    assert_eq!((p.levels, p.d_threshold, p.r_max, p.normal_power, p.depth_power, p.temporal, p.temporal_k), (4, 1.0, 5.0, 8.0, 16.0, false, 0.5));
-    assert_eq!(p.temporal_epsilon, crate::blocks::temporal::TemporalAccumulation::mssao().epsilon);
+    assert_eq!(
+        (
+            p.levels,
+            p.d_threshold,
+            p.r_max,
+            p.normal_power,
+            p.depth_power,
+            p.temporal,
+            p.temporal_k
+        ),
+        (4, 1.0, 5.0, 8.0, 16.0, false, 0.5)
+    );
+    assert_eq!(
+        p.temporal_epsilon,
+        crate::blocks::temporal::TemporalAccumulation::mssao().epsilon
+    );
     let registry = TechniqueRegistry::with_builtins();
     let specs = registry.get("mssao").unwrap().parameters();
     let keys = toml::Value::try_from(&p).unwrap();
     let keys = keys.as_table().unwrap();
     assert_eq!(specs.len(), keys.len());
     for s in &specs {
-        assert!(keys.contains_key(s.name) && !s.default.is_empty() && !s.doc.is_empty(), "{s:?}");
+        assert!(
+            keys.contains_key(s.name) && !s.default.is_empty() && !s.doc.is_empty(),
+            "{s:?}"
+        );
     }
 }
 
 #[test]
 fn reads_positions_and_face_normals() {
     let c = AoTechnique::channels(&Mssao, &MssaoParams::default());
-    assert!(c.contains(GBufferChannel::Positions) && c.contains(GBufferChannel::Normals) && c.face_normals);
+    assert!(
+        c.contains(GBufferChannel::Positions)
+            && c.contains(GBufferChannel::Normals)
+            && c.face_normals
+    );
     assert!(!c.contains(GBufferChannel::LinearDepth) && !c.contains(GBufferChannel::Motion));
 }
 
@@ -143,5 +249,8 @@ fn uniform_block_matches_the_wgsl_struct() {
         k => panic!("{k:?}"),
     }
     let u = MssaoUniform::new(&MssaoParams::default(), 2.0, 3);
-    assert_eq!((u.level, u.d_max, u.r_max, u.bilateral_blur), (3, 2.0, 5.0, 1));
+    assert_eq!(
+        (u.level, u.d_max, u.r_max, u.bilateral_blur),
+        (3, 2.0, 5.0, 1)
+    );
 }

@@ -54,12 +54,19 @@ pub fn sample(s: u32, i: u32, n: u32) -> [f32; 4] {
     let n = n.max(1) as f32;
     let u = ((i as f32 + radical_inverse(s, 2)) / n).clamp(0.0, 1.0);
     let v = (radical_inverse(i, 2) + radical_inverse(s, 3)).fract();
-    let w = (radical_inverse(i + 1, 3) + radical_inverse(s, 5)).fract().max(1.0 / 64.0);
+    let w = (radical_inverse(i + 1, 3) + radical_inverse(s, 5))
+        .fract()
+        .max(1.0 / 64.0);
     let cos_t = (1.0 - u).clamp(0.0, 1.0);
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
     let phi = std::f32::consts::TAU * v;
     let len = w.cbrt();
-    [sin_t * phi.cos() * len, sin_t * phi.sin() * len, cos_t * len, cos_t]
+    [
+        sin_t * phi.cos() * len,
+        sin_t * phi.sin() * len,
+        cos_t * len,
+        cos_t,
+    ]
 }
 
 /// The whole table for `n` samples per set (entries past `n` in a set stay zero).
@@ -85,7 +92,10 @@ mod tests {
                 for i in 0..n {
                     let [x, y, z, c] = sample(s, i, n);
                     let len = (x * x + y * y + z * z).sqrt();
-                    assert!(len > 0.2 && len <= 1.0 + 1e-6, "set {s} sample {i}: length {len}");
+                    assert!(
+                        len > 0.2 && len <= 1.0 + 1e-6,
+                        "set {s} sample {i}: length {len}"
+                    );
                     assert!(z >= 0.0 && (0.0..=1.0).contains(&c));
                     assert!((z / len - c).abs() < 1e-5, "cos theta is the direction's z");
                 }
@@ -97,16 +107,35 @@ mod tests {
     fn each_set_is_stratified_and_the_union_fills_the_strata() {
         let n = 8;
         for s in 0..SETS as u32 {
-            let mut strata: Vec<usize> = (0..n).map(|i| ((1.0 - sample(s, i, n)[3]) * n as f32 + 1e-3).floor() as usize).collect();
+            let mut strata: Vec<usize> = (0..n)
+                .map(|i| ((1.0 - sample(s, i, n)[3]) * n as f32 + 1e-3).floor() as usize)
+                .collect();
             strata.sort();
-            assert_eq!(strata, (0..n as usize).collect::<Vec<_>>(), "set {s}: one sample per cos stratum");
+            assert_eq!(
+                strata,
+                (0..n as usize).collect::<Vec<_>>(),
+                "set {s}: one sample per cos stratum"
+            );
         }
-        let mut fine: Vec<usize> = (0..SETS as u32).flat_map(|s| (0..n).map(move |i| ((1.0 - sample(s, i, n)[3]) * (SETS as u32 * n) as f32 + 1e-3).floor() as usize)).collect();
+        let mut fine: Vec<usize> = (0..SETS as u32)
+            .flat_map(|s| {
+                (0..n).map(move |i| {
+                    ((1.0 - sample(s, i, n)[3]) * (SETS as u32 * n) as f32 + 1e-3).floor() as usize
+                })
+            })
+            .collect();
         fine.sort();
         fine.dedup();
-        assert_eq!(fine.len(), SETS * n as usize, "the 16 sets fill all 16 N strata");
+        assert_eq!(
+            fine.len(),
+            SETS * n as usize,
+            "the 16 sets fill all 16 N strata"
+        );
         // Uniform in solid angle: the mean cosine over the union is 1/2.
-        let mean: f32 = (0..SETS as u32).flat_map(|s| (0..n).map(move |i| sample(s, i, n)[3])).sum::<f32>() / (SETS as f32 * n as f32);
+        let mean: f32 = (0..SETS as u32)
+            .flat_map(|s| (0..n).map(move |i| sample(s, i, n)[3]))
+            .sum::<f32>()
+            / (SETS as f32 * n as f32);
         assert!((mean - 0.5).abs() < 0.01, "mean cos {mean}");
     }
 

@@ -28,11 +28,19 @@ impl LightingUniforms {
     /// colour times intensity and the ambient; non-finite or negative colours become 0.
     pub fn new(direction: [f32; 3], color: [f32; 3], ambient: [f32; 3]) -> Self {
         let d = glam::Vec3::from(direction);
-        let d = if d.is_finite() { d.try_normalize().unwrap_or(glam::Vec3::NEG_Y) } else { glam::Vec3::NEG_Y };
+        let d = if d.is_finite() {
+            d.try_normalize().unwrap_or(glam::Vec3::NEG_Y)
+        } else {
+            glam::Vec3::NEG_Y
+        };
         let clean = |c: [f32; 3]| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
         let [r, g, b] = clean(color);
         let [ar, ag, ab] = clean(ambient);
-        Self { light_direction: [d.x, d.y, d.z, 0.0], light_color: [r, g, b, 0.0], ambient: [ar, ag, ab, 0.0] }
+        Self {
+            light_direction: [d.x, d.y, d.z, 0.0],
+            light_color: [r, g, b, 0.0],
+            ambient: [ar, ag, ab, 0.0],
+        }
     }
     pub fn bytes(&self) -> &[u8] {
         bytemuck::bytes_of(self)
@@ -48,7 +56,10 @@ mod tests {
         let l = LightingUniforms::new([0.0, -2.0, 0.0], [1.0, f32::NAN, -1.0], [0.25, 0.27, 0.3]);
         assert_eq!(l.light_direction, [0.0, -1.0, 0.0, 0.0]);
         assert_eq!(l.light_color, [1.0, 0.0, 0.0, 0.0]);
-        assert_eq!(LightingUniforms::new([0.0; 3], [0.0; 3], [0.0; 3]).light_direction, [0.0, -1.0, 0.0, 0.0]);
+        assert_eq!(
+            LightingUniforms::new([0.0; 3], [0.0; 3], [0.0; 3]).light_direction,
+            [0.0, -1.0, 0.0, 0.0]
+        );
         assert_eq!(std::mem::size_of::<LightingUniforms>(), 48);
     }
 }
