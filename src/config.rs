@@ -157,7 +157,10 @@ impl AppConfig {
                                     .map_err(|m| err(path, m))?
                             }
                             _ => {
-                                return Err(err(path, unknown_key("reference", rk, REFERENCE_KEYS)));
+                                return Err(err(
+                                    path,
+                                    unknown_key("reference", rk, REFERENCE_KEYS),
+                                ));
                             }
                         }
                     }
