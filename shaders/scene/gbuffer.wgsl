@@ -6,6 +6,10 @@
 struct Instance {
     model: mat4x4<f32>,
     prev_model: mat4x4<f32>,
+    // Carries object-space normals to world space: sign(det M) cof(M) of the model's linear
+    // part M, the inverse transpose up to a positive factor (crates/scene/src/normal_transform.rs,
+    // the rule the CPU g-buffer uses too). Exact under non-uniform scale, shear and mirroring.
+    normal_model: mat3x3<f32>,
     color: vec4<f32>,
 }
 
@@ -35,9 +39,9 @@ fn vs(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @builtin
     let world = inst.model * vec4<f32>(position, 1.0);
     let prev_world = inst.prev_model * vec4<f32>(position, 1.0);
     let vp = view.view * world;
-    // Normals: the model's linear part applied to the normal, renormalised (exact for the
-    // rotations and uniform scales scenes use; non-uniform scale is approximated).
-    let wn = (inst.model * vec4<f32>(normal, 0.0)).xyz;
+    // Normalised per vertex, then interpolated and renormalised per fragment. A mesh without
+    // normals uploads zero normals: its fragments fall back to the geometric normal.
+    let wn = normalize_safe_or_zero(inst.normal_model * normal);
     var out: VsOut;
     out.clip = view.proj * vp;
     out.cur_clip = out.clip;
@@ -63,13 +67,20 @@ fn clip_to_uv(c: vec4<f32>) -> vec2<f32> {
     return vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
 }
 
-fn shade(in: VsOut, n_view: vec3<f32>) -> GBuffer {
-    // Face the camera: two-sided surfaces.
-    var n = n_view;
-    let to_eye = select(normalize(-in.view_pos), vec3<f32>(0.0, 0.0, 1.0), view.near_far.w > 0.5);
-    if (dot(n, to_eye) < 0.0) {
-        n = -n;
-    }
+// The direction from the surface towards the eye (view space).
+fn to_eye(view_pos: vec3<f32>) -> vec3<f32> {
+    return select(normalize(-view_pos), vec3<f32>(0.0, 0.0, 1.0), view.near_far.w > 0.5);
+}
+
+// The triangle's geometric normal from the position derivatives, turned to face the eye
+// (two-sided surfaces). Helper invocations of a 2x2 quad extrapolate the same triangle's plane,
+// so the derivatives lie in that plane and the cross product is its normal.
+fn geometric_normal(view_pos: vec3<f32>) -> vec3<f32> {
+    let g = normalize_safe(cross(dpdx(view_pos), dpdy(view_pos)));
+    return select(g, -g, dot(g, to_eye(view_pos)) < 0.0);
+}
+
+fn shade(in: VsOut, n: vec3<f32>) -> GBuffer {
     var wn = normalize((view.inv_view * vec4<f32>(n, 0.0)).xyz);
     var g: GBuffer;
     g.linear_depth = max(-in.view_pos.z, 1e-30);
@@ -82,27 +93,35 @@ fn shade(in: VsOut, n_view: vec3<f32>) -> GBuffer {
     return g;
 }
 
-// Interpolated vertex normals.
+// Interpolated (shading) normals, turned to the side of the geometric normal that faces the
+// eye (pbrt's FaceForward(ns, ng)), so a shading normal leaning away from the eye near a
+// silhouette keeps its surface's side. Zero-length normals fall back to the geometric normal.
 @fragment
 fn fs_smooth(in: VsOut) -> GBuffer {
-    var n = in.view_normal;
-    let len = length(n);
-    if (!(len > 1e-20)) {
-        n = cross(dpdx(in.view_pos), dpdy(in.view_pos));
+    let g = geometric_normal(in.view_pos);
+    let s = in.view_normal;
+    if (!(length(s) > 1e-20)) {
+        return shade(in, g);
     }
-    return shade(in, normalize_safe(n));
+    let n = normalize(s);
+    return shade(in, select(n, -n, dot(n, g) < 0.0));
 }
 
-// Face (flat) normals from the position derivatives, as MSSAO needs.
+// Face (geometric) normals, as MSSAO and the reference (by default) use.
 @fragment
 fn fs_face(in: VsOut) -> GBuffer {
-    var n = cross(dpdx(in.view_pos), dpdy(in.view_pos));
-    if (!(length(n) > 1e-30)) {
-        n = in.view_normal;
-    }
-    return shade(in, normalize_safe(n));
+    return shade(in, geometric_normal(in.view_pos));
 }
 
+fn normalize_safe_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let l = length(v);
+    if (l > 1e-30) {
+        return v / l;
+    }
+    return vec3<f32>(0.0);
+}
+
+// A degenerate derivative cross product (a triangle seen exactly edge-on) faces the eye.
 fn normalize_safe(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);
     if (l > 1e-30) {

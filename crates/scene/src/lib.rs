@@ -14,6 +14,7 @@ pub mod gbuffer;
 pub mod gltf_export;
 pub mod gltf_import;
 pub mod model;
+pub mod normal_transform;
 pub mod primitives;
 pub mod procedural;
 pub mod reference;
@@ -27,9 +28,10 @@ pub use error::SceneError;
 pub use gltf_export::export_glb;
 pub use gltf_import::{GltfImport, import_gltf, load_scene};
 pub use model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, Scene};
+pub use normal_transform::{normal_matrix, transform_normal};
 pub use procedural::{PROCEDURAL_SCENE_NAMES, procedural_scene};
 pub use reference::{
-    CacheKey, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer,
-    TriangleBvh, primary_hits, trace_reference,
+    BruteForceTracer, CacheKey, CpuGBuffer, ReferenceCache, ReferenceImage, ReferenceMode,
+    ReferenceNormals, ReferenceParams, SurfaceBuffer, TriangleBvh, primary_hits, trace_reference,
 };
 pub use scene_builder::SceneBuilder;

@@ -10,6 +10,7 @@
 use crate::animation::Animation;
 use crate::bounds::Aabb;
 use crate::camera::{Camera, CameraMotion};
+use crate::normal_transform::transform_normal;
 use glam::{Mat4, Vec3};
 
 /// An indexed triangle mesh in its own (object) space.
@@ -40,6 +41,16 @@ impl Mesh {
             let c = *self.positions.get(tri[2] as usize)?;
             Some([a, b, c])
         })
+    }
+
+    /// Per-vertex object-space normals of [`Mesh::triangles`] (the same triangles, in the same
+    /// order); a vertex without a normal gets zero, as the g-buffer uploads it.
+    pub fn triangle_normals(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        let normal = |i: u32| self.normals.get(i as usize).copied().unwrap_or(Vec3::ZERO);
+        self.indices
+            .chunks_exact(3)
+            .filter(|tri| tri.iter().all(|&i| (i as usize) < self.positions.len()))
+            .map(move |tri| [normal(tri[0]), normal(tri[1]), normal(tri[2])])
     }
 
     /// Object-space bounds of the referenced vertices.
@@ -225,6 +236,25 @@ impl Scene {
         }
         out
     }
+
+    /// Per-vertex world-space unit normals of [`Scene::world_triangles`] at time `t`, in the
+    /// same order: each vertex normal carried by its instance's normal matrix (the inverse
+    /// transpose, see [`crate::normal_transform`]) and renormalised, the rule the GPU g-buffer's
+    /// vertex shader applies. Vertices without a usable normal get zero.
+    pub fn world_vertex_normals(&self, t: f32) -> Vec<[Vec3; 3]> {
+        let mut out = Vec::with_capacity(self.triangle_count());
+        for instance in &self.instances {
+            let Some(mesh) = self.meshes.get(instance.mesh) else {
+                continue;
+            };
+            let m = instance.transform_at(t);
+            out.extend(
+                mesh.triangle_normals()
+                    .map(|tri| tri.map(|n| transform_normal(m, n).unwrap_or(Vec3::ZERO))),
+            );
+        }
+        out
+    }
 }
 
 #[cfg(test)]
@@ -262,6 +292,21 @@ mod tests {
         assert_eq!(tris.len(), 1);
         assert_eq!(tris[0][1], Vec3::new(1.0, 0.0, 1.0));
         assert!(scene.is_static());
+        let normals = scene.world_vertex_normals(0.0);
+        assert_eq!(normals, vec![[Vec3::Z; 3]]);
+    }
+
+    #[test]
+    fn world_vertex_normals_follow_the_inverse_transpose() {
+        // A 45-degree normal under scale (1, 8, 1) must become (1, 1/8, 0) normalised, not
+        // (1, 8, 0) normalised as the model matrix itself would make it.
+        let mut scene = one_triangle_scene(None);
+        let n = Vec3::new(1.0, 1.0, 0.0).normalize();
+        scene.meshes[0].normals = vec![n; 3];
+        scene.instances[0].transform = Mat4::from_scale(Vec3::new(1.0, 8.0, 1.0));
+        let got = scene.world_vertex_normals(0.0)[0][0];
+        let want = Vec3::new(1.0, 0.125, 0.0).normalize();
+        assert!((got - want).length() < 1e-6, "{got}");
     }
 
     #[test]

@@ -17,6 +17,7 @@ use wgpu::util::DeviceExt;
 use super::GBufferClock;
 use crate::camera::Projection;
 use crate::model::Scene;
+use crate::normal_transform::normal_matrix;
 
 const SHADER: &str = "scene/gbuffer.wgsl";
 
@@ -25,7 +26,14 @@ const SHADER: &str = "scene/gbuffer.wgsl";
 struct InstanceGpu {
     model: [[f32; 4]; 4],
     prev_model: [[f32; 4]; 4],
+    /// WGSL `mat3x3<f32>`: three columns padded to 16 bytes each.
+    normal_model: [[f32; 4]; 3],
     color: [f32; 4],
+}
+
+/// The WGSL layout of a 3x3 matrix: columns padded to vec4.
+fn padded_mat3(m: glam::Mat3) -> [[f32; 4]; 3] {
+    [m.x_axis, m.y_axis, m.z_axis].map(|c| c.extend(0.0).to_array())
 }
 
 #[repr(C)]
@@ -244,7 +252,8 @@ impl GBufferRaster {
                     .iter()
                     .enumerate()
                     .map(|(i, p)| {
-                        let n = m.normals.get(i).copied().unwrap_or(glam::Vec3::Z);
+                        // No normals: zero, so the fragment uses the geometric normal.
+                        let n = m.normals.get(i).copied().unwrap_or(glam::Vec3::ZERO);
                         [p.x, p.y, p.z, n.x, n.y, n.z]
                     })
                     .collect();
@@ -322,9 +331,11 @@ impl CustomPass for GBufferRaster {
                 )
                 .map(|m| m.base_color)
                 .unwrap_or([0.8, 0.8, 0.8, 1.0]);
+            let model = inst.transform_at(frame.time);
             state.staging.push(InstanceGpu {
-                model: inst.transform_at(frame.time).to_cols_array_2d(),
+                model: model.to_cols_array_2d(),
                 prev_model: inst.transform_at(frame.prev_time).to_cols_array_2d(),
+                normal_model: padded_mat3(normal_matrix(model)),
                 color,
             });
         }
