@@ -10,6 +10,7 @@ mod arch;
 mod columns;
 mod cornell_box;
 mod dynamic;
+mod node_transforms;
 mod stairs;
 mod thin_bars;
 
@@ -36,6 +37,7 @@ pub const PROCEDURAL_SCENE_NAMES: &[&str] = &[
     "stairs",
     "columns",
     "dynamic",
+    "node-transforms",
 ];
 
 /// The scene the app opens when none is given.
@@ -53,6 +55,7 @@ pub fn procedural_scene(name: &str) -> Result<Scene, SceneError> {
         "stairs" => stairs::stairs(),
         "columns" => columns::columns(),
         "dynamic" => dynamic::dynamic(),
+        "node-transforms" => node_transforms::node_transforms(),
         _ => {
             return Err(SceneError::UnknownScene {
                 name: name.to_owned(),

@@ -103,8 +103,8 @@ impl TriangleBvh {
     }
 
     /// The obvhs ray for the query, started `lead` behind `origin` (see the module docs), and
-    /// the lead; `None` for unusable input.
-    fn ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Option<(Ray, f32)> {
+    /// the lead; `None` for unusable input. [`super::BruteForceTracer`] asks the same rays.
+    pub(super) fn ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Option<(Ray, f32)> {
         let usable = origin.is_finite()
             && direction.is_finite()
             && direction != Vec3::ZERO

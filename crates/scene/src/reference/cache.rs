@@ -1,22 +1,34 @@
 //! A disk cache of reference images, so a long reference run is paid once per input.
 //!
-//! The key is a 128-bit FNV-1a hash of everything the result depends on: a tracer version tag,
-//! the world-space triangles (bit patterns), the camera (position, target, up, projection),
-//! the resolution, R, N and the mode (the progress setting is excluded). Entries are two raw
-//! AOREF32 files, `<key>.accessibility.aoref` and `<key>.std_error.aoref`, each written
-//! atomically. Invariants: a changed input changes the key (up to hash collisions); a
-//! truncated or corrupt entry is reported on stderr and treated as a miss, never returned.
+//! The key is a 128-bit FNV-1a hash of everything the result depends on, and nothing else:
+//! - the traced surfaces: every pixel's point, normal and valid flag (bit patterns), so a
+//!   changed g-buffer (a fixed normal transform, another normal choice, another camera or
+//!   resolution) is a miss;
+//! - the world-space triangles the rays are traced against (bit patterns);
+//! - R, rays per pixel and the mode (the progress setting is excluded: it changes no value);
+//! - the tracer itself: the source text of the estimator, its sampling and its BVH, compiled
+//!   in, so editing the tracer's code invalidates old entries without a hand-bumped version.
+//!
+//! Entries are two raw AOREF32 files, `<key>.accessibility.aoref` and
+//! `<key>.std_error.aoref`, each written atomically. Invariants: a changed input changes the
+//! key (up to hash collisions); a truncated or corrupt entry is reported on stderr and treated
+//! as a miss, never returned.
 
-use super::ReferenceParams;
 use super::output::{ReferenceImage, read_raw_f32, write_raw_f32};
-use crate::camera::{Camera, Projection};
+use super::{ReferenceParams, SurfaceBuffer};
 use crate::error::SceneError;
 use glam::Vec3;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Bump when the tracer's output for the same input changes (sampling, epsilon, ...).
-const TRACER_VERSION: &str = "aograph-reference-v1";
+/// The code whose output the cache stores: any edit to it changes every key. (The obvhs
+/// version is pinned by Cargo.lock; the BVH's own tests and the brute-force comparison check
+/// that it changes no result.)
+const TRACER_SOURCES: [&str; 3] = [
+    include_str!("tracer.rs"),
+    include_str!("sampling.rs"),
+    include_str!("bvh.rs"),
+];
 
 /// 128-bit FNV-1a hasher over explicit byte sequences (stable across platforms and Rust
 /// versions, unlike `std::hash`).
@@ -64,41 +76,29 @@ impl fmt::Display for CacheKey {
 }
 
 impl CacheKey {
-    /// The key of a reference of `triangles` seen by `camera` at `width` x `height`.
+    /// The key of the reference traced from `surfaces` against `triangles` with `params`.
     pub fn new(
         triangles: &[[Vec3; 3]],
-        camera: &Camera,
-        width: u32,
-        height: u32,
+        surfaces: &SurfaceBuffer,
         params: &ReferenceParams,
     ) -> CacheKey {
         let mut h = Fnv1a128::new();
-        h.bytes(TRACER_VERSION.as_bytes());
+        for source in TRACER_SOURCES {
+            h.u32(source.len() as u32);
+            h.bytes(source.as_bytes());
+        }
         h.u32(triangles.len() as u32);
         for tri in triangles {
             tri.iter().for_each(|v| h.vec3(*v));
         }
-        h.vec3(camera.position);
-        h.vec3(camera.target);
-        h.vec3(camera.up);
-        match camera.projection {
-            Projection::Perspective {
-                fov_y,
-                near,
-                far,
-                reversed_z_infinite,
-            } => {
-                h.u32(1);
-                [fov_y, near, far].into_iter().for_each(|v| h.f32(v));
-                h.u32(u32::from(reversed_z_infinite));
-            }
-            Projection::Orthographic { height, near, far } => {
-                h.u32(2);
-                [height, near, far].into_iter().for_each(|v| h.f32(v));
-            }
+        h.u32(surfaces.width);
+        h.u32(surfaces.height);
+        for list in [&surfaces.points, &surfaces.normals] {
+            h.u32(list.len() as u32);
+            list.iter().for_each(|v| h.vec3(*v));
         }
-        h.u32(width);
-        h.u32(height);
+        h.u32(surfaces.valid.len() as u32);
+        surfaces.valid.iter().for_each(|v| h.bytes(&[u8::from(*v)]));
         h.f32(params.radius);
         h.u32(params.rays_per_pixel);
         h.u32(params.mode as u32);
@@ -196,28 +196,73 @@ mod tests {
     use super::*;
     use crate::reference::ReferenceMode;
 
-    fn camera() -> Camera {
-        Camera::perspective(Vec3::Z, Vec3::ZERO, 1.0, 0.1, 10.0)
+    fn surfaces() -> SurfaceBuffer {
+        SurfaceBuffer {
+            width: 2,
+            height: 1,
+            points: vec![Vec3::new(0.1, 0.2, 0.0), Vec3::ZERO],
+            normals: vec![Vec3::Z, Vec3::ZERO],
+            valid: vec![true, false],
+        }
     }
 
     #[test]
     fn key_changes_with_each_input_but_not_with_progress() {
         let tris = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]];
         let params = ReferenceParams::default();
-        let base = CacheKey::new(&tris, &camera(), 8, 8, &params);
+        let base = CacheKey::new(&tris, &surfaces(), &params);
+        assert_eq!(base, CacheKey::new(&tris, &surfaces(), &params));
         let moved = vec![[Vec3::ZERO, Vec3::X, Vec3::Y * 1.001]];
-        assert_ne!(base, CacheKey::new(&moved, &camera(), 8, 8, &params));
-        assert_ne!(base, CacheKey::new(&tris, &camera(), 8, 9, &params));
+        assert_ne!(base, CacheKey::new(&moved, &surfaces(), &params));
         let obscurance = ReferenceParams {
             mode: ReferenceMode::Obscurance,
             ..params
         };
-        assert_ne!(base, CacheKey::new(&tris, &camera(), 8, 8, &obscurance));
+        assert_ne!(base, CacheKey::new(&tris, &surfaces(), &obscurance));
+        let wider = ReferenceParams {
+            radius: 1.5,
+            ..params
+        };
+        assert_ne!(base, CacheKey::new(&tris, &surfaces(), &wider));
         let quiet = ReferenceParams {
             progress: crate::reference::ProgressMode::Never,
             ..params
         };
-        assert_eq!(base, CacheKey::new(&tris, &camera(), 8, 8, &quiet));
+        assert_eq!(base, CacheKey::new(&tris, &surfaces(), &quiet));
+    }
+
+    #[test]
+    fn one_changed_surface_value_is_a_cache_miss() {
+        // A g-buffer fixed in one pixel (one normal component, one point coordinate, or one
+        // pixel turned sky) must not be served the old entry.
+        let tris = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]];
+        let params = ReferenceParams::default();
+        let base = CacheKey::new(&tris, &surfaces(), &params);
+        let dir = std::env::temp_dir().join(format!("aograph-cache-miss-{}", std::process::id()));
+        let cache = ReferenceCache::new(&dir);
+        let image = ReferenceImage {
+            width: 2,
+            height: 1,
+            accessibility: vec![0.25, 1.0],
+            std_error: vec![0.01, 0.0],
+        };
+        cache.store(base, &image).unwrap();
+        assert_eq!(cache.load(base), Some(image));
+        let mut normal = surfaces();
+        normal.normals[0] = Vec3::new(0.0, 1e-3, 1.0).normalize();
+        let mut point = surfaces();
+        point.points[0].x = f32::from_bits(point.points[0].x.to_bits() + 1);
+        let mut sky = surfaces();
+        sky.valid[0] = false;
+        for changed in [normal, point, sky] {
+            let key = CacheKey::new(&tris, &changed, &params);
+            assert_ne!(key, base);
+            assert!(
+                cache.load(key).is_none(),
+                "a changed surface was served the old entry"
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

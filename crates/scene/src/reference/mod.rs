@@ -9,20 +9,22 @@
 //! Invariants: results are deterministic (same input, same image, bit for bit, whatever the
 //! thread count) and every output value is finite and in [0, 1].
 
+mod brute_force;
 mod bvh;
 mod cache;
+mod cpu_gbuffer;
 mod output;
-mod primary;
 mod progress;
 mod sampling;
 mod tracer;
 
+pub use brute_force::BruteForceTracer;
 pub use bvh::{RayHitRecord, TriangleBvh};
 pub use cache::{CacheKey, ReferenceCache};
+pub use cpu_gbuffer::{CpuGBuffer, primary_hits, surface_normals};
 pub use output::{
     RAW_MAGIC, RawF32Image, ReferenceImage, read_raw_f32, write_png16, write_raw_f32,
 };
-pub use primary::{primary_hits, primary_hits_with_bvh};
 pub use progress::ProgressMode;
 pub use sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
 pub use tracer::{offset_epsilon, trace_reference};
@@ -39,6 +41,41 @@ pub enum ReferenceMode {
     Binary,
     /// A hit at distance d occludes by rho(d) = 1 - min(1, (d/R)^2).
     Obscurance,
+}
+
+/// Which normal orients the reference's hemisphere at each pixel. Every technique in a run is
+/// scored against one reference, whatever normals the technique reads itself.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReferenceNormals {
+    /// The hit triangle's plane normal, facing the camera: the surface the rays can actually
+    /// leave, as ray-traced AO references (and offline renderers' AO passes) use. The default.
+    #[default]
+    Geometric,
+    /// The interpolated vertex normal (turned to the geometric normal's side), as shading and
+    /// most screen-space techniques see the surface.
+    Shading,
+}
+
+impl ReferenceNormals {
+    /// The config spelling: "geometric" or "shading".
+    pub fn name(self) -> &'static str {
+        match self {
+            ReferenceNormals::Geometric => "geometric",
+            ReferenceNormals::Shading => "shading",
+        }
+    }
+
+    /// Parses the config spelling, naming the allowed values on error.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "geometric" => Ok(ReferenceNormals::Geometric),
+            "shading" => Ok(ReferenceNormals::Shading),
+            _ => Err(format!(
+                "reference normals `{s}` are not known (allowed: geometric, shading)"
+            )),
+        }
+    }
 }
 
 /// Parameters of a reference run.
@@ -66,7 +103,7 @@ impl Default for ReferenceParams {
 }
 
 /// Per-pixel world-space surface points and normals, row-major, top row first: a g-buffer
-/// read back from the GPU or the CPU [`primary_hits`]. `valid[i] == false` marks sky.
+/// read back from the GPU or the CPU's ([`CpuGBuffer`]). `valid[i] == false` marks sky.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct SurfaceBuffer {
     pub width: u32,
