@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use aograph_ao::{AoConfig, TechniqueRegistry, unknown_key};
-use aograph_scene::ReferenceMode;
+use aograph_scene::{ReferenceMode, ReferenceNormals};
 
 /// The scene rendered when none is given.
 pub const DEFAULT_SCENE: &str = "columns";
@@ -52,6 +52,8 @@ pub struct AppConfig {
     pub ao: AoConfig,
     pub reference_rays: u32,
     pub reference_mode: ReferenceMode,
+    /// The normal that orients the reference's hemisphere (geometric unless set).
+    pub reference_normals: ReferenceNormals,
     /// Frames to render (temporal techniques converge over frames).
     pub frames: u32,
     /// Seconds of scene time per frame (0 = a still frame).
@@ -67,6 +69,7 @@ impl Default for AppConfig {
             ao: AoConfig::default(),
             reference_rays: 256,
             reference_mode: ReferenceMode::Binary,
+            reference_normals: ReferenceNormals::Geometric,
             frames: 1,
             frame_time: 1.0 / 30.0,
         }
@@ -76,7 +79,7 @@ impl Default for AppConfig {
 const TOP_KEYS: &[&str] = &["scene", "output", "ao", "reference", "render"];
 const SCENE_KEYS: &[&str] = &["name", "file"];
 const OUTPUT_KEYS: &[&str] = &["width", "height"];
-const REFERENCE_KEYS: &[&str] = &["rays", "mode"];
+const REFERENCE_KEYS: &[&str] = &["rays", "mode", "normals"];
 const RENDER_KEYS: &[&str] = &["frames", "frame_time"];
 
 /// Largest output side accepted (wgpu's default 2D texture limit).
@@ -155,6 +158,11 @@ impl AppConfig {
                             "mode" => {
                                 c.reference_mode = parse_mode(rv.as_str().unwrap_or(""))
                                     .map_err(|m| err(path, m))?
+                            }
+                            "normals" => {
+                                c.reference_normals =
+                                    ReferenceNormals::parse(rv.as_str().unwrap_or(""))
+                                        .map_err(|m| err(path, m))?
                             }
                             _ => {
                                 return Err(err(

@@ -10,10 +10,10 @@ use aograph_graph::{
     BufferDesc, DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder,
     GraphDecl, SizeClass, TextureDesc, TextureHandle, VIEW_BUFFER, ViewUniforms,
 };
-use aograph_scene::Scene;
 use aograph_scene::gbuffer::{GBufferClock, add_gbuffer, required_channels};
+use aograph_scene::{ReferenceNormals, Scene};
 
-use crate::error::AppResult;
+use crate::error::{AppError, AppResult};
 
 /// Which outputs besides accessibility a run wants.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -22,6 +22,10 @@ pub struct FrameOutputs {
     pub shaded: bool,
     /// The g-buffer's view-space positions and normals, read back for the reference.
     pub surfaces: bool,
+    /// Which normals `surfaces` writes: geometric (face) or shading (interpolated). A
+    /// technique that reads the other kind cannot share the g-buffer: build the reference's
+    /// surfaces with their own renderer (`frame_reference`).
+    pub surface_normals: ReferenceNormals,
     /// Linear depth, read back (depth image, edge bands).
     pub linear_depth: bool,
     /// Format of the g-buffer's hardware depth buffer (Depth32Float by default).
@@ -56,9 +60,27 @@ pub fn build_frame_graph(
             .with(GBufferChannel::DirectLight);
     }
     if outputs.surfaces {
+        let face = outputs.surface_normals == ReferenceNormals::Geometric;
+        if requested.contains(GBufferChannel::Normals) && requested.face_normals != face {
+            return Err(AppError::InvalidArgument {
+                name: "surface normals".into(),
+                value: outputs.surface_normals.name().into(),
+                allowed: format!(
+                    "the kind technique `{}` reads ({}); trace the reference from a g-buffer of \
+                     its own (frame_reference)",
+                    ao.technique,
+                    if requested.face_normals {
+                        "geometric"
+                    } else {
+                        "shading"
+                    }
+                ),
+            });
+        }
         requested = requested
             .with(GBufferChannel::Positions)
             .with(GBufferChannel::Normals);
+        requested.face_normals = face;
     }
     if outputs.linear_depth {
         requested = requested.with(GBufferChannel::LinearDepth);

@@ -6,6 +6,7 @@ pub mod commands;
 pub mod config;
 pub mod error;
 pub mod frame_graph;
+pub mod frame_reference;
 pub mod images;
 pub mod metrics;
 pub mod renderer;
@@ -13,6 +14,7 @@ pub mod renderer;
 pub use config::{AppConfig, SceneSource};
 pub use error::{AppError, AppResult};
 pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph};
+pub use frame_reference::{FrameView, ReferenceSettings, frame_reference};
 pub use renderer::{Renderer, shader_dir, shader_library};
 
 /// Loads a scene by procedural name or glTF path.

@@ -75,6 +75,9 @@ enum Command {
         /// binary or obscurance.
         #[arg(long)]
         mode: Option<String>,
+        /// The normal that orients each pixel's hemisphere: geometric (default) or shading.
+        #[arg(long)]
+        normals: Option<String>,
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
@@ -144,8 +147,15 @@ fn main() -> ExitCode {
             common,
             rays,
             mode,
+            normals,
             out,
-        } => commands::reference(&common.into_args(), rays, mode.as_deref(), &out),
+        } => commands::reference(
+            &common.into_args(),
+            rays,
+            mode.as_deref(),
+            normals.as_deref(),
+            &out,
+        ),
         Command::Bench(args) => commands::bench(&args),
         Command::Tune(args) => commands::tune(&args),
         Command::Montage {

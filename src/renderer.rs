@@ -53,6 +53,8 @@ fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
 /// One scene, one technique, frames on demand.
 pub struct Renderer {
     pub gpu: Arc<GpuContext>,
+    /// The shader library the plan was compiled from (a reference g-buffer reuses it).
+    pub shaders: Arc<ShaderLibrary>,
     pub exec: Executor,
     pub plan: Arc<CompiledGraph>,
     pub graph: FrameGraph,
@@ -103,7 +105,7 @@ impl Renderer {
         check_intermediate_format(&gpu, ao)?;
         let graph = build_frame_graph(registry, scene.clone(), ao, outputs)?;
         let plan = GraphCompiler::new().compile(graph.decl.clone(), &shaders, options)?;
-        let mut exec = Executor::with_shaders(gpu.clone(), shaders);
+        let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
         let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("view"),
             size: std::mem::size_of::<aograph_graph::ViewUniforms>() as u64,
@@ -129,6 +131,7 @@ impl Renderer {
         exec.import_buffer(LIGHTING_BUFFER, lighting_buffer);
         Ok(Self {
             gpu,
+            shaders,
             exec,
             plan,
             graph,

@@ -35,7 +35,6 @@ fn render(technique: &str, format: IntermediateFormat) -> Option<Renderer> {
     };
     let registry = TechniqueRegistry::with_builtins();
     let outputs = FrameOutputs {
-        surfaces: true,
         linear_depth: true,
         ..Default::default()
     };

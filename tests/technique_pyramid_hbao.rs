@@ -26,7 +26,6 @@ fn render(
     let config = common::ao_config("pyramid-hbao", RADIUS, params);
     let registry = TechniqueRegistry::with_builtins();
     let outputs = FrameOutputs {
-        surfaces: true,
         linear_depth: true,
         ..Default::default()
     };

@@ -153,7 +153,7 @@ fn outputs_are_valid_across_scenes_and_parameters() {
 
 /// Mean (red, green) of `ssdo_indirect` over floor pixels of the Cornell box with x in `xs`.
 fn floor_indirect(run: &common::AoRun, xs: std::ops::Range<f32>) -> (f32, f32, usize) {
-    let s = run.renderer.surfaces().unwrap();
+    let s = common::surfaces(run);
     let rgba = run.renderer.read_extra("ssdo_indirect").unwrap();
     let (mut r, mut g, mut n) = (0.0f64, 0.0f64, 0usize);
     for i in 0..s.points.len() {

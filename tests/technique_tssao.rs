@@ -8,7 +8,7 @@ mod common;
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer};
+use aograph::{FrameOutputs, ReferenceSettings, Renderer};
 use aograph_ao::AoConfig;
 use aograph_ao::blocks::temporal::{
     TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
@@ -17,7 +17,7 @@ use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, TechniqueRegis
 use aograph_graph::{
     BufferAccess, Extent, GBufferChannels, ParamSpec, PassTimings, SizeClass, TextureDesc, test_gpu,
 };
-use aograph_scene::{Camera, ReferenceMode, Scene, procedural_scene};
+use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::{Mat4, Vec3};
 
 const RADIUS: f32 = 1.0;
@@ -29,7 +29,6 @@ fn renderer(scene: Scene, config: &AoConfig, size: Extent) -> Option<Renderer> {
     let gpu = test_gpu()?;
     let registry = TechniqueRegistry::with_builtins();
     let outputs = FrameOutputs {
-        surfaces: true,
         linear_depth: true,
         ..Default::default()
     };
@@ -52,7 +51,7 @@ fn tssao(params: &str) -> AoConfig {
 }
 
 fn reference(r: &Renderer) -> Vec<f32> {
-    aograph::commands::trace_for(r, RADIUS, RAYS, ReferenceMode::Binary, false)
+    aograph::frame_reference(r, &ReferenceSettings::new(RADIUS, RAYS), false)
         .expect("reference traces")
         .accessibility
 }
@@ -268,7 +267,14 @@ fn flicker(
         r.render_with_camera(0.0, c).unwrap();
         let (a, d) = (ao(&r), depth(&r));
         if let (true, Some((pa, pd, pc))) = (f > warmup, &prev) {
-            let s = r.surfaces().unwrap();
+            let s = aograph::frame_reference::reference_surfaces(
+                r.gpu.clone(),
+                r.shaders.clone(),
+                &aograph::FrameView::of(&r),
+                aograph_scene::ReferenceNormals::Geometric,
+            )
+            .unwrap()
+            .0;
             let (vp, view) = (pc.view_projection(w as f32 / h as f32), pc.view());
             for i in 0..a.len() {
                 if d[i] <= 0.0 {

@@ -65,6 +65,7 @@ pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
         radius: s.radius,
         rays: s.rays,
         mode: format!("{:?}", s.mode).to_lowercase(),
+        normals: s.normals.name().into(),
         ssim: format!(
             "{0}x{0} {window} window, k1 = {1}, k2 = {2}, L = {3} (the Pyramid HBAO paper's settings; k1 as printed there)",
             p.window, p.k1, p.k2, p.dynamic_range

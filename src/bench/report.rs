@@ -20,6 +20,11 @@ fn binary() -> String {
     "binary".into()
 }
 
+/// Results files written before the reference normals were recorded used shading normals.
+fn shading() -> String {
+    "shading".into()
+}
+
 /// The device and settings every run of a bench shares.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchMeta {
@@ -39,6 +44,9 @@ pub struct BenchMeta {
     /// "binary" or "obscurance".
     #[serde(default = "binary")]
     pub mode: String,
+    /// The normal that orients the reference's hemisphere: "geometric" or "shading".
+    #[serde(default = "shading")]
+    pub normals: String,
     pub ssim: String,
     pub edge_band: u32,
     pub edge_jump: f32,
@@ -196,7 +204,7 @@ fn mib(bytes: u64) -> String {
 
 fn settings_line(m: &BenchMeta) -> String {
     format!(
-        "{}x{}, {} warm-up + {} measured frames of a still camera (scene time 0), AO radius R = {}, reference: {} rays/pixel, {} mode ({}).",
+        "{}x{}, {} warm-up + {} measured frames of a still camera (scene time 0), AO radius R = {}, reference: {} rays/pixel, {} mode ({}), hemisphere around the {} normal ({}); every technique is scored against this one reference.",
         m.width,
         m.height,
         m.warmup,
@@ -208,6 +216,12 @@ fn settings_line(m: &BenchMeta) -> String {
             "a hit at distance d occludes by 1 - (d/R)^2"
         } else {
             "a hit within R occludes fully"
+        },
+        m.normals,
+        if m.normals == "shading" {
+            "the interpolated vertex normal"
+        } else {
+            "the hit triangle's face normal, facing the camera"
         }
     )
 }

@@ -5,10 +5,11 @@
 //! - Every frame is the scene at time 0 from its own camera (a still frame), so the reference
 //!   traced once per scene is the reference of every frame, and flicker measures the
 //!   technique's own frame-to-frame instability (animated noise, temporal convergence).
-//! - The reference comes from a separate `none` renderer that also writes the g-buffer's
-//!   points, normals and linear depth. The technique's renderer asks for nothing but
-//!   accessibility, so its plan, timings and texture bytes are exactly what the technique
-//!   costs in an application (no extra g-buffer channels for measuring).
+//! - The reference comes from a g-buffer of its own (`frame_reference`): points, the
+//!   configured normals (geometric by default) and linear depth, so every technique in a run is
+//!   scored against one reference whatever normals it reads. The technique's renderer asks for
+//!   nothing but accessibility, so its plan, timings and texture bytes are exactly what the
+//!   technique costs in an application (no extra g-buffer channels for measuring).
 //! - Times: "total" is the sum of the technique's passes (every pass but the g-buffer, which
 //!   every technique shares); "frame" adds the g-buffer. Both are per-frame sums whose median
 //!   and spread are taken over the N measured frames.
@@ -19,15 +20,15 @@ use std::sync::Arc;
 
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, texture_bytes};
-use aograph_scene::{ReferenceMode, Scene};
+use aograph_scene::{ReferenceMode, ReferenceNormals, Scene};
 use serde::{Deserialize, Serialize};
 
 use super::stats::Spread;
 use super::sweep::ParamSet;
-use crate::commands::trace_for;
 use crate::config::SceneSource;
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
+use crate::frame_reference::{FrameView, ReferenceSettings, reference_surfaces, trace_surfaces};
 use crate::metrics::{FlickerMeter, MetricOptions, Metrics, compare};
 use crate::renderer::Renderer;
 
@@ -46,12 +47,24 @@ pub struct BenchSettings {
     pub rays: u32,
     /// Reference mode: binary (a hit within R occludes) or obscurance (weighted 1 - (d/R)^2).
     pub mode: ReferenceMode,
+    /// Reference hemisphere: geometric (face) or shading (interpolated) normals.
+    pub normals: ReferenceNormals,
     pub metrics: MetricOptions,
 }
 
 impl BenchSettings {
     pub fn extent(&self) -> Extent {
         Extent::new(self.width, self.height)
+    }
+
+    /// How the reference is traced.
+    pub fn reference(&self) -> ReferenceSettings {
+        ReferenceSettings {
+            radius: self.radius,
+            rays: self.rays,
+            mode: self.mode,
+            normals: self.normals,
+        }
     }
 }
 
@@ -93,28 +106,15 @@ pub fn scene_reference(
     s: &BenchSettings,
 ) -> AppResult<SceneReference> {
     let scene = Arc::new(crate::load_scene(source)?);
-    let ao = AoConfig {
-        technique: "none".into(),
-        radius: s.radius,
-        ..AoConfig::default()
+    let view = FrameView {
+        camera: scene.camera_at(0.0),
+        scene: scene.clone(),
+        time: 0.0,
+        extent: s.extent(),
     };
-    let outputs = FrameOutputs {
-        surfaces: true,
-        linear_depth: true,
-        ..Default::default()
-    };
-    let mut r = Renderer::new(
-        ctx.gpu.clone(),
-        ctx.shaders.clone(),
-        &ctx.registry,
-        scene.clone(),
-        &ao,
-        outputs,
-        s.extent(),
-    )?;
-    r.render(0.0)?;
-    let image = trace_for(&r, s.radius, s.rays, s.mode, false)?;
-    let depth = r.read_linear_depth()?;
+    let (surfaces, depth) =
+        reference_surfaces(ctx.gpu.clone(), ctx.shaders.clone(), &view, s.normals)?;
+    let image = trace_surfaces(&scene, 0.0, &surfaces, &s.reference(), false)?;
     let valid = depth.iter().map(|d| *d > 0.0).collect();
     Ok(SceneReference {
         label: source.label(),

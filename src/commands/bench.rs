@@ -68,6 +68,9 @@ pub struct RunFlags {
     /// Reference mode: binary or obscurance.
     #[arg(long, default_value = "binary")]
     pub mode: String,
+    /// The normal that orients the reference's hemisphere: geometric or shading.
+    #[arg(long, default_value = "geometric")]
+    pub normals: String,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -84,6 +87,7 @@ impl RunFlags {
             self.radius,
             self.rays,
             &self.mode,
+            &self.normals,
             edge_band,
         )
     }
@@ -121,8 +125,15 @@ fn settings(
     radius: Option<f32>,
     rays: u32,
     mode: &str,
+    normals: &str,
     edge_band: u32,
 ) -> AppResult<BenchSettings> {
+    let normals =
+        aograph_scene::ReferenceNormals::parse(normals).map_err(|e| AppError::InvalidArgument {
+            name: "--normals".into(),
+            value: normals.into(),
+            allowed: e,
+        })?;
     let mode = crate::config::parse_mode(mode).map_err(|e| AppError::InvalidArgument {
         name: "--mode".into(),
         value: mode.into(),
@@ -139,6 +150,7 @@ fn settings(
         radius,
         rays: positive("--rays", rays)?,
         mode,
+        normals,
         metrics: MetricOptions {
             edge_band,
             ..MetricOptions::default()

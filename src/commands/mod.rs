@@ -17,7 +17,7 @@ use aograph_graph::GpuContext;
 pub use bench::{BenchArgs, bench};
 pub use graph::graph;
 pub use montage::montage;
-pub use reference::{reference, trace_for};
+pub use reference::reference;
 pub use render::{RenderArgs, render};
 pub use tune::{DEFAULT_SWEEP, TuneArgs, choose, config_text, tune};
 

@@ -8,9 +8,10 @@ use std::sync::Arc;
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
 
-use super::{CommonArgs, gpu, trace_for};
+use super::{CommonArgs, gpu};
 use crate::error::AppResult;
 use crate::frame_graph::FrameOutputs;
+use crate::frame_reference::{ReferenceSettings, frame_reference};
 use crate::images::{prepare_output_dir, write_rgb_png};
 use crate::renderer::{Renderer, shader_library};
 
@@ -44,7 +45,6 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
         &base_ao,
         FrameOutputs {
             shaded: true,
-            surfaces: true,
             ..Default::default()
         },
         size,
@@ -57,7 +57,17 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
             .collect(),
     );
     panels.push(gray(
-        &trace_for(&r, config.ao.radius, rays, config.reference_mode, true)?.accessibility,
+        &frame_reference(
+            &r,
+            &ReferenceSettings {
+                radius: config.ao.radius,
+                rays,
+                mode: config.reference_mode,
+                normals: config.reference_normals,
+            },
+            true,
+        )?
+        .accessibility,
     ));
     for t in techniques {
         let mut ao = config.ao.clone();

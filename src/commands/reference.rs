@@ -1,69 +1,31 @@
 //! `aograph reference`: ray-traces the reference accessibility of a scene from the g-buffer's
-//! own points and normals (so the reference and the techniques see the same surfaces) and
-//! writes reference.png (16-bit), reference.f32 (raw) and gbuffer_depth.png.
+//! own points (so the reference and the techniques see the same surfaces), oriented by the
+//! configured normals (`[reference] normals`, geometric by default), and writes reference.png
+//! (16-bit), reference.f32 (raw) and gbuffer_depth.png.
 
 use std::path::Path;
 use std::sync::Arc;
 
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
-use aograph_scene::reference::ProgressMode;
-use aograph_scene::{ReferenceCache, ReferenceImage, ReferenceParams, TriangleBvh};
+use aograph_scene::ReferenceNormals;
 
 use super::{CommonArgs, gpu};
 use crate::config::parse_mode;
 use crate::error::{AppError, AppResult};
-use crate::frame_graph::FrameOutputs;
+use crate::frame_reference::{FrameView, ReferenceSettings, reference_surfaces, trace_surfaces};
 use crate::images::{prepare_output_dir, write_gray_png};
-use crate::renderer::{Renderer, shader_library};
-
-/// Renders the g-buffer of `r`'s last frame and traces the reference for it, using the disk
-/// cache under `target/reference-cache` (or `AOGRAPH_REFERENCE_CACHE`).
-pub fn trace_for(
-    r: &Renderer,
-    radius: f32,
-    rays: u32,
-    mode: aograph_scene::ReferenceMode,
-    progress: bool,
-) -> AppResult<ReferenceImage> {
-    let surfaces = r.surfaces()?;
-    let tris = r.scene.world_triangles(r.time());
-    let params = ReferenceParams {
-        radius,
-        rays_per_pixel: rays,
-        mode,
-        progress: if progress {
-            ProgressMode::Auto
-        } else {
-            ProgressMode::Never
-        },
-    };
-    let key =
-        aograph_scene::CacheKey::new(&tris, &r.camera(), surfaces.width, surfaces.height, &params);
-    let dir = std::env::var_os("AOGRAPH_REFERENCE_CACHE")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| {
-            std::path::PathBuf::from(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/target/reference-cache"
-            ))
-        });
-    let cache = ReferenceCache::new(dir);
-    Ok(cache.get_or_trace(key, || {
-        let bvh = TriangleBvh::new(&tris);
-        aograph_scene::trace_reference(&bvh, &surfaces, &params)
-    })?)
-}
+use crate::renderer::shader_library;
 
 pub fn reference(
     args: &CommonArgs,
     rays: Option<u32>,
     mode: Option<&str>,
+    normals: Option<&str>,
     out: &Path,
 ) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
-    let mut config = args.resolve(&registry)?;
-    config.ao.technique = "none".into();
+    let config = args.resolve(&registry)?;
     let rays = rays.unwrap_or(config.reference_rays);
     if rays == 0 {
         return Err(AppError::InvalidArgument {
@@ -80,29 +42,35 @@ pub fn reference(
         })?,
         None => config.reference_mode,
     };
+    let normals = match normals {
+        Some(n) => ReferenceNormals::parse(n).map_err(|e| AppError::InvalidArgument {
+            name: "--normals".into(),
+            value: n.into(),
+            allowed: e,
+        })?,
+        None => config.reference_normals,
+    };
     let scene = Arc::new(crate::load_scene(&config.scene)?);
     prepare_output_dir(out)?;
     let size = Extent::new(config.width, config.height);
-    let mut r = Renderer::new(
-        gpu()?,
-        shader_library(),
-        &registry,
+    let view = FrameView {
+        camera: scene.camera_at(0.0),
         scene,
-        &config.ao,
-        FrameOutputs {
-            surfaces: true,
-            linear_depth: true,
-            ..Default::default()
-        },
-        size,
-    )?;
-    r.render(0.0)?;
+        time: 0.0,
+        extent: size,
+    };
+    let (surfaces, depth) = reference_surfaces(gpu()?, shader_library(), &view, normals)?;
+    let settings = ReferenceSettings {
+        radius: config.ao.radius,
+        rays,
+        mode,
+        normals,
+    };
     let started = std::time::Instant::now();
-    let image = trace_for(&r, config.ao.radius, rays, mode, true)?;
+    let image = trace_surfaces(&view.scene, view.time, &surfaces, &settings, true)?;
     let secs = started.elapsed().as_secs_f64();
     image.write_png(out.join("reference.png"))?;
     image.write_raw(out.join("reference.f32"))?;
-    let depth = r.read_linear_depth()?;
     let max = depth.iter().copied().fold(0.0f32, f32::max).max(1e-30);
     let shown: Vec<f32> = depth
         .iter()
@@ -116,12 +84,13 @@ pub fn reference(
     )?;
     let mean_err = image.std_error.iter().sum::<f32>() / image.std_error.len().max(1) as f32;
     println!(
-        "reference of {} at {} with {} rays/pixel, R = {}, {:?} mode in {:.2} s (mean standard error {:.4})",
+        "reference of {} at {} with {} rays/pixel, R = {}, {:?} mode, {} normals in {:.2} s (mean standard error {:.4})",
         config.scene.label(),
         size,
         rays,
         config.ao.radius,
         mode,
+        normals.name(),
         secs,
         mean_err
     );

@@ -4,10 +4,10 @@
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer};
+use aograph::{FrameOutputs, ReferenceSettings, Renderer};
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, test_gpu};
-use aograph_scene::{ReferenceMode, Scene};
+use aograph_scene::Scene;
 
 /// One technique's result on one frame.
 pub struct AoRun {
@@ -35,7 +35,6 @@ pub fn render_ao(scene: Scene, config: &AoConfig, size: Extent, frames: u32) -> 
     let gpu = test_gpu()?;
     let registry = TechniqueRegistry::with_builtins();
     let outputs = FrameOutputs {
-        surfaces: true,
         linear_depth: true,
         ..Default::default()
     };
@@ -63,9 +62,23 @@ pub fn render_ao(scene: Scene, config: &AoConfig, size: Extent, frames: u32) -> 
 
 /// The reference for the run's last frame (binary mode), cached on disk.
 pub fn reference(run: &AoRun, radius: f32, rays: u32) -> Vec<f32> {
-    aograph::commands::trace_for(&run.renderer, radius, rays, ReferenceMode::Binary, false)
+    aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, rays), false)
         .expect("reference traces")
         .accessibility
+}
+
+/// The world-space points and geometric normals of the run's last frame, from a g-buffer of
+/// their own (the technique's renderer writes only what the technique reads).
+pub fn surfaces(run: &AoRun) -> aograph_scene::SurfaceBuffer {
+    let view = aograph::FrameView::of(&run.renderer);
+    aograph::frame_reference::reference_surfaces(
+        run.renderer.gpu.clone(),
+        run.renderer.shaders.clone(),
+        &view,
+        aograph_scene::ReferenceNormals::Geometric,
+    )
+    .expect("surfaces render")
+    .0
 }
 
 /// `plane` seen from `degrees` off its normal, 6 units from the origin (the self-occlusion

@@ -97,10 +97,8 @@ fn declare(d: &Dag) -> GraphDecl {
             b.pass(ids[i]).sample(&format!("in{j}"), outs[j]);
         }
     }
-    for i in 0..d.n {
-        if d.exports[i] {
-            b.export(outs[i]);
-        }
+    for (out, _) in outs.iter().zip(&d.exports).filter(|(_, e)| **e) {
+        b.export(*out);
     }
     b.build()
 }

@@ -1,0 +1,155 @@
+//! The reference of a rendered frame: the ray-traced accessibility every technique in a run is
+//! scored against.
+//!
+//! The reference starts its rays from the GPU g-buffer's own points, so it sees the surfaces
+//! the techniques see (the g-buffer is checked against the CPU's primary hits in
+//! `tests/gbuffer_matches_cpu.rs`). Its hemisphere is a stated choice ([`ReferenceNormals`]):
+//! the geometric normal by default, or the shading normal. That choice must not depend on the
+//! technique being scored (mssao reads face normals, ssao interpolated ones), so the surfaces
+//! always come from a g-buffer of their own: a `none` renderer drawing the same scene at the
+//! same time, from the same camera, at the same size, writing positions and the chosen normals.
+//! Invariant: for one frame and one [`ReferenceSettings`], every technique gets the same
+//! reference, bit for bit (and the disk cache serves it once traced; see
+//! `aograph_scene::CacheKey` for what the key covers).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_graph::{Extent, GpuContext, ShaderLibrary};
+use aograph_scene::reference::ProgressMode;
+use aograph_scene::{
+    CacheKey, Camera, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals,
+    ReferenceParams, Scene, SurfaceBuffer, TriangleBvh,
+};
+
+use crate::error::AppResult;
+use crate::frame_graph::FrameOutputs;
+use crate::renderer::Renderer;
+
+/// How a reference is traced.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceSettings {
+    /// The shared world-space radius R.
+    pub radius: f32,
+    /// Rays per pixel.
+    pub rays: u32,
+    pub mode: ReferenceMode,
+    /// Which normal orients each pixel's hemisphere.
+    pub normals: ReferenceNormals,
+}
+
+impl ReferenceSettings {
+    /// Binary mode, geometric normals: the defaults.
+    pub fn new(radius: f32, rays: u32) -> Self {
+        Self {
+            radius,
+            rays,
+            mode: ReferenceMode::Binary,
+            normals: ReferenceNormals::Geometric,
+        }
+    }
+}
+
+/// One frame to trace: what is drawn, when, from where and at what size.
+#[derive(Clone)]
+pub struct FrameView {
+    pub scene: Arc<Scene>,
+    pub camera: Camera,
+    pub time: f32,
+    pub extent: Extent,
+}
+
+impl FrameView {
+    /// The last frame `r` rendered.
+    pub fn of(r: &Renderer) -> Self {
+        Self {
+            scene: r.scene.clone(),
+            camera: r.camera(),
+            time: r.time(),
+            extent: r.output,
+        }
+    }
+}
+
+/// The g-buffer surfaces of `view` with `normals`, from a g-buffer of their own (see the
+/// module docs), plus its linear depth (0 = sky).
+pub fn reference_surfaces(
+    gpu: Arc<GpuContext>,
+    shaders: Arc<ShaderLibrary>,
+    view: &FrameView,
+    normals: ReferenceNormals,
+) -> AppResult<(SurfaceBuffer, Vec<f32>)> {
+    let registry = TechniqueRegistry::with_builtins();
+    let ao = AoConfig {
+        technique: "none".into(),
+        ..AoConfig::default()
+    };
+    let outputs = FrameOutputs {
+        surfaces: true,
+        surface_normals: normals,
+        linear_depth: true,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(
+        gpu,
+        shaders,
+        &registry,
+        view.scene.clone(),
+        &ao,
+        outputs,
+        view.extent,
+    )?;
+    r.render_with_camera(view.time, view.camera)?;
+    Ok((r.surfaces()?, r.read_linear_depth()?))
+}
+
+/// The cache directory: `AOGRAPH_REFERENCE_CACHE`, else `target/reference-cache`.
+pub fn cache_dir() -> PathBuf {
+    std::env::var_os("AOGRAPH_REFERENCE_CACHE")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/target/reference-cache"
+            ))
+        })
+}
+
+/// Traces the reference of `surfaces` against `scene` at `time` (from the disk cache when the
+/// same surfaces, geometry and settings were traced before).
+pub fn trace_surfaces(
+    scene: &Scene,
+    time: f32,
+    surfaces: &SurfaceBuffer,
+    s: &ReferenceSettings,
+    progress: bool,
+) -> AppResult<ReferenceImage> {
+    let tris = scene.world_triangles(time);
+    let params = ReferenceParams {
+        radius: s.radius,
+        rays_per_pixel: s.rays,
+        mode: s.mode,
+        progress: if progress {
+            ProgressMode::Auto
+        } else {
+            ProgressMode::Never
+        },
+    };
+    let key = CacheKey::new(&tris, surfaces, &params);
+    Ok(ReferenceCache::new(cache_dir()).get_or_trace(key, || {
+        let bvh = TriangleBvh::new(&tris);
+        aograph_scene::trace_reference(&bvh, surfaces, &params)
+    })?)
+}
+
+/// The reference of the last frame `r` rendered, whatever normals `r`'s technique reads.
+pub fn frame_reference(
+    r: &Renderer,
+    s: &ReferenceSettings,
+    progress: bool,
+) -> AppResult<ReferenceImage> {
+    let view = FrameView::of(r);
+    let (surfaces, _) = reference_surfaces(r.gpu.clone(), r.shaders.clone(), &view, s.normals)?;
+    trace_surfaces(&view.scene, view.time, &surfaces, s, progress)
+}
