@@ -126,6 +126,35 @@ fn bvh_agrees_exactly_with_brute_force_on_random_soups() {
 }
 
 #[test]
+fn axis_aligned_rays_with_negative_zero_components_hit_like_any_other() {
+    // -Vec3::X is (-1, -0, -0). obvhs 0.3 missed a wall such a ray plainly hits (found while
+    // placing interior cameras in `room`); TriangleBvh canonicalises the sign of zero.
+    let room = aograph_scene::procedural_scene("room").unwrap();
+    let tris = room.world_triangles(0.0);
+    let (bvh, brute) = (TriangleBvh::new(&tris), BruteForceTracer::new(&tris));
+    let mut checked = 0;
+    for x in [-4.0f32, -1.4857142, 0.0, 2.5] {
+        for z in [-2.0f32, -0.91428566, 0.0, 1.7] {
+            let origin = Vec3::new(x, 1.5, z);
+            for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+                for d in [axis, -axis, axis * -1.0 + Vec3::ZERO] {
+                    let got = bvh.closest_hit(origin, d, 0.0, 100.0);
+                    let want = brute.closest_hit(origin, d, 0.0, 100.0);
+                    assert_eq!(
+                        got.map(|h| h.distance.to_bits()),
+                        want.map(|h| h.distance.to_bits()),
+                        "from {origin} along {d:?}"
+                    );
+                    assert!(want.is_some(), "the room is closed: {origin} along {d:?}");
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 144);
+}
+
+#[test]
 fn brute_force_finds_what_the_bvh_leaves_out_only_when_no_ray_can_hit_it() {
     // Zero-area and non-finite triangles are dropped by the BVH; no ray hits them anyway.
     let tris = vec![

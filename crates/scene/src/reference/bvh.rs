@@ -10,7 +10,9 @@
 //! and for points on a crease. Every query therefore starts its ray a `lead` distance behind the
 //! origin (more than that constant, and more than a few float ulps of the origin's coordinates)
 //! and shifts t_min/t_max by the same amount, so hits at any t >= t_min are found; reported
-//! distances are measured from the caller's origin again. Invariants: an empty triangle set
+//! distances are measured from the caller's origin again. Directions are canonicalised so no
+//! component is negative zero, which obvhs 0.3's traversal mishandles (found by the
+//! brute-force comparison). Invariants: an empty triangle set
 //! gives a BVH every ray misses; rays with a non-finite origin or direction miss instead of
 //! reaching obvhs (whose debug assertions would panic).
 
@@ -114,6 +116,10 @@ impl TriangleBvh {
         if !usable {
             return None;
         }
+        // A negative-zero component (-Vec3::X is (-1, -0, -0)) makes obvhs 0.3's wide-node
+        // test miss boxes the ray plainly enters (its octant comes from the sign bit, its
+        // inverse direction is -inf): adding +0 turns -0 into +0 and changes nothing else.
+        let direction = direction + Vec3::ZERO;
         let lead = 2e-4 + 1e-6 * origin.abs().max_element() + (-t_min).max(0.0);
         let start = origin - direction * lead;
         Some((
