@@ -96,8 +96,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // 3. Declare the frame (g-buffer + technique), then add a user pass reading its output.
     let scene = Arc::new(aograph_scene::procedural_scene("columns")?);
+    let size = Extent::new(320, 180);
     let mut fg =
-        aograph::build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default())?;
+        aograph::build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default(), size)?;
     let mut builder = aograph_graph::GraphBuilder::from_decl(fg.decl.clone());
     let tint = {
         let target = builder.create_texture(
@@ -115,7 +116,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // 4. Compile (pure, no GPU) and run one frame.
     let plan = GraphCompiler::new().compile(fg.decl, &shaders, CompileOptions::default())?;
-    println!("{}", aograph_graph::summary(&plan, Extent::new(320, 180)));
+    println!("{}", aograph_graph::summary(&plan, size));
     let gpu = Arc::new(GpuContext::new()?);
     let mut exec = Executor::with_shaders(gpu.clone(), shaders);
     let view = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -124,7 +125,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let size = Extent::new(320, 180);
     let camera = scene.camera_at(0.0);
     let block = aograph_scene::view_block::view_uniforms(&aograph_scene::view_block::ViewFrame {
         camera,

@@ -11,6 +11,7 @@ use aograph_scene::{ReferenceMode, ReferenceNormals};
 /// The scene rendered when none is given.
 pub const DEFAULT_SCENE: &str = "columns";
 
+use crate::camera_spec::{CameraParams, CameraSpec, NamedView};
 use crate::error::{AppError, AppResult};
 
 /// Where the scene comes from: a procedural name or a glTF file.
@@ -43,6 +44,33 @@ impl SceneSource {
     }
 }
 
+/// How the shared radius R is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum RadiusSetting {
+    /// A fraction of the scene's size (`aograph_scene::suggested_radius`), the default.
+    #[default]
+    Auto,
+    /// A number of scene units.
+    Units(f32),
+}
+
+impl RadiusSetting {
+    /// `"auto"` or a finite number > 0; `name` is the key or flag in messages.
+    pub fn parse(name: &str, text: &str) -> AppResult<Self> {
+        if text.trim() == "auto" {
+            return Ok(RadiusSetting::Auto);
+        }
+        match text.trim().parse::<f32>() {
+            Ok(r) if r.is_finite() && r > 0.0 => Ok(RadiusSetting::Units(r)),
+            _ => Err(AppError::InvalidArgument {
+                name: name.into(),
+                value: text.into(),
+                allowed: "\"auto\" (a fraction of the scene's size) or a finite number greater than 0 (world units)".into(),
+            }),
+        }
+    }
+}
+
 /// Everything `aograph render` and friends need.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AppConfig {
@@ -50,6 +78,13 @@ pub struct AppConfig {
     pub width: u32,
     pub height: u32,
     pub ao: AoConfig,
+    /// The shared radius: `auto` unless the config or `--radius` gives a number. `ao.radius`
+    /// holds the number only once a scene is prepared (`AppConfig::prepare_scene`).
+    pub radius: RadiusSetting,
+    /// The camera: `[camera]` or `--camera`; `None` = the scene's own.
+    pub camera: Option<CameraSpec>,
+    /// Named viewpoints (`[[views]]`).
+    pub views: Vec<NamedView>,
     pub reference_rays: u32,
     pub reference_mode: ReferenceMode,
     /// The normal that orients the reference's hemisphere (geometric unless set).
@@ -67,6 +102,9 @@ impl Default for AppConfig {
             width: 1280,
             height: 720,
             ao: AoConfig::default(),
+            radius: RadiusSetting::Auto,
+            camera: None,
+            views: Vec::new(),
             reference_rays: 256,
             reference_mode: ReferenceMode::Binary,
             reference_normals: ReferenceNormals::Geometric,
@@ -76,7 +114,15 @@ impl Default for AppConfig {
     }
 }
 
-const TOP_KEYS: &[&str] = &["scene", "output", "ao", "reference", "render"];
+const TOP_KEYS: &[&str] = &[
+    "scene",
+    "output",
+    "ao",
+    "camera",
+    "views",
+    "reference",
+    "render",
+];
 const SCENE_KEYS: &[&str] = &["name", "file"];
 const OUTPUT_KEYS: &[&str] = &["width", "height"];
 const REFERENCE_KEYS: &[&str] = &["rays", "mode", "normals"];
@@ -148,8 +194,53 @@ impl AppConfig {
                     }
                 }
                 "ao" => {
-                    c.ao = AoConfig::from_table(table(path, v, "ao")?, registry)
-                        .map_err(|e| err(path, e.to_string()))?
+                    let mut ao = table(path, v, "ao")?.clone();
+                    if let Some(r) = ao.get("radius") {
+                        c.radius = match r {
+                            toml::Value::String(s) => RadiusSetting::parse("[ao] radius", s)
+                                .map_err(|e| err(path, e.to_string()))?,
+                            other => RadiusSetting::parse("[ao] radius", &other.to_string())
+                                .map_err(|e| err(path, e.to_string()))?,
+                        };
+                        if matches!(r, toml::Value::String(_)) {
+                            ao.remove("radius");
+                        }
+                    }
+                    c.ao =
+                        AoConfig::from_table(&ao, registry).map_err(|e| err(path, e.to_string()))?
+                }
+                "camera" => {
+                    c.camera = Some(CameraSpec::Inline(
+                        CameraParams::from_table(table(path, v, "camera")?)
+                            .map_err(|m| err(path, format!("[camera]: {m}")))?,
+                    ))
+                }
+                "views" => {
+                    let list = v.as_array().ok_or_else(|| {
+                        err(path, "`views` must be an array of tables: [[views]]".into())
+                    })?;
+                    for (i, entry) in list.iter().enumerate() {
+                        let t = entry.as_table().ok_or_else(|| {
+                            err(path, format!("[[views]] entry {i} must be a table"))
+                        })?;
+                        let name = t
+                            .get("name")
+                            .and_then(|n| n.as_str())
+                            .filter(|n| !n.trim().is_empty())
+                            .ok_or_else(|| {
+                                err(path, format!("[[views]] entry {i} needs a `name` string"))
+                            })?
+                            .to_string();
+                        if c.views.iter().any(|v| v.name == name) {
+                            return Err(err(
+                                path,
+                                format!("[[views]] name `{name}` is used twice"),
+                            ));
+                        }
+                        let params = CameraParams::from_table(t)
+                            .map_err(|m| err(path, format!("[[views]] `{name}`: {m}")))?;
+                        c.views.push(NamedView { name, params });
+                    }
                 }
                 "reference" => {
                     for (rk, rv) in table(path, v, "reference")? {

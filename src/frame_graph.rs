@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
 use aograph_graph::{
-    BufferDesc, DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder,
-    GraphDecl, SizeClass, TextureDesc, TextureHandle, VIEW_BUFFER, ViewUniforms,
+    BufferDesc, DepthFormat, Extent, GBufferChannel, GBufferChannels, GBufferTextures,
+    GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle, VIEW_BUFFER, ViewUniforms,
 };
 use aograph_scene::gbuffer::{GBufferClock, add_gbuffer, required_channels};
 use aograph_scene::{ReferenceNormals, Scene};
@@ -44,12 +44,14 @@ pub struct FrameGraph {
     pub temporal: bool,
 }
 
-/// Declares the whole frame for `scene` with the `[ao]` config.
+/// Declares the whole frame for `scene` (seen from its camera at t = 0) at `size` with the
+/// `[ao]` config.
 pub fn build_frame_graph(
     registry: &TechniqueRegistry,
     scene: Arc<Scene>,
     ao: &AoConfig,
     outputs: FrameOutputs,
+    size: Extent,
 ) -> AppResult<FrameGraph> {
     let technique = registry.get(&ao.technique)?;
     let params = ao.params_for(&ao.technique);
@@ -95,6 +97,19 @@ pub fn build_frame_graph(
     );
     let clock = GBufferClock::default();
     let gbuffer = add_gbuffer(&mut b, scene.clone(), channels, view, clock.clone());
+    // R in pixels at the view's nearest geometry, for techniques with automatic level counts.
+    let radius_pixels = if technique.needs_radius_pixels(&params)? {
+        aograph_scene::projected_radius(
+            &scene,
+            &scene.camera_at(0.0),
+            size.width,
+            size.height,
+            ao.radius,
+        )
+        .map(|p| p.nearest_px)
+    } else {
+        None
+    };
     let mut ctx = AoBuildContext {
         builder: &mut b,
         gbuffer,
@@ -102,6 +117,7 @@ pub fn build_frame_graph(
         radius: ao.radius,
         intermediate_format: ao.intermediate_format.wgpu(),
         technique: technique.name(),
+        radius_pixels,
     };
     let out = technique.build(&mut ctx, &params)?;
     let temporal = technique.is_temporal(&params)?;

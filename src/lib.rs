@@ -2,6 +2,7 @@
 //! renderer, image output and the commands behind the `aograph` binary.
 
 pub mod bench;
+pub mod camera_spec;
 pub mod commands;
 pub mod config;
 pub mod error;
@@ -9,12 +10,15 @@ pub mod frame_graph;
 pub mod frame_reference;
 pub mod images;
 pub mod metrics;
+pub mod prepared_scene;
+pub mod reach;
 pub mod renderer;
 
-pub use config::{AppConfig, SceneSource};
+pub use config::{AppConfig, RadiusSetting, SceneSource};
 pub use error::{AppError, AppResult};
 pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph};
 pub use frame_reference::{FrameView, ReferenceSettings, frame_reference};
+pub use prepared_scene::PreparedScene;
 pub use renderer::{Renderer, shader_dir, shader_library};
 
 /// Loads a scene by procedural name or glTF path.

@@ -34,9 +34,13 @@ struct Common {
     /// Output height in pixels.
     #[arg(long)]
     height: Option<u32>,
-    /// Shared AO radius R in world units.
+    /// Shared AO radius R: `auto` (the default: the scene's size / 30) or world units.
     #[arg(long)]
-    radius: Option<f32>,
+    radius: Option<String>,
+    /// Camera: a view (default, outside, outside-2, interior-1, interior-2, a [[views]] name),
+    /// a glTF camera's name or index, or inline "pos=x,y,z target=x,y,z fov=60".
+    #[arg(long)]
+    camera: Option<String>,
 }
 
 #[derive(Subcommand)]
@@ -110,6 +114,11 @@ enum Command {
 enum SceneAction {
     /// Export a procedural scene as .glb.
     Export { name: String, file: PathBuf },
+    /// Bounds, counts, cameras, materials, transforms, views and the suggested radius.
+    Info {
+        /// A procedural scene's name or a .gltf/.glb file.
+        scene: String,
+    },
     /// List the procedural scenes.
     List,
 }
@@ -123,6 +132,7 @@ impl Common {
             width: self.width,
             height: self.height,
             radius: self.radius,
+            camera: self.camera,
         }
     }
 }
@@ -167,6 +177,9 @@ fn main() -> ExitCode {
         Command::Scene {
             action: SceneAction::Export { name, file },
         } => commands::scene_export(&name, &file),
+        Command::Scene {
+            action: SceneAction::Info { scene },
+        } => commands::scene_info(&scene),
         Command::Scene {
             action: SceneAction::List,
         } => {

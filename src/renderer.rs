@@ -103,7 +103,7 @@ impl Renderer {
         crate::config::check_size("width", output.width)?;
         crate::config::check_size("height", output.height)?;
         check_intermediate_format(&gpu, ao)?;
-        let graph = build_frame_graph(registry, scene.clone(), ao, outputs)?;
+        let graph = build_frame_graph(registry, scene.clone(), ao, outputs, output)?;
         let plan = GraphCompiler::new().compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
         let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {

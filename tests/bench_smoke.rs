@@ -130,7 +130,7 @@ fn bench_writes_every_output_and_each_parses() {
 
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(
-        report.contains("| scene | technique | parameters | AO ms |")
+        report.contains("| scene | view | technique | parameters | R | R reached | AO ms |")
             && report.contains(&json.meta.device)
     );
     assert_eq!(report.contains("they are CPU times"), json.meta.software);
@@ -264,4 +264,77 @@ fn metrics_of_the_real_reference_against_itself_and_a_biased_copy() {
         "{m:?} (mean accessibility {mean})"
     );
     assert!(m.ssim < 1.0 && m.psnr.is_finite());
+}
+
+#[test]
+fn bench_runs_each_view_as_a_row_with_its_radius_and_reach() {
+    if aograph_graph::test_gpu().is_none() {
+        return;
+    }
+    let dir = temp_dir("bench-views");
+    let d = dir.to_str().unwrap();
+    aograph(&[
+        "bench",
+        "--scenes",
+        "room",
+        "--views",
+        "default,interior-1",
+        "--techniques",
+        "none,mssao",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--rays",
+        "16",
+        "--out",
+        d,
+        "--quiet",
+    ]);
+    let json: ResultsFile =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("results.json")).unwrap()).unwrap();
+    let rows: Vec<(String, String)> = json
+        .runs
+        .iter()
+        .map(|r| (r.view.clone(), r.technique.clone()))
+        .collect();
+    assert_eq!(rows.len(), 4, "{rows:?}");
+    for view in ["default", "interior-1"] {
+        for technique in ["none", "mssao"] {
+            assert!(rows.contains(&(view.into(), technique.into())), "{rows:?}");
+        }
+    }
+    let auto = aograph_scene::suggested_radius(&aograph_scene::procedural_scene("room").unwrap());
+    for r in &json.runs {
+        assert_eq!(
+            r.radius, auto.radius,
+            "every row uses the scene's automatic R"
+        );
+        assert!(r.radius_px.is_some_and(|p| p > 0.0) && r.reference_mean.is_some());
+        let expect_reach = r.technique == "mssao";
+        assert_eq!(r.reach_px.is_some(), expect_reach, "{}", r.technique);
+    }
+    assert_eq!(json.meta.radius, None, "auto radius in the meta");
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for needle in [
+        "## Scenes and views",
+        "| room | interior-1 |",
+        "## Over every scene and view",
+        "auto (each scene's content diagonal / 30",
+    ] {
+        assert!(report.contains(needle), "{needle} missing:\n{report}");
+    }
+    for r in &json.runs {
+        let image = r.image.as_deref().expect("every run has its image");
+        assert!(
+            image.starts_with(&format!("images/room_{}_", r.view)),
+            "{image}"
+        );
+        decode_png(&dir.join(image));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -110,3 +110,86 @@ fn scene_export_writes_a_glb_the_loader_reads_back() {
     let (ok, _, err) = aograph(&["scene", "export", "nope", file.to_str().unwrap()]);
     assert!(!ok && err.contains("unknown procedural scene"), "{err}");
 }
+
+#[test]
+fn scene_info_reports_counts_views_and_the_suggested_radius() {
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/scenes/shadowscene_fire.gltf"
+    );
+    let (ok, out, err) = aograph(&["scene", "info", file]);
+    assert!(ok, "{err}");
+    for needle in [
+        "nodes: 25",
+        "triangles: 4656 placed, 3104 in the meshes",
+        "cameras: none in the file",
+        "outside:",
+        "outside-2:",
+        "suggested R: 0.6000",
+        "/ 30",
+        "double-sided",
+    ] {
+        assert!(out.contains(needle), "{needle} missing from:\n{out}");
+    }
+    let (ok, out, _) = aograph(&["scene", "info", "room"]);
+    assert!(
+        ok && out.contains("enclosed: yes") && out.contains("interior-2:"),
+        "{out}"
+    );
+    let (ok, _, err) = aograph(&["scene", "info", "/no/such/scene.glb"]);
+    assert!(!ok && err.contains("/no/such/scene.glb"), "{err}");
+}
+
+#[test]
+fn render_from_a_named_view_and_an_inline_camera_prints_the_radius_and_view() {
+    let out = temp_dir("views");
+    for (camera, view) in [
+        ("interior-1", "view interior-1"),
+        ("pos=-4,1.6,2 target=1,0.8,-1 fov=70", "view inline"),
+    ] {
+        let (ok, stdout, err) = aograph(&[
+            "render",
+            "--scene",
+            "room",
+            "--technique",
+            "ssao",
+            "--camera",
+            camera,
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{camera}: {err}");
+        assert!(
+            stdout.contains(view) && stdout.contains("R = 0.4"),
+            "{stdout}"
+        );
+        let timings = std::fs::read_to_string(out.join("timings.txt")).unwrap();
+        assert!(
+            timings.contains("auto: the content's bounding-box diagonal"),
+            "{timings}"
+        );
+    }
+    // A config's [[views]] entry by name, with a radius in units.
+    let config = out.join("views.toml");
+    std::fs::write(
+        &config,
+        "[scene]\nname = \"room\"\n[ao]\ntechnique = \"none\"\nradius = 0.25\n[[views]]\nname = \"door\"\nposition = [-4.5, 1.5, 2.5]\nyaw = -60\npitch = -5\n",
+    )
+    .unwrap();
+    let (ok, plan, err) = aograph(&[
+        "graph",
+        "--config",
+        config.to_str().unwrap(),
+        "--camera",
+        "door",
+    ]);
+    assert!(
+        ok && plan.contains("view door") && plan.contains("R = 0.2500 (set to"),
+        "{plan}{err}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -206,3 +206,51 @@ fn copy_dir(from: &Path, to: &Path) {
         }
     }
 }
+
+#[test]
+fn unknown_camera_lists_the_views_and_a_bad_inline_camera_names_the_key() {
+    let out = temp_dir("camera");
+    let e = render(&["--scene", "room", "--camera", "attic"], &out, &[]);
+    assert!(
+        e.contains("--camera")
+            && e.contains("attic")
+            && e.contains("interior-1")
+            && e.contains("outside")
+            && e.contains("pos=x,y,z"),
+        "{e}"
+    );
+    let e = render(&["--camera", "pos=1,2 target=0,0,0"], &out, &[]);
+    assert!(
+        e.contains("`position` = 1,2") && e.contains("three finite numbers"),
+        "{e}"
+    );
+    let e = render(&["--camera", "pos=0,1,5 target=0,0,0 fov=200"], &out, &[]);
+    assert!(e.contains("0 < fov < 180"), "{e}");
+    let e = render(&["--radius", "big"], &out, &[]);
+    assert!(e.contains("--radius") && e.contains("\"auto\""), "{e}");
+}
+
+#[test]
+fn bad_camera_and_views_tables_in_a_config_name_the_problem() {
+    let dir = temp_dir("camera-config");
+    for (text, needle) in [
+        (
+            "[camera]\ntarget = [0, 0, 0]\n",
+            "[camera]: `position` is missing",
+        ),
+        (
+            "[[views]]\nposition = [0, 1, 2]\ntarget = [0, 0, 0]\n",
+            "needs a `name`",
+        ),
+        (
+            "[[views]]\nname = \"a\"\nposition = [0, 1, 2]\ntarget = [0, 0, 0]\n[[views]]\nname = \"a\"\nposition = [0, 1, 3]\ntarget = [0, 0, 0]\n",
+            "used twice",
+        ),
+        ("[ao]\nradius = \"huge\"\n", "\"auto\""),
+    ] {
+        let path = dir.join("bad.toml");
+        std::fs::write(&path, text).unwrap();
+        let e = fails(&["graph", "--config", path.to_str().unwrap()], &[]);
+        assert!(e.contains(needle) && e.contains("bad.toml"), "{text}: {e}");
+    }
+}

@@ -2,6 +2,10 @@
 //! writes only the channels its consumers asked for, a static scene gets no motion vectors, and
 //! only SSDO (or shading) brings colour into the graph.
 
+const SIZE: aograph_graph::Extent = aograph_graph::Extent {
+    width: 64,
+    height: 48,
+};
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, build_frame_graph};
@@ -62,7 +66,7 @@ fn depth_only_technique_plan_has_no_normal_colour_or_motion_attachment() {
     };
     for scene in ["columns", "dynamic"] {
         let s = Arc::new(aograph_scene::procedural_scene(scene).unwrap());
-        let fg = build_frame_graph(&registry, s, &ao, FrameOutputs::default()).unwrap();
+        let fg = build_frame_graph(&registry, s, &ao, FrameOutputs::default(), SIZE).unwrap();
         let shaders = aograph::shader_library();
         shaders.add_inline("test/depth_only.wgsl", DEPTH_ONLY);
         let plan = compile(fg.decl.clone(), &shaders, CompileOptions::default()).unwrap();
@@ -96,7 +100,7 @@ fn static_scene_gets_no_motion_vectors_but_a_moving_one_does() {
     };
     let channels = |scene: &str| {
         let s = Arc::new(aograph_scene::procedural_scene(scene).unwrap());
-        build_frame_graph(&registry, s, &ao, FrameOutputs::default())
+        build_frame_graph(&registry, s, &ao, FrameOutputs::default(), SIZE)
             .unwrap()
             .channels
     };
@@ -119,7 +123,8 @@ fn only_ssdo_and_shading_bring_colour_into_the_graph() {
             technique: name.clone(),
             ..AoConfig::default()
         };
-        let fg = build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default()).unwrap();
+        let fg = build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default(), SIZE)
+            .unwrap();
         let has_colour = fg.channels.contains(GBufferChannel::Albedo)
             || fg.channels.contains(GBufferChannel::DirectLight);
         assert_eq!(
@@ -136,6 +141,7 @@ fn only_ssdo_and_shading_bring_colour_into_the_graph() {
                 shaded: true,
                 ..Default::default()
             },
+            SIZE,
         )
         .unwrap();
         assert!(
@@ -162,6 +168,7 @@ fn every_technique_plan_culls_nothing_and_compiles_against_the_real_shaders() {
                 shaded: true,
                 ..Default::default()
             },
+            SIZE,
         )
         .unwrap();
         let plan = compile(

@@ -26,8 +26,14 @@ fn only_ssdo_makes_the_gbuffer_write_colour_and_direct_light() {
     let scene = Arc::new(procedural_scene("cornell-box").unwrap());
     for name in &names {
         let config = common::ao_config(name, RADIUS, "");
-        let fg = build_frame_graph(&registry, scene.clone(), &config, FrameOutputs::default())
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let fg = build_frame_graph(
+            &registry,
+            scene.clone(),
+            &config,
+            FrameOutputs::default(),
+            aograph_graph::Extent::new(64, 48),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
         for c in [GBufferChannel::Albedo, GBufferChannel::DirectLight] {
             let declared = fg
                 .decl
@@ -309,7 +315,7 @@ fn render_writes_the_radiance_images() {
         technique: Some("ssdo".into()),
         width: Some(64),
         height: Some(48),
-        radius: Some(0.5),
+        radius: Some("0.5".into()),
         ..Default::default()
     };
     aograph::commands::render(&aograph::commands::RenderArgs {

@@ -32,18 +32,74 @@ pub use run::{BenchContext, BenchSettings, RunRecord};
 pub use scaling::ScalingResults;
 pub use sweep::{ParamSet, Sweep, plan_param_sets};
 
-use crate::config::SceneSource;
+use crate::camera_spec::{CameraSpec, NamedView};
+use crate::config::{RadiusSetting, SceneSource};
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
 use crate::images::{prepare_output_dir, write_atomic};
+use crate::prepared_scene::PreparedScene;
 use crate::renderer::Renderer;
+use aograph_scene::views::SceneView;
 
 /// What to run.
 #[derive(Clone, Debug)]
 pub struct BenchPlan {
     pub scenes: Vec<SceneSource>,
+    /// Which views of each scene: one row per scene, view and parameter set.
+    pub views: ViewChoice,
     pub sets: Vec<ParamSet>,
     pub settings: BenchSettings,
+}
+
+/// The views `--views` (and `--camera`) pick.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewChoice {
+    /// View names (`default`, `outside`, `interior-1`, a glTF camera, a `[[views]]` name) or
+    /// `all`.
+    pub names: Vec<String>,
+    /// `--camera`: one view, replacing `names`.
+    pub camera: Option<CameraSpec>,
+    /// `[[views]]` from `--config`.
+    pub config_views: Vec<NamedView>,
+}
+
+impl Default for ViewChoice {
+    fn default() -> Self {
+        Self {
+            names: vec!["default".into()],
+            camera: None,
+            config_views: Vec::new(),
+        }
+    }
+}
+
+impl ViewChoice {
+    /// The views of `scene` this choice picks, in order, each once.
+    pub fn views(&self, scene: &aograph_scene::Scene) -> AppResult<Vec<SceneView>> {
+        if let Some(c) = &self.camera {
+            return Ok(vec![c.resolve(scene, &self.config_views)?]);
+        }
+        let mut out: Vec<SceneView> = Vec::new();
+        for name in &self.names {
+            let picked = if name == "all" {
+                let mut all = aograph_scene::views::scene_views(scene);
+                all.extend(self.config_views.iter().map(|v| SceneView {
+                    name: v.name.clone(),
+                    camera: v.params.camera(scene),
+                    motion: None,
+                }));
+                all
+            } else {
+                vec![CameraSpec::Named(name.clone()).resolve(scene, &self.config_views)?]
+            };
+            for v in picked {
+                if !out.iter().any(|o| o.name == v.name) {
+                    out.push(v);
+                }
+            }
+        }
+        Ok(out)
+    }
 }
 
 /// The device and settings block of the results.
@@ -62,7 +118,10 @@ pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
         height: s.height,
         frames: s.frames,
         warmup: s.warmup,
-        radius: s.radius,
+        radius: match s.radius {
+            RadiusSetting::Auto => None,
+            RadiusSetting::Units(r) => Some(r),
+        },
         rays: s.rays,
         mode: format!("{:?}", s.mode).to_lowercase(),
         normals: s.normals.name().into(),
@@ -132,42 +191,54 @@ pub fn run_bench(
     );
     let mut records = Vec::new();
     for source in &plan.scenes {
-        pb.set_message(format!(
-            "tracing the reference of {} ({} rays/pixel)",
-            source.label(),
-            s.rays
-        ));
-        let reference = run::scene_reference(ctx, source, s)?;
-        for set in &plan.sets {
+        let scene = crate::load_scene(source)?;
+        let views = plan.views.views(&scene)?;
+        pb.inc_length(((views.len() as u64).saturating_sub(1)) * plan.sets.len() as u64 * per_run);
+        for view in &views {
             pb.set_message(format!(
-                "{}: {} {}",
-                reference.label,
-                set.technique,
-                set.label()
+                "tracing the reference of {} / {} ({} rays/pixel)",
+                source.label(),
+                view.name,
+                s.rays
             ));
-            let mut done = run::run_technique(ctx, &reference, set, s, &mut || pb.inc(1))?;
-            if let Some((dir, w)) = writer.as_mut() {
-                let name = format!("images/{}_{}.png", file_safe(&reference.label), set.slug());
-                images::write_side_by_side(
-                    &dir.join(&name),
-                    &done.ao,
-                    &reference.accessibility,
-                    &reference.valid,
-                    s.width,
-                    s.height,
-                )?;
-                done.record.image = Some(name);
-                w.append(done.record.clone())?;
-                report::write_report(dir, &meta, &w.file.runs, read_scaling(dir).as_ref())?;
-                plot::write_pareto(
-                    &dir.join("pareto.svg"),
-                    &dir.join("pareto.png"),
-                    &w.file.runs,
-                    &colours,
-                    &meta.time_axis(),
-                )?;
+            let prepared = PreparedScene::new(&scene, view, s.radius);
+            let reference = run::scene_reference(ctx, &source.label(), prepared, s)?;
+            for set in &plan.sets {
+                pb.set_message(format!(
+                    "{}: {} {}",
+                    reference.label,
+                    set.technique,
+                    set.label()
+                ));
+                let mut done = run::run_technique(ctx, &reference, set, s, &mut || pb.inc(1))?;
+                if let Some((dir, w)) = writer.as_mut() {
+                    let name = format!(
+                        "images/{}_{}_{}.png",
+                        file_safe(&reference.label),
+                        file_safe(&reference.view),
+                        set.slug()
+                    );
+                    images::write_side_by_side(
+                        &dir.join(&name),
+                        &done.ao,
+                        &reference.accessibility,
+                        &reference.valid,
+                        s.width,
+                        s.height,
+                    )?;
+                    done.record.image = Some(name);
+                    w.append(done.record.clone())?;
+                    report::write_report(dir, &meta, &w.file.runs, read_scaling(dir).as_ref())?;
+                    plot::write_pareto(
+                        &dir.join("pareto.svg"),
+                        &dir.join("pareto.png"),
+                        &w.file.runs,
+                        &colours,
+                        &meta.time_axis(),
+                    )?;
+                }
+                records.push(done.record);
             }
-            records.push(done.record);
         }
     }
     pb.finish_and_clear();
@@ -181,14 +252,14 @@ pub fn run_scaling(
     ctx: &BenchContext,
     plan: &BenchPlan,
     sides: &[u32],
-    radii: &[f32],
+    radii: &scaling::ScalingRadii,
     out: Option<&Path>,
     progress: bool,
 ) -> AppResult<ScalingResults> {
     let s = &plan.settings;
     let mut results = ScalingResults {
         sides: sides.to_vec(),
-        radii: radii.to_vec(),
+        radii: Vec::new(),
         frames: s.frames,
         warmup: s.warmup,
         ..Default::default()
@@ -219,6 +290,10 @@ pub fn run_scaling(
     let smallest = sides.iter().copied().min().unwrap_or(64);
     for source in &plan.scenes {
         let scene = std::sync::Arc::new(crate::load_scene(source)?);
+        let radii = radii.for_scene(&scene);
+        if results.radii.is_empty() {
+            results.radii = radii.clone();
+        }
         let probe_config = AoConfig {
             technique: "none".into(),
             ..AoConfig::default()
@@ -240,7 +315,7 @@ pub fn run_scaling(
         let camera = probe.camera();
         for set in &plan.sets {
             for &side in sides {
-                for &radius in radii {
+                for &radius in &radii {
                     pb.set_message(format!(
                         "{}: {} {} at {side}x{side}, R = {radius}",
                         source.label(),

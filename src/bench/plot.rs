@@ -96,9 +96,10 @@ pub fn by_scene(records: &[RunRecord]) -> Vec<(String, Vec<Point>)> {
             ms: r.times.total_ms.median.max(MIN_MS),
             mae: r.metrics.mae,
         };
-        match out.iter_mut().find(|(s, _)| *s == r.scene) {
+        let key = r.scene_view();
+        match out.iter_mut().find(|(s, _)| *s == key) {
             Some((_, v)) => v.push(p),
-            None => out.push((r.scene.clone(), vec![p])),
+            None => out.push((key, vec![p])),
         }
     }
     out
@@ -304,12 +305,16 @@ mod tests {
         use crate::bench::stats::Spread;
         RunRecord {
             scene: scene.into(),
+            view: "default".into(),
             technique: technique.into(),
             label: label.into(),
             params: Default::default(),
             width: 64,
             height: 64,
             radius: 1.0,
+            radius_px: None,
+            reach_px: None,
+            reference_mean: None,
             rays: 16,
             frames: 1,
             warmup: 0,

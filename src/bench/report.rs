@@ -39,7 +39,8 @@ pub struct BenchMeta {
     pub height: u32,
     pub frames: u32,
     pub warmup: u32,
-    pub radius: f32,
+    /// The radius in scene units, or `None` for `auto` (per scene; each row has its own).
+    pub radius: Option<f32>,
     pub rays: u32,
     /// "binary" or "obscurance".
     #[serde(default = "binary")]
@@ -88,7 +89,7 @@ pub struct ResultsFile {
     pub runs: Vec<RunRecord>,
 }
 
-pub const CSV_HEADER: &str = "scene,technique,params,width,height,radius,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,image";
+pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,image";
 
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -112,13 +113,19 @@ pub fn csv_row(r: &RunRecord) -> String {
         .map(|p| format!("{}={}", p.name, num(p.ms.median, 5)))
         .collect::<Vec<_>>()
         .join(";");
+    let f32opt = |v: Option<f32>, d: usize| opt(v.map(f64::from), d);
     [
         csv_field(&r.scene),
+        csv_field(&r.view),
         csv_field(&r.technique),
         csv_field(&r.label),
         r.width.to_string(),
         r.height.to_string(),
         r.radius.to_string(),
+        f32opt(r.radius_px, 3),
+        f32opt(r.reach_px, 3),
+        num(f64::from(r.radius_reached()), 4),
+        f32opt(r.reference_mean, 5),
         r.rays.to_string(),
         r.frames.to_string(),
         r.warmup.to_string(),
@@ -209,7 +216,13 @@ fn settings_line(m: &BenchMeta) -> String {
         m.height,
         m.warmup,
         m.frames,
-        m.radius,
+        m.radius.map_or_else(
+            || format!(
+                "auto (each scene's content diagonal / {}; per row below)",
+                aograph_scene::radius::AUTO_RADIUS_DIVISOR
+            ),
+            |r| r.to_string()
+        ),
         m.rays,
         m.mode,
         if m.mode == "obscurance" {
@@ -236,20 +249,23 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
     );
     let _ = writeln!(
         s,
-        "| scene | technique | parameters | AO ms | [min, max] | frame ms | MAE | RMSE | PSNR dB | SSIM | signed | edge MAE | flicker | textures MiB (reuse / none) |"
+        "| scene | view | technique | parameters | R | R reached | AO ms | [min, max] | frame ms | MAE | RMSE | PSNR dB | SSIM | signed | edge MAE | flicker | textures MiB (reuse / none) |"
     );
     let _ = writeln!(
         s,
-        "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+        "|---|---|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"
     );
     for r in runs {
         let (t, x) = (&r.times, &r.metrics);
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | [{}, {}] | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | [{}, {}] | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} |",
             r.scene,
+            r.view,
             r.technique,
             r.label,
+            crate::prepared_scene::short(r.radius),
+            reached(r),
             num(t.total_ms.median, 3),
             num(t.total_ms.min, 3),
             num(t.total_ms.max, 3),
@@ -265,6 +281,8 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
             mib(r.texture_bytes_unshared)
         );
     }
+    views_section(s, runs);
+    aggregate_section(s, runs);
     let _ = writeln!(
         s,
         "\n## Pareto front\n\nRuns no other run beats on both AO time and MAE, fastest first (pareto.svg, pareto.png).\n"
@@ -286,14 +304,15 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
     }
     let _ = writeln!(
         s,
-        "\n## Per-pass times (ms)\n\n| scene | technique | parameters | pass | median | q1 | q3 | min | max |\n|---|---|---|---|---:|---:|---:|---:|---:|"
+        "\n## Per-pass times (ms)\n\n| scene | view | technique | parameters | pass | median | q1 | q3 | min | max |\n|---|---|---|---|---|---:|---:|---:|---:|---:|"
     );
     for r in runs {
         for p in &r.times.passes {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.scene,
+                r.view,
                 r.technique,
                 r.label,
                 p.name,
@@ -312,6 +331,110 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
         m.edge_band,
         m.edge_jump * 100.0
     );
+}
+
+/// "100%" when the technique reaches all of R in the view, else the share and the pixels.
+fn reached(r: &RunRecord) -> String {
+    let f = r.radius_reached();
+    if f >= 1.0 {
+        "100%".into()
+    } else {
+        format!(
+            "**{:.0}%** ({} of {} px)",
+            100.0 * f,
+            r.reach_px.map(|v| num(f64::from(v), 1)).unwrap_or_default(),
+            r.radius_px
+                .map(|v| num(f64::from(v), 1))
+                .unwrap_or_default()
+        )
+    }
+}
+
+/// One row per scene and view: R, what it projects to and how occluded the reference is.
+fn views_section(s: &mut String, runs: &[RunRecord]) {
+    let _ = writeln!(
+        s,
+        "\n## Scenes and views\n\nR in pixels at the view's nearest geometry (2nd percentile depth); the reference's mean accessibility over geometry pixels (1 means R reaches nothing in this view and the measurement says little). Techniques that cannot reach R are marked in the R reached column above.\n\n| scene | view | R | R px (nearest) | reference mean accessibility |\n|---|---|---:|---:|---:|"
+    );
+    let mut seen: Vec<String> = Vec::new();
+    for r in runs {
+        let key = r.scene_view();
+        if seen.contains(&key) {
+            continue;
+        }
+        seen.push(key);
+        let mean = r.reference_mean.map(f64::from);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {}{} |",
+            r.scene,
+            r.view,
+            crate::prepared_scene::short(r.radius),
+            r.radius_px
+                .map(|v| num(f64::from(v), 1))
+                .unwrap_or_else(|| "-".into()),
+            mean.map(|v| num(v, 4)).unwrap_or_else(|| "-".into()),
+            if mean.is_some_and(|m| m > 0.97) {
+                " (little occlusion)"
+            } else {
+                ""
+            }
+        );
+    }
+}
+
+/// Per technique and parameter set over every scene and view: mean and worst.
+fn aggregate_section(s: &mut String, runs: &[RunRecord]) {
+    let mut keys: Vec<(String, String)> = Vec::new();
+    for r in runs {
+        let k = (r.technique.clone(), r.label.clone());
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    let views = {
+        let mut v: Vec<String> = runs.iter().map(RunRecord::scene_view).collect();
+        v.sort();
+        v.dedup();
+        v.len()
+    };
+    let _ = writeln!(
+        s,
+        "\n## Over every scene and view\n\nPer technique and parameter set over the {views} scene/view pair(s) it ran on: mean and worst MAE and SSIM, mean AO time, and in how many pairs it beats `none` (accessibility 1) on MAE.\n\n| technique | parameters | pairs | mean MAE | worst MAE | mean SSIM | worst SSIM | mean AO ms | beats none |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for (technique, label) in keys {
+        let rows: Vec<&RunRecord> = runs
+            .iter()
+            .filter(|r| r.technique == technique && r.label == label)
+            .collect();
+        let n = rows.len() as f64;
+        let mean = |f: &dyn Fn(&RunRecord) -> f64| rows.iter().map(|r| f(r)).sum::<f64>() / n;
+        let worst_mae = rows.iter().map(|r| r.metrics.mae).fold(f64::NAN, f64::max);
+        let worst_ssim = rows.iter().map(|r| r.metrics.ssim).fold(f64::NAN, f64::min);
+        let beats = rows
+            .iter()
+            .filter(|r| {
+                runs.iter()
+                    .find(|o| o.technique == "none" && o.scene_view() == r.scene_view())
+                    .is_some_and(|none| r.metrics.mae < none.metrics.mae)
+            })
+            .count();
+        let _ = writeln!(
+            s,
+            "| {technique} | {label} | {} | {} | {} | {} | {} | {} | {} |",
+            rows.len(),
+            num(mean(&|r| r.metrics.mae), 4),
+            num(worst_mae, 4),
+            num(mean(&|r| r.metrics.ssim), 4),
+            num(worst_ssim, 4),
+            num(mean(&|r| r.times.total_ms.median), 3),
+            if technique == "none" {
+                "-".to_string()
+            } else {
+                format!("{beats} of {}", rows.len())
+            }
+        );
+    }
 }
 
 /// Writes report.md from whatever `runs` and `scaling` hold.

@@ -20,16 +20,17 @@ use std::sync::Arc;
 
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, texture_bytes};
-use aograph_scene::{ReferenceMode, ReferenceNormals, Scene};
+use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};
 
 use super::stats::Spread;
 use super::sweep::ParamSet;
-use crate::config::SceneSource;
+use crate::config::RadiusSetting;
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
 use crate::frame_reference::{FrameView, ReferenceSettings, reference_surfaces, trace_surfaces};
 use crate::metrics::{FlickerMeter, MetricOptions, Metrics, compare};
+use crate::prepared_scene::PreparedScene;
 use crate::renderer::Renderer;
 
 /// The run-wide settings.
@@ -41,8 +42,8 @@ pub struct BenchSettings {
     pub frames: u32,
     /// Frames rendered and discarded first.
     pub warmup: u32,
-    /// Shared world-space AO radius R.
-    pub radius: f32,
+    /// The shared radius: `auto` (per scene: its size / 30) or world units.
+    pub radius: RadiusSetting,
     /// Reference rays per pixel.
     pub rays: u32,
     /// Reference mode: binary (a hit within R occludes) or obscurance (weighted 1 - (d/R)^2).
@@ -57,10 +58,10 @@ impl BenchSettings {
         Extent::new(self.width, self.height)
     }
 
-    /// How the reference is traced.
-    pub fn reference(&self) -> ReferenceSettings {
+    /// How the reference is traced with radius `radius`.
+    pub fn reference(&self, radius: f32) -> ReferenceSettings {
         ReferenceSettings {
-            radius: self.radius,
+            radius,
             rays: self.rays,
             mode: self.mode,
             normals: self.normals,
@@ -89,23 +90,34 @@ pub fn timing_source_name(s: Option<TimingSource>) -> &'static str {
     }
 }
 
-/// A scene loaded, with the reference of its still frame and the frame's linear depth.
+/// A scene seen from one view, with the reference of its still frame and the frame's linear
+/// depth.
 pub struct SceneReference {
     pub label: String,
-    pub scene: Arc<Scene>,
+    /// The view's name ("default": the scene's own camera).
+    pub view: String,
+    /// The scene with the view's camera, and the radius in use.
+    pub prepared: PreparedScene,
     pub accessibility: Vec<f32>,
     pub depth: Vec<f32>,
     pub valid: Vec<bool>,
     pub extent: Extent,
+    /// Mean reference accessibility over geometry pixels (1 when nothing is occluded: then R
+    /// reaches nothing in this view and the measurement says little).
+    pub mean_accessibility: f32,
+    /// R projected to pixels in this view (`None` when it sees no geometry).
+    pub projected: Option<ProjectedRadius>,
 }
 
-/// Loads `source` and traces its reference (from the disk cache when it is there).
+/// Traces the reference of `prepared` (a scene through a view; from the disk cache when it is
+/// there).
 pub fn scene_reference(
     ctx: &BenchContext,
-    source: &SceneSource,
+    label: &str,
+    prepared: PreparedScene,
     s: &BenchSettings,
 ) -> AppResult<SceneReference> {
-    let scene = Arc::new(crate::load_scene(source)?);
+    let scene = prepared.scene.clone();
     let view = FrameView {
         camera: scene.camera_at(0.0),
         scene: scene.clone(),
@@ -114,15 +126,27 @@ pub fn scene_reference(
     };
     let (surfaces, depth) =
         reference_surfaces(ctx.gpu.clone(), ctx.shaders.clone(), &view, s.normals)?;
-    let image = trace_surfaces(&scene, 0.0, &surfaces, &s.reference(), false)?;
-    let valid = depth.iter().map(|d| *d > 0.0).collect();
+    let image = trace_surfaces(&scene, 0.0, &surfaces, &s.reference(prepared.radius), false)?;
+    let valid: Vec<bool> = depth.iter().map(|d| *d > 0.0).collect();
+    let (sum, n) = image
+        .accessibility
+        .iter()
+        .zip(&valid)
+        .filter(|(_, v)| **v)
+        .fold((0.0f64, 0usize), |(s, n), (a, _)| {
+            (s + f64::from(*a), n + 1)
+        });
+    let projected = projected_radius(&scene, &view.camera, s.width, s.height, prepared.radius);
     Ok(SceneReference {
-        label: source.label(),
-        scene,
+        label: label.to_string(),
+        view: prepared.view.clone(),
+        prepared,
         accessibility: image.accessibility,
         depth,
         valid,
         extent: s.extent(),
+        mean_accessibility: if n > 0 { (sum / n as f64) as f32 } else { 1.0 },
+        projected,
     })
 }
 
@@ -196,6 +220,9 @@ pub fn time_frames(
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
     pub scene: String,
+    /// The view (`--views`): "default" is the scene's own camera.
+    #[serde(default = "default_view")]
+    pub view: String,
     pub technique: String,
     /// `ParamSet::label`: "directions=8 steps=10" or "defaults".
     pub label: String,
@@ -203,6 +230,15 @@ pub struct RunRecord {
     pub width: u32,
     pub height: u32,
     pub radius: f32,
+    /// R in pixels at the view's nearest geometry, and how far the technique samples (`None`:
+    /// R in view space, uncapped).
+    #[serde(default)]
+    pub radius_px: Option<f32>,
+    #[serde(default)]
+    pub reach_px: Option<f32>,
+    /// Mean reference accessibility over the view's geometry pixels.
+    #[serde(default)]
+    pub reference_mean: Option<f32>,
     pub rays: u32,
     pub frames: u32,
     pub warmup: u32,
@@ -215,6 +251,30 @@ pub struct RunRecord {
     pub metrics: Metrics,
     /// The side-by-side image, relative to the output directory.
     pub image: Option<String>,
+}
+
+fn default_view() -> String {
+    "default".into()
+}
+
+impl RunRecord {
+    /// "scene" for the default view, else "scene / view": the key runs are grouped by.
+    pub fn scene_view(&self) -> String {
+        if self.view == "default" {
+            self.scene.clone()
+        } else {
+            format!("{} / {}", self.scene, self.view)
+        }
+    }
+
+    /// The share of R the technique reaches at the view's nearest geometry (1 when it
+    /// reaches all of it or samples R in view space).
+    pub fn radius_reached(&self) -> f32 {
+        match (self.reach_px, self.radius_px) {
+            (Some(reach), Some(need)) if need > 0.0 => (reach / need).min(1.0),
+            _ => 1.0,
+        }
+    }
 }
 
 /// A finished run: its record and its last frame's accessibility.
@@ -243,15 +303,26 @@ pub fn run_technique(
     tick: &mut dyn FnMut(),
 ) -> AppResult<RunOutput> {
     let extent = s.extent();
+    let ao = ao_config(set, reference.prepared.radius);
     let mut r = Renderer::new(
         ctx.gpu.clone(),
         ctx.shaders.clone(),
         &ctx.registry,
-        reference.scene.clone(),
-        &ao_config(set, s.radius),
+        reference.prepared.scene.clone(),
+        &ao,
         FrameOutputs::default(),
         extent,
     )?;
+    let radius_px = reference.projected.map(|p| p.nearest_px);
+    let reach_px = if set.technique == "none" {
+        None
+    } else {
+        ctx.registry.get(&set.technique)?.reach_pixels(
+            &ao.params_for(&set.technique),
+            s.height,
+            radius_px,
+        )?
+    };
     let mut flicker = FlickerMeter::new();
     let mut last = Vec::new();
     let times = time_frames(&mut r, s.warmup, s.frames, tick, &mut |r| {
@@ -279,12 +350,16 @@ pub fn run_technique(
     let (bytes, unshared) = texture_bytes(&r.plan, extent);
     let record = RunRecord {
         scene: reference.label.clone(),
+        view: reference.view.clone(),
         technique: set.technique.clone(),
         label: set.label(),
         params: set.params.clone().into_iter().collect(),
         width: extent.width,
         height: extent.height,
-        radius: s.radius,
+        radius: reference.prepared.radius,
+        radius_px,
+        reach_px,
+        reference_mean: Some(reference.mean_accessibility),
         rays: s.rays,
         frames: s.frames,
         warmup: s.warmup,

@@ -26,6 +26,38 @@ use crate::metrics::nonfinite::format as num;
 pub const DEFAULT_SIDES: [u32; 4] = [128, 256, 512, 1024];
 pub const DEFAULT_RADIUS_FACTORS: [f32; 4] = [0.5, 1.0, 2.0, 4.0];
 
+/// The radii a scaling run times.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScalingRadii {
+    /// World units, the same for every scene.
+    Units(Vec<f32>),
+    /// Multiples of each scene's automatic radius.
+    Factors(Vec<f32>),
+}
+
+impl ScalingRadii {
+    /// The radii for `scene`.
+    pub fn for_scene(&self, scene: &aograph_scene::Scene) -> Vec<f32> {
+        match self {
+            ScalingRadii::Units(r) => r.clone(),
+            ScalingRadii::Factors(f) => {
+                let r = aograph_scene::suggested_radius(scene).radius;
+                f.iter().map(|k| k * r).collect()
+            }
+        }
+    }
+    /// How many radii each scene gets.
+    pub fn len(&self) -> usize {
+        match self {
+            ScalingRadii::Units(r) | ScalingRadii::Factors(r) => r.len(),
+        }
+    }
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 /// One timed configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ScalingPoint {

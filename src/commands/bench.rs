@@ -4,11 +4,14 @@
 
 use std::path::PathBuf;
 
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao::TechniqueRegistry;
 
 use super::gpu;
-use crate::bench::{BenchContext, BenchPlan, BenchSettings, Sweep, plan_param_sets, scaling};
-use crate::config::{SceneSource, check_size};
+use crate::bench::{
+    BenchContext, BenchPlan, BenchSettings, Sweep, ViewChoice, plan_param_sets, scaling,
+};
+use crate::camera_spec::CameraSpec;
+use crate::config::{RadiusSetting, SceneSource, check_size};
 use crate::error::{AppError, AppResult};
 use crate::metrics::MetricOptions;
 use crate::renderer::shader_library;
@@ -25,6 +28,16 @@ pub struct BenchArgs {
     /// Parameter grids per technique (TOML; see configs/sweeps/).
     #[arg(long)]
     pub sweep: Option<PathBuf>,
+    /// Views of each scene, comma-separated: default, outside, outside-2, interior-1,
+    /// interior-2, a glTF camera's name or index, a [[views]] name from --config, or `all`.
+    #[arg(long, value_delimiter = ',', default_value = "default")]
+    pub views: Vec<String>,
+    /// One view instead of --views: a name as there, or inline "pos=x,y,z target=x,y,z fov=60".
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// A config whose [[views]] --views and --camera may name.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
     #[command(flatten)]
     pub run: RunFlags,
     /// Half-width in pixels of the depth-edge band of the edge MAE.
@@ -59,9 +72,9 @@ pub struct RunFlags {
     /// Warm-up frames per run (rendered, not measured).
     #[arg(long, default_value_t = 2)]
     pub warmup: u32,
-    /// Shared AO radius R in world units (default: the [ao] default).
+    /// Shared AO radius R: `auto` (default: each scene's size / 30) or world units.
     #[arg(long)]
-    pub radius: Option<f32>,
+    pub radius: Option<String>,
     /// Reference rays per pixel.
     #[arg(long, default_value_t = 256)]
     pub rays: u32,
@@ -84,7 +97,7 @@ impl RunFlags {
             self.height,
             self.frames,
             self.warmup,
-            self.radius,
+            self.radius.as_deref(),
             self.rays,
             &self.mode,
             &self.normals,
@@ -122,7 +135,7 @@ fn settings(
     height: u32,
     frames: u32,
     warmup: u32,
-    radius: Option<f32>,
+    radius: Option<&str>,
     rays: u32,
     mode: &str,
     normals: &str,
@@ -141,7 +154,10 @@ fn settings(
     })?;
     check_size("--width", width)?;
     check_size("--height", height)?;
-    let radius = check_radius("--radius", radius.unwrap_or(AoConfig::default().radius))?;
+    let radius = match radius {
+        Some(r) => RadiusSetting::parse("--radius", r)?,
+        None => RadiusSetting::Auto,
+    };
     Ok(BenchSettings {
         width,
         height,
@@ -241,17 +257,53 @@ pub(crate) fn techniques(
     Ok(out)
 }
 
-fn radii(args: &BenchArgs, base: f32) -> AppResult<Vec<f32>> {
+fn radii(args: &BenchArgs, base: RadiusSetting) -> AppResult<scaling::ScalingRadii> {
     if args.scaling_radii.is_empty() {
-        return Ok(scaling::DEFAULT_RADIUS_FACTORS
-            .iter()
-            .map(|f| f * base)
-            .collect());
+        return Ok(match base {
+            RadiusSetting::Units(r) => scaling::ScalingRadii::Units(
+                scaling::DEFAULT_RADIUS_FACTORS
+                    .iter()
+                    .map(|f| f * r)
+                    .collect(),
+            ),
+            RadiusSetting::Auto => {
+                scaling::ScalingRadii::Factors(scaling::DEFAULT_RADIUS_FACTORS.to_vec())
+            }
+        });
     }
-    args.scaling_radii
+    Ok(scaling::ScalingRadii::Units(
+        args.scaling_radii
+            .iter()
+            .map(|r| check_radius("--scaling-radii", *r))
+            .collect::<AppResult<_>>()?,
+    ))
+}
+
+/// The views the flags pick.
+pub(crate) fn view_choice(
+    views: &[String],
+    camera: Option<&str>,
+    config: Option<&std::path::Path>,
+    registry: &TechniqueRegistry,
+) -> AppResult<ViewChoice> {
+    let config_views = match config {
+        Some(p) => crate::config::AppConfig::load(p, registry)?.views,
+        None => Vec::new(),
+    };
+    let names: Vec<String> = views
         .iter()
-        .map(|r| check_radius("--scaling-radii", *r))
-        .collect()
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .collect();
+    Ok(ViewChoice {
+        names: if names.is_empty() {
+            vec!["default".into()]
+        } else {
+            names
+        },
+        camera: camera.map(CameraSpec::parse).transpose()?,
+        config_views,
+    })
 }
 
 pub fn bench(args: &BenchArgs) -> AppResult<()> {
@@ -262,6 +314,12 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let sets = plan_param_sets(&registry, &techniques, sweep.as_ref())?;
     let plan = BenchPlan {
         scenes: scenes(&args.scenes)?,
+        views: view_choice(
+            &args.views,
+            args.camera.as_deref(),
+            args.config.as_deref(),
+            &registry,
+        )?,
         sets,
         settings,
     };

@@ -1,7 +1,5 @@
 //! `aograph graph`: the compiled plan of a config as a text summary or Graphviz DOT.
 
-use std::sync::Arc;
-
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, summary, to_dot};
 
@@ -13,15 +11,16 @@ use crate::renderer::shader_library;
 pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
     let config = args.resolve(&registry)?;
-    let scene = Arc::new(crate::load_scene(&config.scene)?);
+    let prepared = config.prepare_scene()?;
     let fg = build_frame_graph(
         &registry,
-        scene,
-        &config.ao,
+        prepared.scene.clone(),
+        &prepared.ao(&config.ao),
         FrameOutputs {
             shaded: true,
             ..Default::default()
         },
+        Extent::new(config.width, config.height),
     )?;
     let plan =
         GraphCompiler::new().compile(fg.decl, &shader_library(), CompileOptions::default())?;
@@ -29,19 +28,29 @@ pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
         print!("{}", to_dot(&plan));
     } else {
         println!(
-            "technique {} on {} (g-buffer channels: {})",
+            "technique {} on {} (view {}), {} (g-buffer channels: {})",
             config.ao.technique,
             config.scene.label(),
+            prepared.view,
+            prepared.radius_line(),
             fg.channels
                 .iter()
                 .map(|c| c.name())
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        print!(
-            "{}",
-            summary(&plan, Extent::new(config.width, config.height))
-        );
+        let size = Extent::new(config.width, config.height);
+        if config.ao.technique != "none"
+            && let Some(reach) = crate::reach::radius_reach(
+                &registry,
+                &prepared.ao(&config.ao),
+                &prepared.scene,
+                size,
+            )?
+        {
+            println!("{}", reach.line(&config.ao.technique));
+        }
+        print!("{}", summary(&plan, size));
     }
     Ok(())
 }

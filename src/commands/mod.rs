@@ -6,6 +6,7 @@ mod graph;
 mod montage;
 mod reference;
 mod render;
+mod scene_info;
 mod tune;
 
 use std::path::PathBuf;
@@ -19,10 +20,12 @@ pub use graph::graph;
 pub use montage::montage;
 pub use reference::reference;
 pub use render::{RenderArgs, render};
+pub use scene_info::{scene_info, scene_info_text};
 pub use tune::{DEFAULT_SWEEP, TuneArgs, choose, config_text, tune};
 
-use crate::config::{AppConfig, SceneSource, check_size};
-use crate::error::{AppError, AppResult};
+use crate::camera_spec::CameraSpec;
+use crate::config::{AppConfig, RadiusSetting, SceneSource, check_size};
+use crate::error::AppResult;
 
 /// Flags shared by several commands; each overrides the config file.
 #[derive(Clone, Debug, Default)]
@@ -32,7 +35,10 @@ pub struct CommonArgs {
     pub technique: Option<String>,
     pub width: Option<u32>,
     pub height: Option<u32>,
-    pub radius: Option<f32>,
+    /// `auto` or a number of scene units.
+    pub radius: Option<String>,
+    /// `--camera`: a view name, a glTF camera name or index, or an inline camera.
+    pub camera: Option<String>,
 }
 
 impl CommonArgs {
@@ -57,15 +63,14 @@ impl CommonArgs {
             check_size("--height", h)?;
             c.height = h;
         }
-        if let Some(r) = self.radius {
-            if !(r.is_finite() && r > 0.0) {
-                return Err(AppError::InvalidArgument {
-                    name: "--radius".into(),
-                    value: r.to_string(),
-                    allowed: "a finite number greater than 0 (world units)".into(),
-                });
+        if let Some(r) = &self.radius {
+            c.radius = RadiusSetting::parse("--radius", r)?;
+            if let RadiusSetting::Units(r) = c.radius {
+                c.ao.radius = r;
             }
-            c.ao.radius = r;
+        }
+        if let Some(text) = &self.camera {
+            c.camera = Some(CameraSpec::parse(text)?);
         }
         c.validate(registry)?;
         Ok(c)

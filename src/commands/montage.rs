@@ -3,7 +3,6 @@
 //! from the same camera and g-buffer surfaces, separated by 2-pixel gaps.
 
 use std::path::Path;
-use std::sync::Arc;
 
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
@@ -23,7 +22,8 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
     for t in techniques {
         registry.get(t)?;
     }
-    let scene = Arc::new(crate::load_scene(&config.scene)?);
+    let prepared = config.prepare_scene()?;
+    let scene = prepared.scene.clone();
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         prepare_output_dir(dir)?;
     }
@@ -35,7 +35,7 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
             .map(|a| [(a.clamp(0.0, 1.0) * 255.0).round() as u8; 3])
             .collect::<Vec<_>>()
     };
-    let mut base_ao = config.ao.clone();
+    let mut base_ao = prepared.ao(&config.ao);
     base_ao.technique = "none".into();
     let mut r = Renderer::new(
         gpu.clone(),
@@ -60,7 +60,7 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
         &frame_reference(
             &r,
             &ReferenceSettings {
-                radius: config.ao.radius,
+                radius: prepared.radius,
                 rays,
                 mode: config.reference_mode,
                 normals: config.reference_normals,
@@ -70,7 +70,7 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
         .accessibility,
     ));
     for t in techniques {
-        let mut ao = config.ao.clone();
+        let mut ao = prepared.ao(&config.ao);
         ao.technique = t.clone();
         let mut r = Renderer::new(
             gpu.clone(),

@@ -4,7 +4,6 @@
 //! (16-bit), reference.f32 (raw) and gbuffer_depth.png.
 
 use std::path::Path;
-use std::sync::Arc;
 
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
@@ -50,18 +49,18 @@ pub fn reference(
         })?,
         None => config.reference_normals,
     };
-    let scene = Arc::new(crate::load_scene(&config.scene)?);
+    let prepared = config.prepare_scene()?;
     prepare_output_dir(out)?;
     let size = Extent::new(config.width, config.height);
     let view = FrameView {
-        camera: scene.camera_at(0.0),
-        scene,
+        camera: prepared.scene.camera_at(0.0),
+        scene: prepared.scene.clone(),
         time: 0.0,
         extent: size,
     };
     let (surfaces, depth) = reference_surfaces(gpu()?, shader_library(), &view, normals)?;
     let settings = ReferenceSettings {
-        radius: config.ao.radius,
+        radius: prepared.radius,
         rays,
         mode,
         normals,
@@ -84,11 +83,12 @@ pub fn reference(
     )?;
     let mean_err = image.std_error.iter().sum::<f32>() / image.std_error.len().max(1) as f32;
     println!(
-        "reference of {} at {} with {} rays/pixel, R = {}, {:?} mode, {} normals in {:.2} s (mean standard error {:.4})",
+        "reference of {} (view {}) at {} with {} rays/pixel, {}, {:?} mode, {} normals in {:.2} s (mean standard error {:.4})",
         config.scene.label(),
+        prepared.view,
         size,
         rays,
-        config.ao.radius,
+        prepared.radius_line(),
         mode,
         normals.name(),
         secs,

@@ -3,7 +3,6 @@
 //! work, and every file is written atomically.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use aograph_ao::TechniqueRegistry;
 use aograph_graph::Extent;
@@ -33,7 +32,7 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
             allowed: "1 or more".into(),
         });
     }
-    let scene = Arc::new(crate::load_scene(&config.scene)?);
+    let prepared = config.prepare_scene()?;
     prepare_output_dir(&args.out)?;
     let size = Extent::new(config.width, config.height);
     let started = std::time::Instant::now();
@@ -41,8 +40,8 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
         gpu()?,
         shader_library(),
         &registry,
-        scene,
-        &config.ao,
+        prepared.scene.clone(),
+        &prepared.ao(&config.ao),
         FrameOutputs {
             shaded: true,
             ..Default::default()
@@ -88,12 +87,14 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     }
     let timings = r.timings()?;
     let mut text = format!(
-        "# aograph render: technique {} on {} at {}, frame {} of {}\n# device: {}{}\n",
+        "# aograph render: technique {} on {} (view {}) at {}, frame {} of {}, {}\n# device: {}{}\n",
         config.ao.technique,
         config.scene.label(),
+        prepared.view,
         size,
         frames,
         frames,
+        prepared.radius_line(),
         r.gpu.describe(),
         if r.gpu.is_software() {
             " (software device: times are CPU times)"
@@ -106,10 +107,12 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     write_atomic(&tpath, text.as_bytes())?;
     written.push(tpath);
     println!(
-        "rendered {} with {} at {} ({} frame{}) in {:.2} s",
+        "rendered {} (view {}) with {} at {}, {} ({} frame{}) in {:.2} s",
         config.scene.label(),
+        prepared.view,
         config.ao.technique,
         size,
+        prepared.radius_line(),
         frames,
         if frames == 1 { "" } else { "s" },
         started.elapsed().as_secs_f64()

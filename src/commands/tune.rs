@@ -35,6 +35,9 @@ pub struct TuneArgs {
     /// `all` (default) or techniques comma-separated.
     #[arg(long, value_delimiter = ',')]
     pub techniques: Vec<String>,
+    /// The view to tune for: a view name or inline "pos=x,y,z target=x,y,z fov=60".
+    #[arg(long)]
+    pub camera: Option<String>,
     #[command(flatten)]
     pub run: RunFlags,
     /// Also write the config to this file.
@@ -106,6 +109,7 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
     let scene = scenes(std::slice::from_ref(&args.scene))?.remove(0);
     let plan = BenchPlan {
         scenes: vec![scene.clone()],
+        views: super::bench::view_choice(&[], args.camera.as_deref(), None, &registry)?,
         sets,
         settings,
     };

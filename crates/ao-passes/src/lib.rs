@@ -5,12 +5,14 @@
 pub mod blocks;
 mod config;
 mod error;
+mod levels;
 mod registry;
 mod technique;
 pub mod techniques;
 
 pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat, nearest, unknown_key};
 pub use error::{AoError, AoResult, check_one_of, check_param};
+pub use levels::Levels;
 pub use registry::TechniqueRegistry;
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, DynAoTechnique, spec,

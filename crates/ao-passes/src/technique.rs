@@ -33,6 +33,10 @@ pub struct AoBuildContext<'a> {
     pub intermediate_format: wgpu::TextureFormat,
     /// Name of the technique being built, for error messages.
     pub technique: &'static str,
+    /// R projected to full-resolution pixels at the view's nearest geometry, when the graph
+    /// is built for a known view (for `levels = "auto"`; see [`crate::Levels`]). Filled in
+    /// only for techniques whose [`DynAoTechnique::needs_radius_pixels`] says so.
+    pub radius_pixels: Option<f32>,
 }
 
 impl AoBuildContext<'_> {
@@ -105,6 +109,22 @@ pub trait AoTechnique: Send + Sync + 'static {
     fn is_temporal(&self, _params: &Self::Params) -> bool {
         false
     }
+    /// True when the build needs [`AoBuildContext::radius_pixels`] (an automatic level count).
+    fn needs_radius_pixels(&self, _params: &Self::Params) -> bool {
+        false
+    }
+    /// How far from a pixel, in full-resolution pixels of an image `height` tall, the
+    /// technique samples at most; `None` when it reaches R wherever R projects (it samples R in
+    /// view space, uncapped). `radius_pixels` is what [`AoBuildContext::radius_pixels`] would
+    /// hold, for automatic level counts.
+    fn reach_pixels(
+        &self,
+        _params: &Self::Params,
+        _height: u32,
+        _radius_pixels: Option<f32>,
+    ) -> Option<f32> {
+        None
+    }
     fn build(&self, ctx: &mut AoBuildContext<'_>, params: &Self::Params) -> AoResult<AoOutput>;
 }
 
@@ -118,6 +138,15 @@ pub trait DynAoTechnique: Send + Sync {
     fn check(&self, params: &toml::Table) -> AoResult<()>;
     fn channels(&self, params: &toml::Table) -> AoResult<GBufferChannels>;
     fn is_temporal(&self, params: &toml::Table) -> AoResult<bool>;
+    /// See [`AoTechnique::needs_radius_pixels`].
+    fn needs_radius_pixels(&self, params: &toml::Table) -> AoResult<bool>;
+    /// See [`AoTechnique::reach_pixels`].
+    fn reach_pixels(
+        &self,
+        params: &toml::Table,
+        height: u32,
+        radius_pixels: Option<f32>,
+    ) -> AoResult<Option<f32>>;
     fn build(&self, ctx: &mut AoBuildContext<'_>, params: &toml::Table) -> AoResult<AoOutput>;
 }
 
@@ -166,6 +195,25 @@ impl<T: AoTechnique> DynAoTechnique for T {
     }
     fn is_temporal(&self, params: &toml::Table) -> AoResult<bool> {
         Ok(AoTechnique::is_temporal(self, &parse(self, params)?))
+    }
+    fn needs_radius_pixels(&self, params: &toml::Table) -> AoResult<bool> {
+        Ok(AoTechnique::needs_radius_pixels(
+            self,
+            &parse(self, params)?,
+        ))
+    }
+    fn reach_pixels(
+        &self,
+        params: &toml::Table,
+        height: u32,
+        radius_pixels: Option<f32>,
+    ) -> AoResult<Option<f32>> {
+        Ok(AoTechnique::reach_pixels(
+            self,
+            &parse(self, params)?,
+            height,
+            radius_pixels,
+        ))
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, params: &toml::Table) -> AoResult<AoOutput> {
         let p = parse(self, params)?;

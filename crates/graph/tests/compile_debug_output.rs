@@ -137,8 +137,7 @@ fn summary_lists_order_culled_passes_and_bytes() {
     // ao_raw [0,1], ao_blurred [1,2], final [2,2] exported: ao_raw and final share.
     assert_eq!((with, without), (2 * one + depth, 3 * one + depth));
     assert!(
-        s.contains("with reuse, ")
-            && s.contains(&format!("without ({with} / {without} bytes)")),
+        s.contains("with reuse, ") && s.contains(&format!("without ({with} / {without} bytes)")),
         "{s}"
     );
     assert!(

@@ -1,5 +1,5 @@
-//! Cameras: view and projection matrices (wgpu conventions), primary rays, framing a box, and
-//! camera motion over time.
+//! Cameras: view and projection matrices (wgpu conventions), primary rays and camera motion
+//! over time (automatic viewpoints are in `crate::views`).
 //!
 //! Conventions: right-handed view space looking down -Z, clip-space depth in [0, 1] (wgpu), NDC
 //! y up. A reversed-Z infinite perspective maps the near plane to depth 1 and infinity to 0.
@@ -8,9 +8,8 @@
 //! are replaced by safe fallbacks instead of producing NaN.
 
 use crate::animation::Animation;
-use crate::bounds::Aabb;
 use glam::{Mat4, Vec2, Vec3};
-use std::f32::consts::{FRAC_PI_4, FRAC_PI_6, TAU};
+use std::f32::consts::{FRAC_PI_4, TAU};
 
 /// How a [`Camera`] projects view space to clip space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,22 +71,6 @@ impl Camera {
         }
     }
 
-    /// A camera looking at the centre of `bounds` from 1.5 times its diagonal away, 30 degrees
-    /// above the horizon, from the +Z side, with a 45 degree vertical field of view.
-    pub fn framing(bounds: &Aabb) -> Camera {
-        let centre = bounds.centre();
-        let diagonal = positive_or(bounds.diagonal(), 1.0);
-        let direction = Vec3::new(0.0, FRAC_PI_6.sin(), FRAC_PI_6.cos());
-        let distance = 1.5 * diagonal;
-        Camera::perspective(
-            centre + direction * distance,
-            centre,
-            FRAC_PI_4,
-            0.01 * diagonal,
-            distance + 10.0 * diagonal,
-        )
-    }
-
     /// Unit view direction (-Z if the target sits on the position).
     pub fn forward(&self) -> Vec3 {
         (self.target - self.position)
@@ -114,6 +97,15 @@ impl Camera {
     pub fn view(&self) -> Mat4 {
         let (_, up, forward) = self.basis();
         Mat4::look_to_rh(self.position, forward, up)
+    }
+
+    /// The vertical field of view in radians a perspective camera renders with (degenerate
+    /// values replaced by 45 degrees, as `projection` does); `None` for orthographic.
+    pub fn fov_y(&self) -> Option<f32> {
+        match self.projection {
+            Projection::Perspective { fov_y, .. } => Some(fov_y_or_default(fov_y)),
+            Projection::Orthographic { .. } => None,
+        }
     }
 
     /// Near plane distance (always positive).

@@ -17,19 +17,24 @@ pub mod model;
 pub mod normal_transform;
 pub mod primitives;
 pub mod procedural;
+pub mod projected_radius;
+pub mod radius;
 pub mod reference;
 pub mod scene_builder;
 pub mod view_block;
+pub mod views;
 
 pub use animation::{AnimatedTransform, Animation, Interpolation, Track, TrsKeyframes};
 pub use bounds::Aabb;
 pub use camera::{Camera, CameraMotion, CameraRay, Projection};
 pub use error::SceneError;
 pub use gltf_export::export_glb;
-pub use gltf_import::{GltfImport, import_gltf, load_scene};
-pub use model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, Scene};
+pub use gltf_import::{GltfImport, GltfInfo, MaterialInfo, import_gltf, load_scene};
+pub use model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, NamedCamera, Scene};
 pub use normal_transform::{normal_matrix, transform_normal};
 pub use procedural::{PROCEDURAL_SCENE_NAMES, procedural_scene};
+pub use projected_radius::{ProjectedRadius, projected_radius};
+pub use radius::{SuggestedRadius, suggested_radius};
 pub use reference::{
     BruteForceTracer, CacheKey, CpuGBuffer, ReferenceCache, ReferenceImage, ReferenceMode,
     ReferenceNormals, ReferenceParams, SurfaceBuffer, TriangleBvh, primary_hits, trace_reference,

@@ -83,6 +83,10 @@ pub struct Instance {
     pub transform: Mat4,
     /// Object-to-world transform over time, if the instance moves.
     pub animation: Option<Animation>,
+    /// A stand-in for an unbounded surface (a procedural scene's 1000-unit floor or wall): it
+    /// is drawn and traced like any geometry but has no size of its own, so it is left out of
+    /// [`Scene::content_bounds`] (framing and the automatic radius). glTF instances never are.
+    pub backdrop: bool,
 }
 
 impl Instance {
@@ -92,6 +96,7 @@ impl Instance {
             mesh,
             transform,
             animation: None,
+            backdrop: false,
         }
     }
 
@@ -101,6 +106,7 @@ impl Instance {
             mesh,
             transform: animation.matrix_at(0.0),
             animation: Some(animation),
+            backdrop: false,
         }
     }
 
@@ -143,16 +149,31 @@ impl Default for DirectionalLight {
 /// Ambient light applied everywhere (the term AO darkens).
 pub const DEFAULT_AMBIENT: [f32; 3] = [0.25, 0.27, 0.3];
 
+/// A camera the scene file names (a glTF camera node), selectable by name or index.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedCamera {
+    /// The node's name, else the camera's, else "camera N" (N its index).
+    pub name: String,
+    /// The camera at t = 0.
+    pub camera: Camera,
+    /// How it moves (an animated node), if it does.
+    pub motion: Option<CameraMotion>,
+}
+
 /// Everything needed to render a frame and to ray trace its reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
     pub instances: Vec<Instance>,
-    /// The camera at t = 0.
+    /// The default camera at t = 0: the file's first camera, a procedural scene's own, or an
+    /// automatic view (`crate::views`).
     pub camera: Camera,
     /// How the camera moves, if it does.
     pub camera_motion: Option<CameraMotion>,
+    /// Every camera the file defines, in the order of the node walk (empty for procedural
+    /// scenes and files without cameras).
+    pub cameras: Vec<NamedCamera>,
     pub light: DirectionalLight,
     /// Linear RGB ambient light.
     pub ambient: [f32; 3],
@@ -199,6 +220,28 @@ impl Scene {
     /// World-space bounds at t = 0.
     pub fn bounds(&self) -> Aabb {
         self.bounds_at(0.0)
+    }
+
+    /// World-space bounds at t = 0 of everything but backdrops (see [`Instance::backdrop`]):
+    /// the extent of what the scene is about. Empty when the scene is only backdrops.
+    pub fn content_bounds(&self) -> Aabb {
+        self.instances
+            .iter()
+            .filter(|instance| !instance.backdrop)
+            .filter_map(|instance| {
+                let mesh = self.meshes.get(instance.mesh)?;
+                Some(mesh.bounds().transformed(&instance.transform))
+            })
+            .fold(Aabb::EMPTY, Aabb::union)
+    }
+
+    /// The same scene seen from `camera` (still, whatever motion the scene's camera had).
+    pub fn with_camera(&self, camera: Camera) -> Scene {
+        Scene {
+            camera,
+            camera_motion: None,
+            ..self.clone()
+        }
     }
 
     /// World-space bounds at time `t`.
@@ -280,6 +323,7 @@ mod tests {
             instances: vec![instance, Instance::fixed(5, Mat4::IDENTITY)],
             camera: Camera::perspective(Vec3::Z * 5.0, Vec3::ZERO, 1.0, 0.1, 100.0),
             camera_motion: None,
+            cameras: Vec::new(),
             light: DirectionalLight::default(),
             ambient: DEFAULT_AMBIENT,
         }

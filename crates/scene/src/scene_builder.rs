@@ -59,6 +59,17 @@ impl SceneBuilder {
         index
     }
 
+    /// Adds `mesh` as a backdrop (a stand-in for an unbounded floor or wall, see
+    /// [`Instance::backdrop`]) placed once; returns the mesh index.
+    pub fn add_backdrop(&mut self, mesh: Mesh, transform: Mat4) -> usize {
+        let index = self.mesh(mesh);
+        self.instances.push(Instance {
+            backdrop: true,
+            ..Instance::fixed(index, transform)
+        });
+        index
+    }
+
     /// The number of triangles placed so far.
     pub fn triangle_count(&self) -> usize {
         self.instances
@@ -76,6 +87,7 @@ impl SceneBuilder {
             instances: self.instances,
             camera,
             camera_motion: None,
+            cameras: Vec::new(),
             light: DirectionalLight::default(),
             ambient: DEFAULT_AMBIENT,
         }

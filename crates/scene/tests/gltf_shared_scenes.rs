@@ -50,11 +50,14 @@ fn every_shared_scene_loads_with_its_triangle_count() {
             !bounds.is_empty() && bounds.min.is_finite() && bounds.max.is_finite(),
             "{file}"
         );
-        // No camera in these files: the framing camera looks at the centre from 1.5 diagonals.
-        let distance = scene.camera.position.distance(bounds.centre());
+        // No camera in these files: the outside view looks at the content's centre from where
+        // its bounding sphere fills a 45-degree field of view (none of them is enclosed).
+        let (centre, r) = (bounds.centre(), 0.5 * bounds.diagonal());
+        let distance = scene.camera.position.distance(centre);
+        let fit = r / (0.5 * aograph_scene::views::OUTSIDE_FOV_DEGREES.to_radians()).sin();
         assert!(
-            (distance / bounds.diagonal() - 1.5).abs() < 1e-3,
-            "{file}: camera at {distance}"
+            (distance / fit - 1.0).abs() < 1e-3 && scene.camera.target.distance(centre) < 1e-3 * r,
+            "{file}: camera at {distance}, the sphere fits at {fit}"
         );
         assert!(matches!(
             scene.camera.projection,

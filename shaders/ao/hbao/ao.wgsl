@@ -8,11 +8,14 @@
 //   W(θ) = max(0, 1 - r(θ)/R)                        (Eq. 4)
 //   A    = 1 - (1/D) Σ_d W(θ_d) sin h(θ_d)           (Eq. 5, Monte Carlo over θ)
 // No tangent-angle term (spec §1.3). Output: raw accessibility, blurred by hbao.blur_x/_y.
+// The original HBAO (Bavoil et al. 2008, preset "bavoil-2008"): per-sample attenuation,
+//   AO(θ) = Σ_i W(r_i) (sin h_i - sin h_(i-1)) over the samples that raise the horizon, with the
+//   horizon starting at the angle bias above the tangent plane, divided by 1 - sin(bias).
 
 struct HbaoParams {
-    // D directions, S steps, unused x2
+    // D directions, S steps, attenuation (0 at the horizon, 1 per sample), unused
     counts: vec4<u32>,
-    // R (world units), max screen radius (fraction of height), unused x2
+    // R (world units), max screen radius (fraction of height), sin(angle bias), unused
     shape: vec4<f32>,
 }
 
@@ -51,12 +54,15 @@ fn accessibility(p: vec2<i32>) -> f32 {
     let centre = vec2<f32>(p) + 0.5;
     let eps = 1e-4 * z;
 
+    let per_sample = params.counts.z == 1u;
+    let sin_bias = clamp(params.shape.z, 0.0, 0.99);
     var sum = 0.0;
     for (var d = 0u; d < dirs; d = d + 1u) {
         let theta = 6.2831853 * (f32(d) + rotation) / f32(dirs);
         let dir = vec2<f32>(cos(theta), sin(theta));
-        var sin_h = 0.0; // horizon starts at the tangent plane
-        var r_h = r;     // W(r) = 0 until a sample rises above it
+        var sin_h = sin_bias; // horizon starts at the (biased) tangent plane
+        var r_h = r;          // W(r) = 0 until a sample rises above it
+        var rises = 0.0;      // Σ W(r_i) (sin h_i - sin h_(i-1)), per-sample attenuation
         for (var i = 0u; i < steps; i = i + 1u) {
             let sp = centre + dir * (1.0 + (f32(i) + jitter) * step_px);
             if (any(sp < vec2<f32>(0.0)) || any(sp >= vec2<f32>(size))) {
@@ -77,13 +83,16 @@ fn accessibility(p: vec2<i32>) -> f32 {
             }
             let sin_a = dot(n, v) / dist;
             if (sin_a > sin_h) {
+                rises = rises + max(0.0, 1.0 - dist / r) * (sin_a - sin_h);
                 sin_h = sin_a;
                 r_h = dist;
             }
         }
-        sum = sum + max(0.0, 1.0 - r_h / r) * sin_h; // W(θ) sin h(θ), Eqs. 4-5
+        // W(θ) sin h(θ), Eqs. 4-5; or the per-sample sum. Both over 1 - sin(bias).
+        let horizon = max(0.0, 1.0 - r_h / r) * (sin_h - sin_bias);
+        sum = sum + select(horizon, rises, per_sample);
     }
-    let a = 1.0 - sum / f32(dirs);
+    let a = 1.0 - sum / (f32(dirs) * (1.0 - sin_bias));
     return select(1.0, clamp(a, 0.0, 1.0), a == a);
 }
 

@@ -34,6 +34,15 @@
 //!   bilateral) Gaussian.
 //! - Screen-radius cap: R_px = min(R · pixels_per_unit(z), max_screen_radius · height), R
 //!   shrinks to match (W uses the shrunk R); under one pixel the pixel is unoccluded.
+//! - Presets: `preset = "pyramid-paper"` (the default) is the estimator above, the Pyramid
+//!   HBAO paper's HBAO, so its comparisons run unchanged. `preset = "bavoil-2008"` is the
+//!   original HBAO (Bavoil, Sainz, Dimitrov 2008): per-sample attenuation, each rise of the
+//!   horizon weighted by W at the sample that raised it, AO = (1/D) Σ_d Σ_i W(r_i)
+//!   (sin h_i - sin h_(i-1)), and a tangent-angle bias: the horizon starts at `angle_bias`
+//!   above the tangent plane and the sum is divided by (1 - sin bias), so a zenith occluder
+//!   still occludes fully. The preset's bias, 10 degrees, is our choice (the 2008 talk
+//!   exposes it as a knob without a value we could verify). `attenuation` and `angle_bias`
+//!   override either preset. W stays Eq. 4's 1 - r/R in both.
 //! - Intermediates (`hbao.raw` and the blur's horizontal pass, when blurring) have
 //!   `[ao] intermediate_format`; their writers are the matching shader variants (`ctx.shader`).
 //!   Without the blur `hbao.raw` is the output and stays R32Float.
@@ -55,10 +64,53 @@ pub const MAX_STEPS: u32 = 128;
 
 pub struct Hbao;
 
+/// Named settings of the estimator (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HbaoPreset {
+    /// The Pyramid HBAO paper's HBAO (Eqs. 4-5): attenuation at the horizon sample, no bias.
+    #[default]
+    PyramidPaper,
+    /// The original HBAO (Bavoil et al. 2008): per-sample attenuation, 10-degree angle bias.
+    #[serde(rename = "bavoil-2008")]
+    Bavoil2008,
+}
+
+/// Where the attenuation W is applied.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Attenuation {
+    /// Once per direction, at the horizon sample (Pyramid HBAO Eqs. 4-5).
+    Horizon,
+    /// At every sample that raises the horizon (Bavoil et al. 2008).
+    PerSample,
+}
+
+impl HbaoPreset {
+    fn attenuation(self) -> Attenuation {
+        match self {
+            HbaoPreset::PyramidPaper => Attenuation::Horizon,
+            HbaoPreset::Bavoil2008 => Attenuation::PerSample,
+        }
+    }
+    fn angle_bias(self) -> f32 {
+        match self {
+            HbaoPreset::PyramidPaper => 0.0,
+            HbaoPreset::Bavoil2008 => 10.0,
+        }
+    }
+}
+
 /// `[ao.hbao]` parameters. Table 1a's rows: (D, S) = (8, 10), (16, 20), (32, 40), (64, 80).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct HbaoParams {
+    /// The estimator's named settings (module docs).
+    pub preset: HbaoPreset,
+    /// Overrides the preset's attenuation.
+    pub attenuation: Option<Attenuation>,
+    /// Overrides the preset's tangent-angle bias (degrees).
+    pub angle_bias: Option<f32>,
     /// Azimuth directions D.
     pub directions: u32,
     /// Depth samples S per direction.
@@ -69,9 +121,23 @@ pub struct HbaoParams {
     pub max_screen_radius: f32,
 }
 
+impl HbaoParams {
+    /// The attenuation in effect (the override, else the preset's).
+    pub fn attenuation(&self) -> Attenuation {
+        self.attenuation.unwrap_or(self.preset.attenuation())
+    }
+    /// The angle bias in degrees in effect (the override, else the preset's).
+    pub fn angle_bias(&self) -> f32 {
+        self.angle_bias.unwrap_or(self.preset.angle_bias())
+    }
+}
+
 impl Default for HbaoParams {
     fn default() -> Self {
         Self {
+            preset: HbaoPreset::PyramidPaper,
+            attenuation: None,
+            angle_bias: None,
             directions: 8,
             steps: 10,
             blur: true,
@@ -84,9 +150,9 @@ impl Default for HbaoParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct HbaoUniform {
-    /// D, S, unused x2
+    /// D, S, attenuation (0 horizon, 1 per sample), unused
     counts: [u32; 4],
-    /// R (world units), max screen radius (fraction of height), unused x2
+    /// R (world units), max screen radius (fraction of height), sin(angle bias), unused
     shape: [f32; 4],
 }
 
@@ -100,6 +166,27 @@ impl AoTechnique for Hbao {
     }
     fn param_specs(&self) -> Vec<ParamSpec> {
         vec![
+            spec(
+                "preset",
+                "\"pyramid-paper\" or \"bavoil-2008\"",
+                "pyramid-paper: the Pyramid HBAO paper's HBAO (Eqs. 4-5); bavoil-2008: the original, per-sample attenuation and a 10-degree angle bias",
+            ),
+            ParamSpec {
+                default: "the preset's".into(),
+                ..spec(
+                    "attenuation",
+                    "\"horizon\" or \"per-sample\"",
+                    "W at the horizon sample only (Eq. 5) or at every sample that raises the horizon (Bavoil 2008)",
+                )
+            },
+            ParamSpec {
+                default: "the preset's".into(),
+                ..spec(
+                    "angle_bias",
+                    "0 to 60 (degrees)",
+                    "the horizon starts this far above the tangent plane (Bavoil 2008); the sum is renormalised by 1 - sin(bias)",
+                )
+            },
             spec(
                 "directions",
                 &format!("1 to {MAX_DIRECTIONS}"),
@@ -125,7 +212,12 @@ impl AoTechnique for Hbao {
     fn validate(&self, p: &HbaoParams) -> AoResult<()> {
         check_param("hbao", "directions", p.directions, 1, MAX_DIRECTIONS)?;
         check_param("hbao", "steps", p.steps, 1, MAX_STEPS)?;
-        check_param("hbao", "max_screen_radius", p.max_screen_radius, 0.01, 2.0)
+        check_param("hbao", "max_screen_radius", p.max_screen_radius, 0.01, 2.0)?;
+        check_param("hbao", "angle_bias", p.angle_bias(), 0.0, 60.0)
+    }
+    fn reach_pixels(&self, p: &HbaoParams, height: u32, _: Option<f32>) -> Option<f32> {
+        // The projected radius is capped at max_screen_radius x height (R shrinks to match).
+        Some(p.max_screen_radius * height as f32)
     }
     fn channels(&self, _: &HbaoParams) -> GBufferChannels {
         GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
@@ -150,8 +242,18 @@ impl AoTechnique for Hbao {
             )
         };
         let uniform = HbaoUniform {
-            counts: [p.directions, p.steps, 0, 0],
-            shape: [ctx.radius, p.max_screen_radius, 0.0, 0.0],
+            counts: [
+                p.directions,
+                p.steps,
+                (p.attenuation() == Attenuation::PerSample) as u32,
+                0,
+            ],
+            shape: [
+                ctx.radius,
+                p.max_screen_radius,
+                p.angle_bias().to_radians().sin(),
+                0.0,
+            ],
         };
         let mut pass = ctx.builder.compute_pass("hbao.ao", &shader, "main");
         pass.sample("depth", depth).sample("normals", normals);
@@ -208,6 +310,7 @@ mod tests {
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R32Float,
             technique: "hbao",
+            radius_pixels: None,
         };
         let out = AoTechnique::build(&Hbao, &mut ctx, params).unwrap();
         b.export(out.accessibility);
@@ -299,7 +402,51 @@ mod tests {
     fn every_parameter_has_a_spec_and_default() {
         let specs = DynAoTechnique::parameters(&Hbao);
         let names: Vec<_> = specs.iter().map(|s| s.name).collect();
-        assert_eq!(names, ["directions", "steps", "blur", "max_screen_radius"]);
+        assert_eq!(
+            names,
+            [
+                "preset",
+                "attenuation",
+                "angle_bias",
+                "directions",
+                "steps",
+                "blur",
+                "max_screen_radius"
+            ]
+        );
         assert!(specs.iter().all(|s| !s.default.is_empty()));
+    }
+
+    #[test]
+    fn presets_set_attenuation_and_bias_and_keys_override_them() {
+        let parse = |t: &str| -> HbaoParams { toml::from_str(t).unwrap() };
+        let paper = parse("");
+        assert_eq!(
+            (paper.attenuation(), paper.angle_bias()),
+            (Attenuation::Horizon, 0.0)
+        );
+        let original = parse("preset = \"bavoil-2008\"");
+        assert_eq!(
+            (original.attenuation(), original.angle_bias()),
+            (Attenuation::PerSample, 10.0)
+        );
+        let mixed = parse("preset = \"bavoil-2008\"\nattenuation = \"horizon\"\nangle_bias = 0");
+        assert_eq!(
+            (mixed.attenuation(), mixed.angle_bias()),
+            (Attenuation::Horizon, 0.0)
+        );
+        let e = Hbao
+            .check(&"angle_bias = 75.0".parse().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("angle_bias") && e.contains("0 to 60"), "{e}");
+        let e = Hbao
+            .check(&"preset = \"nvidia\"".parse().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("pyramid-paper") && e.contains("bavoil-2008"),
+            "{e}"
+        );
     }
 }

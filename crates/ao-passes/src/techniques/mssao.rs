@@ -77,6 +77,7 @@ use crate::blocks::temporal::{
     DEFAULT_EPSILON, TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
 use crate::error::{AoResult, check_param};
+use crate::levels::Levels;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
 
 use passes::{Level, MssaoUniform};
@@ -86,13 +87,17 @@ pub struct Mssao;
 
 /// Most pyramid levels accepted.
 pub const MAX_LEVELS: u32 = 8;
+/// The paper's n (Sec. 4.2, all of its tests): `levels = "auto"` without a known view.
+pub const PAPER_LEVELS: u32 = 4;
 
 /// `[ao.mssao]`: every constant of the paper, with its value as the default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MssaoParams {
-    /// n, the number of resolutions (Sec. 4.2; 4 in all of the paper's tests).
-    pub levels: u32,
+    /// n, the number of resolutions (Sec. 4.2; 4 in all of the paper's tests), or `auto`: the
+    /// fewest whose coarsest kernel reaches R at the view's nearest geometry (see
+    /// [`MssaoParams::levels_for`]).
+    pub levels: Levels,
     /// d_threshold (Table 2), scene units: a 2x2 block whose depth range is at most this is
     /// averaged (median), otherwise its second-nearest sub-pixel is kept.
     pub d_threshold: f32,
@@ -117,7 +122,7 @@ pub struct MssaoParams {
 impl Default for MssaoParams {
     fn default() -> Self {
         Self {
-            levels: 4,
+            levels: Levels::Auto,
             d_threshold: 1.0,
             r_max: 5.0,
             normal_power: 8.0,
@@ -127,6 +132,21 @@ impl Default for MssaoParams {
             temporal_k: 0.5,
             temporal_epsilon: DEFAULT_EPSILON,
         }
+    }
+}
+
+impl MssaoParams {
+    /// The reach of n levels in full-resolution pixels: the coarsest level's kernel radius is
+    /// capped at r_max of its own pixels (Eq. 5), 2^(n-1) full-resolution pixels each.
+    pub fn reach(&self, levels: u32) -> f32 {
+        self.r_max * 2f32.powi(levels as i32 - 1)
+    }
+
+    /// The level count: fixed, or for `auto` the fewest in 1..=8 whose reach covers
+    /// `radius_pixels` (the paper's 4 when the view is unknown).
+    pub fn levels_for(&self, radius_pixels: Option<f32>) -> u32 {
+        self.levels
+            .resolve(radius_pixels, MAX_LEVELS, PAPER_LEVELS, |n| self.reach(n))
     }
 }
 
@@ -142,8 +162,8 @@ impl AoTechnique for Mssao {
         vec![
             spec(
                 "levels",
-                &format!("1 to {MAX_LEVELS}"),
-                "number of resolutions n, each half the previous (Sec. 4.2)",
+                &format!("\"auto\" or 1 to {MAX_LEVELS}"),
+                "number of resolutions n, each half the previous (Sec. 4.2); auto: the fewest whose reach r_max 2^(n-1) px covers R in the view",
             ),
             spec(
                 "d_threshold",
@@ -189,7 +209,9 @@ impl AoTechnique for Mssao {
     }
     fn validate(&self, p: &MssaoParams) -> AoResult<()> {
         let t = "mssao";
-        check_param(t, "levels", p.levels, 1, MAX_LEVELS)?;
+        if let Levels::Fixed(n) = p.levels {
+            check_param(t, "levels", n, 1, MAX_LEVELS)?;
+        }
         check_param(t, "d_threshold", p.d_threshold, 0.0, 1000.0)?;
         check_param(t, "r_max", p.r_max, 1.0, 8.0)?;
         check_param(t, "normal_power", p.normal_power, 0.0, 64.0)?;
@@ -212,9 +234,16 @@ impl AoTechnique for Mssao {
     fn is_temporal(&self, p: &MssaoParams) -> bool {
         p.temporal
     }
+    fn needs_radius_pixels(&self, p: &MssaoParams) -> bool {
+        p.levels == Levels::Auto
+    }
+    fn reach_pixels(&self, p: &MssaoParams, _: u32, radius_pixels: Option<f32>) -> Option<f32> {
+        Some(p.reach(p.levels_for(radius_pixels)))
+    }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &MssaoParams) -> AoResult<AoOutput> {
         self.validate(p)?;
         let radius = ctx.radius;
+        let levels = p.levels_for(ctx.radius_pixels);
         let uniform = |level: u32| MssaoUniform::new(p, radius, level);
         let finest = Level {
             positions: ctx.channel(GBufferChannel::Positions)?,
@@ -222,14 +251,14 @@ impl AoTechnique for Mssao {
         };
         // Table 2: the g-buffer pyramid.
         let mut pyramid = vec![finest];
-        for l in 1..p.levels {
+        for l in 1..levels {
             let next = passes::downsample(ctx, l, pyramid[l as usize - 1], &uniform(l));
             pyramid.push(next);
         }
         // Tables 3-4, coarsest to finest; `blurred` is the previous (coarser) level's filtered
         // tuple.
         let mut blurred: Option<TextureHandle> = None;
-        for l in (1..p.levels).rev() {
+        for l in (1..levels).rev() {
             let g = pyramid[l as usize];
             let far = blurred.map(|b| (b, pyramid[l as usize + 1]));
             let tuple = passes::ao_level(ctx, l, g, far, &uniform(l));

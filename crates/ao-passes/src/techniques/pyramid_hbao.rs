@@ -49,6 +49,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::blocks::{DepthReduction, GaussianBlur, depth_pyramid, gaussian_blur_with_intermediate};
 use crate::error::{AoError, AoResult, check_param};
+use crate::levels::Levels;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
 
 const NAME: &str = "pyramid-hbao";
@@ -56,6 +57,10 @@ const NAME: &str = "pyramid-hbao";
 const K: u32 = 3;
 /// Most levels the AO shader binds (level 0 included).
 pub const MAX_LEVELS: u32 = 5;
+/// The paper's L where its Viking Room saturates: `levels = "auto"` without a known view.
+pub const PAPER_LEVELS: u32 = 4;
+/// The smallest step jitter xi (spec §2.5: xi in [0.5, 1.5)): the reach every direction has.
+const MIN_JITTER: f32 = 0.5;
 
 pub struct PyramidHbao;
 
@@ -63,8 +68,9 @@ pub struct PyramidHbao;
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PyramidHbaoParams {
-    /// Pyramid levels L, level 0 (full resolution) included.
-    pub levels: u32,
+    /// Pyramid levels L, level 0 (full resolution) included, or `auto`: the fewest whose
+    /// march reaches R at the view's nearest geometry ([`PyramidHbaoParams::levels_for`]).
+    pub levels: Levels,
     /// Azimuth directions D (paper: 8).
     pub directions: u32,
     /// Reads per direction and pyramid level.
@@ -84,7 +90,7 @@ pub struct PyramidHbaoParams {
 impl Default for PyramidHbaoParams {
     fn default() -> Self {
         Self {
-            levels: 4,
+            levels: Levels::Auto,
             directions: 8,
             step_count: 4,
             initial_step: 1.0,
@@ -110,6 +116,23 @@ struct AoUniform {
     _pad: u32,
 }
 
+impl PyramidHbaoParams {
+    /// The march's reach with L levels in full-resolution pixels, for the smallest jitter:
+    /// s0 xi_min S (K^L - 1) / (K - 1), so every direction reaches it (module docs).
+    pub fn reach(&self, levels: u32) -> f32 {
+        let k = K as f32;
+        self.initial_step * MIN_JITTER * self.step_count as f32 * (k.powi(levels as i32) - 1.0)
+            / (k - 1.0)
+    }
+
+    /// The level count: fixed, or for `auto` the fewest in 1..=5 whose reach covers
+    /// `radius_pixels` (the paper's 4 when the view is unknown).
+    pub fn levels_for(&self, radius_pixels: Option<f32>) -> u32 {
+        self.levels
+            .resolve(radius_pixels, MAX_LEVELS, PAPER_LEVELS, |n| self.reach(n))
+    }
+}
+
 impl AoTechnique for PyramidHbao {
     type Params = PyramidHbaoParams;
     fn name(&self) -> &'static str {
@@ -122,8 +145,8 @@ impl AoTechnique for PyramidHbao {
         vec![
             spec(
                 "levels",
-                "1 to 5",
-                "pyramid levels L, level 0 included; the reach grows 3x per level",
+                "\"auto\" or 1 to 5",
+                "pyramid levels L, level 0 included; the reach grows 3x per level; auto: the fewest that reach R in the view",
             ),
             spec("directions", "1 to 32", "azimuth directions D (paper: 8)"),
             spec(
@@ -159,7 +182,9 @@ impl AoTechnique for PyramidHbao {
         ]
     }
     fn validate(&self, p: &PyramidHbaoParams) -> AoResult<()> {
-        check_param(NAME, "levels", p.levels, 1, MAX_LEVELS)?;
+        if let Levels::Fixed(n) = p.levels {
+            check_param(NAME, "levels", n, 1, MAX_LEVELS)?;
+        }
         check_param(NAME, "directions", p.directions, 1, 32)?;
         check_param(NAME, "step_count", p.step_count, 1, 16)?;
         check_param(NAME, "initial_step", p.initial_step, 0.25, 16.0)?;
@@ -178,17 +203,23 @@ impl AoTechnique for PyramidHbao {
     fn channels(&self, _: &PyramidHbaoParams) -> GBufferChannels {
         GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
     }
+    fn needs_radius_pixels(&self, p: &PyramidHbaoParams) -> bool {
+        p.levels == Levels::Auto
+    }
+    fn reach_pixels(
+        &self,
+        p: &PyramidHbaoParams,
+        _: u32,
+        radius_pixels: Option<f32>,
+    ) -> Option<f32> {
+        Some(p.reach(p.levels_for(radius_pixels)))
+    }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
+        let levels = p.levels_for(ctx.radius_pixels);
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         // 1. Depth pyramid, K = 3, 3x3 mean (§3.3).
-        let pyramid = depth_pyramid(
-            ctx.builder,
-            NAME,
-            depth,
-            DepthReduction::Average3x3,
-            p.levels,
-        )?;
+        let pyramid = depth_pyramid(ctx.builder, NAME, depth, DepthReduction::Average3x3, levels)?;
         debug_assert_eq!(pyramid.factor(), K);
         // 2. AO at the output resolution (§3.4; no upsampling, §3).
         let target = if p.blur {
@@ -201,7 +232,7 @@ impl AoTechnique for PyramidHbao {
             initial_step: p.initial_step,
             sin_bias: p.angle_bias.to_radians().sin(),
             factor: K as f32,
-            levels: p.levels,
+            levels,
             directions: p.directions,
             step_count: p.step_count,
             _pad: 0,
@@ -276,6 +307,7 @@ mod tests {
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R32Float,
             technique: NAME,
+            radius_pixels: None,
         };
         let out = DynAoTechnique::build(
             &PyramidHbao,
@@ -383,6 +415,7 @@ mod tests {
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R16Float,
             technique: NAME,
+            radius_pixels: None,
         };
         let out =
             AoTechnique::build(&PyramidHbao, &mut ctx, &PyramidHbaoParams::default()).unwrap();

@@ -141,6 +141,10 @@ impl AoTechnique for Ssao {
         check_param("ssao", "bias", p.bias, 0.0, 0.5)?;
         check_param("ssao", "max_screen_radius", p.max_screen_radius, 0.01, 2.0)
     }
+    fn reach_pixels(&self, p: &SsaoParams, height: u32, _: Option<f32>) -> Option<f32> {
+        // The projected radius is capped at max_screen_radius x height (R shrinks to match).
+        Some(p.max_screen_radius * height as f32)
+    }
     fn channels(&self, _: &SsaoParams) -> GBufferChannels {
         GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
     }
@@ -212,6 +216,7 @@ mod tests {
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R32Float,
             technique: "ssao",
+            radius_pixels: None,
         };
         let out = AoTechnique::build(&Ssao, &mut ctx, params).unwrap();
         b.export(out.accessibility);

@@ -334,6 +334,7 @@ mod tests {
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R32Float,
             technique: "ssdo",
+            radius_pixels: None,
         };
         let out = AoTechnique::build(&Ssdo, &mut ctx, params).unwrap();
         b.export(out.accessibility);

@@ -324,6 +324,10 @@ impl AoTechnique for Tssao {
         check_one_of(t, "falloff", p.falloff.as_str(), &FALLOFFS)?;
         check_param(t, "max_screen_radius", p.max_screen_radius, 0.01, 2.0)
     }
+    fn reach_pixels(&self, p: &TssaoParams, height: u32, _: Option<f32>) -> Option<f32> {
+        // The projected radius is capped at max_screen_radius x height (R shrinks to match).
+        Some(p.max_screen_radius * height as f32)
+    }
     fn channels(&self, _: &TssaoParams) -> GBufferChannels {
         // Motion is dropped by the g-buffer for scenes where nothing moves.
         GBufferChannels::of(&[
@@ -439,6 +443,7 @@ mod tests {
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R32Float,
             technique: "tssao",
+            radius_pixels: None,
         };
         let out = AoTechnique::build(&Tssao, &mut ctx, &TssaoParams::default()).unwrap();
         b.export(out.accessibility);

@@ -2,16 +2,18 @@
 //!
 //! What is read: the default scene (else the first; else every root node), the node hierarchy
 //! with parent transforms accumulated, triangle primitives (positions, normals, indices or
-//! none), base colour factors, the first camera node met in a depth-first walk (its world
-//! transform places the camera), and translation/rotation/scale node animations of the first
-//! clip (as instance and camera animations).
+//! none), base colour factors, every camera node in depth-first order (named after its node,
+//! else its camera, else "camera N"; the first is the default camera; its world transform
+//! places it), and translation/rotation/scale node animations of the first clip (as instance
+//! and camera animations).
 //! What is not: images and textures (never loaded; missing image files only cause a warning,
 //! since AO needs no textures), skinning (skinned meshes are placed in their bind pose by their
 //! node's transform), morph targets, lights. Non-triangle primitives (points, lines, line loops,
 //! line strips) are skipped with a warning; triangle strips and fans are converted to lists.
 //! Warnings go to stderr from [`load_scene`]; [`import_gltf`] returns them instead.
-//! Without a camera in the file, the camera frames the scene's bounding box (see
-//! [`Camera::framing`]). Invariant: a returned scene has at least one triangle, finite
+//! Without a camera in the file, the default camera is the automatic one (see
+//! [`crate::views::default_camera`]: an interior view of an enclosed scene, else an outside
+//! view fitting the bounding sphere). Invariant: a returned scene has at least one triangle, finite
 //! positions and in-range indices; anything else is a [`SceneError`] naming the file.
 
 mod accessor_check;
@@ -22,7 +24,9 @@ mod primitive_reader;
 use crate::animation::{AnimatedTransform, Animation, TrsKeyframes};
 use crate::camera::{Camera, CameraMotion, Projection};
 use crate::error::SceneError;
-use crate::model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, Scene};
+use crate::model::{
+    DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, NamedCamera, Scene,
+};
 use glam::{Mat4, Vec3};
 use primitive_reader::PrimitiveOutcome;
 use std::collections::{BTreeMap, HashMap};
@@ -34,6 +38,28 @@ pub struct GltfImport {
     pub scene: Scene,
     /// Things skipped or approximated, one sentence each (without the file name).
     pub warnings: Vec<String>,
+    /// What the file holds, for `aograph scene info`.
+    pub info: GltfInfo,
+}
+
+/// What a glTF file holds, as `aograph scene info` reports it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GltfInfo {
+    /// Nodes in the file (all of them, placed or not).
+    pub nodes: usize,
+    /// glTF meshes (each may hold several primitives).
+    pub meshes: usize,
+    pub materials: Vec<MaterialInfo>,
+}
+
+/// One glTF material's properties that matter to AO and shading.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialInfo {
+    pub name: String,
+    /// Rendered from both sides (aograph draws every surface two-sided either way).
+    pub double_sided: bool,
+    /// "OPAQUE", "MASK" or "BLEND" (aograph treats every surface as opaque).
+    pub alpha_mode: &'static str,
 }
 
 /// Loads a glTF 2.0 file (`.gltf` or `.glb`), printing warnings to stderr.
@@ -101,7 +127,7 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         meshes: Vec::new(),
         mesh_map: HashMap::new(),
         instances: Vec::new(),
-        camera: None,
+        cameras: Vec::new(),
         warnings,
         node_count: gltf.document.nodes().count(),
     };
@@ -121,17 +147,38 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         meshes,
         instances,
         materials,
-        camera,
+        cameras,
         warnings,
         ..
     } = walk;
+    let info = GltfInfo {
+        nodes: gltf.document.nodes().count(),
+        meshes: gltf.document.meshes().count(),
+        materials: gltf
+            .document
+            .materials()
+            .map(|m| MaterialInfo {
+                name: m.name().map_or_else(
+                    || format!("material {}", m.index().unwrap_or(0)),
+                    str::to_owned,
+                ),
+                double_sided: m.double_sided(),
+                alpha_mode: match m.alpha_mode() {
+                    gltf::material::AlphaMode::Opaque => "OPAQUE",
+                    gltf::material::AlphaMode::Mask => "MASK",
+                    gltf::material::AlphaMode::Blend => "BLEND",
+                },
+            })
+            .collect(),
+    };
     let mut scene = Scene {
         meshes,
         materials,
         instances,
         // Replaced below, once the bounds are known.
-        camera: Camera::framing(&crate::bounds::Aabb::EMPTY),
+        camera: crate::views::outside_camera(&crate::bounds::Aabb::EMPTY),
         camera_motion: None,
+        cameras,
         light: DirectionalLight::default(),
         ambient: DEFAULT_AMBIENT,
     };
@@ -140,14 +187,18 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
             path: path.to_owned(),
         });
     }
-    match camera {
-        Some((camera, motion)) => {
-            scene.camera = camera;
-            scene.camera_motion = motion;
+    match scene.cameras.first() {
+        Some(first) => {
+            scene.camera = first.camera;
+            scene.camera_motion = first.motion.clone();
         }
-        None => scene.camera = Camera::framing(&scene.bounds()),
+        None => scene.camera = crate::views::default_camera(&scene),
     }
-    Ok(GltfImport { scene, warnings })
+    Ok(GltfImport {
+        scene,
+        warnings,
+        info,
+    })
 }
 
 /// Maps a gltf parse error to the matching [`SceneError`].
@@ -267,7 +318,7 @@ struct NodeWalk<'a> {
     /// glTF mesh index -> indices of the meshes made from its primitives.
     mesh_map: HashMap<usize, Vec<usize>>,
     instances: Vec<Instance>,
-    camera: Option<(Camera, Option<CameraMotion>)>,
+    cameras: Vec<NamedCamera>,
     warnings: Vec<String>,
     node_count: usize,
 }
@@ -311,8 +362,17 @@ impl NodeWalk<'_> {
                 });
             }
         }
-        if let (None, Some(camera)) = (&self.camera, node.camera()) {
-            self.camera = Some(camera_from_node(&camera, &chain));
+        if let Some(camera) = node.camera() {
+            let (at_zero, motion) = camera_from_node(&camera, &chain);
+            let name = node
+                .name()
+                .or_else(|| camera.name())
+                .map_or_else(|| format!("camera {}", self.cameras.len()), str::to_owned);
+            self.cameras.push(NamedCamera {
+                name,
+                camera: at_zero,
+                motion,
+            });
         }
         for child in node.children() {
             self.visit(&child, &chain, depth + 1)?;

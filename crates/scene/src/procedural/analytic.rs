@@ -77,7 +77,7 @@ pub(super) fn wall() -> Scene {
     floor(&mut builder, 2.0 * WALL_HALF_EXTENT);
     let wall_material = builder.material(WALL_COLOR);
     // The XZ quad turned about Z by +90 degrees faces -X: towards the camera side.
-    builder.add(
+    builder.add_backdrop(
         quad(WALL_HALF_EXTENT, 2.0 * WALL_HALF_EXTENT, wall_material),
         Mat4::from_rotation_translation(
             Quat::from_rotation_z(FRAC_PI_2),
@@ -108,13 +108,13 @@ pub(super) fn corner() -> Scene {
     const SIZE: f32 = 30.0;
     let mut builder = SceneBuilder::new();
     let floor_material = builder.material(FLOOR_COLOR);
-    builder.add(
+    builder.add_backdrop(
         quad(SIZE, SIZE, floor_material),
         Mat4::from_translation(Vec3::new(0.5 * SIZE, 0.0, 0.5 * SIZE)),
     );
     let wall_material = builder.material(WALL_COLOR);
     // Plane x = 0 facing +X.
-    builder.add(
+    builder.add_backdrop(
         quad(SIZE, SIZE, wall_material),
         Mat4::from_rotation_translation(
             Quat::from_rotation_z(-FRAC_PI_2),
@@ -122,7 +122,7 @@ pub(super) fn corner() -> Scene {
         ),
     );
     // Plane z = 0 facing +Z.
-    builder.add(
+    builder.add_backdrop(
         quad(SIZE, SIZE, wall_material),
         Mat4::from_rotation_translation(
             Quat::from_rotation_x(FRAC_PI_2),

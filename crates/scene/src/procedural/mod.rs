@@ -11,6 +11,7 @@ mod columns;
 mod cornell_box;
 mod dynamic;
 mod node_transforms;
+mod room;
 mod stairs;
 mod thin_bars;
 
@@ -19,6 +20,7 @@ pub use analytic::{
     sphere_on_plane_accessibility, wall_accessibility,
 };
 pub use arch::arched_panel;
+pub use room::{ROOM_HALF_X, ROOM_HALF_Z, ROOM_HEIGHT};
 
 use crate::error::SceneError;
 use crate::model::Scene;
@@ -38,6 +40,7 @@ pub const PROCEDURAL_SCENE_NAMES: &[&str] = &[
     "columns",
     "dynamic",
     "node-transforms",
+    "room",
 ];
 
 /// The scene the app opens when none is given.
@@ -56,6 +59,7 @@ pub fn procedural_scene(name: &str) -> Result<Scene, SceneError> {
         "columns" => columns::columns(),
         "dynamic" => dynamic::dynamic(),
         "node-transforms" => node_transforms::node_transforms(),
+        "room" => room::room(),
         _ => {
             return Err(SceneError::UnknownScene {
                 name: name.to_owned(),
@@ -70,10 +74,11 @@ pub(crate) const FLOOR_COLOR: [f32; 3] = [0.62, 0.6, 0.57];
 /// Off-white wall colour shared by the scenes.
 pub(crate) const WALL_COLOR: [f32; 3] = [0.8, 0.78, 0.74];
 
-/// Adds a square floor of edge `size` centred on the origin at y = 0.
+/// Adds a square floor of edge `size` centred on the origin at y = 0, as a backdrop (it stands
+/// in for an unbounded ground plane: `Instance::backdrop`).
 pub(crate) fn floor(builder: &mut SceneBuilder, size: f32) {
     let material = builder.material(FLOOR_COLOR);
-    builder.add(quad(size, size, material), Mat4::IDENTITY);
+    builder.add_backdrop(quad(size, size, material), Mat4::IDENTITY);
 }
 
 #[cfg(test)]

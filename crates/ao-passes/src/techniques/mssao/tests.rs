@@ -49,6 +49,7 @@ fn plan(params: &str) -> Result<CompiledGraph, AoError> {
         radius: 1.0,
         intermediate_format: wgpu::TextureFormat::R32Float,
         technique: "mssao",
+        radius_pixels: None,
     };
     let out = technique.build(&mut ctx, &table)?;
     b.export(out.accessibility);
@@ -210,7 +211,7 @@ fn defaults_are_the_papers_and_every_parameter_is_documented() {
             p.temporal,
             p.temporal_k
         ),
-        (4, 1.0, 5.0, 8.0, 16.0, false, 0.5)
+        (crate::Levels::Auto, 1.0, 5.0, 8.0, 16.0, false, 0.5)
     );
     assert_eq!(
         p.temporal_epsilon,

@@ -1,0 +1,85 @@
+//! The automatic AO radius (`[ao] radius = "auto"`, the default): a stated fraction of the
+//! scene's size, so a scene in centimetres gets the same measurement as the same scene in
+//! metres, and a 60-unit room is not measured with a radius that reaches nothing.
+//!
+//! Rule: R = D / 30, D the diagonal of the scene's content bounds (`Scene::content_bounds`:
+//! everything but the backdrops that stand in for unbounded floors and walls). 1/30 keeps the
+//! default scene, `columns` (D = 29.5), at the R it was built and measured with (1 unit). A
+//! scene made only of backdrops (`plane`, `wall`, `corner`: unbounded planes, which have no
+//! size) keeps R = 1 unit. Invariant: the radius is finite and > 0 for every scene.
+
+use crate::model::Scene;
+
+/// R = content diagonal / AUTO_RADIUS_DIVISOR.
+pub const AUTO_RADIUS_DIVISOR: f32 = 30.0;
+
+/// The radius `auto` resolves to, and how it was derived (printed by `aograph scene info` and
+/// wherever the radius is reported).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SuggestedRadius {
+    pub radius: f32,
+    pub derivation: String,
+}
+
+/// The automatic radius of `scene` (see the module docs).
+pub fn suggested_radius(scene: &Scene) -> SuggestedRadius {
+    let content = scene.content_bounds();
+    let d = content.diagonal();
+    if content.is_empty() || !(d.is_finite() && d > 0.0) {
+        return SuggestedRadius {
+            radius: 1.0,
+            derivation: "1 unit: the scene is only unbounded backdrop planes, which have no size"
+                .into(),
+        };
+    }
+    let radius = d / AUTO_RADIUS_DIVISOR;
+    let size = content.size();
+    SuggestedRadius {
+        radius,
+        derivation: format!(
+            "the content's bounding-box diagonal {d:.4} ({:.4} x {:.4} x {:.4}{}) / {AUTO_RADIUS_DIVISOR}",
+            size.x,
+            size.y,
+            size.z,
+            if scene.instances.iter().any(|i| i.backdrop) {
+                ", backdrops left out"
+            } else {
+                ""
+            }
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural_scene;
+    use glam::{Mat4, Vec3};
+
+    #[test]
+    fn the_default_scene_keeps_radius_one_and_backdrop_scenes_get_one_unit() {
+        let columns = suggested_radius(&procedural_scene("columns").unwrap());
+        assert!((columns.radius - 1.0).abs() < 0.05, "{columns:?}");
+        for name in ["plane", "wall", "corner"] {
+            let r = suggested_radius(&procedural_scene(name).unwrap());
+            assert_eq!(r.radius, 1.0, "{name}: {}", r.derivation);
+        }
+    }
+
+    #[test]
+    fn the_radius_scales_with_the_scene() {
+        // The same scene in centimetres gets 100 times the radius.
+        let metres = procedural_scene("stairs").unwrap();
+        let mut centimetres = metres.clone();
+        for instance in &mut centimetres.instances {
+            instance.transform = Mat4::from_scale(Vec3::splat(100.0)) * instance.transform;
+        }
+        let (m, cm) = (suggested_radius(&metres), suggested_radius(&centimetres));
+        assert!((cm.radius / m.radius - 100.0).abs() < 1e-2, "{m:?} {cm:?}");
+        assert!(
+            m.derivation.contains("backdrops left out"),
+            "{}",
+            m.derivation
+        );
+    }
+}
