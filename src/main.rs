@@ -34,7 +34,7 @@ struct Common {
     /// Output height in pixels.
     #[arg(long)]
     height: Option<u32>,
-    /// Shared AO radius R: `auto` (the default: the scene's size / 30) or world units.
+    /// Shared AO radius R: `auto` (the default: the scene's size / 9) or world units.
     #[arg(long)]
     radius: Option<String>,
     /// Camera: a view (default, outside, outside-2, interior-1, interior-2, a [[views]] name),

@@ -324,7 +324,7 @@ fn bench_runs_each_view_as_a_row_with_its_radius_and_reach() {
         "## Scenes and views",
         "| room | interior-1 |",
         "## Over every scene and view",
-        "auto (each scene's content diagonal / 30",
+        "auto (each scene's content diagonal / 9",
     ] {
         assert!(report.contains(needle), "{needle} missing:\n{report}");
     }

@@ -125,8 +125,8 @@ fn scene_info_reports_counts_views_and_the_suggested_radius() {
         "cameras: none in the file",
         "outside:",
         "outside-2:",
-        "suggested R: 0.6000",
-        "/ 30",
+        "suggested R: 2.000",
+        "/ 9",
         "double-sided",
     ] {
         assert!(out.contains(needle), "{needle} missing from:\n{out}");
@@ -164,7 +164,7 @@ fn render_from_a_named_view_and_an_inline_camera_prints_the_radius_and_view() {
         ]);
         assert!(ok, "{camera}: {err}");
         assert!(
-            stdout.contains(view) && stdout.contains("R = 0.4"),
+            stdout.contains(view) && stdout.contains("R = 1.408"),
             "{stdout}"
         );
         let timings = std::fs::read_to_string(out.join("timings.txt")).unwrap();

@@ -42,7 +42,7 @@ pub struct BenchSettings {
     pub frames: u32,
     /// Frames rendered and discarded first.
     pub warmup: u32,
-    /// The shared radius: `auto` (per scene: its size / 30) or world units.
+    /// The shared radius: `auto` (per scene: its size / 9) or world units.
     pub radius: RadiusSetting,
     /// Reference rays per pixel.
     pub rays: u32,

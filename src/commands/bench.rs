@@ -72,7 +72,7 @@ pub struct RunFlags {
     /// Warm-up frames per run (rendered, not measured).
     #[arg(long, default_value_t = 2)]
     pub warmup: u32,
-    /// Shared AO radius R: `auto` (default: each scene's size / 30) or world units.
+    /// Shared AO radius R: `auto` (default: each scene's size / 9) or world units.
     #[arg(long)]
     pub radius: Option<String>,
     /// Reference rays per pixel.

@@ -208,7 +208,7 @@ mod tests {
             text.contains("4 instance(s) with non-uniform scale or shear, 2 mirrored"),
             "{text}"
         );
-        assert!(text.contains("suggested R: 0.27"), "{text}");
+        assert!(text.contains("suggested R: 0.9038"), "{text}");
         assert!(text.contains("backdrop instance(s) left out"), "{text}");
     }
 

@@ -57,9 +57,7 @@ pub fn projected_radius(
         let h = height.max(1) as f32;
         let v = match (camera.fov_y(), camera.projection) {
             (Some(fov), _) => radius * h / (2.0 * (0.5 * fov).tan() * z),
-            (None, Projection::Orthographic { height: view, .. }) => {
-                radius * h / view.max(1e-30)
-            }
+            (None, Projection::Orthographic { height: view, .. }) => radius * h / view.max(1e-30),
             (None, _) => radius * h,
         };
         v.min(f32::MAX)

@@ -6,9 +6,12 @@
 //! - **outside**: looks at the centre of the content's bounding sphere from the +Z side,
 //!   30 degrees above the horizon, at the distance where that sphere just fills a 45-degree
 //!   vertical field of view (r / sin(22.5 degrees); wider images see it whole too).
-//! - **outside-2**: a closer three-quarter view, from 50 degrees to the right of +Z and 15
-//!   degrees above the horizon, at 0.7 times that distance (the sphere overfills the view, so
-//!   the content's detail takes more pixels).
+//! - **outside-2**: a closer view (0.7 times that distance, so the content's detail takes more
+//!   pixels), 30 degrees above the horizon, from whichever of the seven other azimuths (45 to
+//!   315 degrees from +Z, in steps of 45) shows the most occlusion: the lowest mean
+//!   accessibility in a coarse trace of the reference (32 x 24 pixels, 16 rays each) at the
+//!   scene's automatic radius. A view of the back of a wall, or of a closed box from outside,
+//!   shows none and is not chosen.
 //! - **enclosed**: a scene is enclosed when some point of its content bounds sees geometry in at
 //!   least 90% of 64 directions spread over the sphere, without being inside a solid (at most a
 //!   quarter of those hits on back faces).
@@ -19,6 +22,9 @@
 //!   horizontal axis, towards the side with more room; interior-2 stands at the best candidate
 //!   at least a quarter of the footprint away from it and looks the opposite way. Both have a
 //!   60-degree vertical field of view and a near plane at 1% of their clearance.
+//! - A scene of backdrops only (`plane`, `wall`, `corner`: unbounded planes) has no size; its
+//!   views frame a sphere 9 units across (where the automatic radius is its 1 unit) around its
+//!   own camera's target.
 //! - **default** (a scene without a camera of its own): interior-1 for an enclosed scene (its
 //!   outside is a closed box), else outside.
 //!
@@ -48,16 +54,21 @@ pub struct SceneView {
     pub motion: Option<CameraMotion>,
 }
 
-/// The content's bounding sphere (centre, radius): the whole scene's when it is all backdrop,
-/// the unit sphere when it is empty.
+/// The content's bounding sphere (centre, radius). A scene of backdrops only (unbounded
+/// planes) has no size: its views frame a sphere of diameter 9 units, the size at which the
+/// automatic radius would be its 1 unit, around its own camera's target.
 fn bounding_sphere(scene: &Scene) -> (Vec3, f32) {
     let content = scene.content_bounds();
-    let b = if content.is_empty() {
-        scene.bounds()
-    } else {
-        content
-    };
-    sphere_of(&b)
+    if content.is_empty() && !scene.instances.is_empty() {
+        let target = scene.camera.target;
+        let centre = if target.is_finite() {
+            target
+        } else {
+            Vec3::ZERO
+        };
+        return (centre, 0.5 * crate::radius::AUTO_RADIUS_DIVISOR);
+    }
+    sphere_of(&content)
 }
 
 fn sphere_of(b: &Aabb) -> (Vec3, f32) {
@@ -109,8 +120,12 @@ pub fn outside_view(scene: &Scene) -> Camera {
     fit_sphere(centre, r, 2.0 * beyond)
 }
 
-/// The closer three-quarter outside view (see the module docs).
+/// The closer outside view from the side that shows the most occlusion (module docs).
 pub fn outside_view_2(scene: &Scene) -> Camera {
+    outside_view_2_with(scene, &Tracer::new(scene))
+}
+
+fn outside_view_2_with(scene: &Scene, tracer: &Tracer) -> Camera {
     let (centre, r) = bounding_sphere(scene);
     let whole = scene.bounds();
     let beyond = if whole.is_empty() {
@@ -118,13 +133,23 @@ pub fn outside_view_2(scene: &Scene) -> Camera {
     } else {
         whole.diagonal().min(1e7)
     };
-    let (azimuth, elevation) = (50f32.to_radians(), 15f32.to_radians());
-    let direction = Vec3::new(
-        azimuth.sin() * elevation.cos(),
-        elevation.sin(),
-        azimuth.cos() * elevation.cos(),
-    );
-    sphere_view(centre, r, 2.0 * beyond, direction, 0.7)
+    let radius = crate::radius::suggested_radius(scene).radius;
+    let elevation = 30f32.to_radians();
+    // Azimuths 45 to 315 degrees from +Z in steps of 45 (the front, 0, is `outside`).
+    (1..8)
+        .map(|k| {
+            let azimuth = (45.0 * k as f32).to_radians();
+            let direction = Vec3::new(
+                azimuth.sin() * elevation.cos(),
+                elevation.sin(),
+                azimuth.cos() * elevation.cos(),
+            );
+            let camera = sphere_view(centre, r, 2.0 * beyond, direction, 0.7);
+            (tracer.mean_accessibility(&camera, radius), k, camera)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        .map(|(_, _, camera)| camera)
+        .unwrap_or_else(|| outside_view(scene))
 }
 
 /// 64 directions spread evenly over the sphere (a Fibonacci lattice).
@@ -151,6 +176,8 @@ struct Surroundings {
 /// Geometry the view heuristics trace against: triangles, their outward normals, a BVH.
 struct Tracer {
     bvh: TriangleBvh,
+    triangles: Vec<[Vec3; 3]>,
+    normals: Vec<[Vec3; 3]>,
     outward: Vec<Vec3>,
     reach: f32,
 }
@@ -178,9 +205,42 @@ impl Tracer {
         };
         Tracer {
             bvh: TriangleBvh::new(&triangles),
+            triangles,
+            normals,
             outward,
             reach,
         }
+    }
+
+    /// The mean reference accessibility a coarse trace (32 x 24 pixels, 16 rays each) of
+    /// `camera`'s view shows at `radius`: 1 when it sees no geometry.
+    fn mean_accessibility(&self, camera: &Camera, radius: f32) -> f32 {
+        let g = crate::reference::CpuGBuffer::trace_with_bvh(
+            &self.bvh,
+            &self.triangles,
+            &self.normals,
+            camera,
+            32,
+            24,
+            glam::Vec2::ZERO,
+        );
+        let surfaces = g.surfaces(crate::reference::ReferenceNormals::Geometric);
+        let params = crate::reference::ReferenceParams {
+            radius,
+            rays_per_pixel: 16,
+            progress: crate::reference::ProgressMode::Never,
+            ..Default::default()
+        };
+        let Ok(image) = crate::reference::trace_reference(&self.bvh, &surfaces, &params) else {
+            return 1.0;
+        };
+        let (sum, n) = image
+            .accessibility
+            .iter()
+            .zip(&surfaces.valid)
+            .filter(|(_, v)| **v)
+            .fold((0.0f32, 0usize), |(s, n), (a, _)| (s + a, n + 1));
+        if n == 0 { 1.0 } else { sum / n as f32 }
     }
 
     fn surroundings(&self, p: Vec3, directions: &[Vec3]) -> Surroundings {
@@ -276,8 +336,11 @@ pub fn is_enclosed(scene: &Scene) -> bool {
 
 /// The interior views of an enclosed scene (none for an open one), see the module docs.
 pub fn interior_views(scene: &Scene) -> Vec<Camera> {
-    let tracer = Tracer::new(scene);
-    let eyes = interior_eyes(scene, &tracer);
+    interior_views_with(scene, &Tracer::new(scene))
+}
+
+fn interior_views_with(scene: &Scene, tracer: &Tracer) -> Vec<Camera> {
+    let eyes = interior_eyes(scene, tracer);
     let Some(best) = eyes.first().copied() else {
         return Vec::new();
     };
@@ -323,6 +386,7 @@ pub fn default_camera(scene: &Scene) -> Camera {
 /// The views aograph finds itself: "outside", "outside-2", then "interior-1" and
 /// "interior-2" for an enclosed scene.
 pub fn auto_views(scene: &Scene) -> Vec<SceneView> {
+    let tracer = Tracer::new(scene);
     let mut views = vec![
         SceneView {
             name: "outside".into(),
@@ -331,11 +395,11 @@ pub fn auto_views(scene: &Scene) -> Vec<SceneView> {
         },
         SceneView {
             name: "outside-2".into(),
-            camera: outside_view_2(scene),
+            camera: outside_view_2_with(scene, &tracer),
             motion: None,
         },
     ];
-    for (i, camera) in interior_views(scene).into_iter().enumerate() {
+    for (i, camera) in interior_views_with(scene, &tracer).into_iter().enumerate() {
         views.push(SceneView {
             name: format!("interior-{}", i + 1),
             camera,
@@ -511,5 +575,55 @@ mod tests {
         let camera = default_camera(&empty);
         assert!(camera.position.is_finite() && camera.view().is_finite());
         assert!(camera.near() < camera.far());
+    }
+}
+
+#[cfg(test)]
+mod outside_tests {
+    use super::*;
+    use crate::primitives::{cuboid, quad};
+    use crate::scene_builder::SceneBuilder;
+    use glam::Mat4;
+
+    #[test]
+    fn the_second_outside_view_looks_into_an_open_corner_not_at_the_back_of_its_walls() {
+        // Two solid walls along x = -2 and z = -2 on a 4 x 4 floor, plus a box in the corner:
+        // the occlusion is on the walls' fronts, seen from the (+x, +z) side.
+        let mut b = SceneBuilder::new();
+        let m = b.material([0.7; 3]);
+        b.add(quad(4.0, 4.0, m), Mat4::IDENTITY);
+        b.add(
+            cuboid(Vec3::new(0.2, 2.0, 4.0), m),
+            Mat4::from_translation(Vec3::new(-2.1, 1.0, 0.0)),
+        );
+        b.add(
+            cuboid(Vec3::new(4.0, 2.0, 0.2), m),
+            Mat4::from_translation(Vec3::new(0.0, 1.0, -2.1)),
+        );
+        b.add(
+            cuboid(Vec3::new(0.8, 0.8, 0.8), m),
+            Mat4::from_translation(Vec3::new(-1.5, 0.4, -1.5)),
+        );
+        let scene = b.build(Camera::perspective(
+            Vec3::new(0.0, 2.0, 8.0),
+            Vec3::ZERO,
+            0.8,
+            0.1,
+            100.0,
+        ));
+        let c = outside_view_2(&scene);
+        let centre = scene.content_bounds().centre();
+        let from = c.position - centre;
+        // Not from behind either wall (x < 0 or z < 0 of the centre).
+        assert!(
+            from.x > -1e-3 && from.z > -1e-3,
+            "outside-2 looks from {from}"
+        );
+        // And the view it chose shows more occlusion than the back of the walls would.
+        let tracer = Tracer::new(&scene);
+        let radius = crate::radius::suggested_radius(&scene).radius;
+        let (_, r) = bounding_sphere(&scene);
+        let back = sphere_view(centre, r, 10.0, Vec3::new(-0.6, 0.5, -0.6).normalize(), 0.7);
+        assert!(tracer.mean_accessibility(&c, radius) < tracer.mean_accessibility(&back, radius));
     }
 }
