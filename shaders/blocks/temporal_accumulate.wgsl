@@ -1,3 +1,4 @@
+#include "common/finite.wgsl"
 // blocks/temporal `<prefix>.accumulate`: blends this frame's accessibility with the
 // reprojected history and writes the new history and the accumulated output.
 // mode 0 (Average): TSSAO Eqs. 5-6 with one sample per frame,
@@ -47,7 +48,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     } else if (valid) {
         out = params.k * r.x + (1.0 - params.k) * a; // MSSAO Eq. 14
     }
-    out = select(a, clamp(out, 0.0, 1.0), out == out);
+    out = select(a, clamp(out, 0.0, 1.0), is_finite_f32(out));
     textureStore(history, p, vec4<f32>(out, n, 0.0, select(z, -z, moving)));
     textureStore(accumulated, p, vec4<f32>(out, 0.0, 0.0, 0.0));
 }

@@ -1,4 +1,5 @@
 #include "common/view.wgsl"
+#include "common/finite.wgsl"
 // blocks/temporal `<prefix>.reproject`: reverse reprojection of the AO history (TSSAO Eq. 3,
 // MSSAO Eq. 12) and the disocclusion test (TSSAO Eq. 7, MSSAO Eq. 13). Layouts of `history`
 // and `reprojected`, and every choice below, are documented in
@@ -146,5 +147,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = clamp(sum / wsum, 0.0, 1.0);
     let n = clamp(best.y, 0.0, 1e9);
     let best_index = select(index, max(best.z, 0.0), best.z == best.z && best.z < 1e30);
-    textureStore(reprojected, p, vec4<f32>(select(1.0, a, a == a), select(0.0, n, n == n), best_index, 1.0 + flag_moving));
+    textureStore(reprojected, p, vec4<f32>(select(1.0, a, is_finite_f32(a)), select(0.0, n, is_finite_f32(n)), best_index, 1.0 + flag_moving));
 }

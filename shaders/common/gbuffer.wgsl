@@ -1,3 +1,4 @@
+#include "common/finite.wgsl"
 #include "common/view.wgsl"
 // Reading the g-buffer's receiver point (needs common/view.wgsl): linear depth (0 = sky) and
 // view-space normals (w = 0 on sky), as every technique's per-pixel set-up does.
@@ -16,12 +17,14 @@ fn load_receiver(depth: texture_2d<f32>, normals: texture_2d<f32>, px: vec2<i32>
     var r: Receiver;
     r.valid = false;
     let z = textureLoad(depth, px, 0).x;
-    if (!(z > 0.0) || z > 1e30) {
+    // Bit-pattern tests first (common/finite.wgsl): a NaN or infinite depth or normal is no
+    // receiver, whatever a compiler assumes about float comparisons.
+    if (!is_finite_f32(z) || !(z > 0.0) || z > 1e30) {
         return r; // sky
     }
     let nw = textureLoad(normals, px, 0);
     let nl = length(nw.xyz);
-    if (nw.w < 0.5 || !(nl > 1e-6)) {
+    if (!is_finite_vec3(nw.xyz) || nw.w < 0.5 || !(nl > 1e-6)) {
         return r;
     }
     r.valid = true;

@@ -1,6 +1,7 @@
 #include "common/view.wgsl"
 #include "common/gbuffer.wgsl"
 #include "common/noise.wgsl"
+#include "common/finite.wgsl"
 // hbao.ao: horizon-based AO as specs/pyramid_hbao.md §1 states it. For each of D azimuth
 // directions (evenly spaced, rotated by a per-pixel random angle) march S depth samples out to
 // the projected radius R_px; the horizon h(θ) is the highest elevation above the tangent plane
@@ -93,7 +94,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
         sum = sum + select(horizon, rises, per_sample);
     }
     let a = 1.0 - sum / (f32(dirs) * (1.0 - sin_bias));
-    return select(1.0, clamp(a, 0.0, 1.0), a == a);
+    return accessibility_or_one(a);
 }
 
 @compute @workgroup_size(8, 8)

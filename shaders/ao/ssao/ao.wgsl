@@ -1,6 +1,7 @@
 #include "common/view.wgsl"
 #include "common/gbuffer.wgsl"
 #include "common/noise.wgsl"
+#include "common/finite.wgsl"
 // ssao.ao: classic normal-oriented hemisphere SSAO (the Crytek/Blizzard baseline of
 // specs/mssao.md §9.1). N kernel points (units of R, z along the normal) are rotated by the
 // pixel's entry of a 4x4 tile of 16 rotations, placed around the pixel's view-space point,
@@ -109,7 +110,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
         occlusion = occlusion + select(0.0, range, occluded);
     }
     let a = 1.0 - occlusion / f32(count);
-    return select(1.0, clamp(a, 0.0, 1.0), a == a);
+    return accessibility_or_one(a);
 }
 
 @compute @workgroup_size(8, 8)

@@ -1,3 +1,4 @@
+#include "common/finite.wgsl"
 // ssao.blur: the classic 4x4 box blur that removes the 4x4 rotation pattern of ssao.ao
 // (offsets -2..1 on each axis, so every window holds each of the 16 rotations once). Taps on
 // sky are left out of the average; sky pixels are exactly 1.
@@ -26,7 +27,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
         a = clamp(sum / max(n, 1.0), 0.0, 1.0);
-        a = select(1.0, a, a == a);
+        a = select(1.0, a, is_finite_f32(a));
     }
     textureStore(ao, p, vec4<f32>(a, 0.0, 0.0, 0.0));
 }

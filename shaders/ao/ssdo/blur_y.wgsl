@@ -1,4 +1,5 @@
 #include "ao/ssdo/common.wgsl"
+#include "common/finite.wgsl"
 // ssdo.blur_y: the vertical half of the separable geometry-sensitive blur (ssdo_blur in
 // ao/ssdo/common.wgsl), writing SSDO's outputs: accessibility (sky exactly 1), ssdo_direct and
 // ssdo_indirect (linear radiance, 0 on sky; the indirect exactly 0 without the bounce).
@@ -26,7 +27,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let with_bounce = params.counts.y != 0u;
     let b = ssdo_blur(positions, normals, radiance, bounce, px, vec2<i32>(0, 1), with_bounce, params.light.w);
     var a = clamp(b.direct.a, 0.0, 1.0);
-    a = select(1.0, a, a == a);
+    a = select(1.0, a, is_finite_f32(a));
     textureStore(ao, px, vec4<f32>(a, 0.0, 0.0, 0.0));
     textureStore(ssdo_direct, px, vec4<f32>(ssdo_clean(b.direct.rgb), 1.0));
     textureStore(ssdo_indirect, px, vec4<f32>(select(vec3<f32>(0.0), ssdo_clean(b.indirect), with_bounce), 1.0));

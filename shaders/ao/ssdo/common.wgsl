@@ -1,3 +1,4 @@
+#include "common/finite.wgsl"
 // SSDO (specs/ssdo.md): the blocks ssdo.direct, ssdo.indirect and ssdo.blur share. Included
 // after common/view.wgsl and common/noise.wgsl; it names nothing from them, so it also
 // validates on its own. Rust mirrors: SsdoUniform (techniques/ssdo/kernel.rs) and
@@ -41,7 +42,7 @@ fn ssdo_normalize(v: vec3<f32>) -> vec3<f32> {
 
 // Finite, non-negative radiance that fits in an f16 (NaN becomes 0).
 fn ssdo_clean(v: vec3<f32>) -> vec3<f32> {
-    return select(vec3<f32>(0.0), clamp(v, vec3<f32>(0.0), vec3<f32>(65000.0)), v == v);
+    return select(vec3<f32>(0.0), clamp(v, vec3<f32>(0.0), vec3<f32>(65000.0)), is_finite_vec3(v));
 }
 
 // smoothstep that tolerates e0 == e1 (a step there).

@@ -1,6 +1,7 @@
 #include "common/view.wgsl"
 #include "common/noise.wgsl"
 #include "ao/ssdo/common.wgsl"
+#include "common/finite.wgsl"
 // ssdo.direct: direct light with directional occlusion (specs/ssdo.md §1.2, E1) and the
 // AO-equivalent accessibility. N samples P + lambda_i omega_i of the pixel's interleaved set
 // (4x4 pattern) are classified by ssdo_tap; each visible direction brings the environment
@@ -78,6 +79,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let sun_visibility = select(1.0, sun_visible / sun_weight, sun_weight > 1e-6);
     let l_dir = rho * env_mean + sun * sun_visibility;
-    a = select(1.0, clamp(a, 0.0, 1.0), a == a);
+    a = accessibility_or_one(a);
     textureStore(radiance, px, vec4<f32>(ssdo_clean(l_dir), a));
 }

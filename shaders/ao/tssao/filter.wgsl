@@ -1,4 +1,5 @@
 #include "common/view.wgsl"
+#include "common/finite.wgsl"
 // tssao.filter: the adaptive convergence-aware spatial filter (TSSAO Eqs. 9-10), evaluated
 // as written over the F x F footprint (the paper applies it separably in x and y; one 2D pass
 // is exact and costs a single load for the converged pixels, where the filter is off):
@@ -71,5 +72,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (wsum > 0.0) {
         a = sum / wsum;
     }
-    textureStore(dst, p, vec4<f32>(select(a_p, clamp(a, 0.0, 1.0), a == a), 0.0, 0.0, 0.0));
+    textureStore(dst, p, vec4<f32>(select(a_p, clamp(a, 0.0, 1.0), is_finite_f32(a)), 0.0, 0.0, 0.0));
 }

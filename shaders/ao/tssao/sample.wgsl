@@ -1,5 +1,6 @@
 #include "common/view.wgsl"
 #include "common/noise.wgsl"
+#include "common/finite.wgsl"
 // tssao.sample: k new samples per pixel continuing its Halton sequence (TSSAO Eq. 4), the
 // per-frame estimator (Eq. 2), the neighbourhood test (Eq. 8) with smooth invalidation
 // (§3.6.1), and the blend into the AO buffer (Eqs. 5-6). Every choice is documented in
@@ -231,7 +232,7 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
     }
     let kf = f32(k);
     var a_new = (nt * a_prev + kf * a_frame) / (nt + kf); // Eq. 5
-    a_new = select(1.0, clamp(a_new, 0.0, 1.0), a_new == a_new);
+    a_new = accessibility_or_one(a_new);
     let n_new = min(nt + kf, n_max); // Eq. 6
     let index_new = f32((index + k) & (len - 1u));
     textureStore(ao_buffer, p, vec4<f32>(a_new, n_new, index_new, stored_z));
