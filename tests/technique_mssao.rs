@@ -105,6 +105,13 @@ fn extreme_parameters_stay_valid() {
             &run.depth,
             &format!("mssao [{}] R = {r}", params.replace('\n', ", ")),
         );
+        if r == 1.0e-4 {
+            // R = 1e-4 projects to far under a pixel everywhere in this view (the nearest
+            // geometry is metres away): no tap lies within R of any receiver, so Eq. 6's sum is
+            // exactly 0 at every level and Eq. 11 gives exactly 1, not merely "valid".
+            let below = run.ao.iter().filter(|a| **a != 1.0).count();
+            assert_eq!(below, 0, "{below} pixels below 1 at R = 1e-4");
+        }
     }
 }
 

@@ -8,6 +8,10 @@ use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
 
 const RADIUS: f32 = 1.0;
+/// Share of the reference's dark contact pixels (A < 0.9 at 96x96) the technique must darken
+/// too: measured 490 of 1,740 = 28%; the bound leaves room for device differences. A technique returning 1
+/// has none.
+const MIN_DARK_SHARE: f32 = 0.2;
 
 use common::plane_at;
 
@@ -76,9 +80,26 @@ fn sphere_on_plane_occludes_the_contact_and_tracks_the_reference() {
         return;
     };
     common::assert_valid_ao(&run.ao, &run.depth, "ssao on sphere-on-plane");
-    let dark = run.ao.iter().filter(|&&a| a < 0.9).count();
-    assert!(dark > 0, "no pixel below 0.9: the contact must be occluded");
+    // The dark region must be the reference's, not a stray pixel: count the pixels the
+    // reference darkens below 0.9 (the contact ring) and require the technique to darken a
+    // share of those very pixels.
     let reference = common::reference(&run, RADIUS, 256);
+    let (dark, dark_ref, both) = common::dark_overlap(&run.ao, &reference, 0.9);
+    eprintln!("ssao: {dark} pixels below 0.9, the reference {dark_ref}, both {both}");
+    assert!(
+        dark_ref > 50,
+        "the reference's contact ring: {dark_ref} pixels"
+    );
+    assert!(
+        both as f32 >= MIN_DARK_SHARE * dark_ref as f32,
+        "only {both} of the reference's {dark_ref} dark pixels are dark here"
+    );
+    // And where it is dark, the reference is too (measured: all of them): bounded noise or a
+    // misplaced kernel darkens pixels the reference leaves open.
+    assert!(
+        both as f32 >= 0.9 * dark as f32,
+        "{dark} dark pixels, only {both} of them where the reference is dark"
+    );
     let mae = common::mae(&run.ao, &reference, &run.depth);
     let mae_of_one = common::mae(&vec![1.0; reference.len()], &reference, &run.depth);
     println!(

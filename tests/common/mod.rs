@@ -109,6 +109,18 @@ pub fn mae(a: &[f32], b: &[f32], depth: &[f32]) -> f32 {
     (sum / n.max(1) as f64) as f32
 }
 
+/// (pixels of `ao` below `threshold`, pixels of `reference` below it, pixels below it in both).
+pub fn dark_overlap(ao: &[f32], reference: &[f32], threshold: f32) -> (usize, usize, usize) {
+    let dark = ao.iter().filter(|a| **a < threshold).count();
+    let dark_ref = reference.iter().filter(|a| **a < threshold).count();
+    let both = ao
+        .iter()
+        .zip(reference)
+        .filter(|(a, r)| **a < threshold && **r < threshold)
+        .count();
+    (dark, dark_ref, both)
+}
+
 /// Every value finite and within [0, 1]; sky pixels exactly 1.
 pub fn assert_valid_ao(ao: &[f32], depth: &[f32], what: &str) {
     for (i, (v, d)) in ao.iter().zip(depth).enumerate() {

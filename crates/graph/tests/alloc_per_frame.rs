@@ -81,7 +81,15 @@ fn steady_state_frames_do_not_allocate_more_over_time() {
         per_frame[2] <= per_frame[0] * 1.05 + 1.0,
         "allocations grow over frames: {per_frame:?}"
     );
-    // The executor itself allocates nothing per pass: what remains is wgpu's per-command cost,
-    // bounded well under 100 allocations per pass.
-    assert!(per_frame[2] < 50.0 * 100.0, "{per_frame:?}");
+    // The executor itself allocates nothing per pass: what remains is wgpu 30's own recording,
+    // measured at 1,032.06 per frame (20.6 per pass; the count is deterministic, identical over
+    // runs: lavapipe's own allocations go through malloc and are not counted). The bound sits
+    // one allocation per pass below that plus one: an executor change that allocates once per
+    // pass (50 a frame) fails it, and so does a wgpu update that adds one per pass, which is
+    // then worth looking at and re-measuring.
+    assert!(per_frame[2] < 1032.06 + 49.0, "{per_frame:?}");
+    assert!(
+        per_frame[2] > 1032.06 - 200.0,
+        "far fewer than measured: re-measure {per_frame:?}"
+    );
 }
