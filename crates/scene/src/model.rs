@@ -235,6 +235,53 @@ impl Scene {
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
+    /// Checks the invariants every loader and builder keeps (module docs): at least one
+    /// triangle; triangle lists with in-range indices; finite positions; normals absent or one
+    /// finite unit normal per position; instances and meshes referring to existing meshes and
+    /// materials; finite transforms. The error names the first broken one.
+    pub fn check_invariants(&self) -> Result<(), String> {
+        if self.triangle_count() == 0 {
+            return Err("no triangles".into());
+        }
+        for (i, m) in self.meshes.iter().enumerate() {
+            if m.indices.len() % 3 != 0 {
+                return Err(format!("mesh {i}: {} indices, not a triangle list", m.indices.len()));
+            }
+            if let Some(bad) = m.indices.iter().find(|&&x| x as usize >= m.positions.len()) {
+                return Err(format!("mesh {i}: index {bad} of {} positions", m.positions.len()));
+            }
+            if !m.positions.iter().all(|p| p.is_finite()) {
+                return Err(format!("mesh {i}: a position is not finite"));
+            }
+            if !(m.normals.is_empty() || m.normals.len() == m.positions.len()) {
+                return Err(format!(
+                    "mesh {i}: {} normals for {} positions",
+                    m.normals.len(),
+                    m.positions.len()
+                ));
+            }
+            if let Some(n) = m
+                .normals
+                .iter()
+                .find(|n| !(n.is_finite() && (n.length() - 1.0).abs() < 1e-3))
+            {
+                return Err(format!("mesh {i}: normal {n} is not a finite unit vector"));
+            }
+            if m.material >= self.materials.len() {
+                return Err(format!("mesh {i}: material {} of {}", m.material, self.materials.len()));
+            }
+        }
+        for (i, inst) in self.instances.iter().enumerate() {
+            if inst.mesh >= self.meshes.len() {
+                return Err(format!("instance {i}: mesh {} of {}", inst.mesh, self.meshes.len()));
+            }
+            if !inst.transform.is_finite() {
+                return Err(format!("instance {i}: transform is not finite"));
+            }
+        }
+        Ok(())
+    }
+
     /// The same scene seen from `camera` (still, whatever motion the scene's camera had).
     pub fn with_camera(&self, camera: Camera) -> Scene {
         Scene {

@@ -346,7 +346,16 @@ impl NodeWalk<'_> {
         let mut chain = parents.to_vec();
         chain.push(match self.animated_nodes.get(&node.index()) {
             Some(keys) => ChainLink::Animated(keys.clone()),
-            None => ChainLink::Static(Mat4::from_cols_array_2d(&node.transform().matrix())),
+            None => {
+                let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+                if !local.is_finite() {
+                    return Err(self.invalid(format!(
+                        "node {} has a transform that is not finite (a value overflows a 32-bit float)",
+                        node.index()
+                    )));
+                }
+                ChainLink::Static(local)
+            }
         });
         if let Some(mesh) = node.mesh() {
             let meshes = self.meshes_of(&mesh)?;
@@ -356,10 +365,17 @@ impl NodeWalk<'_> {
                 )));
             }
             for index in meshes {
-                self.instances.push(match chain_transform(&chain) {
+                let instance = match chain_transform(&chain) {
                     Ok(animation) => Instance::animated(index, animation),
                     Err(matrix) => Instance::fixed(index, matrix),
-                });
+                };
+                if !instance.transform.is_finite() {
+                    return Err(self.invalid(format!(
+                        "node {}'s world transform is not finite (its parents' scales overflow a 32-bit float)",
+                        node.index()
+                    )));
+                }
+                self.instances.push(instance);
             }
         }
         if let Some(camera) = node.camera() {
