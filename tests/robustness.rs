@@ -223,10 +223,14 @@ fn fuzzed_gltf_files_never_panic_and_every_outcome_is_checked() {
             Ok(())
         })
         .unwrap();
+    // Measured: invalid glTF 84.5%, non-finite vertex 12.5%, loaded 3.0%; floors at half.
     let s = shares("mutated .glb", &counts.borrow(), 400);
+    let share = |k: &str| s.get(k).copied().unwrap_or(0.0);
     assert!(
-        s.values().filter(|v| **v > 0.0).count() >= 2,
-        "one outcome only: {s:?}"
+        share("invalid glTF") >= 0.42
+            && share("non-finite vertex") >= 0.06
+            && share("loaded") >= 0.015,
+        "{s:?}"
     );
     if let Some(text) = gltf_text {
         let target = dir.join("mutated.gltf");
@@ -249,10 +253,14 @@ fn fuzzed_gltf_files_never_panic_and_every_outcome_is_checked() {
                 Ok(())
             })
             .unwrap();
+        // Measured: malformed JSON 63.0%, invalid glTF 34.0%, loaded 2.0%; floors at half.
         let s = shares("mutated suzanne.gltf", &counts.borrow(), 200);
+        let share = |k: &str| s.get(k).copied().unwrap_or(0.0);
         assert!(
-            s.values().filter(|v| **v > 0.0).count() >= 2,
-            "one outcome only: {s:?}"
+            share("malformed JSON") >= 0.3
+                && share("invalid glTF") >= 0.17
+                && share("loaded") >= 0.01,
+            "{s:?}"
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
