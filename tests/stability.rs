@@ -38,6 +38,20 @@ const SIZE: Extent = Extent {
     width: 32,
     height: 32,
 };
+/// Invariance tolerances (MAE against the baseline frame over all pixels), from the measured
+/// values printed by the tests with about 3x headroom; see each check.
+/// Scale 1e-3 to 1e4: measured at most 0.0042 (mssao at 1e-3: its fp16 tuples round sums of
+/// scaled distances differently).
+const TOL_SCALE: f32 = 0.0125;
+/// 1e5 units from the origin: measured at most 0.0012 (points rebuilt from linear depth lose
+/// a few bits against the origin's).
+const TOL_OFFSET: f32 = 0.004;
+/// Depth24Plus against Depth32Float: measured exactly 0. Techniques read linear depth and
+/// positions from colour targets; the depth format only decides visibility ties.
+const TOL_DEPTH24: f32 = 1e-4;
+/// A reversed-Z camera against the plain one (both ways): measured at most 0.0055 (tssao, whose
+/// history sees a frame of the other convention between the two).
+const TOL_REVERSED_Z: f32 = 0.015;
 /// Where the temporal island floor lies (scene units, scale 1): the camera jump's length.
 const JUMP: f32 = 1.0e4;
 
@@ -103,11 +117,21 @@ fn deepest_pyramids() -> Vec<Variant> {
     out
 }
 
+/// True for the techniques that estimate occlusion at all (`none` is accessibility 1 by
+/// definition, the cost floor).
+fn occludes(technique: &str) -> bool {
+    technique != "none"
+}
+
 /// What a case expects of the frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Expect {
     /// Finite, in [0, 1], sky exactly 1.
     Valid,
+    /// Valid, and some pixel below 0.9 (0.95 at 32x32, see `check_frame`): a view of the box
+    /// and column at a radius that reaches them, where an implementation returning 1 (or
+    /// bounded noise near 1) must fail.
+    Occluded,
     /// Valid, some geometry in view, and every non-sky pixel >= 0.98 (an unoccluded plane, or
     /// a radius too small for anything to occlude).
     Flat,
@@ -137,6 +161,24 @@ fn check_frame(ao: &[f32], depth: &[f32], expect: Expect) -> Result<(), String> 
     let geometry = depth.iter().filter(|d| **d > 0.0).count();
     match expect {
         Expect::Valid => {}
+        Expect::Occluded => {
+            // Below 0.9 at 97x61 and larger. At 32x32 the box's contact spans a few pixels and
+            // the techniques' 5-tap blurs dilute it: HBAO's horizon-weighted estimator reaches
+            // 0.928 there, so 0.95 is the bar at that size (returning 1, or bounded noise near
+            // it, fails either).
+            let threshold = if ao.len() >= 64 * 48 { 0.9 } else { 0.95 };
+            let min = ao
+                .iter()
+                .zip(depth)
+                .filter(|(_, d)| **d > 0.0)
+                .map(|(a, _)| *a)
+                .fold(1.0f32, f32::min);
+            if !(min < threshold) {
+                return Err(format!(
+                    "the view has occluders within R, but no pixel is below {threshold} (darkest {min})"
+                ));
+            }
+        }
         Expect::Sky if geometry > 0 => {
             return Err(format!(
                 "{geometry} pixels see geometry; the case expects sky only"
@@ -178,7 +220,9 @@ struct Report {
 }
 
 impl Report {
-    fn finish(self, test: &str, started: Instant) {
+    /// Reports and checks the failures, and that exactly `expected` cases ran (a case that
+    /// silently stopped running would otherwise go unnoticed).
+    fn finish(self, test: &str, started: Instant, expected: usize) {
         println!(
             "{test}: {} cases in {:.1} s",
             self.cases,
@@ -191,6 +235,63 @@ impl Report {
             self.cases,
             self.failures.join("\n")
         );
+        assert_eq!(
+            self.cases, expected,
+            "{test}: {} cases ran, {expected} expected",
+            self.cases
+        );
+    }
+}
+
+/// The invariance cases: a frame that must match a baseline frame of the same view (the scene
+/// scaled with R, moved far from the origin, rendered with another depth format or a reversed-Z
+/// camera), as the mean absolute difference over the frame's pixels.
+#[derive(Default)]
+struct Invariance {
+    measured: Vec<(String, f32, f32)>,
+}
+
+impl Invariance {
+    /// Checks `frame` against `baseline` within `tolerance` (a missing frame already failed).
+    fn check(
+        &mut self,
+        report: &mut Report,
+        what: String,
+        frame: Option<&[f32]>,
+        baseline: Option<&[f32]>,
+        tolerance: f32,
+    ) {
+        let (Some(a), Some(b)) = (frame, baseline) else {
+            return;
+        };
+        report.cases += 1;
+        let mae = if a.len() == b.len() {
+            a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f32>() / a.len().max(1) as f32
+        } else {
+            f32::INFINITY
+        };
+        if !(mae <= tolerance) {
+            report.failures.push(format!(
+                "{what}: MAE {mae:.5} against the baseline frame, allowed {tolerance}"
+            ));
+        }
+        self.measured.push((what, mae, tolerance));
+    }
+
+    fn print(&self, test: &str) {
+        let worst = self.measured.iter().fold(
+            ("", 0.0f32),
+            |w, (what, m, _)| if *m > w.1 { (what, *m) } else { w },
+        );
+        println!(
+            "{test}: {} invariance checks, worst MAE {:.5} ({})",
+            self.measured.len(),
+            worst.1,
+            worst.0
+        );
+        for (what, mae, tolerance) in &self.measured {
+            println!("    {what}: {mae:.5} (allowed {tolerance})");
+        }
     }
 }
 
@@ -320,7 +421,7 @@ impl<'a> Rig<'a> {
     }
 
     /// Renders `frames` frames from `camera` at `size`, the clock advancing by `dt` per frame,
-    /// and checks the last one.
+    /// and checks the last one; returns its accessibility when the case passed.
     #[allow(clippy::too_many_arguments)]
     fn case(
         &mut self,
@@ -331,15 +432,18 @@ impl<'a> Rig<'a> {
         frames: u32,
         dt: f32,
         expect: Expect,
-    ) {
-        let Some(r) = self.renderer.as_mut() else {
-            return;
-        };
+    ) -> Option<Vec<f32>> {
+        let r = self.renderer.as_mut()?;
+        let mut out = None;
         let what = format!(
             "{} on {}: {case} at {size}",
             self.variant.label(),
             self.scene_name
         );
+        let expect = match expect {
+            Expect::Occluded if !occludes(&self.variant.technique) => Expect::Valid,
+            e => e,
+        };
         let time = &mut self.time;
         guarded(&self.gpu, report, &what, || {
             r.resize(size).map_err(|e| format!("resize: {e}"))?;
@@ -350,33 +454,39 @@ impl<'a> Rig<'a> {
             }
             let ao = r.read_ao().map_err(|e| e.to_string())?;
             let depth = r.read_linear_depth().map_err(|e| e.to_string())?;
-            check_frame(&ao, &depth, expect)
+            check_frame(&ao, &depth, expect)?;
+            out = Some(ao);
+            Ok(())
         });
+        out
     }
 
     /// Renders `a` and then `b` (the same pose, another projection convention) and checks
     /// that both frames are valid and see the same surfaces: linear depth equal to 1e-3
     /// (relative) on at least 99% of the pixels.
-    fn same_surfaces(&mut self, report: &mut Report, case: &str, a: Camera, b: Camera) {
-        let Some(r) = self.renderer.as_mut() else {
-            return;
-        };
+    fn same_surfaces(
+        &mut self,
+        report: &mut Report,
+        case: &str,
+        a: Camera,
+        b: Camera,
+    ) -> Option<(Vec<f32>, Vec<f32>)> {
+        let r = self.renderer.as_mut()?;
+        let mut out = None;
         let what = format!("{} on {}: {case}", self.variant.label(), self.scene_name);
         let time = &mut self.time;
         guarded(&self.gpu, report, &what, || {
             r.resize(SIZE).map_err(|e| format!("resize: {e}"))?;
-            let mut depths = Vec::new();
+            let (mut depths, mut aos) = (Vec::new(), Vec::new());
             for camera in [a, b] {
                 *time += FRAME;
                 r.render_with_camera(*time, camera)
                     .map_err(|e| format!("execute: {e}"))?;
                 let depth = r.read_linear_depth().map_err(|e| e.to_string())?;
-                check_frame(
-                    &r.read_ao().map_err(|e| e.to_string())?,
-                    &depth,
-                    Expect::Valid,
-                )?;
+                let ao = r.read_ao().map_err(|e| e.to_string())?;
+                check_frame(&ao, &depth, Expect::Valid)?;
                 depths.push(depth);
+                aos.push(ao);
             }
             let same = depths[0]
                 .iter()
@@ -389,8 +499,10 @@ impl<'a> Rig<'a> {
                     depths[0].len()
                 ));
             }
+            out = Some((aos.remove(0), aos.remove(0)));
             Ok(())
         });
+        out
     }
 
     fn cut(&mut self) {
@@ -537,9 +649,11 @@ fn perspective(position: Vec3, target: Vec3, near: f32, far: f32) -> Camera {
 
 /// The view of the box and column at `scale`, moved by `offset`.
 fn occluders(scale: f32, offset: Vec3) -> Camera {
+    // Close enough that the box's contact and the column's foot span several pixels at 32x32
+    // (from 8 units away they were 4 pixels wide and a 5-tap blur diluted them to 0.92).
     perspective(
-        offset + Vec3::new(0.0, 3.0, 8.0) * scale,
-        offset + Vec3::Y * 0.5 * scale,
+        offset + Vec3::new(0.6, 2.2, 4.5) * scale,
+        offset + Vec3::new(-0.6, 0.6, -0.5) * scale,
         0.05 * scale,
         1000.0 * scale,
     )
@@ -611,8 +725,12 @@ fn with_planes(mut c: Camera, near: f32, far: f32) -> Camera {
 const FRAME: f32 = 1.0 / 60.0;
 
 /// Near planes 1e-4..10 and far planes 10..1e7 on the occluders (valid) and on open floor (flat).
-fn depth_range_cases(rig: &mut Rig, report: &mut Report) {
+/// The near/far sweep; returns the frame of the occluders at near 0.05, far 1e4 (the baseline
+/// of the depth-format invariance).
+fn depth_range_cases(rig: &mut Rig, report: &mut Report) -> Option<Vec<f32>> {
+    let mut baseline = None;
     for near in [1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0] {
+        // Near 10 clips the box and column (about 8 units away): only the floor is left.
         rig.case(
             report,
             &format!("near {near:e}, far 1e4, occluders"),
@@ -620,7 +738,11 @@ fn depth_range_cases(rig: &mut Rig, report: &mut Report) {
             SIZE,
             1,
             FRAME,
-            Expect::Valid,
+            if near < 10.0 {
+                Expect::Occluded
+            } else {
+                Expect::Valid
+            },
         );
         // The open floor seen from 3 units up: near 10 clips the floor nearer than 10.
         rig.case(
@@ -634,15 +756,18 @@ fn depth_range_cases(rig: &mut Rig, report: &mut Report) {
         );
     }
     for far in [10.0, 100.0, 1e4, 1e5, 1e7] {
-        rig.case(
+        let frame = rig.case(
             report,
             &format!("near 0.05, far {far:e}, occluders"),
             with_planes(occluders(1.0, Vec3::ZERO), 0.05, far),
             SIZE,
             1,
             FRAME,
-            Expect::Valid,
+            Expect::Occluded,
         );
+        if far == 1e4 {
+            baseline = frame;
+        }
         rig.case(
             report,
             &format!("near 0.05, far {far:e}, open floor"),
@@ -660,7 +785,7 @@ fn depth_range_cases(rig: &mut Rig, report: &mut Report) {
         SIZE,
         1,
         FRAME,
-        Expect::Valid,
+        Expect::Occluded,
     );
     rig.case(
         report,
@@ -682,6 +807,7 @@ fn depth_range_cases(rig: &mut Rig, report: &mut Report) {
             Expect::Flat,
         );
     }
+    baseline
 }
 
 #[test]
@@ -689,6 +815,7 @@ fn depth_ranges_formats_and_projections() {
     let Some(gpu) = test_gpu() else { return };
     let started = Instant::now();
     let mut report = Report::default();
+    let mut invariance = Invariance::default();
     for v in &variants() {
         let mut rig = Rig::new(
             &gpu,
@@ -699,7 +826,7 @@ fn depth_ranges_formats_and_projections() {
             1.0,
             DepthFormat::Depth32Float,
         );
-        depth_range_cases(&mut rig, &mut report);
+        let depth32 = depth_range_cases(&mut rig, &mut report);
         let ortho = Camera {
             projection: Projection::Orthographic {
                 height: 8.0,
@@ -720,11 +847,18 @@ fn depth_ranges_formats_and_projections() {
         // The scene's camera is not reversed; a frame's camera may be (the g-buffer switches
         // its depth test per frame).
         let a = occluders(1.0, Vec3::ZERO);
-        rig.same_surfaces(
+        let pair = rig.same_surfaces(
             &mut report,
             "reversed-Z camera on a scene whose camera is not",
             a,
             reversed(a),
+        );
+        invariance.check(
+            &mut report,
+            format!("{}: reversed-Z camera against the plain one", v.label()),
+            pair.as_ref().map(|p| p.1.as_slice()),
+            pair.as_ref().map(|p| p.0.as_slice()),
+            TOL_REVERSED_Z,
         );
         let ortho = Camera {
             projection: Projection::Orthographic {
@@ -753,7 +887,14 @@ fn depth_ranges_formats_and_projections() {
             1.0,
             DepthFormat::Depth24Plus,
         );
-        depth_range_cases(&mut rig, &mut report);
+        let depth24 = depth_range_cases(&mut rig, &mut report);
+        invariance.check(
+            &mut report,
+            format!("{}: Depth24Plus against Depth32Float", v.label()),
+            depth24.as_deref(),
+            depth32.as_deref(),
+            TOL_DEPTH24,
+        );
 
         // The other intermediate precision (the rest of the suite runs the default).
         let other = match IntermediateFormat::default() {
@@ -812,11 +953,21 @@ fn depth_ranges_formats_and_projections() {
             );
         }
         let a = occluders(1.0, Vec3::ZERO);
-        rig.same_surfaces(
+        let pair = rig.same_surfaces(
             &mut report,
             "plain camera on a reversed-Z scene",
             reversed(a),
             a,
+        );
+        invariance.check(
+            &mut report,
+            format!(
+                "{}: plain camera on a reversed-Z scene against reversed",
+                v.label()
+            ),
+            pair.as_ref().map(|p| p.1.as_slice()),
+            pair.as_ref().map(|p| p.0.as_slice()),
+            TOL_REVERSED_Z,
         );
         let mut rig = Rig::new(
             &gpu,
@@ -846,7 +997,14 @@ fn depth_ranges_formats_and_projections() {
             Expect::Flat,
         );
     }
-    report.finish("depth_ranges_formats_and_projections", started);
+    invariance.print("depth_ranges_formats_and_projections");
+    // Per technique variant: 101 cases and 3 invariance checks (Depth24Plus and the two
+    // reversed-Z pairs).
+    report.finish(
+        "depth_ranges_formats_and_projections",
+        started,
+        104 * variants().len(),
+    );
 }
 
 #[test]
@@ -854,8 +1012,28 @@ fn scene_scale_offset_and_radius() {
     let Some(gpu) = test_gpu() else { return };
     let started = Instant::now();
     let mut report = Report::default();
+    let mut invariance = Invariance::default();
     for v in &variants() {
-        // Scale 1e-3 to 1e4, R scaled alike (scale 1 is the other tests' rig).
+        // The baseline frame: the occluders at scale 1, R = 1, at the origin.
+        let baseline = Rig::new(
+            &gpu,
+            &mut report,
+            v,
+            "box-on-plane x 1 (baseline)",
+            box_scene(1.0, Vec3::ZERO, false, false),
+            1.0,
+            DepthFormat::Depth32Float,
+        )
+        .case(
+            &mut report,
+            "occluders",
+            occluders(1.0, Vec3::ZERO),
+            SIZE,
+            2,
+            FRAME,
+            Expect::Occluded,
+        );
+        // Scale 1e-3 to 1e4, R scaled alike: the same frame up to rounding.
         for scale in [1e-3f32, 1e-2, 0.1, 10.0, 1e2, 1e3, 1e4] {
             let mut rig = Rig::new(
                 &gpu,
@@ -866,14 +1044,21 @@ fn scene_scale_offset_and_radius() {
                 scale,
                 DepthFormat::Depth32Float,
             );
-            rig.case(
+            let frame = rig.case(
                 &mut report,
                 "occluders",
                 occluders(scale, Vec3::ZERO),
                 SIZE,
                 2,
                 FRAME,
-                Expect::Valid,
+                Expect::Occluded,
+            );
+            invariance.check(
+                &mut report,
+                format!("{}: scene and R scaled by {scale:e}", v.label()),
+                frame.as_deref(),
+                baseline.as_deref(),
+                TOL_SCALE,
             );
             rig.case(
                 &mut report,
@@ -900,7 +1085,7 @@ fn scene_scale_offset_and_radius() {
                 Extent::new(97, 61),
                 1,
                 FRAME,
-                Expect::Valid,
+                Expect::Occluded,
             );
         }
         // 1e5 units from the origin on two axes.
@@ -914,14 +1099,21 @@ fn scene_scale_offset_and_radius() {
             1.0,
             DepthFormat::Depth32Float,
         );
-        rig.case(
+        let frame = rig.case(
             &mut report,
             "occluders",
             occluders(1.0, offset),
             SIZE,
             2,
             FRAME,
-            Expect::Valid,
+            Expect::Occluded,
+        );
+        invariance.check(
+            &mut report,
+            format!("{}: scene moved to (1e5, 0, 1e5)", v.label()),
+            frame.as_deref(),
+            baseline.as_deref(),
+            TOL_OFFSET,
         );
         rig.case(
             &mut report,
@@ -957,7 +1149,7 @@ fn scene_scale_offset_and_radius() {
             Extent::new(97, 61),
             1,
             FRAME,
-            Expect::Valid,
+            Expect::Occluded,
         );
         // R = 1e-4: nothing can occlude, not even at the box's contact.
         let mut rig = Rig::new(
@@ -1021,6 +1213,14 @@ fn scene_scale_offset_and_radius() {
                 radius,
                 DepthFormat::Depth32Float,
             );
+            // R = 1e-2 projects to well under a pixel at 32x32: nothing visibly occludes. R of
+            // 1e3 and 1e6 dwarf the scene: a technique that places its samples in view space
+            // within R (ssdo) puts every sample off screen and sees nothing; valid is enough.
+            let occluded = if (1.0..=10.0).contains(&radius) {
+                Expect::Occluded
+            } else {
+                Expect::Valid
+            };
             rig.case(
                 &mut report,
                 "occluders",
@@ -1028,7 +1228,7 @@ fn scene_scale_offset_and_radius() {
                 SIZE,
                 2,
                 FRAME,
-                Expect::Valid,
+                occluded,
             );
             rig.case(
                 &mut report,
@@ -1055,11 +1255,17 @@ fn scene_scale_offset_and_radius() {
                 Extent::new(97, 61),
                 1,
                 FRAME,
-                Expect::Valid,
+                occluded,
             );
         }
     }
-    report.finish("scene_scale_offset_and_radius", started);
+    invariance.print("scene_scale_offset_and_radius");
+    // Per technique variant: 68 cases and 8 invariance checks (7 scales and the offset).
+    report.finish(
+        "scene_scale_offset_and_radius",
+        started,
+        76 * variants().len(),
+    );
 }
 
 #[test]
@@ -1088,6 +1294,12 @@ fn sizes_cameras_geometry_and_time() {
         // Output sizes (pyramids with odd and degenerate levels); each size is a resize
         // between frames, two frames each so temporal history is used at the new size.
         for size in sizes {
+            // The slivers (1x1, 2x3, 4096x8, 8x4096) may miss the contact: valid is enough there.
+            let occluded = if size == SIZE || size == Extent::new(97, 61) {
+                Expect::Occluded
+            } else {
+                Expect::Valid
+            };
             rig.case(
                 &mut report,
                 "occluders",
@@ -1095,7 +1307,7 @@ fn sizes_cameras_geometry_and_time() {
                 size,
                 2,
                 FRAME,
-                Expect::Valid,
+                occluded,
             );
             rig.case(
                 &mut report,
@@ -1366,6 +1578,12 @@ fn sizes_cameras_geometry_and_time() {
             DepthFormat::Depth32Float,
         );
         for size in sizes {
+            // The slivers (1x1, 2x3, 4096x8, 8x4096) may miss the contact: valid is enough there.
+            let occluded = if size == SIZE || size == Extent::new(97, 61) {
+                Expect::Occluded
+            } else {
+                Expect::Valid
+            };
             rig.case(
                 &mut report,
                 "occluders",
@@ -1373,7 +1591,7 @@ fn sizes_cameras_geometry_and_time() {
                 size,
                 2,
                 FRAME,
-                Expect::Valid,
+                occluded,
             );
             rig.case(
                 &mut report,
@@ -1395,5 +1613,10 @@ fn sizes_cameras_geometry_and_time() {
             );
         }
     }
-    report.finish("sizes_cameras_geometry_and_time", started);
+    // Per technique variant 43 cases, per deepest pyramid 7 (its rig and six sizes).
+    report.finish(
+        "sizes_cameras_geometry_and_time",
+        started,
+        43 * variants().len() + 7 * deepest_pyramids().len(),
+    );
 }

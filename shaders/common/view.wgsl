@@ -22,18 +22,21 @@ fn pixel_uv(p: vec2<i32>, view: View) -> vec2<f32> {
     return (vec2<f32>(p) + 0.5) * view.viewport.zw;
 }
 
-// View-space position of the surface at `uv` with linear depth `z` (> 0).
+// View-space position of the surface at `uv` with linear depth `z` (> 0), from the projection's
+// x and y rows only: for a perspective, ndc.x = (P00 x + P20 z_view) / z with z = -z_view, so
+// x = z (ndc.x + P20) / P00 (and y alike with P11, P21); an orthographic camera has
+// x = (ndc.x - P30) / P00. Neither the near nor the far plane enters, so reconstruction keeps
+// full precision at any depth range (inverting the whole projection, or unprojecting a point on
+// the far plane, loses it when far / near reaches 1e8, and fails for an infinite far plane).
 fn view_position(uv: vec2<f32>, z: f32, view: View) -> vec3<f32> {
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let scale = vec2<f32>(view.proj[0][0], view.proj[1][1]);
     if (view.near_far.w > 0.5) {
-        // Orthographic: x and y do not depend on depth.
-        let p = view.inv_proj * vec4<f32>(ndc, 0.5, 1.0);
-        return vec3<f32>(p.x / p.w, p.y / p.w, -z);
+        let offset = vec2<f32>(view.proj[3][0], view.proj[3][1]);
+        return vec3<f32>((ndc - offset) / scale, -z);
     }
-    // Perspective: the ray through the pixel, scaled to depth z.
-    let p = view.inv_proj * vec4<f32>(ndc, 1.0, 1.0);
-    let dir = p.xyz / p.w;
-    return dir * (z / max(-dir.z, 1e-30));
+    let shear = vec2<f32>(view.proj[2][0], view.proj[2][1]);
+    return vec3<f32>(z * (ndc + shear) / scale, -z);
 }
 
 // UV of a view-space point (y down).
