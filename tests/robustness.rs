@@ -71,11 +71,7 @@ fn parse_and_build(
         .map_err(|e| e.to_string())
         .and_then(|g| {
             GraphCompiler::new()
-                .compile(
-                    g.decl,
-                    &aograph::shader_library(),
-                    CompileOptions::default(),
-                )
+                .compile(g.decl, shaders, CompileOptions::default())
                 .map_err(|e| e.to_string())
         });
     if let Err(e) = built {

@@ -173,7 +173,7 @@ fn check_frame(ao: &[f32], depth: &[f32], expect: Expect) -> Result<(), String> 
                 .filter(|(_, d)| **d > 0.0)
                 .map(|(a, _)| *a)
                 .fold(1.0f32, f32::min);
-            if !(min < threshold) {
+            if min.is_nan() || min >= threshold {
                 return Err(format!(
                     "the view has occluders within R, but no pixel is below {threshold} (darkest {min})"
                 ));
@@ -270,7 +270,7 @@ impl Invariance {
         } else {
             f32::INFINITY
         };
-        if !(mae <= tolerance) {
+        if mae.is_nan() || mae > tolerance {
             report.failures.push(format!(
                 "{what}: MAE {mae:.5} against the baseline frame, allowed {tolerance}"
             ));
