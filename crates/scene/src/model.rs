@@ -245,10 +245,16 @@ impl Scene {
         }
         for (i, m) in self.meshes.iter().enumerate() {
             if m.indices.len() % 3 != 0 {
-                return Err(format!("mesh {i}: {} indices, not a triangle list", m.indices.len()));
+                return Err(format!(
+                    "mesh {i}: {} indices, not a triangle list",
+                    m.indices.len()
+                ));
             }
             if let Some(bad) = m.indices.iter().find(|&&x| x as usize >= m.positions.len()) {
-                return Err(format!("mesh {i}: index {bad} of {} positions", m.positions.len()));
+                return Err(format!(
+                    "mesh {i}: index {bad} of {} positions",
+                    m.positions.len()
+                ));
             }
             if !m.positions.iter().all(|p| p.is_finite()) {
                 return Err(format!("mesh {i}: a position is not finite"));
@@ -268,12 +274,20 @@ impl Scene {
                 return Err(format!("mesh {i}: normal {n} is not a finite unit vector"));
             }
             if m.material >= self.materials.len() {
-                return Err(format!("mesh {i}: material {} of {}", m.material, self.materials.len()));
+                return Err(format!(
+                    "mesh {i}: material {} of {}",
+                    m.material,
+                    self.materials.len()
+                ));
             }
         }
         for (i, inst) in self.instances.iter().enumerate() {
             if inst.mesh >= self.meshes.len() {
-                return Err(format!("instance {i}: mesh {} of {}", inst.mesh, self.meshes.len()));
+                return Err(format!(
+                    "instance {i}: mesh {} of {}",
+                    inst.mesh,
+                    self.meshes.len()
+                ));
             }
             if !inst.transform.is_finite() {
                 return Err(format!("instance {i}: transform is not finite"));

@@ -203,7 +203,7 @@ impl AoTechnique for Mssao {
             spec(
                 "temporal_epsilon",
                 "0.0001 to 1",
-                "relative depth tolerance |1 - z_prev / z| of the reprojection test (Eq. 13)",
+                "relative depth tolerance |1 - z / z_prev| of the reprojection test (Eq. 13 in TSSAO Eq. 7's form, the shared block's; the paper's |1 - z_prev / z| differs only within about epsilon^2)",
             ),
         ]
     }
