@@ -133,8 +133,8 @@ fn f16(x: f32) -> f32 {
 }
 
 /// On an unoccluded plane every sample is visible, so the paper's direct term has a known
-/// value: L_dir = rho * mean over the samples of L_in (the constant ambient, sky_gradient 0)
-/// + rho * E_sun * max(0, n.l) (every light sample visible), and the indirect term is exactly
+/// value, L_dir = rho * mean over the samples of L_in (the constant ambient, sky_gradient 0)
+/// plus rho * E_sun * max(0, n.l) (every light sample visible), and the indirect term is exactly
 /// zero (no sender occludes). The expected value is rebuilt from the scene: albedo as the
 /// g-buffer stores it (Rgba8Unorm), the direct light as it stores it (f16 of
 /// colour * light * n.l). Intermediates in r32float; tolerance: the output is f16 (relative
