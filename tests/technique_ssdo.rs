@@ -355,6 +355,10 @@ fn sphere_on_plane_accessibility_is_within_the_error_of_ssao() {
         assert!(run.ao.iter().any(|&a| a < 0.9), "the contact is occluded");
         let reference = common::reference(&run, RADIUS, 256);
         let mae = common::mae(&run.ao, &reference, &run.depth);
+        assert!(
+            registry.get("ssao").is_ok(),
+            "ssao is a built-in technique: the comparison needs it"
+        );
         if registry.get("ssao").is_ok() {
             let ssao = common::render_ao(
                 procedural_scene("sphere-on-plane").unwrap(),
@@ -467,10 +471,10 @@ impl Times {
 
 #[test]
 fn cost_of_the_direct_term_and_the_bounce_relative_to_ssao() {
-    if TechniqueRegistry::with_builtins().get("ssao").is_err() {
-        println!("ssao is not registered: no cost ratios");
-        return;
-    }
+    assert!(
+        TechniqueRegistry::with_builtins().get("ssao").is_ok(),
+        "ssao is a built-in technique: the cost ratios need it"
+    );
     const FRAMES: usize = 24;
     let size = Extent::new(128, 128);
     for samples in [8, 16] {

@@ -218,6 +218,10 @@ fn static_camera_converges_and_matches_ssao_with_32_samples() {
     // The baseline: ssao with 32 samples per frame, or (if it is not registered) TSSAO's own
     // single-frame estimate with 32 samples.
     let ssao_registered = TechniqueRegistry::with_builtins().get("ssao").is_ok();
+    assert!(
+        ssao_registered,
+        "ssao is a built-in technique: the baseline needs it"
+    );
     let (name, config) = if ssao_registered {
         (
             "ssao (32 samples)",

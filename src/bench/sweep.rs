@@ -165,24 +165,28 @@ impl Sweep {
     }
 
     /// Techniques the sweep names that `registry` holds, warning (on stderr) about the rest.
-    pub fn registered_techniques(&self, registry: &TechniqueRegistry) -> Vec<String> {
+    pub fn registered_techniques(&self, registry: &TechniqueRegistry) -> AppResult<Vec<String>> {
         let names = registry.names();
         let mut known = Vec::new();
         for t in self.grids.keys() {
             if names.contains(t) {
                 known.push(t.clone());
             } else {
+                // An unknown name is a mistake to fix, not a grid to skip silently: the run
+                // would measure less than the sweep says.
                 let hint = nearest(t, names.iter().map(String::as_str))
-                    .map(|n| format!("; did you mean `{n}`?"))
+                    .map(|n| format!("did you mean `{n}`? "))
                     .unwrap_or_default();
-                eprintln!(
-                    "warning: sweep {}: technique `{t}` is not registered, skipped{hint} (registered: {})",
-                    self.source,
-                    names.join(", ")
-                );
+                return Err(AppError::Config {
+                    path: self.source.clone(),
+                    message: format!(
+                        "technique `{t}` is not registered; {hint}registered: {}",
+                        names.join(", ")
+                    ),
+                });
             }
         }
-        known
+        Ok(known)
     }
 }
 
@@ -251,7 +255,7 @@ mod tests {
     }
 
     #[test]
-    fn shipped_sweeps_parse_and_unregistered_techniques_are_skipped() {
+    fn shipped_sweeps_parse_and_an_unregistered_technique_is_an_error() {
         let registry = TechniqueRegistry::with_builtins();
         for f in ["pyramid-hbao-paper.toml", "quick.toml"] {
             let s = Sweep::load(
@@ -260,7 +264,7 @@ mod tests {
                     .join(f),
             )
             .unwrap();
-            let known = s.registered_techniques(&registry);
+            let known = s.registered_techniques(&registry).unwrap();
             assert!(known.iter().all(|t| registry.get(t).is_ok()));
             plan_param_sets(&registry, &known, Some(&s)).unwrap();
         }
@@ -270,6 +274,15 @@ mod tests {
         .unwrap();
         assert_eq!(paper.expand("hbao").len(), 4, "the paper's four D x S rows");
         assert_eq!(paper.expand("pyramid-hbao").len(), 5, "L = 1..5");
+        let typo = Sweep::parse("[hbaoo]\ndirections = [8]\n", "typo.toml").unwrap();
+        let e = typo
+            .registered_techniques(&registry)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("typo.toml") && e.contains("`hbaoo`") && e.contains("did you mean `hbao`"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -227,7 +227,7 @@ pub(crate) fn techniques(
         .collect();
     if flag.is_empty() {
         if let (Some(s), false) = (sweep, default_all) {
-            let t = s.registered_techniques(registry);
+            let t = s.registered_techniques(registry)?;
             if t.is_empty() {
                 return Err(AppError::Config {
                     path: s.source.clone(),
@@ -240,7 +240,7 @@ pub(crate) fn techniques(
             return Ok(t);
         }
         if let Some(s) = sweep {
-            s.registered_techniques(registry);
+            s.registered_techniques(registry)?;
         }
         return Ok(registry.names());
     }
