@@ -281,7 +281,7 @@ pub fn write_pareto(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     fn p(ms: f64, mae: f64) -> Point {
