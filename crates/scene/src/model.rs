@@ -305,40 +305,37 @@ impl Scene {
         }
     }
 
+    /// Every instance whose mesh exists, with that mesh and its transform at time `t`: the walk
+    /// the bounds, counts and world-space triangle lists below share.
+    fn placed_meshes(&self, t: f32) -> impl Iterator<Item = (&Mesh, Mat4)> {
+        self.instances.iter().filter_map(move |instance| {
+            let mesh = self.meshes.get(instance.mesh)?;
+            Some((mesh, instance.transform_at(t)))
+        })
+    }
+
     /// World-space bounds at time `t`.
     pub fn bounds_at(&self, t: f32) -> Aabb {
-        self.instances
-            .iter()
-            .filter_map(|instance| {
-                let mesh = self.meshes.get(instance.mesh)?;
-                Some(mesh.bounds().transformed(&instance.transform_at(t)))
-            })
+        self.placed_meshes(t)
+            .map(|(mesh, m)| mesh.bounds().transformed(&m))
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
     /// Number of triangles over all instances.
     pub fn triangle_count(&self) -> usize {
-        self.instances
-            .iter()
-            .filter_map(|instance| self.meshes.get(instance.mesh))
-            .map(Mesh::triangle_count)
+        self.placed_meshes(0.0)
+            .map(|(mesh, _)| mesh.triangle_count())
             .sum()
     }
 
     /// Every instance's triangles in world space at time `t`, for the reference ray tracer.
     pub fn world_triangles(&self, t: f32) -> Vec<[Vec3; 3]> {
-        let mut out = Vec::with_capacity(self.triangle_count());
-        for instance in &self.instances {
-            let Some(mesh) = self.meshes.get(instance.mesh) else {
-                continue;
-            };
-            let m = instance.transform_at(t);
-            out.extend(
+        self.placed_meshes(t)
+            .flat_map(|(mesh, m)| {
                 mesh.triangles()
-                    .map(|tri| tri.map(|p| m.transform_point3(p))),
-            );
-        }
-        out
+                    .map(move |tri| tri.map(|p| m.transform_point3(p)))
+            })
+            .collect()
     }
 
     /// Per-vertex world-space unit normals of [`Scene::world_triangles`] at time `t`, in the
@@ -346,18 +343,12 @@ impl Scene {
     /// transpose, see [`crate::normal_transform`]) and renormalised, the rule the GPU g-buffer's
     /// vertex shader applies. Vertices without a usable normal get zero.
     pub fn world_vertex_normals(&self, t: f32) -> Vec<[Vec3; 3]> {
-        let mut out = Vec::with_capacity(self.triangle_count());
-        for instance in &self.instances {
-            let Some(mesh) = self.meshes.get(instance.mesh) else {
-                continue;
-            };
-            let m = instance.transform_at(t);
-            out.extend(
+        self.placed_meshes(t)
+            .flat_map(|(mesh, m)| {
                 mesh.triangle_normals()
-                    .map(|tri| tri.map(|n| transform_normal(m, n).unwrap_or(Vec3::ZERO))),
-            );
-        }
-        out
+                    .map(move |tri| tri.map(|n| transform_normal(m, n).unwrap_or(Vec3::ZERO)))
+            })
+            .collect()
     }
 }
 
