@@ -30,8 +30,10 @@ fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
             run.depth.iter().any(|&d| d > 0.0),
             "{what}: the camera sees the plane"
         );
+        // Exactly 1 up to the blur's normalisation (a weighted mean of ones, rounded in f32):
+        // the g-buffer normals' rounding is not occlusion (shaders/common/horizon.wgsl).
         let min = run.ao.iter().copied().fold(1.0f32, f32::min);
-        assert!(min >= 0.98, "{what}: darkest pixel {min}");
+        assert!(min >= 1.0 - 1e-6, "{what}: darkest pixel {min}");
     }
 }
 

@@ -95,11 +95,14 @@ fn plane_is_unoccluded_from_straight_down_to_80_degrees() {
             );
             let min = geometry.iter().cloned().fold(1.0f32, f32::min);
             println!(
-                "plane at {degrees:>2} degrees [{}]: min accessibility {min:.4}",
+                "plane at {degrees:>2} degrees [{}]: min accessibility {min:.7}",
                 params.replace('\n', "; ")
             );
+            // Exactly 1 up to the blur's normalisation in f32: neither the g-buffer normals'
+            // rounding (shaders/common/horizon.wgsl) nor the coarse levels' mean depth, which
+            // lies behind a plane (z is convex in screen space), is occlusion.
             assert!(
-                min >= 0.98,
+                min >= 1.0 - 1e-6,
                 "{degrees} degrees [{params}]: min accessibility {min}"
             );
         }

@@ -2,10 +2,12 @@
 #include "common/gbuffer.wgsl"
 #include "common/noise.wgsl"
 #include "common/finite.wgsl"
+#include "common/horizon.wgsl"
 // hbao.ao: horizon-based AO as specs/pyramid_hbao.md §1 states it. For each of D azimuth
 // directions (evenly spaced, rotated by a per-pixel random angle) march S depth samples out to
 // the projected radius R_px; the horizon h(θ) is the highest elevation above the tangent plane
-// (sin α = n · V / |V|) among samples closer than R, r(θ) its distance.
+// (sin α = n · V / |V|, less the g-buffer normals' rounding: common/horizon.wgsl) among
+// samples closer than R, r(θ) its distance.
 //   W(θ) = max(0, 1 - r(θ)/R)                        (Eq. 4)
 //   A    = 1 - (1/D) Σ_d W(θ_d) sin h(θ_d)           (Eq. 5, Monte Carlo over θ)
 // No tangent-angle term (spec §1.3). Output: raw accessibility, blurred by hbao.blur_x/_y.
@@ -82,7 +84,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
             if (!(dist > eps) || dist >= r) {
                 continue; // beyond R: W = 0 (Eq. 4)
             }
-            let sin_a = dot(n, v) / dist;
+            let sin_a = sin_elevation(n, v, dist); // less the normals' rounding
             if (sin_a > sin_h) {
                 rises = rises + max(0.0, 1.0 - dist / r) * (sin_a - sin_h);
                 sin_h = sin_a;

@@ -1,6 +1,7 @@
 #include "common/view.wgsl"
 #include "common/noise.wgsl"
 #include "common/pyramid.wgsl"
+#include "common/horizon.wgsl"
 // Pyramid HBAO, the AO pass (crates/ao-passes/src/techniques/pyramid_hbao.rs; spec
 // /work/shared/specs/pyramid_hbao.md §2.3-2.5, pseudo-code §7). Per pixel P: D directions;
 // along each, step_count reads per pyramid level, the step multiplied by K per level, keeping
@@ -73,9 +74,10 @@ fn march_level(tex: texture_2d<f32>, l: u32, m: ptr<function, March>, edges: ptr
         let v = view_position(c * (*m).inv_size, zs, view) - (*m).o;
         let r = length(v);
         if (r < (*m).eps) { continue; }
-        // Eq. 8: the max over samples of W(r) * sin(alpha), W(r) = max(0, 1 - r/R).
+        // Eq. 8: the max over samples of W(r) * sin(alpha), W(r) = max(0, 1 - r/R); sin(alpha)
+        // less the g-buffer normals' rounding (common/horizon.wgsl).
         let w = max(0.0, 1.0 - r / params.radius);
-        (*m).a_max = max((*m).a_max, w * max(0.0, dot((*m).n, v) / r - params.sin_bias));
+        (*m).a_max = max((*m).a_max, w * max(0.0, sin_elevation((*m).n, v, r) - params.sin_bias));
     }
     // Next level: the step and the texel footprint both grow by K.
     (*m).step = (*m).step * params.factor;
