@@ -40,9 +40,9 @@ const SIZE: Extent = Extent {
 };
 /// Invariance tolerances (MAE against the baseline frame over all pixels), from the measured
 /// values printed by the tests with about 3x headroom; see each check.
-/// Scale 1e-3 to 1e4: measured at most 0.0042 (mssao at 1e-3: its fp16 tuples round sums of
+/// Scale 1e-3 to 1e4: measured at most 0.0032 (mssao at 1e-3: its fp16 tuples round sums of
 /// scaled distances differently).
-const TOL_SCALE: f32 = 0.0125;
+const TOL_SCALE: f32 = 0.01;
 /// 1e5 units from the origin: measured at most 0.0012 (points rebuilt from linear depth lose
 /// a few bits against the origin's).
 const TOL_OFFSET: f32 = 0.004;
