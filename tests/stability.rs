@@ -1613,10 +1613,11 @@ fn sizes_cameras_geometry_and_time() {
             );
         }
     }
-    // Per technique variant 43 cases, per deepest pyramid 7 (its rig and six sizes).
+    // Per technique variant 40 cases (its rig and every case above); per deepest pyramid 19
+    // (its rig and 6 sizes x 3).
     report.finish(
         "sizes_cameras_geometry_and_time",
         started,
-        43 * variants().len() + 7 * deepest_pyramids().len(),
+        40 * variants().len() + 19 * deepest_pyramids().len(),
     );
 }

@@ -133,3 +133,13 @@ pub fn assert_valid_ao(ao: &[f32], depth: &[f32], what: &str) {
         }
     }
 }
+
+/// Mean of `ao` over non-sky pixels.
+pub fn mean_over_geometry(ao: &[f32], depth: &[f32]) -> f32 {
+    let (sum, n) = ao
+        .iter()
+        .zip(depth)
+        .filter(|(_, d)| **d > 0.0)
+        .fold((0.0f64, 0usize), |(s, n), (a, _)| (s + *a as f64, n + 1));
+    (sum / n.max(1) as f64) as f32
+}

@@ -40,6 +40,9 @@ pub enum DepthReduction {
     Min2x2,
     /// Farthest texel of a 2x2 block (factor 2).
     Max2x2,
+    /// XeGTAO's far-weighted mean of a 2x2 block (factor 2). Its weights depend on the
+    /// technique's radius, so [`super::depth_prefilter`] builds it; [`depth_pyramid`] refuses it.
+    FarWeighted2x2,
 }
 
 impl DepthReduction {
@@ -47,15 +50,16 @@ impl DepthReduction {
     pub fn factor(self) -> u32 {
         match self {
             Self::Average3x3 => 3,
-            Self::Min2x2 | Self::Max2x2 => 2,
+            Self::Min2x2 | Self::Max2x2 | Self::FarWeighted2x2 => 2,
         }
     }
     /// Entry point in shaders/blocks/depth_pyramid.wgsl.
-    fn entry(self) -> &'static str {
+    fn entry(self) -> Option<&'static str> {
         match self {
-            Self::Average3x3 => "average_3x3",
-            Self::Min2x2 => "min_2x2",
-            Self::Max2x2 => "max_2x2",
+            Self::Average3x3 => Some("average_3x3"),
+            Self::Min2x2 => Some("min_2x2"),
+            Self::Max2x2 => Some("max_2x2"),
+            Self::FarWeighted2x2 => None,
         }
     }
 }
@@ -104,6 +108,14 @@ pub fn depth_pyramid(
             format!("1 to {MAX_LEVELS} (level 0 included)"),
         ));
     }
+    let Some(entry) = reduction.entry() else {
+        return Err(invalid(
+            prefix,
+            "reduction",
+            format!("{reduction:?}"),
+            "Average3x3, Min2x2 or Max2x2 (FarWeighted2x2 needs a radius: blocks::depth_prefilter)",
+        ));
+    };
     let base = desc_of(b, prefix, "depth", depth)?;
     if base.format != BLOCK_FORMAT {
         return Err(invalid(
@@ -122,7 +134,7 @@ pub fn depth_pyramid(
         let size = scaled_size(base.size, reduction.factor(), l);
         let name = format!("{prefix}.depth_level{l}");
         let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, size));
-        let mut p = b.compute_pass(&name, "blocks/depth_pyramid.wgsl", reduction.entry());
+        let mut p = b.compute_pass(&name, "blocks/depth_pyramid.wgsl", entry);
         p.sample("src", pyramid.levels[l as usize - 1]);
         let out = p.write_storage("dst", out);
         p.dispatch_over(out);
@@ -133,7 +145,8 @@ pub fn depth_pyramid(
 }
 
 /// CPU mirror of one reduction step (same arithmetic and order as the shader), for tests and
-/// tools: `src` is `w` x `h`, row-major; returns the next level and its size.
+/// tools: `src` is `w` x `h`, row-major; returns the next level and its size. Panics on
+/// [`DepthReduction::FarWeighted2x2`], whose mirror is `depth_prefilter::prefilter_cpu`.
 pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Vec<f32>, u32, u32) {
     let k = reduction.factor();
     let (ow, oh) = (w.div_ceil(k), h.div_ceil(k));
@@ -166,6 +179,9 @@ pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Ve
                 DepthReduction::Average3x3 if n > 0 => sum / n as f32,
                 DepthReduction::Min2x2 if n > 0 => lo,
                 DepthReduction::Max2x2 => hi,
+                DepthReduction::FarWeighted2x2 => {
+                    panic!("FarWeighted2x2 needs a radius: use depth_prefilter::prefilter_cpu")
+                }
                 _ => 0.0,
             });
         }

@@ -1,6 +1,7 @@
-//! Shared AO building blocks (subgraphs any technique composes): the linear-depth pyramid,
-//! separable Gaussian and bilateral blurs, bilateral upsampling, and temporal reprojection and
-//! accumulation (`temporal`, documented in its own module).
+//! Shared AO building blocks (subgraphs any technique composes): the linear-depth pyramid and
+//! XeGTAO's depth prefilter, separable Gaussian and bilateral blurs, XeGTAO's edge-aware
+//! denoiser, bilateral upsampling, and temporal reprojection and accumulation (`temporal`,
+//! documented in its own module).
 //!
 //! Each block is one function that adds its passes to a [`GraphBuilder`] and returns the
 //! handles it wrote. Pass and texture names are `<prefix>.<pass>` with the caller's prefix
@@ -26,7 +27,9 @@ use crate::error::{AoError, AoResult};
 
 pub mod bilateral_blur;
 pub mod bilateral_upsample;
+pub mod depth_prefilter;
 pub mod depth_pyramid;
+pub mod edge_denoise;
 pub mod gaussian_blur;
 pub mod temporal;
 
@@ -35,7 +38,9 @@ mod tests;
 
 pub use bilateral_blur::{BilateralBlur, bilateral_blur, bilateral_blur_with_intermediate};
 pub use bilateral_upsample::{BilateralUpsample, UpsampleInputs, bilateral_upsample};
+pub use depth_prefilter::depth_prefilter;
 pub use depth_pyramid::{DepthPyramid, DepthReduction, depth_pyramid};
+pub use edge_denoise::{EdgeDenoise, edge_denoise};
 pub use gaussian_blur::{
     GaussianBlur, gaussian_blur, gaussian_blur_with_intermediate, gaussian_weights,
 };

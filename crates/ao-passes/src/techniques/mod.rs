@@ -1,5 +1,6 @@
 //! The built-in techniques, one file each; registering one is one line here.
 
+pub mod gtao;
 pub mod hbao;
 pub mod mssao;
 pub mod none;
@@ -18,4 +19,5 @@ pub(crate) fn register_builtins(r: &mut TechniqueRegistry) {
     r.register(ssao::Ssao);
     r.register(hbao::Hbao);
     r.register(ssdo::Ssdo);
+    r.register(gtao::Gtao);
 }
