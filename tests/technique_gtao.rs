@@ -11,8 +11,7 @@
 mod common;
 
 use aograph_graph::Extent;
-use aograph_scene::{Camera, Mesh, Scene, SceneBuilder, procedural_scene};
-use glam::{Mat4, Vec3};
+use aograph_scene::procedural_scene;
 
 use common::plane_at;
 
@@ -74,81 +73,6 @@ fn slice_count_normalisation_is_unbiased_only_before_the_clamp() {
     );
 }
 
-/// A pit whose walls lie on the cone of elevation `beta` around the origin: a flat floor disc
-/// of radius `floor_radius` at y = 0, a vertical step at its rim up to the cone, and the cone
-/// y = r tan β out to `outer`. Every wall point has elevation exactly β seen from the origin
-/// (each facet's plane contains the origin; 256 segments keep the facets' bulge below 1e-4).
-fn cone_pit(beta: f32, floor_radius: f32, outer: f32, tilt_degrees: f32) -> Scene {
-    let mut b = SceneBuilder::new();
-    let material = b.material([0.8, 0.8, 0.8]);
-    let mut mesh = Mesh {
-        name: "cone pit".into(),
-        material,
-        ..Mesh::default()
-    };
-    let segments = 256;
-    let t = beta.tan();
-    let ring = |r: f32, y: f32, k: u32| {
-        let a = std::f32::consts::TAU * k as f32 / segments as f32;
-        Vec3::new(r * a.cos(), y, r * a.sin())
-    };
-    for k in 0..segments {
-        let (k0, k1) = (k, k + 1);
-        let mid = std::f32::consts::TAU * (k as f32 + 0.5) / segments as f32;
-        let inward = -Vec3::new(mid.cos(), 0.0, mid.sin());
-        push_triangle(
-            &mut mesh,
-            [
-                Vec3::ZERO,
-                ring(floor_radius, 0.0, k0),
-                ring(floor_radius, 0.0, k1),
-            ],
-            Vec3::Y,
-        );
-        let (a, c) = (floor_radius, floor_radius * t);
-        push_triangle(
-            &mut mesh,
-            [ring(a, 0.0, k0), ring(a, 0.0, k1), ring(a, c, k1)],
-            inward,
-        );
-        push_triangle(
-            &mut mesh,
-            [ring(a, 0.0, k0), ring(a, c, k1), ring(a, c, k0)],
-            inward,
-        );
-        let up = (inward * beta.sin() + Vec3::Y * beta.cos()).normalize();
-        let (p0, p1) = (ring(a, c, k0), ring(a, c, k1));
-        let (q0, q1) = (ring(outer, outer * t, k0), ring(outer, outer * t, k1));
-        push_triangle(&mut mesh, [p0, p1, q1], up);
-        push_triangle(&mut mesh, [p0, q1, q0], up);
-    }
-    b.add(mesh, Mat4::IDENTITY);
-    let tilt = tilt_degrees.to_radians();
-    b.build(Camera::perspective(
-        Vec3::new(tilt.sin(), tilt.cos(), 0.0) * 4.0,
-        Vec3::ZERO,
-        60f32.to_radians(),
-        0.05,
-        100.0,
-    ))
-}
-
-/// Appends triangle `p` facing `normal` (reordered to be counter-clockwise seen from it).
-fn push_triangle(mesh: &mut Mesh, mut p: [Vec3; 3], normal: Vec3) {
-    if (p[1] - p[0]).cross(p[2] - p[0]).dot(normal) < 0.0 {
-        p.swap(1, 2);
-    }
-    let base = mesh.positions.len() as u32;
-    mesh.positions.extend(p);
-    mesh.normals.extend([normal; 3]);
-    mesh.indices.extend([base, base + 1, base + 2]);
-}
-
-/// The centre pixel of an odd-sized image looks straight down the pit's axis: V = n.
-fn centre_value(ao: &[f32], size: Extent) -> f32 {
-    ao[(size.height / 2 * size.width + size.width / 2) as usize]
-}
-
 #[test]
 fn pit_of_elevation_beta_gives_cos_squared_beta_at_its_centre() {
     let size = Extent::new(65, 65);
@@ -166,14 +90,14 @@ fn pit_of_elevation_beta_gives_cos_squared_beta_at_its_centre() {
             for normalization in ["unoccluded", "slice-count"] {
                 let p = format!("{params}\nnormalization = \"{normalization}\"");
                 let Some(run) = common::render_ao(
-                    cone_pit(beta, 0.05, 1.6, 0.0),
+                    common::cone_pit(beta, 0.05, 1.6, 0.0),
                     &common::ao_config("gtao", RADIUS, &p),
                     size,
                     1,
                 ) else {
                     return;
                 };
-                let got = centre_value(&run.ao, size);
+                let got = common::centre_value(&run.ao, size);
                 println!(
                     "gtao pit beta = {beta_deg}, [{}]: {got:.5}, cos^2 beta = {want:.5}",
                     p.replace('\n', ", ")

@@ -143,3 +143,78 @@ pub fn mean_over_geometry(ao: &[f32], depth: &[f32]) -> f32 {
         .fold((0.0f64, 0usize), |(s, n), (a, _)| (s + *a as f64, n + 1));
     (sum / n.max(1) as f64) as f32
 }
+
+/// A pit whose walls lie on the cone of elevation `beta` around the origin: a flat floor disc
+/// of radius `floor_radius` at y = 0, a vertical step at its rim up to the cone, and the cone
+/// y = r tan β out to `outer`. Every wall point has elevation exactly β seen from the origin
+/// (each facet's plane contains the origin; 256 segments keep the facets' bulge below 1e-4).
+pub fn cone_pit(beta: f32, floor_radius: f32, outer: f32, tilt_degrees: f32) -> Scene {
+    let mut b = aograph_scene::SceneBuilder::new();
+    let material = b.material([0.8, 0.8, 0.8]);
+    let mut mesh = aograph_scene::Mesh {
+        name: "cone pit".into(),
+        material,
+        ..aograph_scene::Mesh::default()
+    };
+    let segments = 256;
+    let t = beta.tan();
+    let ring = |r: f32, y: f32, k: u32| {
+        let a = std::f32::consts::TAU * k as f32 / segments as f32;
+        glam::Vec3::new(r * a.cos(), y, r * a.sin())
+    };
+    for k in 0..segments {
+        let (k0, k1) = (k, k + 1);
+        let mid = std::f32::consts::TAU * (k as f32 + 0.5) / segments as f32;
+        let inward = -glam::Vec3::new(mid.cos(), 0.0, mid.sin());
+        push_triangle(
+            &mut mesh,
+            [
+                glam::Vec3::ZERO,
+                ring(floor_radius, 0.0, k0),
+                ring(floor_radius, 0.0, k1),
+            ],
+            glam::Vec3::Y,
+        );
+        let (a, c) = (floor_radius, floor_radius * t);
+        push_triangle(
+            &mut mesh,
+            [ring(a, 0.0, k0), ring(a, 0.0, k1), ring(a, c, k1)],
+            inward,
+        );
+        push_triangle(
+            &mut mesh,
+            [ring(a, 0.0, k0), ring(a, c, k1), ring(a, c, k0)],
+            inward,
+        );
+        let up = (inward * beta.sin() + glam::Vec3::Y * beta.cos()).normalize();
+        let (p0, p1) = (ring(a, c, k0), ring(a, c, k1));
+        let (q0, q1) = (ring(outer, outer * t, k0), ring(outer, outer * t, k1));
+        push_triangle(&mut mesh, [p0, p1, q1], up);
+        push_triangle(&mut mesh, [p0, q1, q0], up);
+    }
+    b.add(mesh, glam::Mat4::IDENTITY);
+    let tilt = tilt_degrees.to_radians();
+    b.build(aograph_scene::Camera::perspective(
+        glam::Vec3::new(tilt.sin(), tilt.cos(), 0.0) * 4.0,
+        glam::Vec3::ZERO,
+        60f32.to_radians(),
+        0.05,
+        100.0,
+    ))
+}
+
+/// Appends triangle `p` facing `normal` (reordered to be counter-clockwise seen from it).
+pub fn push_triangle(mesh: &mut aograph_scene::Mesh, mut p: [glam::Vec3; 3], normal: glam::Vec3) {
+    if (p[1] - p[0]).cross(p[2] - p[0]).dot(normal) < 0.0 {
+        p.swap(1, 2);
+    }
+    let base = mesh.positions.len() as u32;
+    mesh.positions.extend(p);
+    mesh.normals.extend([normal; 3]);
+    mesh.indices.extend([base, base + 1, base + 2]);
+}
+
+/// The centre pixel of an odd-sized image looks straight down the pit's axis: V = n.
+pub fn centre_value(ao: &[f32], size: Extent) -> f32 {
+    ao[(size.height / 2 * size.width + size.width / 2) as usize]
+}

@@ -294,43 +294,15 @@ impl AoTechnique for Gtao {
         GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &GtaoParams) -> AoResult<AoOutput> {
-        let depth = ctx.channel(GBufferChannel::LinearDepth)?;
-        let normals = ctx.channel(GBufferChannel::Normals)?;
+        // §4 prefilter, §1-§3 slices (ao/gtao/ao.wgsl), §6 denoiser: `slice_passes`.
         let effect_radius = ctx.radius * p.radius_multiplier;
 
-        // §4: the depth MIP prefilter, 5 levels.
-        let mips = depth_prefilter(
-            ctx.builder,
-            "gtao",
-            depth,
-            DEPTH_MIP_LEVELS,
-            effect_radius,
-            p.falloff_range,
-        )?;
-
-        // §1-§3: slices, horizons, the analytic integral; and the denoiser's edges.
-        let last = p.denoise_passes == 0;
-        let (raw, shader) = if last {
-            (
-                ctx.accessibility_texture("gtao.accessibility"),
-                "ao/gtao/ao.wgsl".to_string(),
-            )
-        } else {
-            (
-                ctx.intermediate("gtao.raw", SizeClass::FULL),
-                ctx.shader("ao/gtao/ao.wgsl"),
-            )
-        };
-        let edges = ctx.builder.create_texture(
-            "gtao.edges",
-            TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
-        );
         let (slices, steps) = p.counts();
         let uniform = GtaoUniform {
             counts: [
                 slices,
                 steps,
-                last as u32,
+                (p.denoise_passes == 0) as u32,
                 (p.normalization == Normalization::Unoccluded) as u32,
             ],
             shape: [
@@ -341,38 +313,99 @@ impl AoTechnique for Gtao {
             ],
             tail: [p.final_value_power, p.depth_mip_offset, p.normal_fudge, 0.0],
         };
-        let mut pass = ctx.builder.compute_pass("gtao.ao", &shader, "main");
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
-        pass.uniform("params", bytemuck::bytes_of(&uniform));
-        for (l, binding) in ["depth0", "depth1", "depth2", "depth3", "depth4"]
-            .iter()
-            .enumerate()
-        {
-            pass.sample(binding, mips.level(l));
-        }
-        pass.sample("normals", normals);
-        let raw = pass.write_storage("ao", raw);
-        let edges = pass.write_storage("edges", edges);
-        pass.dispatch_over(raw);
-        if last {
-            return Ok(AoOutput::new(raw));
-        }
-
-        // §6: the edge-aware denoiser.
-        let out = edge_denoise(
-            ctx.builder,
-            "gtao",
-            raw,
-            edges,
-            depth,
-            &EdgeDenoise {
-                passes: p.denoise_passes,
-                blur_beta: p.blur_beta,
+        slice_passes(
+            ctx,
+            &SlicePasses {
+                prefix: "gtao",
+                shader: "ao/gtao/ao.wgsl",
+                uniform: bytemuck::bytes_of(&uniform),
+                effect_radius,
+                falloff_range: p.falloff_range,
+                denoise: EdgeDenoise {
+                    passes: p.denoise_passes,
+                    blur_beta: p.blur_beta,
+                },
             },
-            ctx.intermediate_format,
-        )?;
-        Ok(AoOutput::new(out))
+        )
     }
+}
+
+/// What a slice-based technique (gtao, vbao) hands to [`slice_passes`].
+pub(crate) struct SlicePasses<'a> {
+    pub prefix: &'static str,
+    /// The AO pass's shader: its bindings are shaders/common/slices.wgsl's plus `params` (1),
+    /// `ao` (8) and `edges` (9).
+    pub shader: &'static str,
+    /// The bytes of its `params` uniform.
+    pub uniform: &'a [u8],
+    /// R' (view units) and the falloff range, for the depth prefilter's weights.
+    pub effect_radius: f32,
+    pub falloff_range: f32,
+    /// The denoiser (0 passes: the AO pass writes the output).
+    pub denoise: EdgeDenoise,
+}
+
+/// The passes every slice-based technique runs: `<prefix>.depth_level1..4` (XeGTAO's depth
+/// MIP prefilter, §4), `<prefix>.ao` (the technique's estimator over 5 MIP levels and the
+/// normals; writes the raw accessibility and the edges), then `<prefix>.denoise1..N` (§6).
+pub(crate) fn slice_passes(
+    ctx: &mut AoBuildContext<'_>,
+    s: &SlicePasses<'_>,
+) -> AoResult<AoOutput> {
+    let depth = ctx.channel(GBufferChannel::LinearDepth)?;
+    let normals = ctx.channel(GBufferChannel::Normals)?;
+    let mips = depth_prefilter(
+        ctx.builder,
+        s.prefix,
+        depth,
+        DEPTH_MIP_LEVELS,
+        s.effect_radius,
+        s.falloff_range,
+    )?;
+    let last = s.denoise.passes == 0;
+    let (raw, shader) = if last {
+        (
+            ctx.accessibility_texture(&format!("{}.accessibility", s.prefix)),
+            s.shader.to_string(),
+        )
+    } else {
+        (
+            ctx.intermediate(&format!("{}.raw", s.prefix), SizeClass::FULL),
+            ctx.shader(s.shader),
+        )
+    };
+    let edges = ctx.builder.create_texture(
+        &format!("{}.edges", s.prefix),
+        TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
+    );
+    let mut pass = ctx
+        .builder
+        .compute_pass(&format!("{}.ao", s.prefix), &shader, "main");
+    pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+    pass.uniform("params", s.uniform);
+    for (l, binding) in ["depth0", "depth1", "depth2", "depth3", "depth4"]
+        .iter()
+        .enumerate()
+    {
+        pass.sample(binding, mips.level(l));
+    }
+    pass.sample("normals", normals);
+    let raw = pass.write_storage("ao", raw);
+    let edges = pass.write_storage("edges", edges);
+    pass.dispatch_over(raw);
+    if last {
+        return Ok(AoOutput::new(raw));
+    }
+    let out = edge_denoise(
+        ctx.builder,
+        s.prefix,
+        raw,
+        edges,
+        depth,
+        &s.denoise,
+        ctx.intermediate_format,
+    )?;
+    Ok(AoOutput::new(out))
 }
 
 #[cfg(test)]

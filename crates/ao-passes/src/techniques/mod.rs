@@ -8,6 +8,7 @@ pub mod pyramid_hbao;
 pub mod ssao;
 pub mod ssdo;
 pub mod tssao;
+pub mod vbao;
 
 use crate::registry::TechniqueRegistry;
 
@@ -20,4 +21,5 @@ pub(crate) fn register_builtins(r: &mut TechniqueRegistry) {
     r.register(hbao::Hbao);
     r.register(ssdo::Ssdo);
     r.register(gtao::Gtao);
+    r.register(vbao::Vbao);
 }
