@@ -18,6 +18,7 @@ pub mod plot;
 pub mod report;
 pub mod run;
 pub mod scaling;
+pub mod search;
 pub mod stats;
 pub mod sweep;
 

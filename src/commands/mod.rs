@@ -8,6 +8,7 @@ mod reference;
 mod render;
 mod scene_info;
 mod tune;
+mod tune_search;
 
 use std::path::PathBuf;
 use std::sync::Arc;

@@ -3,6 +3,7 @@
 //! fits a budget on this device. The budget is for the technique's passes, the same "AO ms"
 //! `aograph bench` reports: the g-buffer is every technique's and is not counted. Without
 //! `--sweep`, the built-in configs/sweeps/quick.toml is used, over every registered technique.
+//! `--search` runs XeGTAO's auto-tune instead (src/commands/tune_search.rs).
 
 use std::path::PathBuf;
 
@@ -27,8 +28,32 @@ pub struct TuneArgs {
     #[arg(long, default_value = "columns")]
     pub scene: String,
     /// Budget in milliseconds for the AO passes (median time on this device).
+    #[arg(long, required_unless_present = "search")]
+    pub budget_ms: Option<f64>,
+    /// Instead of a budget: search each technique's parameters (configs/tune/search.toml)
+    /// like XeGTAO's auto-tune, with training and held-out scores (`tune_search`).
     #[arg(long)]
-    pub budget_ms: f64,
+    pub search: bool,
+    /// --search: the parameter ranges (TOML). Default: the built-in configs/tune/search.toml.
+    #[arg(long)]
+    pub space: Option<PathBuf>,
+    /// --search: training scenes, comma-separated. Default: columns, cornell-box, stairs,
+    /// thin-bars.
+    #[arg(long, value_delimiter = ',')]
+    pub train: Vec<String>,
+    /// --search: held-out scenes, comma-separated. Default: sphere-on-plane, corner, room,
+    /// node-transforms, dynamic.
+    #[arg(long, value_delimiter = ',')]
+    pub held_out: Vec<String>,
+    /// --search: the views of each scene (as bench's --views).
+    #[arg(long, value_delimiter = ',', default_value = "default")]
+    pub views: Vec<String>,
+    /// --search: values per parameter and pass (XeGTAO: 10).
+    #[arg(long, default_value_t = 5)]
+    pub steps: usize,
+    /// --search: narrowing passes (XeGTAO: 6).
+    #[arg(long, default_value_t = 3)]
+    pub passes: usize,
     /// Parameter grids (TOML). Default: the built-in configs/sweeps/quick.toml.
     #[arg(long)]
     pub sweep: Option<PathBuf>,
@@ -91,10 +116,14 @@ pub fn config_text(r: &RunRecord, scene: &SceneSource, device: &str, budget_ms: 
 }
 
 pub fn tune(args: &TuneArgs) -> AppResult<()> {
-    if !(args.budget_ms.is_finite() && args.budget_ms > 0.0) {
+    if args.search {
+        return super::tune_search::tune_search(args);
+    }
+    let budget_ms = args.budget_ms.unwrap_or(f64::NAN);
+    if !(budget_ms.is_finite() && budget_ms > 0.0) {
         return Err(AppError::InvalidArgument {
             name: "--budget-ms".into(),
-            value: args.budget_ms.to_string(),
+            value: budget_ms.to_string(),
             allowed: "a number of milliseconds greater than 0".into(),
         });
     }
@@ -128,14 +157,14 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
             ""
         }
     );
-    let Some(best) = choose(&records, args.budget_ms) else {
+    let Some(best) = choose(&records, budget_ms) else {
         let fastest = records
             .iter()
             .map(|r| r.times.total_ms.median)
             .fold(f64::INFINITY, f64::min);
         return Err(AppError::InvalidArgument {
             name: "--budget-ms".into(),
-            value: args.budget_ms.to_string(),
+            value: budget_ms.to_string(),
             allowed: format!(
                 "at least {} ms: the fastest of {} settings measured on {device}",
                 num(fastest, 3),
@@ -145,17 +174,17 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
     };
     let fits = records
         .iter()
-        .filter(|r| r.times.total_ms.median <= args.budget_ms)
+        .filter(|r| r.times.total_ms.median <= budget_ms)
         .count();
     eprintln!(
         "{} of {} settings fit {} ms on {device}; the most accurate is {} {}",
         fits,
         records.len(),
-        args.budget_ms,
+        budget_ms,
         best.technique,
         best.label
     );
-    let text = config_text(best, &scene, &device, args.budget_ms);
+    let text = config_text(best, &scene, &device, budget_ms);
     print!("{text}");
     if let Some(p) = &args.out {
         write_atomic(p, text.as_bytes())?;
