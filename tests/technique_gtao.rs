@@ -196,3 +196,113 @@ fn sphere_on_plane_tracks_the_reference() {
         assert!(mae < bound, "gtao [{params}]: MAE {mae}, bound {bound}");
     }
 }
+
+/// The bent normals (XeGTAO's Algorithm 2, `bent_normals = true`): the AO output is the same
+/// estimator's, bit for bit; seen along the pit's axis, the visible cone is symmetric about
+/// it, so the bent normal at the centre is the axis; on an open plane, the normal itself.
+#[test]
+fn bent_normals_follow_the_visible_cone_and_leave_the_ao_unchanged() {
+    let size = Extent::new(65, 65);
+    let beta = 40f32.to_radians();
+    let params = "denoise_passes = 0";
+    let Some(plain) = common::render_ao(
+        common::cone_pit(beta, 0.05, 1.6, 0.0),
+        &common::ao_config("gtao", RADIUS, params),
+        size,
+        1,
+    ) else {
+        return;
+    };
+    let run = common::render_ao(
+        common::cone_pit(beta, 0.05, 1.6, 0.0),
+        &common::ao_config("gtao", RADIUS, &format!("{params}\nbent_normals = true")),
+        size,
+        1,
+    )
+    .unwrap();
+    assert_eq!(
+        plain.ao, run.ao,
+        "the bent-normal variant must not change the AO"
+    );
+    let bent = run.renderer.read_extra("gtao_bent_normals").unwrap();
+    let centre = (size.height / 2 * size.width + size.width / 2) as usize;
+    let b = &bent[centre * 4..centre * 4 + 4];
+    // The camera looks straight down the axis: the axis is view-space +z.
+    println!("bent normal at the pit's centre: {b:?}");
+    assert!(b[2] > 0.9999, "bent normal at the pit's centre {b:?}");
+    // w: the raw accessibility, at Rgba16Float's 11 significant bits.
+    assert!(
+        (b[3] - run.ao[centre]).abs() <= 1e-3,
+        "w {} against {}",
+        b[3],
+        run.ao[centre]
+    );
+
+    // An open plane at 60 degrees: the bent normal is the plane's normal (worst dot measured
+    // 0.9979: three slices sum their projected normals, not exactly n).
+    let scene = plane_at(60.0);
+    let view = scene.camera.view();
+    let n = view.transform_vector3(glam::Vec3::Y).normalize();
+    let run = common::render_ao(
+        scene,
+        &common::ao_config("gtao", RADIUS, "bent_normals = true"),
+        Extent::new(64, 64),
+        1,
+    )
+    .unwrap();
+    let bent = run.renderer.read_extra("gtao_bent_normals").unwrap();
+    let worst = run
+        .depth
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| **d > 0.0)
+        .map(|(i, _)| glam::Vec3::new(bent[4 * i], bent[4 * i + 1], bent[4 * i + 2]).dot(n))
+        .fold(1.0f32, f32::min);
+    println!("open plane at 60 degrees: worst dot(bent, n) = {worst:.5}");
+    assert!(
+        worst > 0.99,
+        "open plane: bent normal off the normal, dot {worst}"
+    );
+}
+
+/// The multi-bounce fit (spec §7) from the albedo: per channel exactly
+/// max(A, ((a A + b) A + c) A) of the AO output, here on a pit of albedo 0.8.
+#[test]
+fn multibounce_is_gtaos_cubic_of_the_output() {
+    let size = Extent::new(65, 65);
+    let Some(run) = common::render_ao(
+        common::cone_pit(40f32.to_radians(), 0.05, 1.6, 0.0),
+        &common::ao_config("gtao", RADIUS, "multibounce = true"),
+        size,
+        1,
+    ) else {
+        return;
+    };
+    let mb = run.renderer.read_extra("gtao_multibounce").unwrap();
+    let rho = 0.8f32; // 204 / 255 in the Rgba8Unorm albedo: exact
+    let (a, b, c) = (
+        2.0404 * rho - 0.3324,
+        -4.7951 * rho + 0.6417,
+        2.7552 * rho + 0.6903,
+    );
+    let mut brighter = 0;
+    for (i, ao) in run.ao.iter().enumerate() {
+        if run.depth[i] <= 0.0 {
+            continue;
+        }
+        let want = ao.max(((a * ao + b) * ao + c) * ao);
+        for k in 0..3 {
+            // Rgba16Float output: 11 significant bits.
+            let got = mb[4 * i + k];
+            assert!(
+                (got - want).abs() <= 1e-3 * want.max(1.0),
+                "pixel {i} channel {k}: {got}, want {want} (A = {ao})"
+            );
+        }
+        brighter += (want > ao + 1e-3) as usize;
+    }
+    assert!(
+        brighter > 100,
+        "the fit brightens occluded pixels: {brighter}"
+    );
+}

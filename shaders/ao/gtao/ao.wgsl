@@ -1,113 +1,18 @@
-#include "common/slices.wgsl"
+#include "ao/gtao/estimator.wgsl"
 #include "common/edges.wgsl"
-// gtao.ao: ground-truth AO's slice estimator as XeGTAO computes it (specs/gtao.md §1-§3,
-// equation numbers G2-G6 are the spec's). Per pixel, S slices at angles φ_k = π (k + ξ0) / S;
-// in each, T steps per side find the horizon cosines c± (G3), with XeGTAO's falloff pulling a
-// distant sample towards the tangent horizon c_low± = cos(γ ± π/2). The inner integral is
-// analytic and cosine-weighted (G5):
-//   a(h) = (cos γ + 2 h sin γ - cos(2h - γ)) / 4,  â = a(h-) + a(h+),
-// weighted by the projected normal's length ‖n_p‖ (mixed with 1 by the 0.05 fudge), and the
-// slices are averaged (G6): divided by S (XeGTAO, "slice-count") or by the same sum for an
-// open hemisphere, Σ ‖n_p‖ (cos γ + γ sin γ) ("unoccluded", the default; the technique's docs
-// say why). Then XeGTAO's small-radius fade, the final power, the 0.03 floor.
-// Writes the raw accessibility (clamped to [0, 1.5] when a denoiser follows: XeGTAO averages
-// before clamping, spec §12; to [0, 1] when this pass is the output) and the depth-edge
-// weights for blocks/edge_denoise.wgsl.
+// gtao.ao: GTAO's estimator (ao/gtao/estimator.wgsl) at every pixel; writes the raw
+// accessibility and the depth-edge weights for blocks/edge_denoise.wgsl.
 
-struct GtaoParams {
-    // slices S, steps per side T, this pass is the output (1) or a denoiser follows (0),
-    // normalisation (0 slice count, 1 unoccluded)
-    counts: vec4<u32>,
-    // R' = R x radius multiplier (view units), falloff range F, sample distribution power,
-    // thin-occluder compensation
-    shape: vec4<f32>,
-    // final value power, depth MIP sampling offset, projected-normal fudge, unused
-    tail: vec4<f32>,
-}
-
-@group(0) @binding(1) var<uniform> params: GtaoParams;
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var ao: IntermediateStorage;
 @group(0) @binding(9) var edges: texture_storage_2d<rgba8unorm, write>;
-
-// XeGTAO: "disallow total occlusion", after the final power.
-const VISIBILITY_FLOOR: f32 = 0.03;
-
-fn accessibility(p: vec2<i32>) -> f32 {
-    let effect_radius = params.shape.x;
-    let c = centre_of(p, effect_radius);
-    if (!c.valid) {
-        return 1.0; // sky, no normal, or R' covers no neighbour
-    }
-    let slices = clamp(params.counts.x, 1u, 32u);
-    let steps = clamp(params.counts.y, 1u, 32u);
-    // Falloff (spec §3): w = saturate((R' - d) / (F R')) = saturate(d mul + add).
-    let falloff_range = max(params.shape.y, 1e-4) * effect_radius;
-    let falloff_from = effect_radius * (1.0 - max(params.shape.y, 1e-4));
-    let falloff_mul = -1.0 / falloff_range;
-    let falloff_add = falloff_from / falloff_range + 1.0;
-    let thin = params.shape.w;
-    let fudge = params.tail.z;
-
-    var occluded = 0.0;
-    var open = 0.0;
-    for (var k = 0u; k < slices; k = k + 1u) {
-        let s = slice_of(c, k, slices);
-        var c_pos = s.low_pos;
-        var c_neg = s.low_neg;
-        for (var j = 0u; j < steps; j = j + 1u) {
-            let st = step_of(c, s, k, j, steps, params.shape.z, params.tail.y);
-            for (var side = 0u; side < 2u; side = side + 1u) {
-                let smp = sample_of(c, st, side);
-                if (!smp.valid) {
-                    continue;
-                }
-                // Horizon cosine, pulled towards the tangent horizon by the falloff (G3).
-                let delta = smp.delta;
-                let falloff_dist = length(vec3<f32>(delta.xy, delta.z * (1.0 + thin)));
-                let w = saturate(falloff_dist * falloff_mul + falloff_add);
-                let cs = dot(delta / smp.dist, c.v);
-                if (side == 0u) {
-                    c_pos = max(c_pos, mix(s.low_pos, cs, w));
-                } else {
-                    c_neg = max(c_neg, mix(s.low_neg, cs, w));
-                }
-            }
-        }
-        // Horizon angles from V (G3). What a raised horizon hides, per side, is the inner
-        // integral between it and the tangent horizon γ ± π/2 (G5); a side no sample raised
-        // hides exactly 0, so an open slice is exactly its open value.
-        let weight = mix(s.n_len, 1.0, fudge);
-        let open_slice = s.cos_gamma + s.gamma * s.sin_gamma; // â at h = γ ± π/2
-        var hidden = 0.0;
-        if (c_pos > s.low_pos) {
-            let h = acos(clamp(c_pos, -1.0, 1.0));
-            hidden = hidden + inner_arc(s.gamma + HALF_PI, s.gamma, s.cos_gamma, s.sin_gamma)
-                - inner_arc(h, s.gamma, s.cos_gamma, s.sin_gamma);
-        }
-        if (c_neg > s.low_neg) {
-            let h = -acos(clamp(c_neg, -1.0, 1.0));
-            hidden = hidden + inner_arc(s.gamma - HALF_PI, s.gamma, s.cos_gamma, s.sin_gamma)
-                - inner_arc(h, s.gamma, s.cos_gamma, s.sin_gamma);
-        }
-        occluded = occluded + weight * max(hidden, 0.0);
-        open = open + weight * open_slice;
-    }
-    // G6: 1 - hidden / open ("unoccluded"), or (open - hidden) / S (XeGTAO).
-    var a = select((open - occluded) / f32(slices), 1.0 - occluded / max(open, 1e-6),
-        params.counts.w == 1u);
-    // XeGTAO's small-radius fade (added before its division by S).
-    a = a + 0.5 * saturate((10.0 - c.r_px) / 100.0) / f32(slices);
-    a = max(VISIBILITY_FLOOR, pow(max(a, 0.0), params.tail.x));
-    return select(clamp(a, 0.0, 1.5), saturate(a), params.counts.z == 1u);
-}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(ao);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let p = vec2<i32>(id.xy);
-    let a = accessibility(p);
+    let a = estimate(p).a;
     var e = vec4<f32>(0.0);
     if (textureLoad(depth0, p, 0).r > 0.0) {
         e = depth_edges(depth0, p);

@@ -5,12 +5,13 @@
 //! Passes, in order:
 //! 1. `gtao.depth_level1..4`: XeGTAO's depth MIP prefilter, 5 levels with level 0 the
 //!    g-buffer's linear depth (the shared block `blocks::depth_prefilter`, spec §4).
-//! 2. `gtao.ao` (shaders/ao/gtao/ao.wgsl): S slices x T steps per side; horizon search with
+//! 2. `gtao.ao` (shaders/ao/gtao/ao.wgsl over ao/gtao/estimator.wgsl): S slices x T steps per side; horizon search with
 //!    XeGTAO's falloff towards the tangent horizon (G3), the analytic inner integral (G5),
 //!    weighted by the projected normal's length (G6); writes the raw accessibility and the
 //!    depth-edge weights (`gtao.edges`, Rgba8Unorm, XeGTAO's 2-bit quantisation).
 //! 3. `gtao.denoise1..N`: XeGTAO's edge-aware 3x3 denoiser, N = 1 to 3 (the shared block
 //!    `blocks::edge_denoise`, spec §6); 0 skips it and `gtao.ao` writes the output.
+//! 4. `gtao.multibounce`, only with `multibounce = true`.
 //!
 //! Invariant: the output is accessibility in [0, 1], exactly 1 on sky, never NaN; an open
 //! plane at any tilt is exactly 1 under the default normalisation (tests/technique_gtao.rs).
@@ -53,7 +54,12 @@
 //!
 //! Tests: closed forms (plane, pit) in tests/technique_gtao.rs; the estimator against a CPU
 //! recomputation of every pixel in tests/gtao_golden.rs; the blocks in tests/blocks.rs.
-//! Not yet: bent normals and the multi-bounce fit (spec §1.5, §7).
+//! Optional outputs: `bent_normals = true` runs ao/gtao/ao_bent.wgsl, the same estimator
+//! (ao/gtao/estimator.wgsl) also writing XeGTAO's bent normal (Algorithm 2, spec §1.5) as
+//! `gtao_bent_normals` (Rgba16Float, view-space xyz, raw accessibility in w);
+//! `multibounce = true` adds `gtao.multibounce` (ao/gtao/multibounce.wgsl), GTAO's cubic fit
+//! per channel from the albedo (spec §7), as `gtao_multibounce`. Neither enters the
+//! comparison with the reference, which reads the accessibility.
 
 use aograph_graph::{
     BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
@@ -139,6 +145,10 @@ pub struct GtaoParams {
     pub denoise_passes: u32,
     /// The denoiser's centre weight on its last pass (1.2).
     pub blur_beta: f32,
+    /// Also output bent normals (`gtao_bent_normals`, spec §1.5).
+    pub bent_normals: bool,
+    /// Also output the multi-bounce fit from the albedo (`gtao_multibounce`, spec §7).
+    pub multibounce: bool,
 }
 
 impl Default for GtaoParams {
@@ -157,6 +167,8 @@ impl Default for GtaoParams {
             normalization: Normalization::Unoccluded,
             denoise_passes: 1,
             blur_beta: 1.2,
+            bent_normals: false,
+            multibounce: false,
         }
     }
 }
@@ -262,6 +274,16 @@ impl AoTechnique for Gtao {
                 "0.01 to 10000",
                 "the denoiser's centre weight on its last pass",
             ),
+            spec(
+                "bent_normals",
+                "true or false",
+                "also output gtao_bent_normals: view-space bent normal xyz, raw accessibility w (XeGTAO Algorithm 2; about +25% on a GPU)",
+            ),
+            spec(
+                "multibounce",
+                "true or false",
+                "also output gtao_multibounce: max(A, ((a A + b) A + c) A) per channel from the albedo (GTAO's fit); the reference comparison uses A",
+            ),
         ]
     }
     fn validate(&self, p: &GtaoParams) -> AoResult<()> {
@@ -290,8 +312,12 @@ impl AoTechnique for Gtao {
         check_param("gtao", "denoise_passes", p.denoise_passes, 0, 3)?;
         check_param("gtao", "blur_beta", p.blur_beta, 0.01, 1e4)
     }
-    fn channels(&self, _: &GtaoParams) -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    fn channels(&self, p: &GtaoParams) -> GBufferChannels {
+        let mut c = vec![GBufferChannel::LinearDepth, GBufferChannel::Normals];
+        if p.multibounce {
+            c.push(GBufferChannel::Albedo);
+        }
+        GBufferChannels::of(&c)
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &GtaoParams) -> AoResult<AoOutput> {
         // §4 prefilter, §1-§3 slices (ao/gtao/ao.wgsl), §6 denoiser: `slice_passes`.
@@ -313,11 +339,15 @@ impl AoTechnique for Gtao {
             ],
             tail: [p.final_value_power, p.depth_mip_offset, p.normal_fudge, 0.0],
         };
-        slice_passes(
+        let mut out = slice_passes(
             ctx,
             &SlicePasses {
                 prefix: "gtao",
-                shader: "ao/gtao/ao.wgsl",
+                shader: if p.bent_normals {
+                    "ao/gtao/ao_bent.wgsl"
+                } else {
+                    "ao/gtao/ao.wgsl"
+                },
                 uniform: bytemuck::bytes_of(&uniform),
                 effect_radius,
                 falloff_range: p.falloff_range,
@@ -325,9 +355,40 @@ impl AoTechnique for Gtao {
                     passes: p.denoise_passes,
                     blur_beta: p.blur_beta,
                 },
+                extra_output: p.bent_normals.then_some(ExtraOutput {
+                    binding: "bent",
+                    output: "gtao_bent_normals",
+                    format: wgpu::TextureFormat::Rgba16Float,
+                }),
             },
-        )
+        )?;
+        // §7: the multi-bounce fit, an extra output for shading.
+        if p.multibounce {
+            let albedo = ctx.channel(GBufferChannel::Albedo)?;
+            let dst = ctx.builder.create_texture(
+                "gtao.multibounce",
+                TextureDesc::new(wgpu::TextureFormat::Rgba16Float, SizeClass::FULL),
+            );
+            let mut pass =
+                ctx.builder
+                    .compute_pass("gtao.multibounce", "ao/gtao/multibounce.wgsl", "main");
+            pass.sample("accessibility", out.accessibility)
+                .sample("albedo", albedo);
+            let dst = pass.write_storage("dst", dst);
+            pass.dispatch_over(dst);
+            out.extra.push(("gtao_multibounce".into(), dst));
+        }
+        Ok(out)
     }
+}
+
+/// A further storage output of a slice technique's AO pass.
+pub(crate) struct ExtraOutput {
+    /// The shader's binding name.
+    pub binding: &'static str,
+    /// The name in [`AoOutput::extra`].
+    pub output: &'static str,
+    pub format: wgpu::TextureFormat,
 }
 
 /// What a slice-based technique (gtao, vbao) hands to [`slice_passes`].
@@ -343,6 +404,8 @@ pub(crate) struct SlicePasses<'a> {
     pub falloff_range: f32,
     /// The denoiser (0 passes: the AO pass writes the output).
     pub denoise: EdgeDenoise,
+    /// A further texture the AO pass writes (gtao's bent normals).
+    pub extra_output: Option<ExtraOutput>,
 }
 
 /// The passes every slice-based technique runs: `<prefix>.depth_level1..4` (XeGTAO's depth
@@ -378,6 +441,13 @@ pub(crate) fn slice_passes(
         &format!("{}.edges", s.prefix),
         TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
     );
+    let extra = s.extra_output.as_ref().map(|e| {
+        let t = ctx.builder.create_texture(
+            &format!("{}.{}", s.prefix, e.binding),
+            TextureDesc::new(e.format, SizeClass::FULL),
+        );
+        (e.output.to_string(), t, e.binding)
+    });
     let mut pass = ctx
         .builder
         .compute_pass(&format!("{}.ao", s.prefix), &shader, "main");
@@ -392,9 +462,16 @@ pub(crate) fn slice_passes(
     pass.sample("normals", normals);
     let raw = pass.write_storage("ao", raw);
     let edges = pass.write_storage("edges", edges);
+    let mut extras = Vec::new();
+    if let Some((name, t, binding)) = extra {
+        extras.push((name, pass.write_storage(binding, t)));
+    }
     pass.dispatch_over(raw);
     if last {
-        return Ok(AoOutput::new(raw));
+        return Ok(AoOutput {
+            accessibility: raw,
+            extra: extras,
+        });
     }
     let out = edge_denoise(
         ctx.builder,
@@ -405,7 +482,10 @@ pub(crate) fn slice_passes(
         &s.denoise,
         ctx.intermediate_format,
     )?;
-    Ok(AoOutput::new(out))
+    Ok(AoOutput {
+        accessibility: out,
+        extra: extras,
+    })
 }
 
 #[cfg(test)]
@@ -523,7 +603,7 @@ mod tests {
         for key in defaults.as_table().unwrap().keys() {
             assert!(specs.iter().any(|s| s.name == key), "{key} has no spec");
         }
-        assert_eq!(specs.len(), 13);
+        assert_eq!(specs.len(), 15);
         assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
     }
 }

@@ -272,6 +272,7 @@ impl AoTechnique for Vbao {
                     passes: p.denoise_passes,
                     blur_beta: p.blur_beta,
                 },
+                extra_output: None,
             },
         )
     }
