@@ -61,18 +61,15 @@
 //! per channel from the albedo (spec §7), as `gtao_multibounce`. Neither enters the
 //! comparison with the reference, which reads the accessibility.
 
-use aograph_graph::{
-    BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
-};
+use aograph_graph::{GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::blocks::{EdgeDenoise, depth_prefilter, edge_denoise};
+use super::slices::{ExtraOutput, SlicePasses, slice_passes};
+use crate::blocks::EdgeDenoise;
 use crate::error::{AoResult, check_param};
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
 
-/// Depth MIP levels, level 0 included (XeGTAO: 5).
-pub const DEPTH_MIP_LEVELS: u32 = 5;
 /// Largest slice count and step count per side.
 pub const MAX_SLICES: u32 = 32;
 pub const MAX_STEPS: u32 = 32;
@@ -380,112 +377,6 @@ impl AoTechnique for Gtao {
         }
         Ok(out)
     }
-}
-
-/// A further storage output of a slice technique's AO pass.
-pub(crate) struct ExtraOutput {
-    /// The shader's binding name.
-    pub binding: &'static str,
-    /// The name in [`AoOutput::extra`].
-    pub output: &'static str,
-    pub format: wgpu::TextureFormat,
-}
-
-/// What a slice-based technique (gtao, vbao) hands to [`slice_passes`].
-pub(crate) struct SlicePasses<'a> {
-    pub prefix: &'static str,
-    /// The AO pass's shader: its bindings are shaders/common/slices.wgsl's plus `params` (1),
-    /// `ao` (8) and `edges` (9).
-    pub shader: &'static str,
-    /// The bytes of its `params` uniform.
-    pub uniform: &'a [u8],
-    /// R' (view units) and the falloff range, for the depth prefilter's weights.
-    pub effect_radius: f32,
-    pub falloff_range: f32,
-    /// The denoiser (0 passes: the AO pass writes the output).
-    pub denoise: EdgeDenoise,
-    /// A further texture the AO pass writes (gtao's bent normals).
-    pub extra_output: Option<ExtraOutput>,
-}
-
-/// The passes every slice-based technique runs: `<prefix>.depth_level1..4` (XeGTAO's depth
-/// MIP prefilter, §4), `<prefix>.ao` (the technique's estimator over 5 MIP levels and the
-/// normals; writes the raw accessibility and the edges), then `<prefix>.denoise1..N` (§6).
-pub(crate) fn slice_passes(
-    ctx: &mut AoBuildContext<'_>,
-    s: &SlicePasses<'_>,
-) -> AoResult<AoOutput> {
-    let depth = ctx.channel(GBufferChannel::LinearDepth)?;
-    let normals = ctx.channel(GBufferChannel::Normals)?;
-    let mips = depth_prefilter(
-        ctx.builder,
-        s.prefix,
-        depth,
-        DEPTH_MIP_LEVELS,
-        s.effect_radius,
-        s.falloff_range,
-    )?;
-    let last = s.denoise.passes == 0;
-    let (raw, shader) = if last {
-        (
-            ctx.accessibility_texture(&format!("{}.accessibility", s.prefix)),
-            s.shader.to_string(),
-        )
-    } else {
-        (
-            ctx.intermediate(&format!("{}.raw", s.prefix), SizeClass::FULL),
-            ctx.shader(s.shader),
-        )
-    };
-    let edges = ctx.builder.create_texture(
-        &format!("{}.edges", s.prefix),
-        TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
-    );
-    let extra = s.extra_output.as_ref().map(|e| {
-        let t = ctx.builder.create_texture(
-            &format!("{}.{}", s.prefix, e.binding),
-            TextureDesc::new(e.format, SizeClass::FULL),
-        );
-        (e.output.to_string(), t, e.binding)
-    });
-    let mut pass = ctx
-        .builder
-        .compute_pass(&format!("{}.ao", s.prefix), &shader, "main");
-    pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
-    pass.uniform("params", s.uniform);
-    for (l, binding) in ["depth0", "depth1", "depth2", "depth3", "depth4"]
-        .iter()
-        .enumerate()
-    {
-        pass.sample(binding, mips.level(l));
-    }
-    pass.sample("normals", normals);
-    let raw = pass.write_storage("ao", raw);
-    let edges = pass.write_storage("edges", edges);
-    let mut extras = Vec::new();
-    if let Some((name, t, binding)) = extra {
-        extras.push((name, pass.write_storage(binding, t)));
-    }
-    pass.dispatch_over(raw);
-    if last {
-        return Ok(AoOutput {
-            accessibility: raw,
-            extra: extras,
-        });
-    }
-    let out = edge_denoise(
-        ctx.builder,
-        s.prefix,
-        raw,
-        edges,
-        depth,
-        &s.denoise,
-        ctx.intermediate_format,
-    )?;
-    Ok(AoOutput {
-        accessibility: out,
-        extra: extras,
-    })
 }
 
 #[cfg(test)]

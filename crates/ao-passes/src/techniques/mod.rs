@@ -5,6 +5,7 @@ pub mod hbao;
 pub mod mssao;
 pub mod none;
 pub mod pyramid_hbao;
+pub(crate) mod slices;
 pub mod ssao;
 pub mod ssdo;
 pub mod tssao;

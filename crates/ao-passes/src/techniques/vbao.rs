@@ -3,7 +3,7 @@
 //! sectors, and every depth sample a surface of constant thickness T, so light passes behind
 //! thin occluders.
 //!
-//! Passes, in order (the same blocks as gtao, `gtao::slice_passes`):
+//! Passes, in order (the same blocks as gtao, `slices::slice_passes`):
 //! 1. `vbao.depth_level1..4`: XeGTAO's depth MIP prefilter (spec §2: bevy's placement), with
 //!    XeGTAO's falloff range 0.615 for its weights (the prefilter's own rule; VBAO itself has no
 //!    falloff).
@@ -38,7 +38,8 @@ use aograph_graph::{GBufferChannel, GBufferChannels, ParamSpec};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use super::gtao::{GtaoPreset, MAX_SLICES, MAX_STEPS, SlicePasses, slice_passes};
+use super::gtao::{GtaoPreset, MAX_SLICES, MAX_STEPS};
+use super::slices::{SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::{AoResult, check_param};
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
