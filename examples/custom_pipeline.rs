@@ -154,7 +154,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         size.height,
         &exec.read_texture(&plan, tint)?.bytes,
     )?;
-    print!("{}", exec.timings()?.table());
+    print!("{}", exec.wait_timings()?.table());
     println!("wrote out/custom/ao.png and out/custom/tint.png");
     Ok(())
 }

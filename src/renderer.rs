@@ -106,6 +106,11 @@ impl Renderer {
         let graph = build_frame_graph(registry, scene.clone(), ao, outputs, output)?;
         let plan = GraphCompiler::new().compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
+        // One-shot runs and benchmarks want per-pass times: without timestamp queries, measure
+        // CPU wall time per pass (which waits per pass; a real-time front end turns it off).
+        if !gpu.has_timestamps() {
+            exec.set_timing(aograph_graph::TimingMode::CpuWall)?;
+        }
         let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("view"),
             size: std::mem::size_of::<aograph_graph::ViewUniforms>() as u64,
@@ -279,9 +284,10 @@ impl Renderer {
         Ok(s)
     }
 
-    /// Per-pass times of the last frame.
+    /// Per-pass times of the last frame. Waits for the GPU to finish it: for one-shot runs and
+    /// benchmarks (a real-time loop reads `exec.latest_timings()`, which never waits).
     pub fn timings(&mut self) -> AppResult<PassTimings> {
-        Ok(self.exec.timings()?.clone())
+        Ok(self.exec.wait_timings()?.clone())
     }
 
     /// Scene time of the last rendered frame.

@@ -6,6 +6,7 @@
 
 use std::sync::Arc;
 
+use crate::attachment::{AttachmentOps, ColorTarget, DepthTarget, LoadOp};
 use crate::custom::CustomPass;
 use crate::declaration::*;
 use crate::error::GraphError;
@@ -190,6 +191,13 @@ impl GraphBuilder {
     }
 }
 
+/// An attachment's requested operations, before the load is resolved.
+#[derive(Clone, Copy)]
+enum Target {
+    Color(ColorTarget),
+    Depth(DepthTarget),
+}
+
 /// Adds uses to one pass. Reads return `&mut Self`; writes return the new version's handle.
 pub struct PassBuilder<'a> {
     graph: &'a mut GraphBuilder,
@@ -211,6 +219,26 @@ impl PassBuilder<'_> {
         access: TextureAccess,
         handle: TextureHandle,
         mip: Option<u32>,
+    ) -> Option<TextureHandle> {
+        let target = match access {
+            TextureAccess::ColorAttachment => Some(Target::Color(ColorTarget::default())),
+            TextureAccess::DepthAttachment | TextureAccess::DepthRead => {
+                Some(Target::Depth(DepthTarget::default()))
+            }
+            _ => None,
+        };
+        self.use_texture_as(binding, access, handle, mip, target)
+    }
+
+    /// [`Self::use_texture`] with an attachment's requested operations (resolved here: see
+    /// `attachment.rs`).
+    fn use_texture_as(
+        &mut self,
+        binding: Option<&str>,
+        access: TextureAccess,
+        handle: TextureHandle,
+        mip: Option<u32>,
+        target: Option<Target>,
     ) -> Option<TextureHandle> {
         let pass_name = self.decl().name.clone();
         let Some(res) = self.graph.decl.resources.get_mut(handle.id as usize) else {
@@ -244,15 +272,41 @@ impl PassBuilder<'_> {
             // A write that keeps part of the old contents also depends on them.
             let partial =
                 mip.is_some() && mips > 1 && (handle.version > 0 || res.readable_before_write());
-            let loads = matches!(
-                access,
-                TextureAccess::ColorAttachment | TextureAccess::DepthAttachment
-            ) && handle.version > 0;
-            if partial || loads {
+            if partial {
                 read = Some(handle);
             }
             res.writers.push(self.id);
             written = Some(Handle::new(handle.id, res.latest_version()));
+        }
+        // Attachments: resolve the load (module docs of `attachment.rs`); a load reads the
+        // version it keeps.
+        let keeps = self
+            .graph
+            .decl
+            .resources
+            .get(handle.id as usize)
+            .is_some_and(|r| handle.version > 0 || r.readable_before_write());
+        let attachment = target.map(|t| match (t, access) {
+            (Target::Color(c), _) => AttachmentOps::Color {
+                load: c.load.unwrap_or(if keeps {
+                    LoadOp::Load
+                } else {
+                    LoadOp::Clear([0.0; 4])
+                }),
+                blend: c.blend,
+            },
+            (Target::Depth(d), access) => AttachmentOps::Depth {
+                load: d.load.unwrap_or(if keeps {
+                    LoadOp::Load
+                } else {
+                    LoadOp::Clear(d.far_value())
+                }),
+                compare: d.compare,
+                read_only: access == TextureAccess::DepthRead,
+            },
+        });
+        if attachment.is_some_and(|a| a.loads()) {
+            read = Some(handle);
         }
         self.decl().textures.push(TextureUse {
             binding: binding.map(str::to_string),
@@ -260,6 +314,7 @@ impl PassBuilder<'_> {
             read,
             written,
             mip,
+            attachment,
         });
         written
     }
@@ -312,18 +367,62 @@ impl PassBuilder<'_> {
     pub fn read_write_storage(&mut self, binding: &str, handle: TextureHandle) -> TextureHandle {
         self.write(Some(binding), TextureAccess::StorageReadWrite, handle, None)
     }
-    /// Renders into `handle` as the next colour attachment (cleared to 0 on its first write,
-    /// loaded afterwards).
+    /// Renders into `handle` as the next colour attachment: a graph-owned texture is cleared
+    /// to 0 on its first write, an imported one keeps its contents, later versions load.
     pub fn color_attachment(&mut self, handle: TextureHandle) -> TextureHandle {
         self.write(None, TextureAccess::ColorAttachment, handle, None)
     }
-    /// Depth-tests and writes `handle` (cleared to the far value on its first write).
+    /// Renders into `handle` with an explicit load (clear value) and blend state.
+    pub fn color_target(&mut self, handle: TextureHandle, target: ColorTarget) -> TextureHandle {
+        self.use_texture_as(
+            None,
+            TextureAccess::ColorAttachment,
+            handle,
+            None,
+            Some(Target::Color(target)),
+        )
+        .unwrap_or(handle)
+    }
+    /// Depth-tests (`LessEqual`) and writes `handle`: cleared to 1.0 on a graph-owned
+    /// texture's first write, loaded otherwise.
     pub fn depth_attachment(&mut self, handle: TextureHandle) -> TextureHandle {
         self.write(None, TextureAccess::DepthAttachment, handle, None)
     }
-    /// Depth-tests against `handle` without writing it.
+    /// Depth-tests and writes `handle` with an explicit test and load, e.g.
+    /// [`DepthTarget::reversed_z`] (clears to 0.0, passes `GreaterEqual`).
+    pub fn depth_target(&mut self, handle: TextureHandle, target: DepthTarget) -> TextureHandle {
+        self.use_texture_as(
+            None,
+            TextureAccess::DepthAttachment,
+            handle,
+            None,
+            Some(Target::Depth(target)),
+        )
+        .unwrap_or(handle)
+    }
+    /// Depth-tests (`LessEqual`) against `handle` without writing it (a read-only attachment,
+    /// which the pass may also sample).
     pub fn depth_read(&mut self, handle: TextureHandle) -> &mut Self {
         self.use_texture(None, TextureAccess::DepthRead, handle, None);
+        self
+    }
+    /// Depth-tests against `handle` with `compare`, without writing it.
+    pub fn depth_read_with(
+        &mut self,
+        handle: TextureHandle,
+        compare: wgpu::CompareFunction,
+    ) -> &mut Self {
+        let target = DepthTarget {
+            load: Some(LoadOp::Load),
+            compare,
+        };
+        self.use_texture_as(
+            None,
+            TextureAccess::DepthRead,
+            handle,
+            None,
+            Some(Target::Depth(target)),
+        );
         self
     }
     /// Declares a read a custom pass performs in its own way (e.g. a copy source).

@@ -33,6 +33,13 @@ impl Default for CompileOptions {
     }
 }
 
+/// A plan's identity in the executor: see [`CompiledGraph::key`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PlanKey {
+    pub structure: u64,
+    pub reuse: bool,
+}
+
 /// Why a pass was culled.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CulledPass {
@@ -44,6 +51,7 @@ pub struct CulledPass {
 #[derive(Debug)]
 pub struct CompiledGraph {
     pub decl: Arc<GraphDecl>,
+    /// The declaration's structure hash ([`GraphDecl::structure_hash`]).
     pub hash: u64,
     pub options: CompileOptions,
     /// Kept passes in execution order.
@@ -64,6 +72,31 @@ pub struct CompiledGraph {
 }
 
 impl CompiledGraph {
+    /// This plan with another declaration of the same structure (equal
+    /// [`GraphDecl::structure_hash`]): what a compile-cache hit returns.
+    fn with_declaration(&self, decl: Arc<GraphDecl>) -> Self {
+        Self {
+            decl,
+            hash: self.hash,
+            options: self.options,
+            order: self.order.clone(),
+            culled: self.culled.clone(),
+            edges: self.edges.clone(),
+            lifetimes: self.lifetimes.clone(),
+            physical: self.physical.clone(),
+            slot_of: self.slot_of.clone(),
+            usage: self.usage.clone(),
+            shaders: self.shaders.clone(),
+        }
+    }
+    /// Identifies the plan for the executor: structure and compile options. Plans with equal
+    /// keys share the executor's per-plan state (uniform buffers, bind groups, history).
+    pub fn key(&self) -> PlanKey {
+        PlanKey {
+            structure: self.hash,
+            reuse: self.options.reuse,
+        }
+    }
     pub fn is_kept(&self, pass: PassId) -> bool {
         self.order.contains(&pass)
     }
@@ -82,21 +115,59 @@ impl CompiledGraph {
 }
 
 /// Compiles declarations, caching plans by structure hash so an unchanged graph costs a hash.
-#[derive(Default)]
+///
+/// The cache is correct and bounded:
+/// - A hit returns the cached plan's order, culling, lifetimes and shaders with the *new*
+///   declaration attached, so custom passes (and their per-frame state, such as a g-buffer's
+///   clock) and uniform contents are always the caller's latest, never an older declaration's.
+/// - Uniform contents are not part of the key ([`GraphDecl::structure_hash`]): changing a
+///   parameter value is a hit; the executor writes the new contents into the plan's buffers.
+/// - At most `capacity` plans are kept ([`GraphCompiler::DEFAULT_CAPACITY`] by default); a miss
+///   beyond that evicts the least recently used plan.
 pub struct GraphCompiler {
-    cache: HashMap<(u64, CompileOptions), Arc<CompiledGraph>>,
+    cache: HashMap<(u64, CompileOptions), CacheEntry>,
+    capacity: usize,
+    uses: u64,
     compiles: usize,
 }
 
+struct CacheEntry {
+    plan: Arc<CompiledGraph>,
+    last_use: u64,
+}
+
+impl Default for GraphCompiler {
+    fn default() -> Self {
+        Self::with_capacity(Self::DEFAULT_CAPACITY)
+    }
+}
+
 impl GraphCompiler {
+    /// Plans kept by [`GraphCompiler::new`]: every technique and preset of a session, with room.
+    pub const DEFAULT_CAPACITY: usize = 64;
+
     pub fn new() -> Self {
         Self::default()
+    }
+    /// A compiler keeping at most `capacity` plans (at least 1).
+    pub fn with_capacity(capacity: usize) -> Self {
+        Self {
+            cache: HashMap::new(),
+            capacity: capacity.max(1),
+            uses: 0,
+            compiles: 0,
+        }
     }
     /// How many times a plan was actually built (cache misses).
     pub fn compile_count(&self) -> usize {
         self.compiles
     }
-    /// The cached plan for `decl`, compiling it on a miss.
+    /// Plans held now (at most the capacity).
+    pub fn cached_plans(&self) -> usize {
+        self.cache.len()
+    }
+    /// The plan for `decl`: the cached structure with `decl` attached on a hit, compiled on a
+    /// miss.
     pub fn compile(
         &mut self,
         decl: GraphDecl,
@@ -104,12 +175,34 @@ impl GraphCompiler {
         options: CompileOptions,
     ) -> GraphResult<Arc<CompiledGraph>> {
         let key = (decl.structure_hash(), options);
-        if let Some(plan) = self.cache.get(&key) {
-            return Ok(plan.clone());
+        self.uses += 1;
+        if let Some(entry) = self.cache.get_mut(&key) {
+            entry.last_use = self.uses;
+            if let Some(e) = decl.errors.first() {
+                return Err(e.clone());
+            }
+            let decl = Arc::new(decl);
+            return Ok(Arc::new(entry.plan.with_declaration(decl)));
         }
         let plan = Arc::new(compile(decl, shaders, options)?);
         self.compiles += 1;
-        self.cache.insert(key, plan.clone());
+        if self.cache.len() >= self.capacity {
+            let oldest = self
+                .cache
+                .iter()
+                .min_by_key(|(_, e)| e.last_use)
+                .map(|(k, _)| *k);
+            if let Some(k) = oldest {
+                self.cache.remove(&k);
+            }
+        }
+        self.cache.insert(
+            key,
+            CacheEntry {
+                plan: plan.clone(),
+                last_use: self.uses,
+            },
+        );
         Ok(plan)
     }
 }
@@ -147,6 +240,7 @@ pub fn compile(
         return Err(e.clone());
     }
     let hash = decl.structure_hash();
+    validate_names(&decl)?;
     validate_reads(&decl)?;
     validate_attachments(&decl)?;
 
@@ -224,6 +318,26 @@ fn add_dependency(g: &mut DiGraph<PassId, bool>, from: NodeIndex, to: NodeIndex,
             g.add_edge(from, to, data);
         }
     }
+}
+
+/// Imported resources are bound by name and histories are stored by name: two of either with
+/// one name would silently share one resource.
+fn validate_names(decl: &GraphDecl) -> GraphResult<()> {
+    let mut seen: HashMap<(&str, &str), ()> = HashMap::new();
+    for res in &decl.resources {
+        let (kind, name) = match &res.origin {
+            ResourceOrigin::Imported => ("import", res.name.as_str()),
+            ResourceOrigin::HistoryCurrent { history } => ("history", history.as_str()),
+            _ => continue,
+        };
+        if seen.insert((kind, name), ()).is_some() {
+            return Err(GraphError::DuplicateName {
+                kind: kind.into(),
+                name: name.into(),
+            });
+        }
+    }
+    Ok(())
 }
 
 fn validate_reads(decl: &GraphDecl) -> GraphResult<()> {

@@ -22,6 +22,27 @@ pub struct BoundTexture {
 }
 
 impl BoundTexture {
+    /// `texture` with a view of all mips and one per mip, identified by `serial`.
+    pub fn new(texture: wgpu::Texture, serial: u64) -> Self {
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let mip_views = (0..texture.mip_level_count())
+            .map(|m| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    base_mip_level: m,
+                    mip_level_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let extent = Extent::new(texture.width(), texture.height());
+        Self {
+            texture,
+            view,
+            mip_views,
+            extent,
+            serial,
+        }
+    }
     /// The view of one mip level, or of all levels.
     pub fn view_of(&self, mip: Option<u32>) -> &wgpu::TextureView {
         mip.and_then(|m| self.mip_views.get(m as usize))

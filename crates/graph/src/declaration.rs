@@ -9,6 +9,7 @@
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
+use crate::attachment::AttachmentOps;
 use crate::custom::CustomPass;
 use crate::error::GraphError;
 use crate::resource::{
@@ -99,6 +100,8 @@ pub struct TextureUse {
     pub written: Option<TextureHandle>,
     /// A single mip level, or all levels when `None`.
     pub mip: Option<u32>,
+    /// For colour and depth attachments: how the pass starts, blends and tests.
+    pub attachment: Option<AttachmentOps>,
 }
 
 impl TextureUse {
@@ -227,9 +230,11 @@ pub struct GraphDecl {
 }
 
 impl GraphDecl {
-    /// Hash of everything declared: resources, passes, uses, shaders and uniforms' initial
-    /// contents (so a changed parameter takes effect). Per-frame data goes through
-    /// `Executor::write_uniform` or an imported buffer and never changes the hash.
+    /// Hash of the declaration's structure: resources, passes, uses, shaders, attachment
+    /// operations, and each uniform block's owner, binding and size, but not its contents. A
+    /// changed parameter value therefore hits the compile cache and the executor's pipelines;
+    /// the executor writes the new declaration's contents into the plan's uniform buffers
+    /// (see `Executor`), and per-frame data goes through `Executor::write_uniform`.
     pub fn structure_hash(&self) -> u64 {
         let mut h = std::collections::hash_map::DefaultHasher::new();
         self.resources.hash(&mut h);
@@ -245,7 +250,7 @@ impl GraphDecl {
                 .hash(&mut h);
         }
         for u in &self.uniforms {
-            (u.pass, &u.binding, &u.initial).hash(&mut h);
+            (u.pass, &u.binding, u.initial.len()).hash(&mut h);
         }
         self.errors.len().hash(&mut h);
         h.finish()

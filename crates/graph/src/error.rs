@@ -51,6 +51,20 @@ pub enum GraphError {
     )]
     HistoryNeverWritten { resource: String },
 
+    #[error(
+        "two {kind}s are named `{name}`: {kind}s are bound by name, so they would silently share one resource; give each its own name"
+    )]
+    DuplicateName { kind: String, name: String },
+
+    #[error(
+        "imported texture `{resource}` was created without usage {missing}, which the plan needs (it has {has}); add it to the texture's usage"
+    )]
+    ImportUsage {
+        resource: String,
+        missing: String,
+        has: String,
+    },
+
     #[error("pass `{pass}`: {message}")]
     InvalidPass { pass: String, message: String },
 

@@ -1,41 +1,35 @@
-//! Execute phase: binds a compiled plan to physical resources and records it on wgpu.
+//! Execute phase: the executor runs compiled plans on a device, many plans side by side.
 //!
-//! Per frame: release last frame's textures to the pool and take the plan's physical textures
-//! back (in the same order, so the same textures and cached bind groups come back), bind
-//! imports and histories, then record every kept pass inside a debug group between two
-//! timestamps, submit, and read the timestamps back on the next frame. Invariant: after
-//! `execute`, exported and history resources stay readable until the next `execute`.
+//! Per frame: harvest finished timings (never waiting), take the plan's state (made once per
+//! plan, its pipelines shared through the cache), bind its resources for this frame (pool,
+//! imports, histories), record every kept pass, submit, and start the read-back of its
+//! timestamps. Nothing in `execute` waits for the GPU, except in the opt-in
+//! [`TimingMode::CpuWall`].
+//!
+//! Invariants: a plan's exported resources stay readable (with [`Executor::read_texture`],
+//! naming the plan) until that plan executes again or is evicted, whatever other plans run in
+//! between; a history is valid only when its plan wrote it in the immediately preceding frame
+//! (see `history.rs`); steady-state frames of a cached plan allocate nothing on the heap in
+//! the executor itself.
 
-use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::bind::{BindSources, Samplers, bind_groups, bind_resources};
 use crate::compile::CompiledGraph;
-use crate::custom::{BoundTexture, PassContext};
-use crate::declaration::{PassKind, ResourceKind, ResourceOrigin, UniformHandle};
+use crate::declaration::{ResourceOrigin, UniformHandle};
 use crate::error::{GraphError, GraphResult};
 use crate::gpu::GpuContext;
 use crate::history::HistoryStore;
-use crate::pipeline::{PassPipeline, create_pipeline};
-use crate::pool::{PoolKey, PooledTexture, TexturePool};
+use crate::imports::ImportTable;
+use crate::pipeline::PipelineCache;
+use crate::plan_state::{PlanState, PlanStates};
+use crate::pool::{PoolKey, TexturePool};
 use crate::readback::{TextureReadback, read_texture};
-use crate::resource::{Extent, TextureAccess, TextureHandle};
-use crate::shader::{ShaderBindingKind, ShaderLibrary};
-use crate::timing::{PassTimings, TimestampQueries, TimingSource};
-
-/// GPU objects that belong to one plan: pipelines, uniform buffers, transient buffers and
-/// cached bind groups.
-struct PlanState {
-    hash: u64,
-    pipelines: Vec<Option<PassPipeline>>,
-    uniforms: Vec<wgpu::Buffer>,
-    buffers: Vec<Option<wgpu::Buffer>>,
-    bind_groups: Vec<Option<CachedBindGroups>>,
-}
-
-/// A pass's bind groups and the texture serials (and mips) they were made for: reused while
-/// the same physical textures come back.
-type CachedBindGroups = (Vec<u64>, Vec<(u32, wgpu::BindGroup)>);
+use crate::record::{RecordContext, record_pass};
+use crate::resource::{Extent, TextureHandle};
+use crate::shader::ShaderLibrary;
+use crate::timing::{FrameId, PassTimings, TimestampRing, TimingMode, TimingSource};
 
 /// Runs compiled plans on a device.
 pub struct Executor {
@@ -43,21 +37,17 @@ pub struct Executor {
     shaders: Arc<ShaderLibrary>,
     pool: TexturePool,
     history: HistoryStore,
-    imports: HashMap<String, BoundTexture>,
-    import_buffers: HashMap<String, wgpu::Buffer>,
-    state: Option<PlanState>,
-    linear: wgpu::Sampler,
-    nearest: wgpu::Sampler,
-    lent: Vec<PooledTexture>,
-    frame: Vec<Option<BoundTexture>>,
-    frame_buffers: Vec<Option<wgpu::Buffer>>,
-    output: Extent,
-    timestamps: Option<TimestampQueries>,
-    force_cpu_timing: bool,
+    imports: ImportTable,
+    pipelines: PipelineCache,
+    plans: PlanStates,
+    samplers: Samplers,
+    timing: TimingMode,
+    ring: TimestampRing,
+    /// CPU-wall milliseconds of the frame being recorded.
     pass_ms: Vec<f64>,
-    timings: PassTimings,
-    timed_plan: Option<Arc<CompiledGraph>>,
+    /// Bind-group cache keys, reused every frame.
     scratch: Vec<u64>,
+    /// Frames executed so far: the next frame's number.
     frames: u64,
 }
 
@@ -69,40 +59,28 @@ impl Executor {
         e
     }
 
+    /// An executor timing passes with GPU timestamps where the device has them, and not at
+    /// all otherwise (see [`Executor::set_timing`]).
     pub fn new(gpu: Arc<GpuContext>) -> Self {
-        let sampler = |filter| {
-            gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("aograph sampler"),
-                mag_filter: filter,
-                min_filter: filter,
-                address_mode_u: wgpu::AddressMode::ClampToEdge,
-                address_mode_v: wgpu::AddressMode::ClampToEdge,
-                ..Default::default()
-            })
+        let samplers = Samplers::new(&gpu.device);
+        let ring = TimestampRing::new(&gpu.queue, TimestampRing::DEFAULT_PENDING_FRAMES);
+        let timing = if gpu.has_timestamps() {
+            TimingMode::GpuTimestamps
+        } else {
+            TimingMode::Off
         };
-        let (linear, nearest) = (
-            sampler(wgpu::FilterMode::Linear),
-            sampler(wgpu::FilterMode::Nearest),
-        );
         Self {
             gpu,
             shaders: Arc::new(ShaderLibrary::inline_only()),
             pool: TexturePool::default(),
             history: HistoryStore::default(),
-            imports: HashMap::new(),
-            import_buffers: HashMap::new(),
-            state: None,
-            linear,
-            nearest,
-            lent: Vec::new(),
-            frame: Vec::new(),
-            frame_buffers: Vec::new(),
-            output: Extent::new(1, 1),
-            timestamps: None,
-            force_cpu_timing: false,
+            imports: ImportTable::default(),
+            pipelines: PipelineCache::default(),
+            plans: PlanStates::default(),
+            samplers,
+            timing,
+            ring,
             pass_ms: Vec::new(),
-            timings: PassTimings::default(),
-            timed_plan: None,
             scratch: Vec::new(),
             frames: 0,
         }
@@ -111,70 +89,71 @@ impl Executor {
     pub fn gpu(&self) -> &Arc<GpuContext> {
         &self.gpu
     }
-    /// Measure CPU wall time per pass (submit and wait per pass) even where timestamps exist.
-    pub fn force_cpu_timing(&mut self, on: bool) {
-        self.force_cpu_timing = on;
+    /// How passes are timed from the next frame on. `GpuTimestamps` on a device without
+    /// timestamp queries is an error naming the alternatives.
+    pub fn set_timing(&mut self, mode: TimingMode) -> GraphResult<()> {
+        if mode == TimingMode::GpuTimestamps && !self.gpu.has_timestamps() {
+            return Err(GraphError::InvalidParameter {
+                owner: "executor".into(),
+                name: "timing".into(),
+                value: "GpuTimestamps".into(),
+                allowed: format!(
+                    "Off or CpuWall on this device ({}), which has no timestamp queries",
+                    self.gpu.describe()
+                ),
+            });
+        }
+        self.timing = mode;
+        Ok(())
     }
-    /// Which timing source the next frame will use.
-    pub fn timing_source(&self) -> TimingSource {
-        if self.gpu.has_timestamps() && !self.force_cpu_timing {
-            TimingSource::GpuTimestamps
-        } else {
-            TimingSource::CpuWall
+    /// How many frames may wait for their timestamps at once (default 3, at least 1); a
+    /// frame executed while all are waiting goes untimed ([`Executor::dropped_timings`]).
+    /// Discards timings not yet harvested.
+    pub fn set_pending_timing_frames(&mut self, frames: usize) {
+        self.ring = TimestampRing::new(&self.gpu.queue, frames);
+    }
+    pub fn timing(&self) -> TimingMode {
+        self.timing
+    }
+    /// Where the next frame's milliseconds will come from (`None` with timing off).
+    pub fn timing_source(&self) -> Option<TimingSource> {
+        match self.timing {
+            TimingMode::Off => None,
+            TimingMode::GpuTimestamps => Some(TimingSource::GpuTimestamps),
+            TimingMode::CpuWall => Some(TimingSource::CpuWall),
         }
     }
-    /// Provides the texture behind imported resource `name`.
+    /// Provides the texture behind imported resource `name` (for every plan importing it).
     pub fn import_texture(&mut self, name: &str, texture: wgpu::Texture) {
-        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let mip_views: Arc<[wgpu::TextureView]> = (0..texture.mip_level_count())
-            .map(|m| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    base_mip_level: m,
-                    mip_level_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let extent = Extent::new(texture.width(), texture.height());
         let serial = self.pool.next_serial();
-        self.imports.insert(
-            name.to_string(),
-            BoundTexture {
-                texture,
-                view,
-                mip_views,
-                extent,
-                serial,
-            },
-        );
+        self.imports.set_texture(name, texture, serial);
     }
     /// Provides the buffer behind imported buffer `name`.
     pub fn import_buffer(&mut self, name: &str, buffer: wgpu::Buffer) {
-        self.import_buffers.insert(name.to_string(), buffer);
+        self.imports.set_buffer(name, buffer);
     }
     /// Invalidates every history: the next frame reads zeros with `valid == false` (a cut).
     pub fn reset_history(&mut self) {
         self.history.reset();
     }
-    /// Whether history `name` will hold a valid previous value in the next frame of `plan` at
-    /// output size `output` (false on the first frame, after a resize or format change, after
-    /// a reset).
-    pub fn history_valid(&self, plan: &CompiledGraph, name: &str, output: Extent) -> bool {
-        let Some(r) = plan.decl.resources.iter().find(
+    fn history_key(plan: &CompiledGraph, name: &str, output: Extent) -> Option<PoolKey> {
+        let r = plan.decl.resources.iter().find(
             |r| matches!(&r.origin, ResourceOrigin::HistoryCurrent { history } if history == name),
-        ) else {
-            return false;
-        };
-        let Some(desc) = r.texture_desc() else {
-            return false;
-        };
-        let key = PoolKey {
+        )?;
+        let desc = r.texture_desc()?;
+        Some(PoolKey {
             format: desc.format,
             extent: desc.size.resolve(output),
             mip_levels: desc.mip_levels,
             usage: wgpu::TextureUsages::empty(),
-        };
-        self.history.is_valid(name, &key)
+        })
+    }
+    /// Whether history `name` will hold a valid previous value in the next frame of `plan` at
+    /// output size `output`: false on the plan's first frame, after a resize or format change,
+    /// after a reset, and when another plan ran since this plan's last frame.
+    pub fn history_valid(&self, plan: &CompiledGraph, name: &str, output: Extent) -> bool {
+        Self::history_key(plan, name, output)
+            .is_some_and(|key| self.history.is_valid(plan.key(), name, &key, self.frames))
     }
     /// Whether every history of `plan` will be valid in its next frame at `output` (what a
     /// technique with one history writes into the view block's `frame.y`).
@@ -184,28 +163,43 @@ impl Executor {
             _ => true,
         })
     }
-    /// Textures the pool holds (lent to the current frame or free). History and imported
-    /// textures are not counted.
+    /// Textures the pool holds (lent to frames, retained by plans, or free). History and
+    /// imported textures are not counted.
     pub fn pool_texture_count(&self) -> usize {
-        self.pool.texture_count()
+        self.pool.texture_count() - self.history.texture_count()
     }
-    /// Textures the pool has created since the executor was made.
+    /// Textures the pool has created since the executor was made (histories included).
     pub fn pool_created_count(&self) -> u64 {
         self.pool.created_count()
     }
     /// Textures the executor holds in all: pool plus history.
     pub fn texture_count(&self) -> usize {
-        self.pool.texture_count() + self.history.texture_count()
+        self.pool.texture_count()
+    }
+    /// Pipelines created since the executor was made (a cache hit creates none).
+    pub fn pipeline_created_count(&self) -> u64 {
+        self.pipelines.created()
+    }
+    /// Pipelines held in the cache now.
+    pub fn pipeline_count(&self) -> usize {
+        self.pipelines.len()
+    }
+    /// Plans whose state the executor holds now.
+    pub fn plan_count(&self) -> usize {
+        self.plans.len()
+    }
+    /// The number the next executed frame will get.
+    pub fn next_frame(&self) -> FrameId {
+        FrameId(self.frames)
     }
 
-    /// Sets the contents of a uniform block of `plan`; takes effect at the next `execute`.
+    /// Sets the contents of a uniform block of `plan`; takes effect at the plan's next frame.
     pub fn write_uniform(
         &mut self,
         plan: &CompiledGraph,
         handle: UniformHandle,
         bytes: &[u8],
     ) -> GraphResult<()> {
-        self.ensure_state(plan)?;
         let decl = plan
             .decl
             .uniforms
@@ -222,337 +216,30 @@ impl Executor {
                 allowed: format!("exactly {} bytes, as declared", decl.initial.len()),
             });
         }
-        if let Some(state) = &self.state {
-            self.gpu
-                .queue
-                .write_buffer(&state.uniforms[handle.0], 0, bytes);
-        }
+        let queue = self.gpu.queue.clone();
+        let state = self.ensure_state(plan)?;
+        queue.write_buffer(&state.uniforms[handle.0], 0, bytes);
         Ok(())
     }
 
-    fn ensure_state(&mut self, plan: &CompiledGraph) -> GraphResult<()> {
-        if self.state.as_ref().is_some_and(|s| s.hash == plan.hash) {
-            return Ok(());
+    /// The state of `plan`, made on its first use; its uniforms follow `plan`'s declaration.
+    fn ensure_state(&mut self, plan: &CompiledGraph) -> GraphResult<&mut PlanState> {
+        let key = plan.key();
+        if self.plans.get(key).is_none() {
+            let state = PlanState::new(&self.gpu, &mut self.pipelines, plan)?;
+            self.plans.insert(key, state, &mut self.pool);
         }
-        let device = &self.gpu.device;
-        let decl = &plan.decl;
-        // A format the device cannot use as declared (e.g. r16float storage without the
-        // adapter's format features) is an error naming the texture, not a validation error.
-        for slot in &plan.physical {
-            if !self.gpu.supports(slot.desc.format, slot.usage) {
-                let resource = slot
-                    .resources
-                    .iter()
-                    .map(|r| decl.resources[*r].name.as_str())
-                    .collect::<Vec<_>>()
-                    .join("`, `");
-                return Err(GraphError::UnsupportedFormat {
-                    resource,
-                    format: slot.desc.format,
-                    usage: format!("{:?}", slot.usage),
-                    device: self.gpu.describe(),
-                });
-            }
-        }
-        let mut pipelines = Vec::with_capacity(decl.passes.len());
-        for (i, pass) in decl.passes.iter().enumerate() {
-            pipelines.push(
-                plan.shaders[i]
-                    .as_ref()
-                    .and_then(|info| create_pipeline(device, self.gpu.features, decl, pass, info)),
-            );
-        }
-        let uniforms = decl
-            .uniforms
-            .iter()
-            .map(|u| {
-                let size = (u.initial.len() as u64).max(16).next_multiple_of(16);
-                let b = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(&u.binding),
-                    size,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                self.gpu.queue.write_buffer(&b, 0, &u.initial);
-                b
-            })
-            .collect();
-        let buffers = decl
-            .resources
-            .iter()
-            .enumerate()
-            .map(|(r, res)| match (&res.kind, &res.origin) {
-                (ResourceKind::Buffer(d), ResourceOrigin::Transient)
-                    if plan.lifetimes[r].is_some() =>
-                {
-                    let usage = decl
-                        .passes
-                        .iter()
-                        .flat_map(|p| p.buffers.iter())
-                        .filter(|u| u.read.or(u.written).is_some_and(|h| h.id as usize == r))
-                        .fold(wgpu::BufferUsages::COPY_SRC, |acc, u| {
-                            acc | u.access.usage()
-                        });
-                    Some(device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some(&res.name),
-                        size: d.size.max(4),
-                        usage,
-                        mapped_at_creation: false,
-                    }))
-                }
-                _ => None,
-            })
-            .collect();
-        let errors = self.gpu.take_errors();
-        if !errors.is_empty() {
-            return Err(GraphError::Gpu(errors.join("; ")));
-        }
-        self.state = Some(PlanState {
-            hash: plan.hash,
-            pipelines,
-            uniforms,
-            buffers,
-            bind_groups: (0..decl.passes.len()).map(|_| None).collect(),
-        });
-        Ok(())
+        let state = self
+            .plans
+            .get_mut(key)
+            .ok_or_else(|| GraphError::Gpu("plan state vanished".into()))?;
+        state.adopt(&self.gpu.queue, plan);
+        Ok(state)
     }
 
-    /// Binds every used resource of `plan` to a physical texture or buffer for this frame.
-    fn bind_resources(
-        &mut self,
-        plan: &CompiledGraph,
-        output: Extent,
-        encoder: &mut wgpu::CommandEncoder,
-    ) -> GraphResult<()> {
-        let device = &self.gpu.device;
-        let decl = &plan.decl;
-        while let Some(t) = self.lent.pop() {
-            self.pool.release(t);
-        }
-        let max_dim = device.limits().max_texture_dimension_2d;
-        for slot in &plan.physical {
-            let extent = slot.desc.size.resolve(output);
-            if extent.width > max_dim || extent.height > max_dim {
-                return Err(GraphError::InvalidParameter {
-                    owner: "graph".into(),
-                    name: "output size".into(),
-                    value: output.to_string(),
-                    allowed: format!("at most {max_dim} pixels a side on this device"),
-                });
-            }
-            self.lent.push(self.pool.acquire(
-                device,
-                PoolKey {
-                    format: slot.desc.format,
-                    extent,
-                    mip_levels: slot.desc.mip_levels,
-                    usage: slot.usage,
-                },
-            ));
-        }
-        // Released last-slot-first above, so each slot pops the texture it had last frame and
-        // cached bind groups stay valid.
-        self.frame.clear();
-        self.frame.resize(decl.resources.len(), None);
-        self.frame_buffers.clear();
-        self.frame_buffers.resize(decl.resources.len(), None);
-        for (r, res) in decl.resources.iter().enumerate() {
-            if plan.lifetimes[r].is_none() {
-                continue;
-            }
-            let desc = match &res.kind {
-                ResourceKind::Texture(d) => *d,
-                ResourceKind::Buffer(_) => {
-                    self.frame_buffers[r] = match res.origin {
-                        ResourceOrigin::Imported => {
-                            Some(self.import_buffers.get(&res.name).cloned().ok_or_else(|| {
-                                GraphError::MissingResource {
-                                    resource: res.name.clone(),
-                                    message:
-                                        "imported buffer not provided; call Executor::import_buffer"
-                                            .into(),
-                                }
-                            })?)
-                        }
-                        _ => self.state.as_ref().and_then(|s| s.buffers[r].clone()),
-                    };
-                    continue;
-                }
-            };
-            let extent = desc.size.resolve(output);
-            self.frame[r] = Some(match &res.origin {
-                ResourceOrigin::Transient => match plan.slot_of[r] {
-                    Some(s) => self.lent[s].bound.clone(),
-                    None => continue,
-                },
-                ResourceOrigin::Imported => {
-                    let t =
-                        self.imports
-                            .get(&res.name)
-                            .ok_or_else(|| GraphError::MissingResource {
-                                resource: res.name.clone(),
-                                message:
-                                    "imported texture not provided; call Executor::import_texture"
-                                        .into(),
-                            })?;
-                    if t.texture.format() != desc.format {
-                        return Err(GraphError::FormatMismatch {
-                            pass: "import".into(),
-                            resource: res.name.clone(),
-                            expected: format!("{:?}", desc.format),
-                            found: t.texture.format(),
-                        });
-                    }
-                    if t.extent != extent {
-                        return Err(GraphError::SizeMismatch {
-                            pass: "import".into(),
-                            resource: res.name.clone(),
-                            expected: extent.to_string(),
-                            found: t.extent.to_string(),
-                        });
-                    }
-                    t.clone()
-                }
-                ResourceOrigin::HistoryPrevious { history }
-                | ResourceOrigin::HistoryCurrent { history } => {
-                    let usage = history_usage(plan, history);
-                    let key = PoolKey {
-                        format: desc.format,
-                        extent,
-                        mip_levels: desc.mip_levels,
-                        usage,
-                    };
-                    let pool = &mut self.pool;
-                    let (pair, valid) = self
-                        .history
-                        .prepare(device, history, key, &mut || pool.next_serial());
-                    let previous = &pair.textures[1 - pair.current].bound;
-                    if matches!(res.origin, ResourceOrigin::HistoryPrevious { .. }) {
-                        if !valid {
-                            clear_texture(&self.gpu, encoder, &previous.texture);
-                        }
-                        previous.clone()
-                    } else {
-                        pair.textures[pair.current].bound.clone()
-                    }
-                }
-            });
-        }
-        Ok(())
-    }
-
-    /// Builds (or reuses) the bind groups of every kept pass for this frame's textures.
-    fn bind_groups(&mut self, plan: &CompiledGraph) -> GraphResult<()> {
-        let Some(state) = self.state.as_mut() else {
-            return Ok(());
-        };
-        let decl = &plan.decl;
-        for p in &plan.order {
-            let (Some(pipeline), Some(info)) = (&state.pipelines[p.0], &plan.shaders[p.0]) else {
-                continue;
-            };
-            let pass = &decl.passes[p.0];
-            self.scratch.clear();
-            for b in &info.bindings {
-                let serial = match b.kind {
-                    ShaderBindingKind::SampledTexture { .. }
-                    | ShaderBindingKind::StorageTexture { .. } => pass
-                        .textures
-                        .iter()
-                        .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
-                        .and_then(|u| {
-                            self.frame[u.resource()]
-                                .as_ref()
-                                .map(|t| t.serial * 64 + u.mip.unwrap_or(63) as u64)
-                        })
-                        .unwrap_or(0),
-                    _ => 0,
-                };
-                self.scratch.push(serial);
-            }
-            if state.bind_groups[p.0]
-                .as_ref()
-                .is_some_and(|(k, _)| *k == self.scratch)
-            {
-                continue;
-            }
-            let mut groups = Vec::new();
-            for (g, layout) in pipeline.groups() {
-                let mut entries = Vec::new();
-                for b in info.bindings.iter().filter(|b| b.group == *g) {
-                    let missing = || GraphError::MissingResource {
-                        resource: b.name.clone(),
-                        message: format!("pass `{}` has nothing bound to it this frame", pass.name),
-                    };
-                    let resource = match &b.kind {
-                        ShaderBindingKind::Sampler { linear } => {
-                            wgpu::BindingResource::Sampler(if *linear {
-                                &self.linear
-                            } else {
-                                &self.nearest
-                            })
-                        }
-                        ShaderBindingKind::SampledTexture { .. }
-                        | ShaderBindingKind::StorageTexture { .. } => {
-                            let u = pass
-                                .textures
-                                .iter()
-                                .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
-                                .ok_or_else(missing)?;
-                            let t = self.frame[u.resource()].as_ref().ok_or_else(missing)?;
-                            let storage =
-                                matches!(b.kind, ShaderBindingKind::StorageTexture { .. });
-                            wgpu::BindingResource::TextureView(t.view_of(if storage {
-                                u.mip.or(Some(0))
-                            } else {
-                                u.mip
-                            }))
-                        }
-                        ShaderBindingKind::Uniform { .. }
-                        | ShaderBindingKind::StorageBuffer { .. } => {
-                            if let Some(h) = pass
-                                .uniforms
-                                .iter()
-                                .find(|h| decl.uniforms[h.0].binding == b.name)
-                            {
-                                state.uniforms[h.0].as_entire_binding()
-                            } else {
-                                let u = pass
-                                    .buffers
-                                    .iter()
-                                    .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
-                                    .ok_or_else(missing)?;
-                                let h = u.read.or(u.written).ok_or_else(missing)?;
-                                self.frame_buffers[h.id as usize]
-                                    .as_ref()
-                                    .ok_or_else(missing)?
-                                    .as_entire_binding()
-                            }
-                        }
-                    };
-                    entries.push(wgpu::BindGroupEntry {
-                        binding: b.binding,
-                        resource,
-                    });
-                }
-                groups.push((
-                    *g,
-                    self.gpu
-                        .device
-                        .create_bind_group(&wgpu::BindGroupDescriptor {
-                            label: Some(&pass.name),
-                            layout,
-                            entries: &entries,
-                        }),
-                ));
-            }
-            state.bind_groups[p.0] = Some((self.scratch.clone(), groups));
-        }
-        Ok(())
-    }
-
-    /// Runs one frame of `plan` at output size `output`.
-    pub fn execute(&mut self, plan: &Arc<CompiledGraph>, output: Extent) -> GraphResult<()> {
+    /// Runs one frame of `plan` at output size `output` and returns its number, which its
+    /// timings carry when they arrive. Returns without waiting for the GPU.
+    pub fn execute(&mut self, plan: &Arc<CompiledGraph>, output: Extent) -> GraphResult<FrameId> {
         if output.width == 0 || output.height == 0 {
             return Err(GraphError::InvalidParameter {
                 owner: "graph".into(),
@@ -561,296 +248,159 @@ impl Executor {
                 allowed: "width and height of at least 1 pixel".into(),
             });
         }
-        self.collect_timings()?;
+        let frame = FrameId(self.frames);
+        // Run whatever map callbacks are due (no wait), then take finished timings.
+        if self.timing == TimingMode::GpuTimestamps {
+            let _ = self.gpu.device.poll(wgpu::PollType::Poll);
+            self.ring.harvest()?;
+        }
         self.ensure_state(plan)?;
-        self.output = output;
         let device = self.gpu.device.clone();
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("aograph frame"),
         });
-        self.bind_resources(plan, output, &mut encoder)?;
-        self.bind_groups(plan)?;
+        let Self {
+            gpu,
+            shaders,
+            pool,
+            history,
+            imports,
+            plans,
+            samplers,
+            timing,
+            ring,
+            pass_ms,
+            scratch,
+            ..
+        } = self;
+        let key = plan.key();
+        let state = plans
+            .get_mut(key)
+            .ok_or_else(|| GraphError::Gpu("plan state vanished".into()))?;
+        let mut sources = BindSources {
+            gpu,
+            pool,
+            history,
+            imports,
+            frame: frame.0,
+        };
+        bind_resources(state, plan, output, &mut sources, &mut encoder)?;
+        bind_groups(state, plan, gpu, samplers, scratch)?;
+
         let n = plan.order.len() as u32;
-        self.pass_ms.clear();
-        self.pass_ms.resize(n as usize, 0.0);
-        let gpu_timing = self.timing_source() == TimingSource::GpuTimestamps;
-        if gpu_timing && !self.timestamps.as_ref().is_some_and(|t| t.fits(n)) {
-            self.timestamps = Some(TimestampQueries::new(&device, &self.gpu.queue, n));
-        }
-        for (pos, p) in plan.order.iter().enumerate() {
-            let name = &plan.decl.passes[p.0].name;
-            let started = Instant::now();
-            // Debug groups only where the driver survives them (see `GpuContext::debug_groups`).
-            let outer_group = self.gpu.debug_groups();
-            if outer_group {
-                encoder.push_debug_group(name);
+        let slot = match timing {
+            TimingMode::GpuTimestamps => ring.begin(&device, n),
+            _ => None,
+        };
+        pass_ms.clear();
+        let ctx = RecordContext {
+            gpu,
+            shaders,
+            output,
+        };
+        // Debug groups only where the driver survives them (see `GpuContext::debug_groups`).
+        let debug_groups = gpu.debug_groups();
+        let recorded = (|| -> GraphResult<()> {
+            for pos in 0..plan.order.len() {
+                let started = Instant::now();
+                if debug_groups {
+                    encoder.push_debug_group(&plan.decl.passes[plan.order[pos].0].name);
+                }
+                if let Some(s) = slot {
+                    encoder.write_timestamp(ring.query_set(s), 2 * pos as u32);
+                }
+                record_pass(&ctx, state, plan, pos, &mut encoder)?;
+                if let Some(s) = slot {
+                    encoder.write_timestamp(ring.query_set(s), 2 * pos as u32 + 1);
+                }
+                if debug_groups {
+                    encoder.pop_debug_group();
+                }
+                if *timing == TimingMode::CpuWall {
+                    let done = std::mem::replace(
+                        &mut encoder,
+                        device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                            label: Some("aograph frame"),
+                        }),
+                    );
+                    gpu.queue.submit([done.finish()]);
+                    gpu.wait_idle()?;
+                    pass_ms.push(started.elapsed().as_secs_f64() * 1000.0);
+                }
             }
-            if let (true, Some(ts)) = (gpu_timing, &self.timestamps) {
-                encoder.write_timestamp(ts.set(), 2 * pos as u32);
+            Ok(())
+        })();
+        if let Err(e) = recorded {
+            if let Some(s) = slot {
+                ring.abandon(s);
             }
-            self.record_pass(plan, pos, &mut encoder)?;
-            if let (true, Some(ts)) = (gpu_timing, &self.timestamps) {
-                encoder.write_timestamp(ts.set(), 2 * pos as u32 + 1);
-            }
-            if outer_group {
-                encoder.pop_debug_group();
-            }
-            if !gpu_timing {
-                let done = std::mem::replace(
-                    &mut encoder,
-                    device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("aograph frame"),
-                    }),
-                );
-                self.gpu.queue.submit([done.finish()]);
-                self.gpu.wait_idle()?;
-                self.pass_ms[pos] = started.elapsed().as_secs_f64() * 1000.0;
-            }
+            state.release_slots(pool, false);
+            return Err(e);
         }
-        if let (true, Some(ts)) = (gpu_timing, self.timestamps.as_mut()) {
-            ts.resolve(&mut encoder, n);
+        if let Some(s) = slot {
+            ring.resolve(&mut encoder, s, n);
         }
-        self.gpu.queue.submit([encoder.finish()]);
-        if let (true, Some(ts)) = (gpu_timing, self.timestamps.as_mut()) {
-            ts.start_map();
+        gpu.queue.submit([encoder.finish()]);
+        match (slot, *timing) {
+            (Some(s), _) => ring.submitted(s, frame, plan),
+            (None, TimingMode::CpuWall) => ring.record_cpu(frame, plan, pass_ms),
+            _ => {}
         }
-        if self
-            .timed_plan
-            .as_ref()
-            .is_none_or(|t| !Arc::ptr_eq(t, plan))
-        {
-            self.timed_plan = Some(plan.clone());
-            self.timings.passes = plan
-                .order
-                .iter()
-                .map(|p| (plan.decl.passes[p.0].name.clone(), 0.0))
-                .collect();
-        }
-        if !gpu_timing {
-            self.timings.source = Some(TimingSource::CpuWall);
-            for (slot, ms) in self.timings.passes.iter_mut().zip(&self.pass_ms) {
-                slot.1 = *ms;
-            }
-        }
+
+        // Retire the frame: histories swap, textures not retained go back to the pool.
         let written = plan.decl.resources.iter().filter_map(|r| match &r.origin {
             ResourceOrigin::HistoryCurrent { history } if r.latest_version() > 0 => {
                 Some(history.as_str())
             }
             _ => None,
         });
-        self.history.end_frame(written);
-        self.pool.end_frame();
+        history.end_frame(key, written, frame.0);
+        state.release_slots(pool, false);
+        state.last_frame = Some(frame.0);
+        history.evict_idle(pool, frame.0);
+        pool.end_frame();
         self.frames += 1;
         let errors = self.gpu.take_errors();
         if !errors.is_empty() {
             return Err(GraphError::Gpu(errors.join("; ")));
         }
-        Ok(())
+        Ok(frame)
     }
 
-    fn record_pass(
-        &self,
-        plan: &CompiledGraph,
-        pos: usize,
-        encoder: &mut wgpu::CommandEncoder,
-    ) -> GraphResult<()> {
-        let p = plan.order[pos];
-        let pass = &plan.decl.passes[p.0];
-        let state = self.state.as_ref();
-        let pipeline = state.and_then(|s| s.pipelines[p.0].as_ref());
-        let groups = state
-            .and_then(|s| s.bind_groups[p.0].as_ref())
-            .map(|(_, g)| g.as_slice())
-            .unwrap_or(&[]);
-        let view_of = |u: &crate::TextureUse| {
-            self.frame[u.resource()]
-                .as_ref()
-                .map(|t| t.view_of(u.mip.or(Some(0))))
-        };
-        match (&pass.kind, pipeline) {
-            (
-                PassKind::Compute { dispatch, .. },
-                Some(PassPipeline::Compute {
-                    pipeline,
-                    workgroup,
-                    ..
-                }),
-            ) => {
-                let counts = match dispatch {
-                    Some(crate::Dispatch::Threads { size, mip }) => {
-                        let e = size.resolve(self.output).mip(*mip);
-                        [
-                            e.width.div_ceil(workgroup[0].max(1)),
-                            e.height.div_ceil(workgroup[1].max(1)),
-                            1,
-                        ]
-                    }
-                    Some(crate::Dispatch::Workgroups(w)) => *w,
-                    None => [0, 0, 0],
-                };
-                let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(&pass.name),
-                    timestamp_writes: None,
-                });
-                cp.set_pipeline(pipeline);
-                for (g, bg) in groups {
-                    cp.set_bind_group(*g, bg, &[]);
-                }
-                cp.dispatch_workgroups(counts[0], counts[1], counts[2]);
-            }
-            (PassKind::Fullscreen { .. }, Some(PassPipeline::Render { pipeline, .. })) => {
-                let mut color = Vec::new();
-                for u in pass
-                    .textures
-                    .iter()
-                    .filter(|u| u.access == TextureAccess::ColorAttachment)
-                {
-                    let view = view_of(u).ok_or_else(|| GraphError::MissingResource {
-                        resource: format!("#{}", u.resource()),
-                        message: "colour attachment not bound".into(),
-                    })?;
-                    let load = if u.read.is_some() {
-                        wgpu::LoadOp::Load
-                    } else {
-                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
-                    };
-                    color.push(Some(wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    }));
-                }
-                let depth = pass
-                    .textures
-                    .iter()
-                    .find(|u| {
-                        matches!(
-                            u.access,
-                            TextureAccess::DepthAttachment | TextureAccess::DepthRead
-                        )
-                    })
-                    .and_then(|u| {
-                        let load = if u.read.is_some() {
-                            wgpu::LoadOp::Load
-                        } else {
-                            wgpu::LoadOp::Clear(1.0)
-                        };
-                        view_of(u).map(|view| wgpu::RenderPassDepthStencilAttachment {
-                            view,
-                            depth_ops: Some(wgpu::Operations {
-                                load,
-                                store: wgpu::StoreOp::Store,
-                            }),
-                            stencil_ops: None,
-                        })
-                    });
-                let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some(&pass.name),
-                    color_attachments: &color,
-                    depth_stencil_attachment: depth,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                rp.set_pipeline(pipeline);
-                for (g, bg) in groups {
-                    rp.set_bind_group(*g, bg, &[]);
-                }
-                rp.draw(0..3, 0..1);
-            }
-            (PassKind::Copy, _) => {
-                let src = pass
-                    .textures
-                    .iter()
-                    .find(|u| u.access == TextureAccess::CopySrc)
-                    .and_then(|u| self.frame[u.resource()].as_ref());
-                let dst = pass
-                    .textures
-                    .iter()
-                    .find(|u| u.access == TextureAccess::CopyDst)
-                    .and_then(|u| self.frame[u.resource()].as_ref());
-                let (Some(src), Some(dst)) = (src, dst) else {
-                    return Err(GraphError::InvalidPass {
-                        pass: pass.name.clone(),
-                        message: "a copy pass needs one copy source and one copy destination"
-                            .into(),
-                    });
-                };
-                for mip in 0..src
-                    .texture
-                    .mip_level_count()
-                    .min(dst.texture.mip_level_count())
-                {
-                    let e = src.extent.mip(mip);
-                    encoder.copy_texture_to_texture(
-                        wgpu::TexelCopyTextureInfo {
-                            texture: &src.texture,
-                            mip_level: mip,
-                            origin: wgpu::Origin3d::ZERO,
-                            aspect: wgpu::TextureAspect::All,
-                        },
-                        wgpu::TexelCopyTextureInfo {
-                            texture: &dst.texture,
-                            mip_level: mip,
-                            origin: wgpu::Origin3d::ZERO,
-                            aspect: wgpu::TextureAspect::All,
-                        },
-                        wgpu::Extent3d {
-                            width: e.width,
-                            height: e.height,
-                            depth_or_array_layers: 1,
-                        },
-                    );
-                }
-            }
-            (PassKind::Custom(custom), _) => {
-                let mut ctx = PassContext {
-                    device: &self.gpu.device,
-                    queue: &self.gpu.queue,
-                    encoder,
-                    output: self.output,
-                    pass,
-                    textures: &self.frame,
-                    buffers: &self.frame_buffers,
-                    shaders: &self.shaders,
-                    features: self.gpu.features,
-                };
-                custom.record(&mut ctx)?;
-            }
-            _ => {
-                return Err(GraphError::InvalidPass {
-                    pass: pass.name.clone(),
-                    message: "no pipeline could be created for this pass".into(),
-                });
-            }
+    /// The newest frame's per-pass milliseconds that have arrived, without waiting: with GPU
+    /// timestamps, a frame's timings arrive a few frames after it was executed (their `frame`
+    /// says which); empty before the first arrives or with timing off.
+    pub fn latest_timings(&mut self) -> GraphResult<&PassTimings> {
+        if self.timing == TimingMode::GpuTimestamps {
+            let _ = self.gpu.device.poll(wgpu::PollType::Poll);
+            self.ring.harvest()?;
         }
-        Ok(())
+        Ok(self.ring.latest())
     }
 
-    /// Reads the timestamps of the frame in flight into the timing table.
-    fn collect_timings(&mut self) -> GraphResult<()> {
-        if let Some(ts) = self.timestamps.as_mut() {
-            if ts.collect(&self.gpu.device, &mut self.pass_ms)? {
-                self.timings.source = Some(TimingSource::GpuTimestamps);
-                for (slot, ms) in self.timings.passes.iter_mut().zip(&self.pass_ms) {
-                    slot.1 = *ms;
-                }
-            }
+    /// Waits until the timings of every frame executed so far have arrived (or were dropped)
+    /// and returns the newest. This blocks on the GPU: for benchmarks and one-shot tools, not
+    /// for a real-time loop (use [`Executor::latest_timings`] there).
+    pub fn wait_timings(&mut self) -> GraphResult<&PassTimings> {
+        if self.frames > 0 && self.timing == TimingMode::GpuTimestamps {
+            self.ring
+                .wait_for(&self.gpu.device, FrameId(self.frames - 1))?;
         }
-        Ok(())
+        Ok(self.ring.latest())
     }
 
-    /// Per-pass milliseconds of the last executed frame (waits for its timestamps).
-    pub fn timings(&mut self) -> GraphResult<&PassTimings> {
-        self.collect_timings()?;
-        Ok(&self.timings)
+    /// Frames whose timings were not recorded because every pending slot was still waiting
+    /// for the GPU (the executor drops timings rather than stall).
+    pub fn dropped_timings(&self) -> u64 {
+        self.ring.dropped()
+    }
+    /// Frames whose timings are on their way.
+    pub fn pending_timings(&self) -> usize {
+        self.ring.pending()
     }
 
-    /// Reads an exported or history texture of the last frame back to the CPU (mip 0).
+    /// Reads an exported, imported or history texture of `plan`'s last frame back to the CPU
+    /// (mip 0). Blocks until the GPU has written it.
     pub fn read_texture(
         &self,
         plan: &CompiledGraph,
@@ -859,7 +409,7 @@ impl Executor {
         self.read_texture_mip(plan, handle, 0)
     }
 
-    /// Reads one mip level of an exported or history texture of the last frame.
+    /// Reads one mip level of an exported, imported or history texture of `plan`'s last frame.
     pub fn read_texture_mip(
         &self,
         plan: &CompiledGraph,
@@ -877,58 +427,38 @@ impl Executor {
             })?;
         let readable = res.exported || !matches!(res.origin, ResourceOrigin::Transient);
         if !readable {
-            return Err(GraphError::MissingResource { resource: res.name.clone(), message: "only exported, imported and history textures can be read back; call GraphBuilder::export on it".into() });
-        }
-        let t = self.frame.get(r).and_then(Option::as_ref).ok_or_else(|| {
-            GraphError::MissingResource {
+            return Err(GraphError::MissingResource {
                 resource: res.name.clone(),
-                message: "not produced by the last frame (was it culled, or has no frame run?)"
+                message: "only exported, imported and history textures can be read back; call \
+                          GraphBuilder::export on it"
                     .into(),
+            });
+        }
+        let not_run = || GraphError::MissingResource {
+            resource: res.name.clone(),
+            message: "this plan has not executed on this executor (or was evicted since)".into(),
+        };
+        let state = self.plans.get(plan.key()).ok_or_else(not_run)?;
+        let last = state.last_frame.ok_or_else(not_run)?;
+        if let ResourceOrigin::HistoryPrevious { history }
+        | ResourceOrigin::HistoryCurrent { history } = &res.origin
+        {
+            if !self.history.holds_frame(plan.key(), history, last) {
+                return Err(GraphError::MissingResource {
+                    resource: res.name.clone(),
+                    message: "the history was evicted or rebound since this plan's last frame"
+                        .into(),
+                });
             }
-        })?;
+        }
+        let t = state
+            .textures
+            .get(r)
+            .and_then(Option::as_ref)
+            .ok_or_else(|| GraphError::MissingResource {
+                resource: res.name.clone(),
+                message: "not produced by the plan's last frame (was it culled?)".into(),
+            })?;
         read_texture(&self.gpu.device, &self.gpu.queue, &t.texture, mip)
     }
-}
-
-/// Zeroes a texture: with `clear_texture` where the device has it, else by uploading zeros
-/// (only on frames where a history is invalid, so the upload is rare).
-fn clear_texture(gpu: &GpuContext, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) {
-    if gpu.features.contains(wgpu::Features::CLEAR_TEXTURE) {
-        encoder.clear_texture(texture, &wgpu::ImageSubresourceRange::default());
-        return;
-    }
-    for mip in 0..texture.mip_level_count() {
-        let e = Extent::new(texture.width(), texture.height()).mip(mip);
-        let row = e.width * crate::resource::texel_bytes(texture.format()) as u32;
-        let zeros = vec![0u8; (row * e.height) as usize];
-        gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture,
-                mip_level: mip,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            &zeros,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(e.height),
-            },
-            wgpu::Extent3d {
-                width: e.width,
-                height: e.height,
-                depth_or_array_layers: 1,
-            },
-        );
-    }
-}
-
-/// Usage of a history's textures: everything its two halves are used for, plus copies.
-fn history_usage(plan: &CompiledGraph, history: &str) -> wgpu::TextureUsages {
-    plan.decl
-        .resources
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| matches!(&r.origin, ResourceOrigin::HistoryPrevious { history: h } | ResourceOrigin::HistoryCurrent { history: h } if h == history))
-        .fold(wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING, |acc, (i, _)| acc | plan.usage[i])
 }

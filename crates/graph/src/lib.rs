@@ -6,6 +6,8 @@
 //! GraphBuilder --build--> GraphDecl --GraphCompiler::compile--> CompiledGraph --Executor::execute--> GPU
 //! ```
 
+mod attachment;
+mod bind;
 mod builder;
 mod compile;
 mod custom;
@@ -16,11 +18,14 @@ mod execute;
 mod gbuffer_channels;
 mod gpu;
 mod history;
+mod imports;
 mod lifetime;
 mod pipeline;
+mod plan_state;
 mod plugin;
 mod pool;
 mod readback;
+mod record;
 mod resource;
 mod shader;
 mod shader_check;
@@ -28,8 +33,9 @@ mod summary;
 mod timing;
 mod view;
 
+pub use attachment::{AttachmentOps, ColorTarget, DepthTarget, LoadOp};
 pub use builder::{GraphBuilder, HistoryTexture, PassBuilder};
-pub use compile::{CompileOptions, CompiledGraph, CulledPass, GraphCompiler, compile};
+pub use compile::{CompileOptions, CompiledGraph, CulledPass, GraphCompiler, PlanKey, compile};
 pub use custom::{BoundTexture, CustomPass, NoopPass, PassContext};
 pub use declaration::{
     BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind, ResourceDecl, ResourceKind,
@@ -56,6 +62,6 @@ pub use shader::{
     ShaderModuleInfo, intermediate_variant,
 };
 pub use summary::summary;
-pub use timing::{PassTimings, TimingSource};
+pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};
 pub use view::{Mat4Cols, VIEW_BUFFER, ViewUniforms};
 pub use wgpu;

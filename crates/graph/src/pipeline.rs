@@ -1,11 +1,17 @@
-//! Pipelines and bind group layouts built from reflected shaders.
+//! Pipelines and bind group layouts built from reflected shaders, and the executor's cache of
+//! them, shared by every plan.
 //!
 //! Layout entries come from the naga reflection of the shader plus the bound resource's format
 //! (whether a float texture is filterable on this device); nothing is written by hand. All
-//! bindings are visible to every stage the pass uses.
+//! bindings are visible to every stage the pass uses. A pipeline is identified by its
+//! [`PipelineKey`]: the shader's expanded source (by hash), its entry points, the layout
+//! entries, and for full-screen passes the colour targets (format, blend) and depth state. Two
+//! plans, or two passes of one plan, with equal keys share one pipeline.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
+use crate::attachment::AttachmentOps;
 use crate::declaration::{GraphDecl, PassDecl, PassKind};
 use crate::shader::{ShaderBindingKind, ShaderModuleInfo};
 
@@ -94,13 +100,41 @@ pub(crate) fn bound_format(
         .map(|d| d.format)
 }
 
-pub(crate) fn create_pipeline(
-    device: &wgpu::Device,
+/// What identifies a pipeline (see the module docs).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct PipelineKey {
+    source: u64,
+    stage: StageKey,
+    groups: Vec<(u32, Vec<wgpu::BindGroupLayoutEntry>)>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum StageKey {
+    Compute {
+        entry: String,
+    },
+    Render {
+        vertex: String,
+        fragment: String,
+        targets: Vec<(wgpu::TextureFormat, Option<wgpu::BlendState>)>,
+        depth: Option<DepthKey>,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct DepthKey {
+    format: wgpu::TextureFormat,
+    compare: wgpu::CompareFunction,
+    write: bool,
+}
+
+/// The key of `pass`'s pipeline, `None` for passes without one (copies, custom passes).
+pub(crate) fn pipeline_key(
     features: wgpu::Features,
     decl: &GraphDecl,
     pass: &PassDecl,
     info: &ShaderModuleInfo,
-) -> Option<PassPipeline> {
+) -> Option<PipelineKey> {
     let visibility = match pass.kind {
         PassKind::Compute { .. } => wgpu::ShaderStages::COMPUTE,
         _ => wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -118,14 +152,138 @@ pub(crate) fn create_pipeline(
                 count: None,
             });
     }
-    let max_group = by_group.keys().max().copied();
-    let groups: Vec<(u32, wgpu::BindGroupLayout)> = by_group
+    let stage = match &pass.kind {
+        PassKind::Compute { entry, .. } => StageKey::Compute {
+            entry: entry.clone(),
+        },
+        PassKind::Fullscreen {
+            vertex, fragment, ..
+        } => {
+            let mut targets = Vec::new();
+            let mut depth = None;
+            for u in &pass.textures {
+                let Some(desc) = decl.resources[u.resource()].texture_desc() else {
+                    continue;
+                };
+                match u.attachment {
+                    Some(AttachmentOps::Color { blend, .. }) => targets.push((desc.format, blend)),
+                    Some(AttachmentOps::Depth {
+                        compare, read_only, ..
+                    }) if depth.is_none() => {
+                        depth = Some(DepthKey {
+                            format: desc.format,
+                            compare,
+                            write: !read_only,
+                        })
+                    }
+                    _ => {}
+                }
+            }
+            StageKey::Render {
+                vertex: vertex.clone(),
+                fragment: fragment.clone(),
+                targets,
+                depth,
+            }
+        }
+        _ => return None,
+    };
+    Some(PipelineKey {
+        source: info.source_hash,
+        stage,
+        groups: by_group.into_iter().collect(),
+    })
+}
+
+struct CachedPipeline {
+    pipeline: Arc<PassPipeline>,
+    last_use: u64,
+}
+
+/// The executor's pipelines by key, with their shader modules, bounded by
+/// [`PipelineCache::CAPACITY`] (least recently used evicted first).
+#[derive(Default)]
+pub(crate) struct PipelineCache {
+    pipelines: HashMap<PipelineKey, CachedPipeline>,
+    modules: HashMap<u64, wgpu::ShaderModule>,
+    uses: u64,
+    created: u64,
+}
+
+impl PipelineCache {
+    /// Pipelines kept: every pass of every technique and preset, with room.
+    pub const CAPACITY: usize = 512;
+
+    /// The pipeline for `key`, created on a miss from `info`'s module.
+    pub fn get(
+        &mut self,
+        device: &wgpu::Device,
+        key: &PipelineKey,
+        info: &ShaderModuleInfo,
+        label: &str,
+    ) -> Arc<PassPipeline> {
+        self.uses += 1;
+        if let Some(c) = self.pipelines.get_mut(key) {
+            c.last_use = self.uses;
+            return c.pipeline.clone();
+        }
+        if self.pipelines.len() >= Self::CAPACITY {
+            let oldest = self
+                .pipelines
+                .iter()
+                .min_by_key(|(_, c)| c.last_use)
+                .map(|(k, _)| k.clone());
+            if let Some(k) = oldest {
+                self.pipelines.remove(&k);
+            }
+        }
+        let module = self
+            .modules
+            .entry(info.source_hash)
+            .or_insert_with(|| {
+                device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&info.name),
+                    source: wgpu::ShaderSource::Wgsl(info.source.as_str().into()),
+                })
+            })
+            .clone();
+        let pipeline = Arc::new(create_pipeline(device, key, &module, info, label));
+        self.created += 1;
+        self.pipelines.insert(
+            key.clone(),
+            CachedPipeline {
+                pipeline: pipeline.clone(),
+                last_use: self.uses,
+            },
+        );
+        pipeline
+    }
+    /// Pipelines created since the executor was made.
+    pub fn created(&self) -> u64 {
+        self.created
+    }
+    /// Pipelines held now.
+    pub fn len(&self) -> usize {
+        self.pipelines.len()
+    }
+}
+
+fn create_pipeline(
+    device: &wgpu::Device,
+    key: &PipelineKey,
+    module: &wgpu::ShaderModule,
+    info: &ShaderModuleInfo,
+    label: &str,
+) -> PassPipeline {
+    let max_group = key.groups.iter().map(|(g, _)| *g).max();
+    let groups: Vec<(u32, wgpu::BindGroupLayout)> = key
+        .groups
         .iter()
         .map(|(g, entries)| {
             (
                 *g,
                 device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some(&pass.name),
+                    label: Some(label),
                     entries,
                 }),
             )
@@ -148,72 +306,57 @@ pub(crate) fn create_pipeline(
         })
         .collect();
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(&pass.name),
+        label: Some(label),
         bind_group_layouts: &all,
         immediate_size: 0,
     });
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(&info.name),
-        source: wgpu::ShaderSource::Wgsl(info.source.as_str().into()),
-    });
-    match &pass.kind {
-        PassKind::Compute { entry, .. } => {
-            let workgroup = info
-                .entry(entry)
-                .map(|e| e.workgroup_size)
-                .unwrap_or([1, 1, 1]);
+    match &key.stage {
+        StageKey::Compute { entry } => {
             let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(&pass.name),
+                label: Some(label),
                 layout: Some(&layout),
-                module: &module,
+                module,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
                 cache: None,
             });
-            Some(PassPipeline::Compute {
+            PassPipeline::Compute {
                 pipeline,
                 groups,
-                workgroup,
-            })
+                workgroup: info
+                    .entry(entry)
+                    .map(|e| e.workgroup_size)
+                    .unwrap_or([1, 1, 1]),
+            }
         }
-        PassKind::Fullscreen {
-            vertex, fragment, ..
+        StageKey::Render {
+            vertex,
+            fragment,
+            targets,
+            depth,
         } => {
-            let targets: Vec<Option<wgpu::ColorTargetState>> = pass
-                .textures
+            let targets: Vec<Option<wgpu::ColorTargetState>> = targets
                 .iter()
-                .filter(|u| u.access == crate::TextureAccess::ColorAttachment)
-                .filter_map(|u| decl.resources[u.resource()].texture_desc())
-                .map(|d| {
+                .map(|(format, blend)| {
                     Some(wgpu::ColorTargetState {
-                        format: d.format,
-                        blend: None,
+                        format: *format,
+                        blend: *blend,
                         write_mask: wgpu::ColorWrites::ALL,
                     })
                 })
                 .collect();
-            let depth_stencil = pass
-                .textures
-                .iter()
-                .find(|u| {
-                    matches!(
-                        u.access,
-                        crate::TextureAccess::DepthAttachment | crate::TextureAccess::DepthRead
-                    )
-                })
-                .and_then(|u| decl.resources[u.resource()].texture_desc())
-                .map(|d| wgpu::DepthStencilState {
-                    format: d.format,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                });
+            let depth_stencil = depth.map(|d| wgpu::DepthStencilState {
+                format: d.format,
+                depth_write_enabled: Some(d.write),
+                depth_compare: Some(d.compare),
+                stencil: Default::default(),
+                bias: Default::default(),
+            });
             let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&pass.name),
+                label: Some(label),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {
-                    module: &module,
+                    module,
                     entry_point: Some(vertex),
                     compilation_options: Default::default(),
                     buffers: &[],
@@ -222,7 +365,7 @@ pub(crate) fn create_pipeline(
                 depth_stencil,
                 multisample: wgpu::MultisampleState::default(),
                 fragment: Some(wgpu::FragmentState {
-                    module: &module,
+                    module,
                     entry_point: Some(fragment),
                     compilation_options: Default::default(),
                     targets: &targets,
@@ -230,8 +373,7 @@ pub(crate) fn create_pipeline(
                 multiview_mask: None,
                 cache: None,
             });
-            Some(PassPipeline::Render { pipeline, groups })
+            PassPipeline::Render { pipeline, groups }
         }
-        _ => None,
     }
 }

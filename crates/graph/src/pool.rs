@@ -1,8 +1,11 @@
-//! The texture pool: physical textures kept across frames, handed out by exact descriptor.
+//! The texture pool: physical textures kept across frames and across plans, handed out by
+//! exact descriptor.
 //!
-//! Invariant: a texture is either lent to the current frame or free in the pool. Textures not
-//! lent during the last frame are dropped when the frame ends, so a resize replaces the pool's
-//! contents instead of growing it.
+//! Invariant: a texture is either lent (to a frame being recorded, or retained by a plan whose
+//! exported outputs stay readable, or held by a history) or free in the pool. A free texture
+//! that no frame took for [`TexturePool::IDLE_FRAMES`] frames is dropped, so a resize or a plan
+//! that stopped running gives its memory back after a few frames instead of growing the pool,
+//! while plans that take turns (A, B, A, B) find their textures still there.
 
 use std::collections::HashMap;
 
@@ -46,25 +49,10 @@ pub fn create_texture(
         usage: key.usage,
         view_formats: &[],
     });
-    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-    let mip_views = (0..key.mip_levels)
-        .map(|m| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                base_mip_level: m,
-                mip_level_count: Some(1),
-                ..Default::default()
-            })
-        })
-        .collect();
+    let bound = BoundTexture::new(texture, serial);
     PooledTexture {
         key,
-        bound: BoundTexture {
-            texture,
-            view,
-            mip_views,
-            extent: key.extent,
-            serial,
-        },
+        bound,
         last_used: 0,
     }
 }
@@ -80,12 +68,23 @@ pub struct TexturePool {
 }
 
 impl TexturePool {
-    /// A texture for `key`: a free one when there is one, else a new one.
-    pub fn acquire(&mut self, device: &wgpu::Device, key: PoolKey) -> PooledTexture {
+    /// Frames a free texture waits for a taker before it is dropped.
+    pub const IDLE_FRAMES: u64 = 8;
+
+    /// A texture for `key`: the free one with serial `prefer` when there is one (so a plan gets
+    /// back the textures its cached bind groups name), else any free one, else a new one.
+    pub fn acquire(&mut self, device: &wgpu::Device, key: PoolKey, prefer: u64) -> PooledTexture {
         self.lent += 1;
-        if let Some(mut t) = self.free.get_mut(&key).and_then(Vec::pop) {
-            t.last_used = self.frame;
-            return t;
+        if let Some(list) = self.free.get_mut(&key) {
+            let i = list
+                .iter()
+                .position(|t| t.bound.serial == prefer)
+                .or(list.len().checked_sub(1));
+            if let Some(i) = i {
+                let mut t = list.swap_remove(i);
+                t.last_used = self.frame;
+                return t;
+            }
         }
         self.next_serial += 1;
         self.created += 1;
@@ -98,24 +97,28 @@ impl TexturePool {
         self.lent = self.lent.saturating_sub(1);
         self.free.entry(t.key).or_default().push(t);
     }
-    /// Ends a frame: drops free textures that no frame used since the previous one.
+    /// Ends a frame: drops free textures that no frame took for [`Self::IDLE_FRAMES`] frames.
     pub fn end_frame(&mut self) {
-        let cutoff = self.frame;
+        let frame = self.frame;
         for list in self.free.values_mut() {
-            list.retain(|t| t.last_used >= cutoff);
+            list.retain(|t| t.last_used + Self::IDLE_FRAMES > frame);
         }
         self.free.retain(|_, l| !l.is_empty());
         self.frame += 1;
     }
     /// Textures the pool holds, lent or free.
     pub fn texture_count(&self) -> usize {
-        self.lent + self.free.values().map(Vec::len).sum::<usize>()
+        self.lent + self.free_count()
+    }
+    /// Textures free in the pool.
+    pub fn free_count(&self) -> usize {
+        self.free.values().map(Vec::len).sum::<usize>()
     }
     /// Textures created since the pool was made.
     pub fn created_count(&self) -> u64 {
         self.created
     }
-    /// A fresh serial for textures made outside the pool (history, imports).
+    /// A fresh serial for textures made outside the pool (imports).
     pub fn next_serial(&mut self) -> u64 {
         self.next_serial += 1;
         self.next_serial

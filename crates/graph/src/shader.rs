@@ -74,6 +74,8 @@ pub struct ShaderModuleInfo {
     pub name: String,
     /// The source after include expansion (what the GPU compiles).
     pub source: String,
+    /// A hash of `source`: identifies the module in the executor's pipeline cache.
+    pub source_hash: u64,
     pub bindings: Vec<ShaderBinding>,
     pub entries: Vec<ShaderEntry>,
 }
@@ -420,9 +422,16 @@ fn parse_and_reflect(
             workgroup_size: e.workgroup_size,
         })
         .collect();
+    let source_hash = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        source.hash(&mut h);
+        h.finish()
+    };
     Ok(ShaderModuleInfo {
         name: name.to_string(),
         source,
+        source_hash,
         bindings,
         entries,
     })

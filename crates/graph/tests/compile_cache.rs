@@ -1,4 +1,5 @@
-//! Compile: the GraphCompiler cache keyed by the declaration's structure hash.
+//! Compile: the GraphCompiler cache keyed by the declaration's structure hash: a hit carries
+//! the new declaration, uniform values are not structure, and the cache is LRU-bounded.
 
 use std::sync::Arc;
 
@@ -51,7 +52,7 @@ fn params(radius: f32, strength: f32) -> Vec<u8> {
 }
 
 #[test]
-fn identical_declaration_compiles_once_and_shares_the_plan() {
+fn identical_declaration_compiles_once() {
     let lib = library();
     let mut c = GraphCompiler::new();
     let a = c
@@ -68,45 +69,26 @@ fn identical_declaration_compiles_once_and_shares_the_plan() {
             CompileOptions::default(),
         )
         .unwrap();
-    assert!(Arc::ptr_eq(&a, &b));
     assert_eq!(c.compile_count(), 1);
-    assert_eq!(a.pass_names(), vec!["blur0"]);
-}
-
-#[test]
-fn changing_uniform_initial_contents_recompiles_so_parameters_take_effect() {
-    // The declared initial bytes enter the hash (per-frame data goes through
-    // `Executor::write_uniform` instead), so the cached plan never carries stale parameters.
-    let lib = library();
-    let mut c = GraphCompiler::new();
-    let a = c
-        .compile(
-            declare(&params(1.0, 1.0), false),
-            &lib,
-            CompileOptions::default(),
-        )
-        .unwrap();
-    let b = c
-        .compile(
-            declare(&params(4.0, 0.5), false),
-            &lib,
-            CompileOptions::default(),
-        )
-        .unwrap();
-    assert!(!Arc::ptr_eq(&a, &b));
-    assert_eq!(c.compile_count(), 2);
-    assert_eq!(b.decl.uniforms[0].initial, params(4.0, 0.5));
-    assert_eq!(a.order, b.order, "same structure, same plan shape");
+    assert_eq!(a.key(), b.key());
+    assert_eq!(a.order, b.order);
     assert_eq!(a.physical, b.physical);
+    assert_eq!(a.pass_names(), vec!["blur0"]);
+    assert!(
+        !Arc::ptr_eq(&a.decl, &b.decl),
+        "a hit carries the declaration it was asked for, not the cached one"
+    );
 }
 
 #[test]
-fn same_uniform_contents_hit_the_cache() {
+fn changing_a_uniform_value_hits_the_cache_and_carries_the_new_value() {
+    // Uniform contents are not structure: a changed parameter value costs a hash, and the
+    // plan returned carries the new contents (the executor writes them, rebuilding nothing).
     let lib = library();
     let mut c = GraphCompiler::new();
     let a = c
         .compile(
-            declare(&params(4.0, 0.5), false),
+            declare(&params(1.0, 1.0), false),
             &lib,
             CompileOptions::default(),
         )
@@ -118,10 +100,12 @@ fn same_uniform_contents_hit_the_cache() {
             CompileOptions::default(),
         )
         .unwrap();
-    assert!(Arc::ptr_eq(&a, &b));
     assert_eq!(c.compile_count(), 1);
+    assert_eq!(a.hash, b.hash);
+    assert_eq!(a.decl.uniforms[0].initial, params(1.0, 1.0));
+    assert_eq!(b.decl.uniforms[0].initial, params(4.0, 0.5));
     assert_eq!(
-        declare(&params(4.0, 0.5), false).structure_hash(),
+        declare(&params(1.0, 1.0), false).structure_hash(),
         declare(&params(4.0, 0.5), false).structure_hash()
     );
 }
@@ -176,7 +160,7 @@ fn changing_structure_recompiles() {
             CompileOptions::default(),
         )
         .unwrap();
-    assert!(Arc::ptr_eq(&a, &a2));
+    assert_eq!(a.key(), a2.key());
     assert_eq!(c.compile_count(), 2);
 }
 
@@ -273,4 +257,65 @@ fn failed_compile_is_not_cached() {
         .unwrap();
     assert_eq!(c.compile_count(), 1);
     assert_eq!(plan.pass_names(), vec!["blur0"]);
+}
+
+/// A custom pass carrying per-declaration state (as the g-buffer's clock is), which does not
+/// enter the hash.
+#[allow(dead_code)]
+struct StatefulPass(u32);
+
+impl CustomPass for StatefulPass {
+    fn kind_name(&self) -> &str {
+        "stateful"
+    }
+    fn record(&self, _ctx: &mut PassContext<'_>) -> GraphResult<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn a_cache_hit_keeps_the_new_declarations_custom_pass() {
+    let build = |value: u32| {
+        let mut b = GraphBuilder::new();
+        b.custom_pass("p", StatefulPass(value)).side_effect();
+        b.build()
+    };
+    let lib = ShaderLibrary::inline_only();
+    let mut c = GraphCompiler::new();
+    let first = c.compile(build(1), &lib, CompileOptions::default()).unwrap();
+    let second = c.compile(build(2), &lib, CompileOptions::default()).unwrap();
+    assert_eq!(c.compile_count(), 1, "same structure: a hit");
+    let pass_of = |plan: &CompiledGraph| match &plan.decl.passes[0].kind {
+        PassKind::Custom(p) => Arc::as_ptr(p) as *const u8,
+        other => panic!("not a custom pass: {other:?}"),
+    };
+    assert_ne!(
+        pass_of(&first),
+        pass_of(&second),
+        "the hit must not return the first declaration's pass object"
+    );
+}
+
+#[test]
+fn the_cache_evicts_the_least_recently_used_plan_beyond_its_capacity() {
+    let lib = library();
+    let mut c = GraphCompiler::with_capacity(2);
+    let one = || declare(&params(1.0, 1.0), false);
+    let two = || declare(&params(1.0, 1.0), true);
+    let three = || {
+        let mut b = GraphBuilder::new();
+        b.custom_pass("p", NoopPass).side_effect();
+        b.build()
+    };
+    let opts = CompileOptions::default();
+    c.compile(one(), &lib, opts).unwrap();
+    c.compile(two(), &lib, opts).unwrap();
+    c.compile(one(), &lib, opts).unwrap(); // hit: `one` is now the most recent
+    assert_eq!((c.compile_count(), c.cached_plans()), (2, 2));
+    c.compile(three(), &lib, opts).unwrap(); // miss: evicts `two`, the least recent
+    assert_eq!((c.compile_count(), c.cached_plans()), (3, 2));
+    c.compile(one(), &lib, opts).unwrap(); // still cached
+    assert_eq!(c.compile_count(), 3);
+    c.compile(two(), &lib, opts).unwrap(); // was evicted: compiled again
+    assert_eq!((c.compile_count(), c.cached_plans()), (4, 2));
 }

@@ -283,25 +283,37 @@ fn timings_name_every_pass_from_both_sources() {
     blur_chain(&mut b, 3);
     let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
     let mut exec = Executor::new(gpu.clone());
-    for cpu in [false, true] {
-        exec.force_cpu_timing(cpu);
-        exec.execute(&plan, Extent::new(64, 64)).unwrap();
-        let t = exec.timings().unwrap().clone();
+    let mut modes = vec![TimingMode::CpuWall];
+    if gpu.has_timestamps() {
+        modes.insert(0, TimingMode::GpuTimestamps);
+    }
+    for mode in modes {
+        exec.set_timing(mode).unwrap();
+        let frame = exec.execute(&plan, Extent::new(64, 64)).unwrap();
+        let t = exec.wait_timings().unwrap().clone();
+        assert_eq!(t.frame, Some(frame), "{mode:?}: the table is tagged with its frame");
         assert_eq!(
             t.passes.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
             ["pattern", "blur0", "blur1", "blur2"]
         );
         assert!(t.passes.iter().all(|(_, ms)| ms.is_finite() && *ms >= 0.0));
-        let expected = if cpu || !gpu.has_timestamps() {
-            TimingSource::CpuWall
-        } else {
-            TimingSource::GpuTimestamps
+        let expected = match mode {
+            TimingMode::CpuWall => TimingSource::CpuWall,
+            _ => TimingSource::GpuTimestamps,
         };
         assert_eq!(t.source, Some(expected));
         assert!(t.table().contains("blur2") && t.table().contains("total"));
     }
+    // Timing off: frames run, no new table arrives.
+    exec.set_timing(TimingMode::Off).unwrap();
+    let before = exec.wait_timings().unwrap().frame;
+    exec.execute(&plan, Extent::new(64, 64)).unwrap();
+    assert_eq!(exec.wait_timings().unwrap().frame, before);
 }
 
+/// Free textures wait `TexturePool::IDLE_FRAMES` (8) frames for a taker, so plans that take
+/// turns keep theirs; after a resize the old size's textures are dropped once that many frames
+/// passed, so the pool never holds more than both sizes' sets and returns to one set.
 #[test]
 fn pool_does_not_grow_across_resizes() {
     let Some(gpu) = test_gpu() else { return };
@@ -311,8 +323,8 @@ fn pool_does_not_grow_across_resizes() {
     let mut exec = Executor::new(gpu);
     exec.execute(&plan, Extent::new(16, 16)).unwrap();
     let steady = exec.pool_texture_count();
-    for i in 0..40u32 {
-        let size = if (i / 5) % 2 == 0 {
+    for i in 0..60u32 {
+        let size = if (i / 12) % 2 == 0 {
             Extent::new(16, 16)
         } else {
             Extent::new(24, 8)
@@ -323,7 +335,7 @@ fn pool_does_not_grow_across_resizes() {
             "frame {i}: pool holds {}",
             exec.pool_texture_count()
         );
-        if i % 5 != 0 {
+        if i % 12 >= 9 {
             assert_eq!(exec.pool_texture_count(), steady, "frame {i}: steady state");
         }
     }
@@ -414,7 +426,10 @@ fn executors_on_two_threads_keep_their_timestamp_readback_unmapped() {
                 for frame in 0..150u32 {
                     exec.execute(&plan, Extent::new(16 + t, 16)).unwrap();
                     if frame % 7 == 0 {
-                        exec.timings().unwrap();
+                        exec.latest_timings().unwrap();
+                    }
+                    if frame % 31 == 0 {
+                        exec.wait_timings().unwrap();
                     }
                 }
                 pollster::block_on(scope.pop()).map(|e| e.to_string())

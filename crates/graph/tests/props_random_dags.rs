@@ -269,7 +269,11 @@ proptest! {
         let mut c = GraphCompiler::new();
         let a = c.compile(declare(&d), &lib, CompileOptions::default()).unwrap();
         let b = c.compile(declare(&d), &lib, CompileOptions::default()).unwrap();
-        prop_assert!(std::sync::Arc::ptr_eq(&a, &b));
+        prop_assert_eq!(a.key(), b.key());
+        prop_assert_eq!(&a.order, &b.order);
+        prop_assert_eq!(&a.culled, &b.culled);
+        prop_assert_eq!(&a.lifetimes, &b.lifetimes);
+        prop_assert_eq!(&a.physical, &b.physical);
         prop_assert_eq!(c.compile_count(), 1);
     }
 

@@ -1,0 +1,298 @@
+//! Binding a plan's resources for one frame: physical textures from the pool (the same ones
+//! as last time where they are free, so cached bind groups stay valid), imports, histories
+//! and buffers; then the bind groups of every kept pass, rebuilt only when a bound texture
+//! changed.
+//!
+//! Invariant: after `bind_resources`, `state.textures[r]` (`state.frame_buffers[r]`) holds
+//! the texture (buffer) of every resource the plan uses this frame, and nothing else.
+
+use crate::compile::CompiledGraph;
+use crate::declaration::{ResourceKind, ResourceOrigin};
+use crate::error::{GraphError, GraphResult};
+use crate::gpu::GpuContext;
+use crate::history::HistoryStore;
+use crate::imports::ImportTable;
+use crate::plan_state::PlanState;
+use crate::pool::{PoolKey, TexturePool};
+use crate::resource::Extent;
+use crate::shader::ShaderBindingKind;
+
+/// The executor's shared resources a frame binds from.
+pub(crate) struct BindSources<'a> {
+    pub gpu: &'a GpuContext,
+    pub pool: &'a mut TexturePool,
+    pub history: &'a mut HistoryStore,
+    pub imports: &'a ImportTable,
+    pub frame: u64,
+}
+
+/// Binds every used resource of `plan` to a physical texture or buffer for this frame,
+/// clearing invalid history textures with `encoder`.
+pub(crate) fn bind_resources(
+    state: &mut PlanState,
+    plan: &CompiledGraph,
+    output: Extent,
+    src: &mut BindSources<'_>,
+    encoder: &mut wgpu::CommandEncoder,
+) -> GraphResult<()> {
+    let device = &src.gpu.device;
+    let decl = &plan.decl;
+    let max_dim = device.limits().max_texture_dimension_2d;
+    // Retained textures of the last frame go back first, so each slot can take its own again.
+    state.release_slots(src.pool, true);
+    for (s, slot) in plan.physical.iter().enumerate() {
+        let extent = slot.desc.size.resolve(output);
+        if extent.width > max_dim || extent.height > max_dim {
+            return Err(GraphError::InvalidParameter {
+                owner: "graph".into(),
+                name: "output size".into(),
+                value: output.to_string(),
+                allowed: format!("at most {max_dim} pixels a side on this device"),
+            });
+        }
+        let key = PoolKey {
+            format: slot.desc.format,
+            extent,
+            mip_levels: slot.desc.mip_levels,
+            usage: slot.usage,
+        };
+        let t = src.pool.acquire(device, key, state.serials[s]);
+        state.serials[s] = t.bound.serial;
+        state.slots[s] = Some(t);
+    }
+    state.textures.fill(None);
+    state.frame_buffers.fill(None);
+    for (r, res) in decl.resources.iter().enumerate() {
+        if plan.lifetimes[r].is_none() {
+            continue;
+        }
+        let desc = match &res.kind {
+            ResourceKind::Texture(d) => *d,
+            ResourceKind::Buffer(_) => {
+                state.frame_buffers[r] = match res.origin {
+                    ResourceOrigin::Imported => Some(src.imports.buffer(res)?.clone()),
+                    _ => state.buffers[r].clone(),
+                };
+                continue;
+            }
+        };
+        let extent = desc.size.resolve(output);
+        state.textures[r] = Some(match &res.origin {
+            ResourceOrigin::Transient => {
+                match plan.slot_of[r].and_then(|s| state.slots[s].as_ref()) {
+                    Some(t) => t.bound.clone(),
+                    None => continue,
+                }
+            }
+            ResourceOrigin::Imported => src
+                .imports
+                .texture(res, &desc, extent, plan.usage[r])?
+                .clone(),
+            ResourceOrigin::HistoryPrevious { history }
+            | ResourceOrigin::HistoryCurrent { history } => {
+                let key = PoolKey {
+                    format: desc.format,
+                    extent,
+                    mip_levels: desc.mip_levels,
+                    usage: history_usage(plan, history),
+                };
+                let (pair, valid) = src.history.prepare(
+                    device,
+                    src.pool,
+                    plan.key(),
+                    history,
+                    key,
+                    src.frame,
+                );
+                if matches!(res.origin, ResourceOrigin::HistoryPrevious { .. }) {
+                    if !valid {
+                        clear_texture(src.gpu, encoder, &pair.previous().bound.texture);
+                    }
+                    pair.previous().bound.clone()
+                } else {
+                    pair.current().bound.clone()
+                }
+            }
+        });
+    }
+    Ok(())
+}
+
+/// Builds (or reuses) the bind groups of every kept pass for this frame's textures.
+pub(crate) fn bind_groups(
+    state: &mut PlanState,
+    plan: &CompiledGraph,
+    gpu: &GpuContext,
+    samplers: &Samplers,
+    scratch: &mut Vec<u64>,
+) -> GraphResult<()> {
+    let decl = &plan.decl;
+    for p in &plan.order {
+        let (Some(pipeline), Some(info)) = (&state.pipelines[p.0], &plan.shaders[p.0]) else {
+            continue;
+        };
+        let pass = &decl.passes[p.0];
+        scratch.clear();
+        for b in &info.bindings {
+            let serial = match b.kind {
+                ShaderBindingKind::SampledTexture { .. }
+                | ShaderBindingKind::StorageTexture { .. } => pass
+                    .textures
+                    .iter()
+                    .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
+                    .and_then(|u| {
+                        state.textures[u.resource()]
+                            .as_ref()
+                            .map(|t| t.serial * 64 + u.mip.unwrap_or(63) as u64)
+                    })
+                    .unwrap_or(0),
+                _ => 0,
+            };
+            scratch.push(serial);
+        }
+        if state.bind_groups[p.0]
+            .as_ref()
+            .is_some_and(|(k, _)| k == scratch)
+        {
+            continue;
+        }
+        let mut groups = Vec::new();
+        for (g, layout) in pipeline.groups() {
+            let mut entries = Vec::new();
+            for b in info.bindings.iter().filter(|b| b.group == *g) {
+                let missing = || GraphError::MissingResource {
+                    resource: b.name.clone(),
+                    message: format!("pass `{}` has nothing bound to it this frame", pass.name),
+                };
+                let resource = match &b.kind {
+                    ShaderBindingKind::Sampler { linear } => {
+                        wgpu::BindingResource::Sampler(if *linear {
+                            &samplers.linear
+                        } else {
+                            &samplers.nearest
+                        })
+                    }
+                    ShaderBindingKind::SampledTexture { .. }
+                    | ShaderBindingKind::StorageTexture { .. } => {
+                        let u = pass
+                            .textures
+                            .iter()
+                            .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
+                            .ok_or_else(missing)?;
+                        let t = state.textures[u.resource()]
+                            .as_ref()
+                            .ok_or_else(missing)?;
+                        let storage = matches!(b.kind, ShaderBindingKind::StorageTexture { .. });
+                        wgpu::BindingResource::TextureView(t.view_of(if storage {
+                            u.mip.or(Some(0))
+                        } else {
+                            u.mip
+                        }))
+                    }
+                    ShaderBindingKind::Uniform { .. } | ShaderBindingKind::StorageBuffer { .. } => {
+                        if let Some(h) = pass
+                            .uniforms
+                            .iter()
+                            .find(|h| decl.uniforms[h.0].binding == b.name)
+                        {
+                            state.uniforms[h.0].as_entire_binding()
+                        } else {
+                            let u = pass
+                                .buffers
+                                .iter()
+                                .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
+                                .ok_or_else(missing)?;
+                            let h = u.read.or(u.written).ok_or_else(missing)?;
+                            state.frame_buffers[h.id as usize]
+                                .as_ref()
+                                .ok_or_else(missing)?
+                                .as_entire_binding()
+                        }
+                    }
+                };
+                entries.push(wgpu::BindGroupEntry {
+                    binding: b.binding,
+                    resource,
+                });
+            }
+            groups.push((
+                *g,
+                gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(&pass.name),
+                    layout,
+                    entries: &entries,
+                }),
+            ));
+        }
+        state.bind_groups[p.0] = Some((scratch.clone(), groups));
+    }
+    Ok(())
+}
+
+/// The two clamp samplers shader `sampler` globals get (see `ShaderBindingKind::Sampler`).
+pub(crate) struct Samplers {
+    pub linear: wgpu::Sampler,
+    pub nearest: wgpu::Sampler,
+}
+
+impl Samplers {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let sampler = |filter| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("aograph sampler"),
+                mag_filter: filter,
+                min_filter: filter,
+                address_mode_u: wgpu::AddressMode::ClampToEdge,
+                address_mode_v: wgpu::AddressMode::ClampToEdge,
+                ..Default::default()
+            })
+        };
+        Self {
+            linear: sampler(wgpu::FilterMode::Linear),
+            nearest: sampler(wgpu::FilterMode::Nearest),
+        }
+    }
+}
+
+/// Zeroes a texture: with `clear_texture` where the device has it, else by uploading zeros
+/// (only on frames where a history is invalid, so the upload is rare).
+fn clear_texture(gpu: &GpuContext, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) {
+    if gpu.features.contains(wgpu::Features::CLEAR_TEXTURE) {
+        encoder.clear_texture(texture, &wgpu::ImageSubresourceRange::default());
+        return;
+    }
+    for mip in 0..texture.mip_level_count() {
+        let e = Extent::new(texture.width(), texture.height()).mip(mip);
+        let row = e.width * crate::resource::texel_bytes(texture.format()) as u32;
+        let zeros = vec![0u8; (row * e.height) as usize];
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: mip,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            &zeros,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(e.height),
+            },
+            wgpu::Extent3d {
+                width: e.width,
+                height: e.height,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+}
+
+/// Usage of a history's textures: everything its two halves are used for, plus copies.
+fn history_usage(plan: &CompiledGraph, history: &str) -> wgpu::TextureUsages {
+    plan.decl
+        .resources
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| matches!(&r.origin, ResourceOrigin::HistoryPrevious { history: h } | ResourceOrigin::HistoryCurrent { history: h } if h == history))
+        .fold(wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING, |acc, (i, _)| acc | plan.usage[i])
+}
