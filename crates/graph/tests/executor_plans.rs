@@ -1,0 +1,372 @@
+//! Many plans in one executor: pipelines cached across plans, textures pooled across plans,
+//! history kept per plan and invalid when its plan comes back after another ran, read-back
+//! naming the plan, parameter changes that rebuild nothing, and bounded plan state. Results
+//! are checked against the same CPU arithmetic as gpu_execute.rs.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use aograph_graph::*;
+use wgpu::TextureFormat::R32Float;
+
+const PATTERN: &str = r#"
+@vertex
+fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+@fragment
+fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
+    let x = u32(p.x);
+    let y = u32(p.y);
+    return vec4<f32>(f32((x * 3u + y * 5u) % 17u) / 16.0, 0.0, 0.0, 1.0);
+}
+"#;
+
+const SCALE: &str = r#"
+struct Params { scale: f32, offset: f32, pad0: f32, pad1: f32 }
+@group(0) @binding(0) var src: texture_2d<f32>;
+@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
+@group(0) @binding(2) var<uniform> params: Params;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(src);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let v = textureLoad(src, vec2<i32>(id.xy), 0).r;
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(v * params.scale + params.offset, 0.0, 0.0, 0.0));
+}
+"#;
+
+const SQUARE: &str = r#"
+@group(0) @binding(0) var src: texture_2d<f32>;
+@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(src);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let v = textureLoad(src, vec2<i32>(id.xy), 0).r;
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(v * v, 0.0, 0.0, 0.0));
+}
+"#;
+
+const ACCUMULATE: &str = r#"
+@group(0) @binding(0) var previous: texture_2d<f32>;
+@group(0) @binding(1) var current: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(previous);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let v = textureLoad(previous, vec2<i32>(id.xy), 0).r;
+    textureStore(current, vec2<i32>(id.xy), vec4<f32>(v + 1.0, 0.0, 0.0, 0.0));
+}
+"#;
+
+fn shaders() -> ShaderLibrary {
+    let lib = ShaderLibrary::inline_only();
+    lib.add_inline("pattern.wgsl", PATTERN);
+    lib.add_inline("scale.wgsl", SCALE);
+    lib.add_inline("square.wgsl", SQUARE);
+    lib.add_inline("accumulate.wgsl", ACCUMULATE);
+    lib
+}
+
+const SIZE: Extent = Extent::new(24, 16);
+
+fn pattern(x: u32, y: u32) -> f32 {
+    ((x * 3 + y * 5) % 17) as f32 / 16.0
+}
+
+fn expected(f: impl Fn(f32) -> f32) -> Vec<f32> {
+    (0..SIZE.height)
+        .flat_map(|y| (0..SIZE.width).map(move |x| (x, y)))
+        .map(|(x, y)| f(pattern(x, y)))
+        .collect()
+}
+
+fn params(scale: f32, offset: f32) -> Vec<u8> {
+    [scale, offset, 0.0, 0.0]
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .collect()
+}
+
+/// pattern -> scale(scale, offset) -> exported.
+fn scale_decl(scale: f32, offset: f32) -> (GraphDecl, TextureHandle) {
+    let mut b = GraphBuilder::new();
+    let desc = TextureDesc::new(R32Float, SizeClass::FULL);
+    let img = b.create_texture("pattern", desc);
+    let img = b
+        .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
+        .color_attachment(img);
+    let out = b.create_texture("scaled", desc);
+    let mut p = b.compute_pass("scale", "scale.wgsl", "main");
+    p.sample("src", img);
+    p.uniform("params", &params(scale, offset));
+    let out = p.write_storage("dst", out);
+    p.dispatch_over(out);
+    b.export(out);
+    (b.build(), out)
+}
+
+/// pattern -> square -> exported (another structure, another pipeline).
+fn square_decl() -> (GraphDecl, TextureHandle) {
+    let mut b = GraphBuilder::new();
+    let desc = TextureDesc::new(R32Float, SizeClass::FULL);
+    let img = b.create_texture("pattern", desc);
+    let img = b
+        .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
+        .color_attachment(img);
+    let out = b.create_texture("squared", desc);
+    let mut p = b.compute_pass("square", "square.wgsl", "main");
+    p.sample("src", img);
+    let out = p.write_storage("dst", out);
+    p.dispatch_over(out);
+    b.export(out);
+    (b.build(), out)
+}
+
+fn accumulate_decl() -> (GraphDecl, TextureHandle) {
+    let mut b = GraphBuilder::new();
+    let hist = b.history_texture("count", TextureDesc::new(R32Float, SizeClass::FULL));
+    let mut p = b.compute_pass("accumulate", "accumulate.wgsl", "main");
+    p.sample("previous", hist.previous);
+    let cur = p.write_storage("current", hist.current);
+    p.dispatch_over(cur);
+    (b.build(), cur)
+}
+
+fn plan(decl: GraphDecl) -> Arc<CompiledGraph> {
+    Arc::new(compile(decl, &shaders(), CompileOptions::default()).expect("compiles"))
+}
+
+fn read(exec: &Executor, plan: &CompiledGraph, h: TextureHandle) -> Vec<f32> {
+    exec.read_texture(plan, h).unwrap().to_f32().unwrap()
+}
+
+#[test]
+fn switching_a_b_a_b_creates_no_pipeline_or_texture_after_the_first_two_frames() {
+    let Some(gpu) = test_gpu() else { return };
+    let (da, out_a) = scale_decl(2.0, 1.0);
+    let (db, out_b) = square_decl();
+    let (a, b) = (plan(da), plan(db));
+    let mut exec = Executor::new(gpu.clone());
+    exec.execute(&a, SIZE).unwrap();
+    exec.execute(&b, SIZE).unwrap();
+    let pipelines = exec.pipeline_created_count();
+    let textures = exec.pool_created_count();
+    assert_eq!(
+        pipelines, 3,
+        "pattern (shared by both plans), scale and square"
+    );
+    for round in 0..4 {
+        exec.execute(&a, SIZE).unwrap();
+        assert_eq!(read(&exec, &a, out_a), expected(|v| v * 2.0 + 1.0), "round {round}");
+        exec.execute(&b, SIZE).unwrap();
+        assert_eq!(read(&exec, &b, out_b), expected(|v| v * v), "round {round}");
+    }
+    assert_eq!(exec.pipeline_created_count(), pipelines, "switching created pipelines");
+    assert_eq!(exec.pool_created_count(), textures, "switching created textures");
+    assert_eq!(exec.plan_count(), 2);
+    assert!(gpu.take_errors().is_empty());
+}
+
+#[test]
+fn textures_are_pooled_across_plans() {
+    let Some(gpu) = test_gpu() else { return };
+    let (da, _) = scale_decl(2.0, 1.0);
+    let (db, _) = square_decl();
+    let (a, b) = (plan(da), plan(db));
+    // Alone, each plan needs two textures (pattern, output).
+    let mut exec = Executor::new(gpu.clone());
+    exec.execute(&a, SIZE).unwrap();
+    assert_eq!(exec.pool_created_count(), 2);
+    // B's pattern texture is A's, which went back to the pool at the end of A's frame; only
+    // B's output is new, because A keeps its exported output readable.
+    exec.execute(&b, SIZE).unwrap();
+    assert_eq!(exec.pool_created_count(), 3);
+}
+
+#[test]
+fn plans_taking_turns_at_different_sizes_keep_their_pooled_textures() {
+    // Free textures wait `TexturePool::IDLE_FRAMES` frames for a taker, so a plan's
+    // intermediates survive a frame of another plan whose textures are all of other sizes.
+    let Some(gpu) = test_gpu() else { return };
+    let (da, _) = scale_decl(2.0, 1.0);
+    let (db, _) = square_decl();
+    let (a, b) = (plan(da), plan(db));
+    let mut exec = Executor::new(gpu);
+    exec.execute(&a, SIZE).unwrap();
+    exec.execute(&b, Extent::new(8, 8)).unwrap();
+    let textures = exec.pool_created_count();
+    for _ in 0..5 {
+        exec.execute(&a, SIZE).unwrap();
+        exec.execute(&b, Extent::new(8, 8)).unwrap();
+    }
+    assert_eq!(exec.pool_created_count(), textures);
+}
+
+#[test]
+fn read_texture_reads_the_plan_it_names_whatever_ran_since() {
+    let Some(gpu) = test_gpu() else { return };
+    let (da, out_a) = scale_decl(2.0, 1.0);
+    let (db, out_b) = square_decl();
+    let (a, b) = (plan(da), plan(db));
+    let mut exec = Executor::new(gpu);
+    let err = exec.read_texture(&a, out_a).unwrap_err();
+    assert!(err.to_string().contains("has not executed"), "{err}");
+    exec.execute(&a, SIZE).unwrap();
+    exec.execute(&b, SIZE).unwrap();
+    exec.execute(&b, SIZE).unwrap();
+    assert_eq!(read(&exec, &a, out_a), expected(|v| v * 2.0 + 1.0));
+    assert_eq!(read(&exec, &b, out_b), expected(|v| v * v));
+}
+
+#[test]
+fn history_is_invalid_when_its_plan_comes_back_after_another_ran() {
+    let Some(gpu) = test_gpu() else { return };
+    let (dh, count) = accumulate_decl();
+    let (da, _) = scale_decl(2.0, 1.0);
+    let (h, a) = (plan(dh), plan(da));
+    let mut exec = Executor::new(gpu);
+    for n in 1..=3 {
+        assert_eq!(exec.history_valid(&h, "count", SIZE), n > 1);
+        exec.execute(&h, SIZE).unwrap();
+        assert!(read(&exec, &h, count).iter().all(|&v| v == n as f32));
+    }
+    exec.execute(&a, SIZE).unwrap();
+    assert!(
+        !exec.history_valid(&h, "count", SIZE),
+        "another plan ran: the history is a frame stale"
+    );
+    exec.execute(&h, SIZE).unwrap();
+    assert!(
+        read(&exec, &h, count).iter().all(|&v| v == 1.0),
+        "stale history must read as zero"
+    );
+    assert!(exec.history_valid(&h, "count", SIZE));
+    exec.execute(&h, SIZE).unwrap();
+    assert!(read(&exec, &h, count).iter().all(|&v| v == 2.0));
+}
+
+#[test]
+fn history_of_a_plan_that_stopped_running_is_evicted() {
+    let Some(gpu) = test_gpu() else { return };
+    let (dh, _) = accumulate_decl();
+    let (da, _) = scale_decl(2.0, 1.0);
+    let (h, a) = (plan(dh), plan(da));
+    // What A alone holds after many frames.
+    let mut alone = Executor::new(gpu.clone());
+    for _ in 0..20 {
+        alone.execute(&a, SIZE).unwrap();
+    }
+    let a_only = alone.texture_count();
+    let mut exec = Executor::new(gpu);
+    exec.execute(&h, SIZE).unwrap();
+    exec.execute(&a, SIZE).unwrap();
+    assert!(exec.texture_count() >= a_only + 2, "the history's two textures are held");
+    for _ in 0..20 {
+        exec.execute(&a, SIZE).unwrap();
+    }
+    assert_eq!(
+        exec.texture_count(),
+        a_only,
+        "an unused history's textures return to the pool, which drops them"
+    );
+}
+
+#[test]
+fn a_new_parameter_value_rebuilds_nothing_and_takes_effect() {
+    let Some(gpu) = test_gpu() else { return };
+    let lib = shaders();
+    let mut compiler = GraphCompiler::new();
+    let (d1, out) = scale_decl(2.0, 1.0);
+    let p1 = compiler
+        .compile(d1, &lib, CompileOptions::default())
+        .unwrap();
+    let mut exec = Executor::new(gpu);
+    exec.execute(&p1, SIZE).unwrap();
+    let pipelines = exec.pipeline_created_count();
+    let textures = exec.pool_created_count();
+    let (d2, _) = scale_decl(-1.0, 0.5);
+    let p2 = compiler
+        .compile(d2, &lib, CompileOptions::default())
+        .unwrap();
+    assert_eq!(compiler.compile_count(), 1, "a parameter value is not structure");
+    exec.execute(&p2, SIZE).unwrap();
+    assert_eq!(read(&exec, &p2, out), expected(|v| -v + 0.5));
+    // Back to the first declaration: its own values are written again.
+    exec.execute(&p1, SIZE).unwrap();
+    assert_eq!(read(&exec, &p1, out), expected(|v| v * 2.0 + 1.0));
+    assert_eq!(exec.pipeline_created_count(), pipelines);
+    assert_eq!(exec.pool_created_count(), textures);
+    assert_eq!(exec.plan_count(), 1, "one structure, one plan state");
+}
+
+/// Counts how often it was recorded.
+struct CountingPass(Arc<AtomicU32>);
+
+impl CustomPass for CountingPass {
+    fn kind_name(&self) -> &str {
+        "counting"
+    }
+    fn record(&self, _ctx: &mut PassContext<'_>) -> GraphResult<()> {
+        self.0.fetch_add(1, Ordering::Relaxed);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_rebuilt_custom_pass_records_not_the_cached_declarations_pass() {
+    let Some(gpu) = test_gpu() else { return };
+    let lib = shaders();
+    let mut compiler = GraphCompiler::new();
+    let build = |counter: &Arc<AtomicU32>| {
+        let mut b = GraphBuilder::new();
+        b.custom_pass("count", CountingPass(counter.clone()))
+            .side_effect();
+        b.build()
+    };
+    let (first, second) = (Arc::new(AtomicU32::new(0)), Arc::new(AtomicU32::new(0)));
+    let p1 = compiler
+        .compile(build(&first), &lib, CompileOptions::default())
+        .unwrap();
+    let p2 = compiler
+        .compile(build(&second), &lib, CompileOptions::default())
+        .unwrap();
+    let mut exec = Executor::new(gpu);
+    exec.execute(&p1, SIZE).unwrap();
+    exec.execute(&p2, SIZE).unwrap();
+    exec.execute(&p2, SIZE).unwrap();
+    assert_eq!(first.load(Ordering::Relaxed), 1);
+    assert_eq!(second.load(Ordering::Relaxed), 2);
+}
+
+/// A side-effect plan of one custom pass, distinct per `key`.
+struct KeyedPass(u64);
+
+impl CustomPass for KeyedPass {
+    fn kind_name(&self) -> &str {
+        "keyed"
+    }
+    fn cache_key(&self) -> u64 {
+        self.0
+    }
+    fn record(&self, _ctx: &mut PassContext<'_>) -> GraphResult<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn plan_state_is_bounded() {
+    let Some(gpu) = test_gpu() else { return };
+    let lib = shaders();
+    let mut exec = Executor::new(gpu);
+    for key in 0..40u64 {
+        let mut b = GraphBuilder::new();
+        b.custom_pass("p", KeyedPass(key)).side_effect();
+        let p = Arc::new(compile(b.build(), &lib, CompileOptions::default()).unwrap());
+        exec.execute(&p, SIZE).unwrap();
+        assert!(exec.plan_count() <= 16, "{} plans held", exec.plan_count());
+    }
+    assert_eq!(exec.plan_count(), 16);
+}
