@@ -110,7 +110,9 @@ impl AttachmentOps {
     pub fn loads(&self) -> bool {
         match self {
             Self::Color { load, .. } => *load == LoadOp::Load,
-            Self::Depth { load, read_only, .. } => *read_only || *load == LoadOp::Load,
+            Self::Depth {
+                load, read_only, ..
+            } => *read_only || *load == LoadOp::Load,
         }
     }
 }

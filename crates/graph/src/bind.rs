@@ -96,14 +96,9 @@ pub(crate) fn bind_resources(
                     mip_levels: desc.mip_levels,
                     usage: history_usage(plan, history),
                 };
-                let (pair, valid) = src.history.prepare(
-                    device,
-                    src.pool,
-                    plan.key(),
-                    history,
-                    key,
-                    src.frame,
-                );
+                let (pair, valid) =
+                    src.history
+                        .prepare(device, src.pool, plan.key(), history, key, src.frame);
                 if matches!(res.origin, ResourceOrigin::HistoryPrevious { .. }) {
                     if !valid {
                         clear_texture(src.gpu, encoder, &pair.previous().bound.texture);
@@ -179,9 +174,7 @@ pub(crate) fn bind_groups(
                             .iter()
                             .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
                             .ok_or_else(missing)?;
-                        let t = state.textures[u.resource()]
-                            .as_ref()
-                            .ok_or_else(missing)?;
+                        let t = state.textures[u.resource()].as_ref().ok_or_else(missing)?;
                         let storage = matches!(b.kind, ShaderBindingKind::StorageTexture { .. });
                         wgpu::BindingResource::TextureView(t.view_of(if storage {
                             u.mip.or(Some(0))

@@ -59,9 +59,9 @@ impl HistoryStore {
     /// textures of `key` (see the module invariant).
     pub fn is_valid(&self, plan: PlanKey, name: &str, key: &PoolKey, frame: u64) -> bool {
         !self.reset
-            && self.pair(plan, name).is_some_and(|p| {
-                fits(&p.key, key) && p.written.is_some_and(|w| w + 1 == frame)
-            })
+            && self
+                .pair(plan, name)
+                .is_some_and(|p| fits(&p.key, key) && p.written.is_some_and(|w| w + 1 == frame))
     }
     fn pair(&self, plan: PlanKey, name: &str) -> Option<&HistoryPair> {
         self.plans.get(&plan)?.iter().find(|p| p.name == name)

@@ -86,10 +86,13 @@ pub(crate) fn record_pass(
                 })?;
                 match ops {
                     AttachmentOps::Color { load, .. } => {
-                        let slot = color.get_mut(n_color).ok_or_else(|| GraphError::InvalidPass {
-                            pass: pass.name.clone(),
-                            message: "more than 8 colour attachments".into(),
-                        })?;
+                        let slot =
+                            color
+                                .get_mut(n_color)
+                                .ok_or_else(|| GraphError::InvalidPass {
+                                    pass: pass.name.clone(),
+                                    message: "more than 8 colour attachments".into(),
+                                })?;
                         *slot = Some(wgpu::RenderPassColorAttachment {
                             view,
                             depth_slice: None,
@@ -156,7 +159,8 @@ pub(crate) fn record_pass(
                     .find(|u| u.access == access)
                     .and_then(|u| state.textures[u.resource()].as_ref())
             };
-            let (Some(src), Some(dst)) = (find(TextureAccess::CopySrc), find(TextureAccess::CopyDst))
+            let (Some(src), Some(dst)) =
+                (find(TextureAccess::CopySrc), find(TextureAccess::CopyDst))
             else {
                 return Err(GraphError::InvalidPass {
                     pass: pass.name.clone(),

@@ -282,8 +282,12 @@ fn a_cache_hit_keeps_the_new_declarations_custom_pass() {
     };
     let lib = ShaderLibrary::inline_only();
     let mut c = GraphCompiler::new();
-    let first = c.compile(build(1), &lib, CompileOptions::default()).unwrap();
-    let second = c.compile(build(2), &lib, CompileOptions::default()).unwrap();
+    let first = c
+        .compile(build(1), &lib, CompileOptions::default())
+        .unwrap();
+    let second = c
+        .compile(build(2), &lib, CompileOptions::default())
+        .unwrap();
     assert_eq!(c.compile_count(), 1, "same structure: a hit");
     let pass_of = |plan: &CompiledGraph| match &plan.decl.passes[0].kind {
         PassKind::Custom(p) => Arc::as_ptr(p) as *const u8,

@@ -160,12 +160,24 @@ fn switching_a_b_a_b_creates_no_pipeline_or_texture_after_the_first_two_frames()
     );
     for round in 0..4 {
         exec.execute(&a, SIZE).unwrap();
-        assert_eq!(read(&exec, &a, out_a), expected(|v| v * 2.0 + 1.0), "round {round}");
+        assert_eq!(
+            read(&exec, &a, out_a),
+            expected(|v| v * 2.0 + 1.0),
+            "round {round}"
+        );
         exec.execute(&b, SIZE).unwrap();
         assert_eq!(read(&exec, &b, out_b), expected(|v| v * v), "round {round}");
     }
-    assert_eq!(exec.pipeline_created_count(), pipelines, "switching created pipelines");
-    assert_eq!(exec.pool_created_count(), textures, "switching created textures");
+    assert_eq!(
+        exec.pipeline_created_count(),
+        pipelines,
+        "switching created pipelines"
+    );
+    assert_eq!(
+        exec.pool_created_count(),
+        textures,
+        "switching created textures"
+    );
     assert_eq!(exec.plan_count(), 2);
     assert!(gpu.take_errors().is_empty());
 }
@@ -263,7 +275,10 @@ fn history_of_a_plan_that_stopped_running_is_evicted() {
     let mut exec = Executor::new(gpu);
     exec.execute(&h, SIZE).unwrap();
     exec.execute(&a, SIZE).unwrap();
-    assert!(exec.texture_count() >= a_only + 2, "the history's two textures are held");
+    assert!(
+        exec.texture_count() >= a_only + 2,
+        "the history's two textures are held"
+    );
     for _ in 0..20 {
         exec.execute(&a, SIZE).unwrap();
     }
@@ -291,7 +306,11 @@ fn a_new_parameter_value_rebuilds_nothing_and_takes_effect() {
     let p2 = compiler
         .compile(d2, &lib, CompileOptions::default())
         .unwrap();
-    assert_eq!(compiler.compile_count(), 1, "a parameter value is not structure");
+    assert_eq!(
+        compiler.compile_count(),
+        1,
+        "a parameter value is not structure"
+    );
     exec.execute(&p2, SIZE).unwrap();
     assert_eq!(read(&exec, &p2, out), expected(|v| -v + 0.5));
     // Back to the first declaration: its own values are written again.

@@ -60,7 +60,9 @@ fn slow_plan(iterations: u32) -> (Arc<CompiledGraph>, TextureHandle) {
 /// `execute` wait for *their* work.
 fn own_gpu() -> Option<Arc<GpuContext>> {
     test_gpu()?;
-    Some(Arc::new(GpuContext::new().expect("a second device on the same adapter")))
+    Some(Arc::new(
+        GpuContext::new().expect("a second device on the same adapter"),
+    ))
 }
 
 /// A flag set when the GPU finishes everything submitted so far (its callback runs at the next
@@ -117,7 +119,10 @@ fn execute_returns_while_the_gpu_works_and_timings_arrive_later_tagged_with_thei
     assert_eq!(t.source, Some(TimingSource::GpuTimestamps));
     assert_eq!(t.passes.len(), 1);
     assert!(t.passes[0].1 > 0.0, "{t:?}");
-    assert!(polls > 0, "the timings were there at once: the frame did not run long");
+    assert!(
+        polls > 0,
+        "the timings were there at once: the frame did not run long"
+    );
     assert!(done.load(Ordering::Acquire));
     println!(
         "execute returned after {returned_after:?}; the frame then ran {:.1} ms on the device \

@@ -291,7 +291,11 @@ fn timings_name_every_pass_from_both_sources() {
         exec.set_timing(mode).unwrap();
         let frame = exec.execute(&plan, Extent::new(64, 64)).unwrap();
         let t = exec.wait_timings().unwrap().clone();
-        assert_eq!(t.frame, Some(frame), "{mode:?}: the table is tagged with its frame");
+        assert_eq!(
+            t.frame,
+            Some(frame),
+            "{mode:?}: the table is tagged with its frame"
+        );
         assert_eq!(
             t.passes.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
             ["pattern", "blur0", "blur1", "blur2"]
