@@ -6,12 +6,14 @@
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, images};
+use aograph_ao::ParamSpec;
 use aograph_ao::{
     AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry, check_param, spec,
 };
+use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{
-    BufferAccess, CompileOptions, Executor, Extent, GBufferChannel, GBufferChannels, GpuContext,
-    GraphCompiler, ParamSpec, SizeClass, TextureDesc,
+    BufferAccess, CompileOptions, Executor, Extent, GpuContext, GraphCompiler, SizeClass,
+    TextureDesc,
 };
 use serde::{Deserialize, Serialize};
 
@@ -121,7 +123,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut exec = Executor::with_shaders(gpu.clone(), shaders);
     let view = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("view"),
-        size: std::mem::size_of::<aograph_graph::ViewUniforms>() as u64,
+        size: std::mem::size_of::<aograph_frame::ViewUniforms>() as u64,
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
@@ -137,7 +139,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         dt: 0.0,
     });
     gpu.queue.write_buffer(&view, 0, block.bytes());
-    exec.import_buffer(aograph_graph::VIEW_BUFFER, view);
+    exec.import_buffer(aograph_frame::VIEW_BUFFER, view);
     exec.execute(&plan, size)?;
 
     let out = std::path::Path::new("out/custom");

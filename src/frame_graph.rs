@@ -6,9 +6,11 @@
 use std::sync::Arc;
 
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
+use aograph_frame::{
+    DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms,
+};
 use aograph_graph::{
-    BufferDesc, DepthFormat, Extent, GBufferChannel, GBufferChannels, GBufferTextures,
-    GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle, VIEW_BUFFER, ViewUniforms,
+    BufferDesc, Extent, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle,
 };
 use aograph_scene::gbuffer::{GBufferClock, add_gbuffer, required_channels};
 use aograph_scene::{ReferenceNormals, Scene};

@@ -7,9 +7,10 @@ use std::sync::Arc;
 
 use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
+use aograph_frame::VIEW_BUFFER;
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphCompiler, PassTimings,
-    ShaderLibrary, TextureHandle, VIEW_BUFFER,
+    ShaderLibrary, TextureHandle,
 };
 use aograph_scene::gbuffer::GBufferFrame;
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
@@ -113,7 +114,7 @@ impl Renderer {
         }
         let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("view"),
-            size: std::mem::size_of::<aograph_graph::ViewUniforms>() as u64,
+            size: std::mem::size_of::<aograph_frame::ViewUniforms>() as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });

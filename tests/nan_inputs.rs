@@ -15,9 +15,10 @@ use std::sync::Arc;
 use aograph::{FrameOutputs, Renderer};
 use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
+use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_graph::{
-    BufferDesc, CompileOptions, Executor, Extent, GBufferChannel, GBufferTextures, GraphBuilder,
-    SizeClass, TextureDesc, VIEW_BUFFER, ViewUniforms, compile, test_gpu,
+    BufferDesc, CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, compile,
+    test_gpu,
 };
 use aograph_scene::ReferenceNormals;
 use aograph_scene::view_block::{ViewFrame, view_uniforms};

@@ -29,7 +29,8 @@ use std::time::Instant;
 
 use aograph::{FrameOutputs, Renderer};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
-use aograph_graph::{DepthFormat, Extent, GpuContext, test_gpu};
+use aograph_frame::DepthFormat;
+use aograph_graph::{Extent, GpuContext, test_gpu};
 use aograph_scene::primitives::{cuboid, quad};
 use aograph_scene::{Camera, Mesh, Projection, Scene, SceneBuilder};
 use glam::{Mat4, Vec3};

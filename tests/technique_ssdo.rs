@@ -10,7 +10,8 @@ use std::sync::Arc;
 
 use aograph::{FrameOutputs, build_frame_graph};
 use aograph_ao::TechniqueRegistry;
-use aograph_graph::{Extent, GBufferChannel};
+use aograph_frame::GBufferChannel;
+use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
 
 const RADIUS: f32 = 1.0;

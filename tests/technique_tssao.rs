@@ -13,13 +13,13 @@ use std::sync::Arc;
 
 use aograph::{FrameOutputs, ReferenceSettings, Renderer};
 use aograph_ao::AoConfig;
+use aograph_ao::ParamSpec;
 use aograph_ao::blocks::temporal::{
     TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
 use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
-use aograph_graph::{
-    BufferAccess, Extent, GBufferChannels, ParamSpec, PassTimings, SizeClass, TextureDesc, test_gpu,
-};
+use aograph_frame::GBufferChannels;
+use aograph_graph::{BufferAccess, Extent, PassTimings, SizeClass, TextureDesc, test_gpu};
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::{Mat4, Vec3};
 

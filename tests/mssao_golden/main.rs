@@ -10,10 +10,10 @@
 use std::sync::Arc;
 
 use aograph_ao::{AoBuildContext, TechniqueRegistry};
+use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_graph::{
-    BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GBufferChannel, GBufferTextures,
-    GpuContext, GraphBuilder, ResourceOrigin, SizeClass, TextureDesc, TextureHandle, VIEW_BUFFER,
-    ViewUniforms, compile, test_gpu,
+    BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder,
+    ResourceOrigin, SizeClass, TextureDesc, TextureHandle, compile, test_gpu,
 };
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Projection};

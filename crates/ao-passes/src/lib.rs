@@ -15,5 +15,5 @@ pub use error::{AoError, AoResult, check_one_of, check_param};
 pub use levels::Levels;
 pub use registry::TechniqueRegistry;
 pub use technique::{
-    ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, DynAoTechnique, spec,
+    ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, DynAoTechnique, ParamSpec, spec,
 };

@@ -6,15 +6,22 @@
 //! output size, 1 = unoccluded). [`DynAoTechnique`] is the object-safe face the registry holds;
 //! every typed technique gets it for free.
 
-use aograph_graph::{
-    BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder, ParamSpec,
-    SizeClass, TextureDesc, TextureHandle, intermediate_variant,
-};
+use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures, intermediate_shader};
+use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 use serde::Deserialize;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
 use crate::error::{AoError, AoResult};
+
+/// One parameter of a technique, for listings, the viewer's controls and error messages.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamSpec {
+    pub name: &'static str,
+    pub default: String,
+    pub allowed: String,
+    pub doc: &'static str,
+}
 
 /// Format of every technique's accessibility output.
 pub const ACCESSIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -67,12 +74,12 @@ impl AoBuildContext<'_> {
             _ => wgpu::TextureFormat::Rgba32Float,
         }
     }
-    /// The shader `file` at the intermediate precision: `file?intermediate=r16float` under
+    /// The shader `file` at the intermediate precision: `file?IntermediateStorage=f16` under
     /// R16Float, `file` itself under R32Float. The file declares its intermediate outputs'
     /// type on one line, `alias IntermediateStorage = texture_storage_2d<r32float, write>;`
-    /// (or rgba32float), which the variant rewrites (`aograph_graph::ShaderLibrary` docs).
+    /// (or rgba32float), which the variant rewrites (`aograph_frame::intermediate_shader`).
     pub fn shader(&self, file: &str) -> String {
-        intermediate_variant(file, self.intermediate_format)
+        intermediate_shader(file, self.intermediate_format)
     }
 }
 

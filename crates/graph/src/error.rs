@@ -68,9 +68,6 @@ pub enum GraphError {
     #[error("pass `{pass}`: {message}")]
     InvalidPass { pass: String, message: String },
 
-    #[error("unknown plugin `{name}`; known plugins: {}", known.join(", "))]
-    UnknownPlugin { name: String, known: Vec<String> },
-
     #[error("invalid parameter `{name}` = {value} for `{owner}`: allowed {allowed}")]
     InvalidParameter {
         owner: String,
@@ -78,9 +75,6 @@ pub enum GraphError {
         value: String,
         allowed: String,
     },
-
-    #[error("invalid config: {0}")]
-    Config(String),
 
     #[error("shader `{file}` line {line}: {message}")]
     Shader {

@@ -15,14 +15,12 @@ mod declaration;
 mod dot;
 mod error;
 mod execute;
-mod gbuffer_channels;
 mod gpu;
 mod history;
 mod imports;
 mod lifetime;
 mod pipeline;
 mod plan_state;
-mod plugin;
 mod pool;
 mod readback;
 mod record;
@@ -31,7 +29,6 @@ mod shader;
 mod shader_check;
 mod summary;
 mod timing;
-mod view;
 
 pub use attachment::{AttachmentOps, ColorTarget, DepthTarget, LoadOp};
 pub use builder::{GraphBuilder, HistoryTexture, PassBuilder};
@@ -44,13 +41,8 @@ pub use declaration::{
 pub use dot::to_dot;
 pub use error::{GraphError, GraphResult};
 pub use execute::Executor;
-pub use gbuffer_channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
 pub use gpu::{GpuContext, test_gpu};
 pub use lifetime::{Lifetime, PhysicalTexture, texture_bytes};
-pub use plugin::{
-    GraphConfig, GraphPlugin, OutputConfig, ParamSpec, PluginConfig, PluginIo, PluginRegistry,
-    check_range, parse_params,
-};
 pub use pool::PoolKey;
 pub use readback::{TextureReadback, read_texture};
 pub use resource::{
@@ -58,10 +50,9 @@ pub use resource::{
     TextureAccess, TextureDesc, TextureHandle, texel_bytes,
 };
 pub use shader::{
-    INTERMEDIATE_ALIAS, ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary,
-    ShaderModuleInfo, intermediate_variant,
+    ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo,
+    storage_precision_variant,
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};
-pub use view::{Mat4Cols, VIEW_BUFFER, ViewUniforms};
 pub use wgpu;

@@ -5,24 +5,23 @@
 //! they come from. Every module is validated by naga before use; bind group layouts are
 //! reflected from the naga module, never written by hand.
 //!
-//! # Variants
+//! # Storage-precision variants
 //!
-//! A shader name may carry a variant suffix, `file.wgsl?intermediate=r16float`. The one variant
-//! key is `intermediate`, for passes whose storage output follows a technique's intermediate
-//! format: such a file declares its storage type once, on a line of its own,
+//! A shader name may carry a variant suffix, `file.wgsl?Alias=f16`: for a file that declares a
+//! storage texture type once, on a line of its own, as written at 32-bit float precision,
 //!
 //! ```text
-//! alias IntermediateStorage = texture_storage_2d<r32float, write>;
+//! alias Alias = texture_storage_2d<r32float, write>;
 //! ```
 //!
-//! and uses `IntermediateStorage` for the globals it writes at that precision. The file as
-//! written (no suffix, or `?intermediate=r32float`) is valid WGSL at 32-bit precision;
-//! `?intermediate=r16float` rewrites the format on that line only, and only a 32-bit float
-//! format, to the 16-bit float format with the same channels (r32float -> r16float, rg32float ->
-//! rg16float, rgba32float -> rgba16float). Nothing else in the file changes, line numbers
-//! included. Asking for the 16-bit variant of a file without that line is an error (the
-//! suffix would silently do nothing). [`intermediate_variant`] builds the name;
-//! [`ShaderLibrary::variants`] lists the variants a file has (the naga test validates each).
+//! and uses `Alias` for the globals it writes, `?Alias=f16` rewrites the format on that line
+//! only to the 16-bit float format with the same channels (r32float -> r16float, rg32float ->
+//! rg16float, rgba32float -> rgba16float); `?Alias=f32` is the file as written. Several pairs
+//! join with `&`. Nothing else in the file changes, line numbers included. Naming an alias the
+//! file does not declare (at a 32-bit float format) is an error: the suffix would silently do
+//! nothing. [`storage_precision_variant`] builds the name; [`ShaderLibrary::variants`] lists
+//! the variants a file has (the naga test validates each). The graph gives the alias no
+//! meaning: a crate above it chooses which alias follows which setting.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -187,13 +186,16 @@ impl ShaderLibrary {
         if let Some(m) = lock(&self.cache).get(name) {
             return Ok(m.clone());
         }
-        let (file, variant) = parse_variant(name)?;
+        let (file, halved) = parse_variant(name)?;
         let (mut source, segments) = self.expand(file)?;
-        if variant == Variant::HalfIntermediate {
-            source = half_intermediate(&source).ok_or_else(|| GraphError::Shader {
+        for alias in halved {
+            source = half_storage(&source, alias).ok_or_else(|| GraphError::Shader {
                 file: file.into(),
                 line: 1,
-                message: format!("variant `{name}`: the file has no line `alias {INTERMEDIATE_ALIAS} = texture_storage_2d<r32float, write>;` (or rg32float, rgba32float) to rewrite"),
+                message: format!(
+                    "variant `{name}`: the file has no line `alias {alias} = \
+                     texture_storage_2d<r32float, write>;` (or rg32float, rgba32float) to rewrite"
+                ),
             })?;
         }
         let info = Arc::new(parse_and_reflect(name, source, &segments)?);
@@ -201,15 +203,15 @@ impl ShaderLibrary {
         Ok(info)
     }
 
-    /// The variant names file `name` supports besides itself: its r16float variant when it
-    /// declares the `IntermediateStorage` alias (see the module docs).
+    /// The variant names file `name` supports besides itself: `name?Alias=f16` for each alias
+    /// it declares at a 32-bit float storage format (see the module docs).
     pub fn variants(&self, name: &str) -> GraphResult<Vec<String>> {
         let (source, _) = self.expand(name)?;
-        Ok(if half_intermediate(&source).is_some() {
-            vec![intermediate_variant(name, wgpu::TextureFormat::R16Float)]
-        } else {
-            Vec::new()
-        })
+        Ok(storage_aliases(&source)
+            .into_iter()
+            .filter(|alias| half_storage(&source, alias).is_some())
+            .map(|alias| storage_precision_variant(name, alias, true))
+            .collect())
     }
 
     fn expand(&self, name: &str) -> GraphResult<(String, Vec<Segment>)> {
@@ -276,57 +278,78 @@ struct Expansion {
     seen: Vec<String>,
 }
 
-/// The type alias a variant-aware shader declares for its intermediate-precision outputs.
-pub const INTERMEDIATE_ALIAS: &str = "IntermediateStorage";
-
-/// The name of `file`'s variant whose `IntermediateStorage` outputs are single-channel
-/// `format` (or the multi-channel float format of the same precision): R16Float gives
-/// `file?intermediate=r16float`; any other format gives `file` itself (the 32-bit original).
-pub fn intermediate_variant(file: &str, format: wgpu::TextureFormat) -> String {
-    match format {
-        wgpu::TextureFormat::R16Float => format!("{file}?intermediate=r16float"),
-        _ => file.to_string(),
+/// The name of `file`'s variant whose storage alias `alias` is at 16-bit float precision
+/// (`half`) or as written: `file?alias=f16` or `file` itself.
+pub fn storage_precision_variant(file: &str, alias: &str, half: bool) -> String {
+    if half {
+        format!("{file}?{alias}=f16")
+    } else {
+        file.to_string()
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Variant {
-    AsWritten,
-    HalfIntermediate,
-}
-
-fn parse_variant(name: &str) -> GraphResult<(&str, Variant)> {
+/// The file name and the aliases to halve, from `file?A=f16&B=f32`.
+fn parse_variant(name: &str) -> GraphResult<(&str, Vec<&str>)> {
     let Some((file, suffix)) = name.split_once('?') else {
-        return Ok((name, Variant::AsWritten));
+        return Ok((name, Vec::new()));
     };
-    match suffix {
-        "intermediate=r32float" => Ok((file, Variant::AsWritten)),
-        "intermediate=r16float" => Ok((file, Variant::HalfIntermediate)),
-        _ => Err(GraphError::ShaderFile {
-            file: name.into(),
-            message: format!(
-                "unknown shader variant `?{suffix}`; known: `?intermediate=r16float`, `?intermediate=r32float`"
-            ),
-        }),
+    let mut halved = Vec::new();
+    for pair in suffix.split('&') {
+        match pair.split_once('=') {
+            Some((alias, "f16")) if is_identifier(alias) => halved.push(alias),
+            Some((alias, "f32")) if is_identifier(alias) => {}
+            _ => {
+                return Err(GraphError::ShaderFile {
+                    file: name.into(),
+                    message: format!(
+                        "unknown shader variant `{pair}`; a variant is `Alias=f16` or \
+                         `Alias=f32`, naming a storage alias the file declares (pairs joined \
+                         with `&`)"
+                    ),
+                });
+            }
+        }
     }
+    Ok((file, halved))
 }
 
-/// `source` with the format of its `alias IntermediateStorage = texture_storage_2d<F, A>;`
-/// line(s) halved (r32float -> r16float etc.); `None` when no such line names a 32-bit float
-/// format. Other lines are untouched.
-fn half_intermediate(source: &str) -> Option<String> {
+fn is_identifier(s: &str) -> bool {
+    s.chars()
+        .next()
+        .is_some_and(|c| c.is_alphabetic() || c == '_')
+        && s.chars().all(|c| c.is_alphanumeric() || c == '_')
+}
+
+/// The alias named on a line `alias NAME = texture_storage_2d<...>;`, if `line` is one.
+fn storage_alias(line: &str) -> Option<&str> {
+    let rest = line.trim_start().strip_prefix("alias")?;
+    if !rest.starts_with(char::is_whitespace) {
+        return None;
+    }
+    let (name, ty) = rest.split_once('=')?;
+    ty.trim_start()
+        .starts_with("texture_storage_2d<")
+        .then_some(name.trim())
+}
+
+/// Every storage alias `source` declares.
+fn storage_aliases(source: &str) -> Vec<&str> {
+    let mut out: Vec<&str> = source.lines().filter_map(storage_alias).collect();
+    out.dedup();
+    out
+}
+
+/// `source` with the format of its `alias ALIAS = texture_storage_2d<F, A>;` line(s) halved
+/// (r32float -> r16float etc.); `None` when no such line names a 32-bit float format. Other
+/// lines are untouched.
+fn half_storage(source: &str, alias: &str) -> Option<String> {
     let mut out = String::with_capacity(source.len());
     let mut found = false;
     for line in source.split_inclusive('\n') {
-        let t = line.trim_start();
-        let declares = t.strip_prefix("alias").is_some_and(|r| {
-            r.starts_with(char::is_whitespace)
-                && r.trim_start()
-                    .strip_prefix(INTERMEDIATE_ALIAS)
-                    .is_some_and(|r| r.trim_start().starts_with('='))
-        });
-        let open = line.find("texture_storage_2d<");
-        match (declares, open) {
+        match (
+            storage_alias(line) == Some(alias),
+            line.find("texture_storage_2d<"),
+        ) {
             (true, Some(open)) => {
                 let start = open + "texture_storage_2d<".len();
                 let len = line[start..].find(',')?;

@@ -1,8 +1,11 @@
-//! Shader variants (`file.wgsl?intermediate=r16float`): the `IntermediateStorage` alias line is
-//! the only thing rewritten, only from a 32-bit float format, and asking for a variant a file
-//! does not have is an error naming the file.
+//! Storage-precision variants (`file.wgsl?Alias=f16`): the named alias line is the only thing
+//! rewritten, only from a 32-bit float format, and asking for a variant a file does not have
+//! is an error naming the file. The graph gives `IntermediateStorage` no meaning; aograph-frame
+//! ties it to the AO intermediate precision.
 
-use aograph_graph::{GraphError, ShaderBindingKind, ShaderLibrary, intermediate_variant, wgpu};
+use aograph_graph::{
+    GraphError, ShaderBindingKind, ShaderLibrary, storage_precision_variant, wgpu,
+};
 
 const WRITER: &str = "// a pass with one intermediate output and one fixed r32float output\n\
 alias IntermediateStorage = texture_storage_2d<r32float, write>;\n\
@@ -37,10 +40,10 @@ fn the_half_variant_rewrites_only_the_alias_line() {
         wgpu::TextureFormat::R32Float
     );
     assert_eq!(
-        storage_format(&lib, "w.wgsl?intermediate=r32float", "raw"),
+        storage_format(&lib, "w.wgsl?IntermediateStorage=f32", "raw"),
         wgpu::TextureFormat::R32Float
     );
-    let half = "w.wgsl?intermediate=r16float";
+    let half = "w.wgsl?IntermediateStorage=f16";
     assert_eq!(
         storage_format(&lib, half, "raw"),
         wgpu::TextureFormat::R16Float
@@ -84,7 +87,7 @@ fn multi_channel_aliases_halve_to_the_same_channel_count() {
         assert!(src.contains(full), "{src}");
         let lib = lib(&[("w.wgsl", &src)]);
         assert_eq!(
-            storage_format(&lib, "w.wgsl?intermediate=r16float", "raw"),
+            storage_format(&lib, "w.wgsl?IntermediateStorage=f16", "raw"),
             wgpu_half,
             "{full} -> {half}"
         );
@@ -110,7 +113,7 @@ fn the_alias_may_come_from_an_include() {
         ),
     ]);
     assert_eq!(
-        storage_format(&lib, "w.wgsl?intermediate=r16float", "raw"),
+        storage_format(&lib, "w.wgsl?IntermediateStorage=f16", "raw"),
         wgpu::TextureFormat::R16Float
     );
 }
@@ -138,7 +141,7 @@ fn a_variant_the_file_does_not_have_is_an_error() {
     assert!(lib.load("plain.wgsl").is_ok() && lib.load("half.wgsl").is_ok());
     for name in ["plain.wgsl", "half.wgsl"] {
         let e = lib
-            .load(&format!("{name}?intermediate=r16float"))
+            .load(&format!("{name}?IntermediateStorage=f16"))
             .unwrap_err();
         assert!(
             matches!(&e, GraphError::Shader { file, .. } if file == name),
@@ -147,15 +150,18 @@ fn a_variant_the_file_does_not_have_is_an_error() {
         assert!(e.to_string().contains("alias IntermediateStorage"), "{e}");
     }
     let e = lib
-        .load("w.wgsl?intermediate=rgba8unorm")
+        .load("w.wgsl?IntermediateStorage=rgba8unorm")
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("unknown shader variant") && e.contains("intermediate=r16float"),
+        e.contains("unknown shader variant") && e.contains("`Alias=f16`"),
         "{e}"
     );
-    let e = lib.load("w.wgsl?precision=half").unwrap_err().to_string();
+    let e = lib.load("w.wgsl?precision").unwrap_err().to_string();
     assert!(e.contains("unknown shader variant"), "{e}");
+    // An alias the file does not declare is an error too, not a silent no-op.
+    let e = lib.load("w.wgsl?OtherStorage=f16").unwrap_err().to_string();
+    assert!(e.contains("alias OtherStorage"), "{e}");
 }
 
 #[test]
@@ -164,7 +170,7 @@ fn variants_lists_the_half_variant_of_files_with_the_alias() {
     let lib = lib(&[("plain.wgsl", plain), ("w.wgsl", WRITER)]);
     assert_eq!(
         lib.variants("w.wgsl").unwrap(),
-        ["w.wgsl?intermediate=r16float"]
+        ["w.wgsl?IntermediateStorage=f16"]
     );
     assert!(lib.variants("plain.wgsl").unwrap().is_empty());
 }
@@ -179,19 +185,52 @@ fn errors_keep_their_line_numbers_in_the_variant() {
     };
     assert_eq!(line("w.wgsl"), ("w.wgsl".to_string(), 8));
     assert_eq!(
-        line("w.wgsl?intermediate=r16float"),
+        line("w.wgsl?IntermediateStorage=f16"),
         ("w.wgsl".to_string(), 8)
     );
 }
 
 #[test]
-fn intermediate_variant_names() {
+fn variant_names_and_two_aliases_in_one_file() {
     assert_eq!(
-        intermediate_variant("ao/ssao/ao.wgsl", wgpu::TextureFormat::R16Float),
-        "ao/ssao/ao.wgsl?intermediate=r16float"
+        storage_precision_variant("ao/ssao/ao.wgsl", "IntermediateStorage", true),
+        "ao/ssao/ao.wgsl?IntermediateStorage=f16"
     );
     assert_eq!(
-        intermediate_variant("ao/ssao/ao.wgsl", wgpu::TextureFormat::R32Float),
+        storage_precision_variant("ao/ssao/ao.wgsl", "IntermediateStorage", false),
         "ao/ssao/ao.wgsl"
+    );
+    let two = WRITER
+        .replace(
+            "alias IntermediateStorage = texture_storage_2d<r32float, write>;\n",
+            "alias IntermediateStorage = texture_storage_2d<r32float, write>;\n\
+             alias FixedStorage = texture_storage_2d<r32float, write>;\n",
+        )
+        .replace(
+            "var fixed: texture_storage_2d<r32float, write>",
+            "var fixed: FixedStorage",
+        );
+    let lib = lib(&[("w.wgsl", &two)]);
+    assert_eq!(
+        lib.variants("w.wgsl").unwrap(),
+        ["w.wgsl?IntermediateStorage=f16", "w.wgsl?FixedStorage=f16"]
+    );
+    let both = "w.wgsl?IntermediateStorage=f16&FixedStorage=f16";
+    assert_eq!(
+        storage_format(&lib, both, "raw"),
+        wgpu::TextureFormat::R16Float
+    );
+    assert_eq!(
+        storage_format(&lib, both, "fixed"),
+        wgpu::TextureFormat::R16Float
+    );
+    let one = "w.wgsl?FixedStorage=f16";
+    assert_eq!(
+        storage_format(&lib, one, "raw"),
+        wgpu::TextureFormat::R32Float
+    );
+    assert_eq!(
+        storage_format(&lib, one, "fixed"),
+        wgpu::TextureFormat::R16Float
     );
 }

@@ -1,7 +1,8 @@
 //! Fills the graph's `ViewUniforms` block from a scene's camera at a time: matrices, the
 //! previous frame's view-projection (for reprojection and motion), viewport and depth range.
 
-use aograph_graph::{Extent, ViewUniforms};
+use aograph_frame::ViewUniforms;
+use aograph_graph::Extent;
 use glam::Mat4;
 
 use crate::camera::{Camera, Projection};

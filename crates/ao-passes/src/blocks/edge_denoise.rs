@@ -15,7 +15,8 @@
 //! the leak, and sky is never a tap. Earlier passes' textures have the caller's intermediate
 //! format.
 
-use aograph_graph::{GraphBuilder, TextureDesc, TextureHandle, intermediate_variant};
+use aograph_frame::intermediate_shader;
+use aograph_graph::{GraphBuilder, TextureDesc, TextureHandle};
 use bytemuck::{Pod, Zeroable};
 
 use super::{BLOCK_FORMAT, check_intermediate, desc_of, invalid};
@@ -87,7 +88,7 @@ pub fn edge_denoise(
         let format = if last { BLOCK_FORMAT } else { intermediate };
         let name = format!("{prefix}.denoise{k}");
         let out = b.create_texture(&name, TextureDesc::new(format, size));
-        let shader = intermediate_variant("blocks/edge_denoise.wgsl", format);
+        let shader = intermediate_shader("blocks/edge_denoise.wgsl", format);
         let beta = if last {
             params.blur_beta
         } else {

@@ -19,9 +19,8 @@
 //!   treat sky taps as absent; nothing writes NaN or infinity (every division has a non-zero
 //!   denominator by construction).
 
-use aograph_graph::{
-    Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle, intermediate_variant,
-};
+use aograph_frame::intermediate_shader;
+use aograph_graph::{Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 
 use crate::error::{AoError, AoResult};
 
@@ -190,7 +189,7 @@ pub(crate) fn blur_pass(
     let size = desc_of(b, prefix, "input", src)?.size;
     let name = format!("{prefix}.{pass}");
     let out = b.create_texture(&name, TextureDesc::new(format, size));
-    let mut p = b.compute_pass(&name, &intermediate_variant(shader, format), "main");
+    let mut p = b.compute_pass(&name, &intermediate_shader(shader, format), "main");
     p.sample("src", src);
     for (binding, h) in extra {
         p.sample(binding, *h);

@@ -80,9 +80,9 @@
 //! - [`TemporalMode::Average`] is TSSAO Eqs. 5-6 with one "sample" per frame: a running mean
 //!   over up to n_max frames, then exponential decay with weight 1 / (n_max + 1).
 
+use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
 use aograph_graph::{
-    BufferAccess, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder,
-    HistoryTexture, SizeClass, TextureDesc, TextureHandle,
+    BufferAccess, BufferHandle, GraphBuilder, HistoryTexture, SizeClass, TextureDesc, TextureHandle,
 };
 use bytemuck::{Pod, Zeroable};
 
@@ -369,7 +369,8 @@ pub fn add_temporal(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use aograph_graph::{BufferDesc, CompileOptions, ShaderLibrary, ViewUniforms, compile};
+    use aograph_frame::ViewUniforms;
+    use aograph_graph::{BufferDesc, CompileOptions, ShaderLibrary, compile};
 
     fn plan(with_motion: bool, params: &TemporalAccumulation) -> Vec<String> {
         let mut b = GraphBuilder::new();

@@ -61,7 +61,9 @@
 //! per channel from the albedo (spec §7), as `gtao_multibounce`. Neither enters the
 //! comparison with the reference, which reads the accessibility.
 
-use aograph_graph::{GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
@@ -383,10 +385,8 @@ impl AoTechnique for Gtao {
 mod tests {
     use super::*;
     use crate::{AoError, DynAoTechnique};
-    use aograph_graph::{
-        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms,
-        compile,
-    };
+    use aograph_frame::{GBufferTextures, ViewUniforms};
+    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan_names(params: &str) -> Vec<String> {
         let mut b = GraphBuilder::new();

@@ -47,9 +47,9 @@
 //!   `[ao] intermediate_format`; their writers are the matching shader variants (`ctx.shader`).
 //!   Without the blur `hbao.raw` is the output and stays R32Float.
 
-use aograph_graph::{
-    BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
-};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
@@ -283,10 +283,8 @@ impl AoTechnique for Hbao {
 mod tests {
     use super::*;
     use crate::{AoError, DynAoTechnique};
-    use aograph_graph::{
-        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms,
-        compile,
-    };
+    use aograph_frame::{GBufferTextures, ViewUniforms};
+    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan_names(params: &HbaoParams) -> Vec<String> {
         let mut b = GraphBuilder::new();

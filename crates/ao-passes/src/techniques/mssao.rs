@@ -70,7 +70,9 @@ mod passes;
 #[cfg(test)]
 mod tests;
 
-use aograph_graph::{GBufferChannel, GBufferChannels, ParamSpec, TextureHandle};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_graph::TextureHandle;
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::temporal::{

@@ -1,7 +1,8 @@
 //! `none`: accessibility 1 everywhere. The cost floor every technique is compared with: one
 //! full-screen write and nothing else, reading no g-buffer channel.
 
-use aograph_graph::{GBufferChannels, ParamSpec};
+use crate::ParamSpec;
+use aograph_frame::GBufferChannels;
 use serde::{Deserialize, Serialize};
 
 use crate::error::AoResult;

@@ -44,7 +44,9 @@
 //! sphere-on-plane, 128x96: MAE 0.045, mean signed error +0.043; a step W(r) = [r < R]
 //! would give MAE 0.027, but that is not the paper's method).
 
-use aograph_graph::{BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_graph::{BufferAccess, SizeClass};
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::{DepthReduction, GaussianBlur, depth_pyramid, gaussian_blur_with_intermediate};
@@ -276,9 +278,9 @@ impl AoTechnique for PyramidHbao {
 
 #[cfg(test)]
 mod tests {
+    use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
     use aograph_graph::{
-        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, TextureDesc,
-        VIEW_BUFFER, ViewUniforms, compile,
+        BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, TextureDesc, compile,
     };
 
     use super::*;
@@ -440,11 +442,11 @@ mod tests {
         };
         assert_eq!(
             shader_of("pyramid-hbao.ao"),
-            "ao/pyramid_hbao/ao.wgsl?intermediate=r16float"
+            "ao/pyramid_hbao/ao.wgsl?IntermediateStorage=f16"
         );
         assert_eq!(
             shader_of("pyramid-hbao.blur_x"),
-            "blocks/gaussian_blur_depth.wgsl?intermediate=r16float"
+            "blocks/gaussian_blur_depth.wgsl?IntermediateStorage=f16"
         );
         assert_eq!(
             shader_of("pyramid-hbao.blur_y"),

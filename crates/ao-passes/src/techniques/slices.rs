@@ -6,7 +6,8 @@
 //! Invariant: the AO pass's bindings are slices.wgsl's plus `params` (1), `ao` (8), `edges`
 //! (9) and the extra output's; the returned accessibility is R32Float at full size.
 
-use aograph_graph::{BufferAccess, GBufferChannel, SizeClass, TextureDesc};
+use aograph_frame::GBufferChannel;
+use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
 
 use crate::blocks::{EdgeDenoise, depth_prefilter, edge_denoise};
 use crate::error::AoResult;

@@ -34,9 +34,9 @@
 //!   writer is the matching variant of shaders/ao/ssao/ao.wgsl (`ctx.shader`); the blurred
 //!   output is R32Float like every technique's.
 
-use aograph_graph::{
-    BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
-};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
@@ -189,10 +189,8 @@ impl AoTechnique for Ssao {
 mod tests {
     use super::*;
     use crate::{AoError, DynAoTechnique};
-    use aograph_graph::{
-        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms,
-        compile,
-    };
+    use aograph_frame::{GBufferTextures, ViewUniforms};
+    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan_names(params: &SsaoParams) -> Vec<String> {
         let mut b = GraphBuilder::new();

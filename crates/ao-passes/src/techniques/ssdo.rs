@@ -65,10 +65,9 @@
 pub mod kernel;
 pub mod lighting;
 
-use aograph_graph::{
-    BufferAccess, BufferDesc, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
-    TextureHandle,
-};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_graph::{BufferAccess, BufferDesc, SizeClass, TextureDesc, TextureHandle};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{AoResult, check_param};
@@ -308,9 +307,8 @@ impl AoTechnique for Ssdo {
 mod tests {
     use super::*;
     use crate::{AoError, DynAoTechnique};
-    use aograph_graph::{
-        CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms, compile,
-    };
+    use aograph_frame::{GBufferTextures, ViewUniforms};
+    use aograph_graph::{CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan(params: &SsdoParams) -> (Vec<String>, Vec<String>) {
         let mut b = GraphBuilder::new();

@@ -88,9 +88,9 @@
 //!   n_max clamp bounds it as the paper says, but at small image sizes it is visible (the
 //!   `dynamic` test reports it).
 
-use aograph_graph::{
-    BufferAccess, GBufferChannel, GBufferChannels, ParamSpec, SizeClass, TextureDesc,
-};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
@@ -412,10 +412,8 @@ impl AoTechnique for Tssao {
 mod tests {
     use super::*;
     use crate::DynAoTechnique;
-    use aograph_graph::{
-        BufferDesc, CompileOptions, GBufferTextures, GraphBuilder, ShaderLibrary, ViewUniforms,
-        compile,
-    };
+    use aograph_frame::{GBufferTextures, ViewUniforms};
+    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan_names(with_motion: bool) -> Vec<String> {
         let mut b = GraphBuilder::new();

@@ -34,7 +34,8 @@
 //!   (common/horizon.wgsl), as gtao and hbao; precise acos for θ and γ alike (spec §10).
 //! - Not yet: indirect light and the ambient fallback (V5), which need radiance inputs.
 
-use aograph_graph::{GBufferChannel, GBufferChannels, ParamSpec};
+use crate::ParamSpec;
+use aograph_frame::{GBufferChannel, GBufferChannels};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 

@@ -9,10 +9,8 @@ mod raster;
 
 use std::sync::{Arc, Mutex};
 
-use aograph_graph::{
-    BufferAccess, BufferHandle, GBufferChannel, GBufferChannels, GBufferTextures, GraphBuilder,
-    SizeClass, TextureDesc,
-};
+use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
+use aograph_graph::{BufferAccess, BufferHandle, GraphBuilder, SizeClass, TextureDesc};
 
 use crate::model::Scene;
 pub use raster::GBufferRaster;

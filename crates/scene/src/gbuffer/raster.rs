@@ -7,9 +7,9 @@
 
 use std::sync::{Arc, Mutex};
 
+use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{
-    BufferHandle, CustomPass, GBufferChannel, GBufferChannels, GraphError, GraphResult,
-    PassContext, TextureHandle,
+    BufferHandle, CustomPass, GraphError, GraphResult, PassContext, TextureHandle,
 };
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;

@@ -2,9 +2,9 @@
 //! against the real WGSL, so bindings and formats are checked too), parameter validation and
 //! the uniform layout.
 
+use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_graph::{
-    BufferDesc, CompileOptions, CompiledGraph, GBufferChannel, GBufferTextures, GraphBuilder,
-    ShaderLibrary, TextureDesc, VIEW_BUFFER, ViewUniforms, compile,
+    BufferDesc, CompileOptions, CompiledGraph, GraphBuilder, ShaderLibrary, TextureDesc, compile,
 };
 
 use super::passes::MssaoUniform;

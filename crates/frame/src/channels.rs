@@ -4,7 +4,7 @@
 //! ([`DepthFormat`], Depth32Float unless the application asks for Depth24Plus): techniques read
 //! linear depth, never the depth buffer's encoding, so they work with either.
 
-use crate::resource::TextureHandle;
+use aograph_graph::TextureHandle;
 
 /// One g-buffer channel and its format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
