@@ -1,11 +1,19 @@
-//! Graph benchmarks: compile time for 10, 100 and 1,000 passes (uncached and cached), and the
-//! CPU cost per frame of executing a cached plan of 50 small compute passes on the device.
+//! Graph benchmarks:
+//! - compile time for 10, 100 and 1,000 passes, uncached and on a cache hit (the declaration
+//!   is built outside the timed region: compile consumes it);
+//! - the CPU time to record and submit a cached plan of 50 compute passes, with the GPU wait
+//!   outside the timed region (throughput in passes, so criterion prints the time per pass),
+//!   with timing off and with GPU timestamps;
+//! - the time to switch to a plan seen before (its state and pipelines cached), to a plan not
+//!   seen whose pipelines are cached (a new structure over the same shaders), and to a plan not
+//!   seen on a fresh executor (pipelines created: on lavapipe, LLVM compiling shaders).
 
 use std::hint::black_box;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use aograph_graph::*;
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
 /// A layered graph of `n` no-op passes: each reads two earlier outputs and writes one texture;
 /// every tenth output is exported, the rest feed later passes or get culled.
@@ -51,26 +59,31 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 "#;
 
-/// A chain of `n` compute passes over tiny textures.
-pub fn compute_chain(n: usize) -> (GraphDecl, ShaderLibrary) {
+fn chain_library() -> ShaderLibrary {
     let lib = ShaderLibrary::inline_only();
     lib.add_inline("chain.wgsl", CHAIN_SHADER);
     lib.add_inline("seed.wgsl", SEED_SHADER);
+    lib
+}
+
+/// A chain of `n` compute passes over tiny textures; `tag` names the passes, so chains with
+/// different tags are different structures over the same shaders (same pipelines).
+pub fn compute_chain(n: usize, tag: &str) -> GraphDecl {
     let mut b = GraphBuilder::new();
     let desc = TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL);
     let t = b.create_texture("seed", desc);
-    let mut p = b.compute_pass("seed", "seed.wgsl", "main");
+    let mut p = b.compute_pass(&format!("{tag}seed"), "seed.wgsl", "main");
     let mut cur = p.write_storage("dst", t);
     p.dispatch_over(cur);
     for i in 1..n {
         let t = b.create_texture(&format!("t{i}"), desc);
-        let mut p = b.compute_pass(&format!("p{i}"), "chain.wgsl", "main");
+        let mut p = b.compute_pass(&format!("{tag}p{i}"), "chain.wgsl", "main");
         p.sample("src", cur);
         cur = p.write_storage("dst", t);
         p.dispatch_over(cur);
     }
     b.export(cur);
-    (b.build(), lib)
+    b.build()
 }
 
 fn compile_bench(c: &mut Criterion) {
@@ -79,40 +92,136 @@ fn compile_bench(c: &mut Criterion) {
     for n in [10usize, 100, 1000] {
         let decl = layered_graph(n);
         g.bench_with_input(BenchmarkId::new("uncached", n), &decl, |bench, d| {
-            bench.iter(|| {
-                compile(black_box(d.clone()), &lib, CompileOptions::default())
-                    .map(|p| p.order.len())
-            })
+            bench.iter_batched(
+                || d.clone(),
+                |d| compile(black_box(d), &lib, CompileOptions::default()).map(|p| p.order.len()),
+                BatchSize::SmallInput,
+            )
         });
         let mut compiler = GraphCompiler::new();
         g.bench_with_input(BenchmarkId::new("cached", n), &decl, |bench, d| {
-            bench.iter(|| {
-                compiler
-                    .compile(black_box(d.clone()), &lib, CompileOptions::default())
-                    .map(|p| p.order.len())
-            })
+            bench.iter_batched(
+                || d.clone(),
+                |d| {
+                    compiler
+                        .compile(black_box(d), &lib, CompileOptions::default())
+                        .map(|p| p.order.len())
+                },
+                BatchSize::SmallInput,
+            )
         });
     }
     g.finish();
 }
 
+/// Sums the time `frame` reports over `iters` iterations (each times only its own part).
+fn timed_iters(iters: u64, mut frame: impl FnMut() -> Duration) -> Duration {
+    (0..iters).map(|_| frame()).sum()
+}
+
+/// The time `f` takes.
+fn time(f: impl FnOnce()) -> Duration {
+    let t = Instant::now();
+    f();
+    t.elapsed()
+}
+
 fn execute_bench(c: &mut Criterion) {
     let Ok(gpu) = GpuContext::new() else {
-        eprintln!("SKIPPED: execute benchmark needs a GPU adapter");
+        eprintln!("SKIPPED: execute benchmarks need a GPU adapter");
         return;
     };
     let gpu = Arc::new(gpu);
-    let (decl, lib) = compute_chain(50);
-    let plan = Arc::new(compile(decl, &lib, CompileOptions::default()).expect("chain compiles"));
-    let mut exec = Executor::new(gpu.clone());
+    let lib = chain_library();
     let size = Extent::new(8, 8);
-    exec.execute(&plan, size).expect("first frame");
-    c.bench_function("execute cached plan of 50 compute passes (8x8)", |bench| {
-        bench.iter(|| {
-            exec.execute(&plan, size).expect("frame");
-            let _ = gpu.wait_idle();
+    let chain = |n, tag: &str| {
+        Arc::new(compile(compute_chain(n, tag), &lib, CompileOptions::default()).unwrap())
+    };
+    let plan = chain(50, "");
+
+    let mut g = c.benchmark_group("record and submit a cached plan of 50 passes (8x8)");
+    g.throughput(Throughput::Elements(50));
+    let mut modes = vec![("timing off", TimingMode::Off)];
+    if gpu.has_timestamps() {
+        modes.push(("gpu timestamps", TimingMode::GpuTimestamps));
+    }
+    for (name, mode) in modes {
+        let mut exec = Executor::new(gpu.clone());
+        exec.set_timing(mode).unwrap();
+        exec.execute(&plan, size).unwrap();
+        g.bench_function(name, |bench| {
+            bench.iter_custom(|iters| {
+                timed_iters(iters, || {
+                    let d = time(|| {
+                        exec.execute(&plan, size).unwrap();
+                    });
+                    let _ = gpu.wait_idle();
+                    d
+                })
+            })
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("switch plans (20 passes each, 8x8)");
+    let (a, b) = (chain(20, "a."), chain(20, "b."));
+    let mut exec = Executor::new(gpu.clone());
+    exec.set_timing(TimingMode::Off).unwrap();
+    exec.execute(&a, size).unwrap();
+    exec.execute(&b, size).unwrap();
+    g.bench_function("same plan again", |bench| {
+        bench.iter_custom(|iters| {
+            timed_iters(iters, || {
+                let d = time(|| {
+                    exec.execute(&a, size).unwrap();
+                });
+                let _ = gpu.wait_idle();
+                d
+            })
         })
     });
+    g.bench_function("to a plan seen before", |bench| {
+        bench.iter_custom(|iters| {
+            timed_iters(iters, || {
+                exec.execute(&b, size).unwrap();
+                let _ = gpu.wait_idle();
+                let d = time(|| {
+                    exec.execute(&a, size).unwrap();
+                });
+                let _ = gpu.wait_idle();
+                d
+            })
+        })
+    });
+    let mut unseen = 0u64;
+    g.bench_function("to a plan not seen, pipelines cached", |bench| {
+        bench.iter_custom(|iters| {
+            timed_iters(iters, || {
+                unseen += 1;
+                let fresh = chain(20, &format!("u{unseen}."));
+                let d = time(|| {
+                    exec.execute(&fresh, size).unwrap();
+                });
+                let _ = gpu.wait_idle();
+                d
+            })
+        })
+    });
+    g.sample_size(10);
+    g.bench_function("to a plan not seen, fresh executor", |bench| {
+        bench.iter_custom(|iters| {
+            timed_iters(iters, || {
+                let mut fresh = Executor::new(gpu.clone());
+                fresh.set_timing(TimingMode::Off).unwrap();
+                let d = time(|| {
+                    fresh.execute(&a, size).unwrap();
+                });
+                let _ = gpu.wait_idle();
+                d
+            })
+        })
+    });
+    g.finish();
 }
 
 criterion_group!(benches, compile_bench, execute_bench);

@@ -17,6 +17,7 @@ pub struct GpuContext {
     pub info: wgpu::AdapterInfo,
     pub features: wgpu::Features,
     errors: Arc<Mutex<Vec<String>>>,
+    debug_groups: bool,
 }
 
 impl GpuContext {
@@ -73,6 +74,8 @@ impl GpuContext {
             }
         }));
         let info = adapter.get_info();
+        let debug_groups = std::env::var_os("AOGRAPH_DEBUG_GROUPS").is_some_and(|v| v == "1")
+            || !info.driver.to_ascii_lowercase().contains("llvmpipe");
         Ok(Self {
             adapter,
             device,
@@ -80,6 +83,7 @@ impl GpuContext {
             info,
             features,
             errors,
+            debug_groups,
         })
     }
 
@@ -112,12 +116,9 @@ impl GpuContext {
     /// Whether passes are wrapped in debug groups. Mesa's lavapipe (llvmpipe driver, as in
     /// Debian 12's Mesa 22.3) crashes in `vkCmdBeginDebugUtilsLabelEXT` once a render pass has
     /// been recorded, so there passes are labelled only through their own descriptors.
-    /// `AOGRAPH_DEBUG_GROUPS=1` forces them on.
+    /// `AOGRAPH_DEBUG_GROUPS=1` forces them on. Decided once, when the context is made.
     pub fn debug_groups(&self) -> bool {
-        if std::env::var_os("AOGRAPH_DEBUG_GROUPS").is_some_and(|v| v == "1") {
-            return true;
-        }
-        !self.info.driver.to_ascii_lowercase().contains("llvmpipe")
+        self.debug_groups
     }
 
     /// True on a CPU (software) device such as lavapipe: its times are CPU times.

@@ -28,6 +28,14 @@ pub struct PooledTexture {
     last_used: u64,
 }
 
+/// The free textures of one descriptor. The list stays (empty) while its descriptor is in use,
+/// so steady-state frames do not reallocate it.
+#[derive(Default)]
+struct FreeList {
+    textures: Vec<PooledTexture>,
+    last_used: u64,
+}
+
 /// Creates a texture with a full view and one view per mip.
 pub fn create_texture(
     device: &wgpu::Device,
@@ -60,7 +68,7 @@ pub fn create_texture(
 /// Free textures by descriptor, plus counters.
 #[derive(Default)]
 pub struct TexturePool {
-    free: HashMap<PoolKey, Vec<PooledTexture>>,
+    free: HashMap<PoolKey, FreeList>,
     frame: u64,
     lent: usize,
     next_serial: u64,
@@ -76,12 +84,14 @@ impl TexturePool {
     pub fn acquire(&mut self, device: &wgpu::Device, key: PoolKey, prefer: u64) -> PooledTexture {
         self.lent += 1;
         if let Some(list) = self.free.get_mut(&key) {
+            list.last_used = self.frame;
             let i = list
+                .textures
                 .iter()
                 .position(|t| t.bound.serial == prefer)
-                .or(list.len().checked_sub(1));
+                .or(list.textures.len().checked_sub(1));
             if let Some(i) = i {
-                let mut t = list.swap_remove(i);
+                let mut t = list.textures.swap_remove(i);
                 t.last_used = self.frame;
                 return t;
             }
@@ -95,15 +105,19 @@ impl TexturePool {
     /// Returns a lent texture.
     pub fn release(&mut self, t: PooledTexture) {
         self.lent = self.lent.saturating_sub(1);
-        self.free.entry(t.key).or_default().push(t);
+        let list = self.free.entry(t.key).or_default();
+        list.last_used = self.frame;
+        list.textures.push(t);
     }
     /// Ends a frame: drops free textures that no frame took for [`Self::IDLE_FRAMES`] frames.
     pub fn end_frame(&mut self) {
         let frame = self.frame;
+        let live = |last_used: u64| last_used + Self::IDLE_FRAMES > frame;
         for list in self.free.values_mut() {
-            list.retain(|t| t.last_used + Self::IDLE_FRAMES > frame);
+            list.textures.retain(|t| live(t.last_used));
         }
-        self.free.retain(|_, l| !l.is_empty());
+        self.free
+            .retain(|_, l| !l.textures.is_empty() || live(l.last_used));
         self.frame += 1;
     }
     /// Textures the pool holds, lent or free.
@@ -112,7 +126,7 @@ impl TexturePool {
     }
     /// Textures free in the pool.
     pub fn free_count(&self) -> usize {
-        self.free.values().map(Vec::len).sum::<usize>()
+        self.free.values().map(|l| l.textures.len()).sum::<usize>()
     }
     /// Textures created since the pool was made.
     pub fn created_count(&self) -> u64 {

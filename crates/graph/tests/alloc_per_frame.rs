@@ -4,11 +4,11 @@
 //! same bind groups, same commands). What wgpu 30 allocates to record and submit is in both;
 //! the difference is the executor's.
 //!
-//! Measured (deterministic: lavapipe allocates through malloc, not the Rust allocator):
-//! executor 0.0 allocations per frame of its own with timing off, and 0.0 with GPU
-//! timestamps against a hand-written read-back ring doing the same wgpu calls. The bound is
-//! under one allocation per frame: an executor that allocates once per frame, or once per pass,
-//! fails it.
+//! Measured (lavapipe allocates through malloc, not the Rust allocator, so it is not counted):
+//! 645 allocations per frame with timing off and 914 with GPU timestamps, all of them wgpu's:
+//! the executor's own share is 0.00 in both (wgpu's own count wobbles by a few allocations per
+//! 200 frames as its internal vectors grow). The bound, half an allocation per frame, fails
+//! for an executor that allocates once per frame, let alone once per pass.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::Arc;
@@ -49,7 +49,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 
 const PASSES: usize = 50;
 const SIDE: u32 = 8;
-const FRAMES: usize = 50;
+const FRAMES: usize = 200;
 
 /// Allocations per frame over `FRAMES` frames of `frame`, after 20 warm-up frames.
 fn per_frame(gpu: &GpuContext, mut frame: impl FnMut()) -> f64 {
@@ -115,10 +115,12 @@ struct HandFrame {
 
 impl HandFrame {
     fn new(gpu: &GpuContext, timestamps: bool) -> Self {
-        let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: None,
-            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-        });
+        let module = gpu
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: None,
+                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+            });
         let pipeline = gpu
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -165,7 +167,7 @@ impl HandFrame {
                     });
                     let buffer = |usage| {
                         gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                            label: None,
+                            label: Some("timestamp readback"),
                             size: n as u64 * 8,
                             usage,
                             mapped_at_creation: false,
@@ -207,7 +209,10 @@ impl HandFrame {
                 }
             }
         }
-        let slot = self.ring.get(self.next).filter(|s| s.3.load(Ordering::Acquire) == 0);
+        let slot = self
+            .ring
+            .get(self.next)
+            .filter(|s| s.3.load(Ordering::Acquire) == 0);
         let mut encoder = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -251,6 +256,12 @@ impl HandFrame {
 
 #[test]
 fn the_executor_itself_allocates_nothing_per_frame() {
+    // Debug builds of wgpu-core capture a backtrace whenever they take a resource lock, when
+    // backtraces are enabled (RUST_BACKTRACE=1): its frame vector grows with the caller's stack
+    // depth, which differs between the two frames compared. `Backtrace::capture` reads
+    // RUST_LIB_BACKTRACE first and caches it at the first capture, which has not happened yet.
+    // SAFETY: the only test of this binary, before any other thread reads the environment.
+    unsafe { std::env::set_var("RUST_LIB_BACKTRACE", "0") };
     let Some(gpu) = test_gpu() else { return };
     let lib = ShaderLibrary::inline_only();
     lib.add_inline("inc.wgsl", SHADER);
@@ -280,7 +291,7 @@ fn the_executor_itself_allocates_nothing_per_frame() {
              share {own:.2}"
         );
         assert!(
-            own < 1.0,
+            own < 0.5,
             "{mode:?}: the executor allocates {own:.2} times per frame of its own"
         );
         assert!(
