@@ -184,7 +184,7 @@ impl GraphCompiler {
             let decl = Arc::new(decl);
             return Ok(Arc::new(entry.plan.with_declaration(decl)));
         }
-        let plan = Arc::new(compile(decl, shaders, options)?);
+        let plan = Arc::new(compile_hashed(decl, key.0, shaders, options)?);
         self.compiles += 1;
         if self.cache.len() >= self.capacity {
             let oldest = self
@@ -236,10 +236,20 @@ pub fn compile(
     shaders: &ShaderLibrary,
     options: CompileOptions,
 ) -> GraphResult<CompiledGraph> {
+    let hash = decl.structure_hash();
+    compile_hashed(decl, hash, shaders, options)
+}
+
+/// [`compile`] of a declaration whose structure hash is known.
+fn compile_hashed(
+    decl: GraphDecl,
+    hash: u64,
+    shaders: &ShaderLibrary,
+    options: CompileOptions,
+) -> GraphResult<CompiledGraph> {
     if let Some(e) = decl.errors.first() {
         return Err(e.clone());
     }
-    let hash = decl.structure_hash();
     validate_names(&decl)?;
     validate_reads(&decl)?;
     validate_attachments(&decl)?;
@@ -507,11 +517,16 @@ fn needed_passes(decl: &GraphDecl, g: &DiGraph<PassId, bool>, nodes: &[NodeIndex
             roots.push(p.0);
         }
     }
-    // Only data edges (weight true) make a pass needed; ordering edges do not.
+    // Only data edges (weight true) make a pass needed; ordering edges do not. One walk from
+    // all roots at once: a pass reached from several outputs is visited once.
     let data = petgraph::visit::EdgeFiltered::from_fn(g, |e| *e.weight());
     let reversed = Reversed(&data);
+    let mut dfs = Dfs::empty(reversed);
     for r in roots {
-        let mut dfs = Dfs::new(reversed, nodes[r]);
+        if kept[r] {
+            continue;
+        }
+        dfs.move_to(nodes[r]);
         while let Some(n) = dfs.next(reversed) {
             kept[g[n].0] = true;
         }

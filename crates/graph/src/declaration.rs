@@ -236,7 +236,7 @@ impl GraphDecl {
     /// the executor writes the new declaration's contents into the plan's uniform buffers
     /// (see `Executor`), and per-frame data goes through `Executor::write_uniform`.
     pub fn structure_hash(&self) -> u64 {
-        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let mut h = crate::structure_hash::StructureHasher::default();
         self.resources.hash(&mut h);
         for p in &self.passes {
             (

@@ -27,6 +27,7 @@ mod record;
 mod resource;
 mod shader;
 mod shader_check;
+mod structure_hash;
 mod summary;
 mod timing;
 

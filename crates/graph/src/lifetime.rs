@@ -5,6 +5,9 @@
 //! use in the order) do not overlap. Exported resources live to the end of the frame; imported
 //! and history resources are never pooled here.
 
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
+
 use crate::declaration::{GraphDecl, PassId, ResourceKind, ResourceOrigin};
 use crate::resource::{Extent, TextureDesc};
 
@@ -29,6 +32,13 @@ pub struct PhysicalTexture {
     pub resources: Vec<usize>,
     /// The union of the lifetimes placed in it (for the summary).
     pub busy_until: usize,
+}
+
+/// The slots of one descriptor during planning.
+#[derive(Default)]
+struct DescSlots {
+    busy: BinaryHeap<Reverse<(usize, usize)>>,
+    free: BinaryHeap<Reverse<usize>>,
 }
 
 pub(crate) struct LifetimePlan {
@@ -84,18 +94,28 @@ pub(crate) fn plan_lifetimes(decl: &GraphDecl, order: &[PassId], reuse: bool) ->
     transient.sort_by_key(|&r| (lifetimes[r].map(|l| l.first), r));
     let mut physical: Vec<PhysicalTexture> = Vec::new();
     let mut slot_of = vec![None; n];
+    // Per descriptor: slots still busy (by the last position that uses them) and free slots
+    // (lowest index first), so each resource takes the lowest-numbered free slot of its
+    // descriptor without scanning every slot.
+    let mut by_desc: HashMap<TextureDesc, DescSlots> = HashMap::new();
     for r in transient {
         let (Some(life), Some(desc)) = (lifetimes[r], decl.resources[r].texture_desc().copied())
         else {
             continue;
         };
-        let free = reuse
-            .then(|| {
-                physical
-                    .iter()
-                    .position(|s| s.desc == desc && s.busy_until < life.first)
-            })
-            .flatten();
+        let slots = by_desc.entry(desc).or_default();
+        while let Some(&Reverse((until, slot))) = slots.busy.peek() {
+            if until >= life.first {
+                break;
+            }
+            slots.busy.pop();
+            slots.free.push(Reverse(slot));
+        }
+        let free = if reuse {
+            slots.free.pop().map(|Reverse(s)| s)
+        } else {
+            None
+        };
         let slot = match free {
             Some(s) => s,
             None => {
@@ -112,6 +132,7 @@ pub(crate) fn plan_lifetimes(decl: &GraphDecl, order: &[PassId], reuse: bool) ->
         s.usage |= usage[r];
         s.resources.push(r);
         s.busy_until = life.last;
+        slots.busy.push(Reverse((life.last, slot)));
         slot_of[r] = Some(slot);
     }
     LifetimePlan {
