@@ -3,7 +3,8 @@
 //!   is built outside the timed region: compile consumes it);
 //! - the CPU time to record and submit a cached plan of 50 compute passes, with the GPU wait
 //!   outside the timed region (throughput in passes, so criterion prints the time per pass),
-//!   with timing off and with GPU timestamps;
+//!   with timing off and with GPU timestamps, next to the same frame recorded by hand with raw
+//!   wgpu (what wgpu and the driver cost; the difference is the executor's own);
 //! - the time to switch to a plan seen before (its state and pipelines cached), to a plan not
 //!   seen whose pipelines are cached (a new structure over the same shaders), and to a plan not
 //!   seen on a fresh executor (pipelines created: on lavapipe, LLVM compiling shaders).
@@ -14,6 +15,10 @@ use std::time::{Duration, Instant};
 
 use aograph_graph::*;
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+
+#[path = "../tests/common/hand_frame.rs"]
+mod hand_frame;
+use hand_frame::HandFrame;
 
 /// A layered graph of `n` no-op passes: each reads two earlier outputs and writes one texture;
 /// every tenth output is exported, the rest feed later passes or get culled.
@@ -137,7 +142,26 @@ fn execute_bench(c: &mut Criterion) {
     let chain = |n, tag: &str| {
         Arc::new(compile(compute_chain(n, tag), &lib, CompileOptions::default()).unwrap())
     };
-    let plan = chain(50, "");
+    // The hand-written frame's graph: an imported source and 50 passes, each writing its own
+    // texture (no reuse), as `HandFrame` records them.
+    let hand_lib = ShaderLibrary::inline_only();
+    hand_lib.add_inline("inc.wgsl", hand_frame::SHADER);
+    let plan = {
+        let mut b = GraphBuilder::new();
+        let desc = TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL);
+        let mut cur = b.import_texture("src", desc);
+        for i in 0..50 {
+            let t = b.create_texture(&format!("t{i}"), desc);
+            let mut p = b.compute_pass(&format!("p{i}"), "inc.wgsl", "main");
+            p.sample("src", cur);
+            cur = p.write_storage("dst", t);
+            p.dispatch_over(cur);
+        }
+        b.export(cur);
+        Arc::new(compile(b.build(), &hand_lib, CompileOptions { reuse: false }).unwrap())
+    };
+
+    interleaved_overhead(&gpu, &plan);
 
     let mut g = c.benchmark_group("record and submit a cached plan of 50 passes (8x8)");
     g.throughput(Throughput::Elements(50));
@@ -146,8 +170,23 @@ fn execute_bench(c: &mut Criterion) {
         modes.push(("gpu timestamps", TimingMode::GpuTimestamps));
     }
     for (name, mode) in modes {
+        let timestamps = mode == TimingMode::GpuTimestamps;
+        let mut hand = HandFrame::new(&gpu, 50, 8, timestamps);
+        g.bench_function(format!("{name}, by hand with wgpu"), |bench| {
+            bench.iter_custom(|iters| {
+                timed_iters(iters, || {
+                    let d = time(|| hand.frame(&gpu));
+                    let _ = gpu.wait_idle();
+                    d
+                })
+            })
+        });
         let mut exec = Executor::new(gpu.clone());
         exec.set_timing(mode).unwrap();
+        exec.import_texture(
+            "src",
+            hand_frame::texture(&gpu, 8, wgpu::TextureUsages::TEXTURE_BINDING),
+        );
         exec.execute(&plan, size).unwrap();
         g.bench_function(name, |bench| {
             bench.iter_custom(|iters| {
@@ -222,6 +261,54 @@ fn execute_bench(c: &mut Criterion) {
         })
     });
     g.finish();
+}
+
+/// The executor's own share of recording and submitting, measured against the same frame
+/// recorded by hand, frame for frame in alternation (so machine noise hits both alike):
+/// medians of each and their difference per pass, printed.
+fn interleaved_overhead(gpu: &Arc<GpuContext>, plan: &Arc<CompiledGraph>) {
+    let frames = if std::env::args().any(|a| a == "--test") {
+        4
+    } else {
+        400
+    };
+    let mut modes = vec![TimingMode::Off];
+    if gpu.has_timestamps() {
+        modes.push(TimingMode::GpuTimestamps);
+    }
+    for mode in modes {
+        let mut hand = HandFrame::new(gpu, 50, 8, mode == TimingMode::GpuTimestamps);
+        let mut exec = Executor::new(gpu.clone());
+        exec.set_timing(mode).unwrap();
+        exec.import_texture(
+            "src",
+            hand_frame::texture(gpu, 8, wgpu::TextureUsages::TEXTURE_BINDING),
+        );
+        let size = Extent::new(8, 8);
+        let (mut by_hand, mut by_exec) = (Vec::new(), Vec::new());
+        for i in 0..frames + 20 {
+            let h = time(|| hand.frame(gpu));
+            let _ = gpu.wait_idle();
+            let e = time(|| {
+                exec.execute(plan, size).unwrap();
+            });
+            let _ = gpu.wait_idle();
+            if i >= 20 {
+                by_hand.push(h);
+                by_exec.push(e);
+            }
+        }
+        let median = |v: &mut Vec<Duration>| {
+            v.sort();
+            v[v.len() / 2].as_secs_f64() * 1e6
+        };
+        let (h, e) = (median(&mut by_hand), median(&mut by_exec));
+        eprintln!(
+            "{mode:?}, 50 passes, median of {frames} alternating frames: by hand {h:.1} us, \
+             executor {e:.1} us; the executor's own share {:.2} us per pass",
+            (e - h) / 50.0
+        );
+    }
 }
 
 criterion_group!(benches, compile_bench, execute_bench);
