@@ -6,6 +6,10 @@ use std::sync::Arc;
 use aograph_graph::wgpu::TextureFormat;
 use aograph_graph::*;
 
+#[path = "common/test_passes.rs"]
+mod test_passes;
+use test_passes::KeyedPass;
+
 const BLUR: &str = "struct Params { radius: f32, strength: f32, pad0: f32, pad1: f32 }\n\
 @group(0) @binding(0) var src: texture_2d<f32>;\n\
 @group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;\n\
@@ -203,20 +207,6 @@ fn changing_an_export_changes_the_hash() {
     };
     assert_eq!(build(true).structure_hash(), build(true).structure_hash());
     assert_ne!(build(true).structure_hash(), build(false).structure_hash());
-}
-
-struct KeyedPass(u64);
-
-impl CustomPass for KeyedPass {
-    fn kind_name(&self) -> &str {
-        "keyed"
-    }
-    fn cache_key(&self) -> u64 {
-        self.0
-    }
-    fn record(&self, _ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        Ok(())
-    }
 }
 
 #[test]

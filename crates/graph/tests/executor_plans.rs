@@ -9,84 +9,16 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use aograph_graph::*;
 use wgpu::TextureFormat::R32Float;
 
-const PATTERN: &str = r#"
-@vertex
-fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
-}
-@fragment
-fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
-    let x = u32(p.x);
-    let y = u32(p.y);
-    return vec4<f32>(f32((x * 3u + y * 5u) % 17u) / 16.0, 0.0, 0.0, 1.0);
-}
-"#;
-
-const SCALE: &str = r#"
-struct Params { scale: f32, offset: f32, pad0: f32, pad1: f32 }
-@group(0) @binding(0) var src: texture_2d<f32>;
-@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
-@group(0) @binding(2) var<uniform> params: Params;
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(src);
-    if (id.x >= size.x || id.y >= size.y) { return; }
-    let v = textureLoad(src, vec2<i32>(id.xy), 0).r;
-    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(v * params.scale + params.offset, 0.0, 0.0, 0.0));
-}
-"#;
-
-const SQUARE: &str = r#"
-@group(0) @binding(0) var src: texture_2d<f32>;
-@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(src);
-    if (id.x >= size.x || id.y >= size.y) { return; }
-    let v = textureLoad(src, vec2<i32>(id.xy), 0).r;
-    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(v * v, 0.0, 0.0, 0.0));
-}
-"#;
-
-const ACCUMULATE: &str = r#"
-@group(0) @binding(0) var previous: texture_2d<f32>;
-@group(0) @binding(1) var current: texture_storage_2d<r32float, write>;
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(previous);
-    if (id.x >= size.x || id.y >= size.y) { return; }
-    let v = textureLoad(previous, vec2<i32>(id.xy), 0).r;
-    textureStore(current, vec2<i32>(id.xy), vec4<f32>(v + 1.0, 0.0, 0.0, 0.0));
-}
-"#;
-
-fn shaders() -> ShaderLibrary {
-    let lib = ShaderLibrary::inline_only();
-    lib.add_inline("pattern.wgsl", PATTERN);
-    lib.add_inline("scale.wgsl", SCALE);
-    lib.add_inline("square.wgsl", SQUARE);
-    lib.add_inline("accumulate.wgsl", ACCUMULATE);
-    lib
-}
+#[path = "common/test_passes.rs"]
+mod test_passes;
+use test_passes::{CountingPass, KeyedPass, params, pattern, shaders};
 
 const SIZE: Extent = Extent::new(24, 16);
-
-fn pattern(x: u32, y: u32) -> f32 {
-    ((x * 3 + y * 5) % 17) as f32 / 16.0
-}
 
 fn expected(f: impl Fn(f32) -> f32) -> Vec<f32> {
     (0..SIZE.height)
         .flat_map(|y| (0..SIZE.width).map(move |x| (x, y)))
         .map(|(x, y)| f(pattern(x, y)))
-        .collect()
-}
-
-fn params(scale: f32, offset: f32) -> Vec<u8> {
-    [scale, offset, 0.0, 0.0]
-        .iter()
-        .flat_map(|f| f.to_le_bytes())
         .collect()
 }
 
@@ -321,19 +253,6 @@ fn a_new_parameter_value_rebuilds_nothing_and_takes_effect() {
     assert_eq!(exec.plan_count(), 1, "one structure, one plan state");
 }
 
-/// Counts how often it was recorded.
-struct CountingPass(Arc<AtomicU32>);
-
-impl CustomPass for CountingPass {
-    fn kind_name(&self) -> &str {
-        "counting"
-    }
-    fn record(&self, _ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        self.0.fetch_add(1, Ordering::Relaxed);
-        Ok(())
-    }
-}
-
 #[test]
 fn a_rebuilt_custom_pass_records_not_the_cached_declarations_pass() {
     let Some(gpu) = test_gpu() else { return };
@@ -358,21 +277,6 @@ fn a_rebuilt_custom_pass_records_not_the_cached_declarations_pass() {
     exec.execute(&p2, SIZE).unwrap();
     assert_eq!(first.load(Ordering::Relaxed), 1);
     assert_eq!(second.load(Ordering::Relaxed), 2);
-}
-
-/// A side-effect plan of one custom pass, distinct per `key`.
-struct KeyedPass(u64);
-
-impl CustomPass for KeyedPass {
-    fn kind_name(&self) -> &str {
-        "keyed"
-    }
-    fn cache_key(&self) -> u64 {
-        self.0
-    }
-    fn record(&self, _ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        Ok(())
-    }
 }
 
 #[test]
