@@ -12,7 +12,7 @@ use aograph_frame::{
 use aograph_graph::{
     BufferDesc, Extent, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle,
 };
-use aograph_scene::gbuffer::{GBufferClock, add_gbuffer, required_channels};
+use aograph_scene::gbuffer::{GBufferClock, GBufferStates, add_gbuffer_shared, required_channels};
 use aograph_scene::{ReferenceNormals, Scene};
 
 use crate::error::{AppError, AppResult};
@@ -54,6 +54,26 @@ pub fn build_frame_graph(
     ao: &AoConfig,
     outputs: FrameOutputs,
     size: Extent,
+) -> AppResult<FrameGraph> {
+    build_frame_graph_with(
+        registry,
+        scene,
+        ao,
+        outputs,
+        size,
+        &GBufferStates::default(),
+    )
+}
+
+/// [`build_frame_graph`] whose g-buffer shares its GPU state (mesh upload, pipelines) with
+/// every graph built with the same `gbuffer` (see `aograph_scene::gbuffer::add_gbuffer_shared`).
+pub fn build_frame_graph_with(
+    registry: &TechniqueRegistry,
+    scene: Arc<Scene>,
+    ao: &AoConfig,
+    outputs: FrameOutputs,
+    size: Extent,
+    gbuffer: &GBufferStates,
 ) -> AppResult<FrameGraph> {
     let technique = registry.get(&ao.technique)?;
     let params = ao.params_for(&ao.technique);
@@ -98,7 +118,14 @@ pub fn build_frame_graph(
         },
     );
     let clock = GBufferClock::default();
-    let gbuffer = add_gbuffer(&mut b, scene.clone(), channels, view, clock.clone());
+    let gbuffer = add_gbuffer_shared(
+        &mut b,
+        scene.clone(),
+        channels,
+        view,
+        clock.clone(),
+        gbuffer,
+    );
     // R in pixels at the view's nearest geometry, for techniques with automatic level counts.
     let radius_pixels = if technique.needs_radius_pixels(&params)? {
         aograph_scene::projected_radius(

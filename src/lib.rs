@@ -13,10 +13,11 @@ pub mod metrics;
 pub mod prepared_scene;
 pub mod reach;
 pub mod renderer;
+pub mod viewer;
 
 pub use config::{AppConfig, RadiusSetting, SceneSource};
 pub use error::{AppError, AppResult};
-pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph};
+pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph, build_frame_graph_with};
 pub use frame_reference::{FrameView, ReferenceSettings, frame_reference};
 pub use prepared_scene::PreparedScene;
 pub use renderer::{Renderer, shader_dir, shader_library};

@@ -59,6 +59,15 @@ enum Command {
         #[arg(long)]
         every: bool,
     },
+    /// Open the interactive viewer: swap techniques live, tune parameters, fly the camera,
+    /// compare with the ray-traced reference (needs an X11 display; see README).
+    View {
+        #[command(flatten)]
+        common: Common,
+        /// Run the actions of this script, then exit (see README: tests and screenshots).
+        #[arg(long)]
+        script: Option<PathBuf>,
+    },
     /// Print the compiled plan of a config (or its Graphviz DOT with --dot).
     Graph {
         #[command(flatten)]
@@ -150,6 +159,10 @@ fn main() -> ExitCode {
             out,
             frames,
             every,
+        }),
+        Command::View { common, script } => aograph::viewer::view(&aograph::viewer::ViewArgs {
+            common: common.into_args(),
+            script,
         }),
         Command::Graph { common, dot } => commands::graph(&common.into_args(), dot),
         Command::Techniques => commands::techniques(),

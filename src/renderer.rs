@@ -1,7 +1,13 @@
-//! Renders frames of a scene with one AO technique: owns the device, the executor and the
-//! compiled frame graph, writes the `View` block and the g-buffer clock each frame, and reads
+//! Renders frames of a scene with an AO technique: owns the device, one executor and the
+//! compiled frame graphs, writes the `View` block and the g-buffer clock each frame, and reads
 //! outputs back. Camera cuts and resizes invalidate history through the executor.
+//!
+//! The technique and its parameters can change between frames ([`Renderer::set_ao`]): every
+//! frame graph built is kept by its settings, so going back to settings seen before reuses the
+//! same declaration and plan (no graph rebuilt, no pipeline or g-buffer upload), and the one
+//! executor keeps each plan's state and shares pipelines and textures between them.
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -9,16 +15,16 @@ use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
 use aograph_frame::VIEW_BUFFER;
 use aograph_graph::{
-    CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphCompiler, PassTimings,
-    ShaderLibrary, TextureHandle,
+    CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
+    PassTimings, ShaderLibrary, TextureHandle,
 };
-use aograph_scene::gbuffer::GBufferFrame;
+use aograph_scene::gbuffer::{GBufferFrame, GBufferStates};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Scene, SurfaceBuffer};
 use glam::{Mat4, Vec3};
 
 use crate::error::{AppError, AppResult};
-use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph};
+use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with};
 
 /// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
 pub fn shader_dir() -> PathBuf {
@@ -51,7 +57,12 @@ fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
     Ok(())
 }
 
-/// One scene, one technique, frames on demand.
+/// Passes a front end adds after the frame graph (the viewer's display pass), declared on the
+/// same builder with the frame graph's handles.
+pub type GraphExtension =
+    Arc<dyn Fn(&mut GraphBuilder, &FrameGraph) -> AppResult<()> + Send + Sync>;
+
+/// One scene, one technique at a time, frames on demand.
 pub struct Renderer {
     pub gpu: Arc<GpuContext>,
     /// The shader library the plan was compiled from (a reference g-buffer reuses it).
@@ -61,6 +72,19 @@ pub struct Renderer {
     pub graph: FrameGraph,
     pub scene: Arc<Scene>,
     pub output: Extent,
+    /// The settings the current graph was built for.
+    pub ao: AoConfig,
+    registry: TechniqueRegistry,
+    outputs: FrameOutputs,
+    options: CompileOptions,
+    compiler: GraphCompiler,
+    extension: Option<GraphExtension>,
+    /// Graphs built before, by their settings (see the module docs).
+    built: HashMap<String, (FrameGraph, Arc<CompiledGraph>)>,
+    /// The settings key of `graph` and `plan`.
+    current_key: String,
+    /// The g-buffer's GPU state, shared by every graph of the current scene.
+    gbuffer: GBufferStates,
     view_buffer: wgpu::Buffer,
     frame_index: u32,
     prev: Option<(f32, Camera)>,
@@ -104,8 +128,10 @@ impl Renderer {
         crate::config::check_size("width", output.width)?;
         crate::config::check_size("height", output.height)?;
         check_intermediate_format(&gpu, ao)?;
-        let graph = build_frame_graph(registry, scene.clone(), ao, outputs, output)?;
-        let plan = GraphCompiler::new().compile(graph.decl.clone(), &shaders, options)?;
+        let gbuffer = GBufferStates::default();
+        let graph = build_frame_graph_with(registry, scene.clone(), ao, outputs, output, &gbuffer)?;
+        let mut compiler = GraphCompiler::new();
+        let plan = compiler.compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
         // One-shot runs and benchmarks want per-pass times: without timestamp queries, measure
         // CPU wall time per pass (which waits per pass; a real-time front end turns it off).
@@ -135,7 +161,7 @@ impl Renderer {
         gpu.queue
             .write_buffer(&lighting_buffer, 0, lighting.bytes());
         exec.import_buffer(LIGHTING_BUFFER, lighting_buffer);
-        Ok(Self {
+        let mut r = Self {
             gpu,
             shaders,
             exec,
@@ -143,12 +169,115 @@ impl Renderer {
             graph,
             scene,
             output,
+            ao: ao.clone(),
+            registry: registry.clone(),
+            outputs,
+            options,
+            compiler,
+            extension: None,
+            built: HashMap::new(),
+            current_key: String::new(),
+            gbuffer,
             view_buffer,
             frame_index: 0,
             prev: None,
             cut: false,
             time: 0.0,
-        })
+        };
+        r.current_key = r.settings_key();
+        Ok(r)
+    }
+
+    /// Passes to add after the frame graph from now on (the current graph is rebuilt with
+    /// them).
+    pub fn set_extension(&mut self, extension: GraphExtension) -> AppResult<()> {
+        self.extension = Some(extension);
+        self.built.clear();
+        self.rebuild(true)
+    }
+
+    /// Switches to the technique and parameters of `ao` from the next frame on. Settings seen
+    /// before (same technique, parameters, radius, precision and size) come back as they were
+    /// built: same declaration, same plan, nothing created.
+    pub fn set_ao(&mut self, ao: &AoConfig) -> AppResult<()> {
+        check_intermediate_format(&self.gpu, ao)?;
+        ao.validate(&self.registry)?;
+        let old = std::mem::replace(&mut self.ao, ao.clone());
+        if let Err(e) = self.rebuild(false) {
+            self.ao = old;
+            return Err(e);
+        }
+        Ok(())
+    }
+
+    /// The key of the current settings in `built`.
+    fn settings_key(&self) -> String {
+        format!(
+            "{}|{:?}|{}|{:?}|{}",
+            self.ao.technique,
+            self.ao.params,
+            self.ao.radius.to_bits(),
+            self.ao.intermediate_format,
+            self.output
+        )
+    }
+
+    /// Makes the graph for the current settings current: the one built before, or a new one
+    /// (`force`: always new, e.g. after the extension changed).
+    fn rebuild(&mut self, force: bool) -> AppResult<()> {
+        let key = self.settings_key();
+        if !force && key == self.current_key {
+            return Ok(());
+        }
+        let cached = if force { None } else { self.built.remove(&key) };
+        let (graph, plan) = match cached {
+            Some(built) => built,
+            None => {
+                let mut graph = build_frame_graph_with(
+                    &self.registry,
+                    self.scene.clone(),
+                    &self.ao,
+                    self.outputs,
+                    self.output,
+                    &self.gbuffer,
+                )?;
+                if let Some(ext) = &self.extension {
+                    let mut b = GraphBuilder::from_decl(graph.decl.clone());
+                    ext(&mut b, &graph)?;
+                    graph.decl = b.build();
+                }
+                let plan =
+                    self.compiler
+                        .compile(graph.decl.clone(), &self.shaders, self.options)?;
+                (graph, plan)
+            }
+        };
+        let old_graph = std::mem::replace(&mut self.graph, graph);
+        let old_plan = std::mem::replace(&mut self.plan, plan);
+        let old_key = std::mem::replace(&mut self.current_key, key);
+        if !force {
+            self.built.insert(old_key, (old_graph, old_plan));
+        }
+        Ok(())
+    }
+
+    /// Renders `scene` with `ao` from the next frame on (a camera cut: no history carries over).
+    /// On an error the renderer keeps its scene.
+    pub fn set_scene(&mut self, scene: Arc<Scene>, ao: &AoConfig) -> AppResult<()> {
+        check_intermediate_format(&self.gpu, ao)?;
+        ao.validate(&self.registry)?;
+        let old_scene = std::mem::replace(&mut self.scene, scene);
+        let old_ao = std::mem::replace(&mut self.ao, ao.clone());
+        let old_gbuffer = std::mem::take(&mut self.gbuffer);
+        if let Err(e) = self.rebuild(true) {
+            self.scene = old_scene;
+            self.ao = old_ao;
+            self.gbuffer = old_gbuffer;
+            return Err(e);
+        }
+        self.built.clear();
+        self.cut();
+        Ok(())
     }
 
     /// Marks a camera cut: the next frame starts with no history.
@@ -158,12 +287,13 @@ impl Renderer {
         self.exec.reset_history();
     }
 
-    /// Changes the output size (history is invalidated by the executor).
+    /// Changes the output size (history is invalidated by the executor). The graph is the one
+    /// for these settings at this size (automatic level counts depend on it).
     pub fn resize(&mut self, output: Extent) -> AppResult<()> {
         crate::config::check_size("width", output.width)?;
         crate::config::check_size("height", output.height)?;
         self.output = output;
-        Ok(())
+        self.rebuild(false)
     }
 
     /// Renders the frame at scene time `time` (seconds).

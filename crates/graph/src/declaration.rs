@@ -255,6 +255,15 @@ impl GraphDecl {
         self.errors.len().hash(&mut h);
         h.finish()
     }
+    /// The uniform block bound to `binding` in pass `pass` (for per-frame writes with
+    /// `Executor::write_uniform` by code that did not keep the handle).
+    pub fn uniform(&self, pass: &str, binding: &str) -> Option<UniformHandle> {
+        let p = self.pass_by_name(pass)?;
+        self.uniforms
+            .iter()
+            .position(|u| u.pass == p && u.binding == binding)
+            .map(UniformHandle)
+    }
     pub fn pass_by_name(&self, name: &str) -> Option<PassId> {
         self.passes.iter().position(|p| p.name == name).map(PassId)
     }

@@ -23,19 +23,40 @@ pub struct GpuContext {
 impl GpuContext {
     /// The first Vulkan adapter, or [`GraphError::NoAdapter`] with the fix.
     pub fn new() -> GraphResult<Self> {
-        pollster::block_on(Self::new_async())
+        let instance = Self::instance();
+        pollster::block_on(Self::new_async(&instance, None))
     }
 
-    async fn new_async() -> GraphResult<Self> {
+    /// A device on an adapter that can present to `target` (a window), and the surface.
+    pub fn with_surface(
+        target: impl Into<wgpu::SurfaceTarget<'static>>,
+    ) -> GraphResult<(Self, wgpu::Surface<'static>)> {
+        let instance = Self::instance();
+        let surface = instance
+            .create_surface(target)
+            .map_err(|e| GraphError::NoAdapter {
+                detail: format!("cannot create a surface for the window: {e}"),
+            })?;
+        let gpu = pollster::block_on(Self::new_async(&instance, Some(&surface)))?;
+        Ok((gpu, surface))
+    }
+
+    fn instance() -> wgpu::Instance {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
         desc.backends = wgpu::Backends::VULKAN;
         desc.flags = wgpu::InstanceFlags::from_env_or_default();
-        let instance = wgpu::Instance::new(desc);
+        wgpu::Instance::new(desc)
+    }
+
+    async fn new_async(
+        instance: &wgpu::Instance,
+        surface: Option<&wgpu::Surface<'static>>,
+    ) -> GraphResult<Self> {
         let adapter = instance
             .request_adapter(&wgpu::RequestAdapterOptions {
                 power_preference: wgpu::PowerPreference::HighPerformance,
                 force_fallback_adapter: false,
-                compatible_surface: None,
+                compatible_surface: surface,
                 ..Default::default()
             })
             .await

@@ -38,5 +38,6 @@ pub use radius::{SuggestedRadius, suggested_radius};
 pub use reference::{
     BruteForceTracer, CacheKey, CpuGBuffer, ReferenceCache, ReferenceImage, ReferenceMode,
     ReferenceNormals, ReferenceParams, SurfaceBuffer, TriangleBvh, primary_hits, trace_reference,
+    trace_reference_rows,
 };
 pub use scene_builder::SceneBuilder;

@@ -13,7 +13,7 @@ use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
 use aograph_graph::{BufferAccess, BufferHandle, GraphBuilder, SizeClass, TextureDesc};
 
 use crate::model::Scene;
-pub use raster::GBufferRaster;
+pub use raster::{GBufferRaster, GBufferStates, raster_pipelines_created};
 
 /// Per-frame inputs of the g-buffer: scene time now and at the previous frame, and whether
 /// this frame's camera uses reversed Z (`None`: as the scene's camera does).
@@ -58,6 +58,28 @@ pub fn add_gbuffer(
     view: BufferHandle,
     clock: GBufferClock,
 ) -> GBufferTextures {
+    add_gbuffer_shared(
+        builder,
+        scene,
+        channels,
+        view,
+        clock,
+        &GBufferStates::default(),
+    )
+}
+
+/// [`add_gbuffer`], with the GPU state (uploaded meshes, pipelines) shared with every other
+/// g-buffer node declared with the same `states`, scene and channels: a renderer that
+/// rebuilds its graph (another technique, another parameter) keeps one upload and one set of
+/// pipelines. One `states` serves one device.
+pub fn add_gbuffer_shared(
+    builder: &mut GraphBuilder,
+    scene: Arc<Scene>,
+    channels: GBufferChannels,
+    view: BufferHandle,
+    clock: GBufferClock,
+    states: &GBufferStates,
+) -> GBufferTextures {
     let mut out = GBufferTextures::default();
     let depth_desc = TextureDesc::new(channels.depth_format.format(), SizeClass::FULL);
     let depth = builder.create_texture(
@@ -76,7 +98,8 @@ pub fn add_gbuffer(
         );
         targets.push((c, h));
     }
-    let raster = GBufferRaster::new(scene, channels, targets.clone(), depth, view, clock);
+    let state = states.state(&scene, channels);
+    let raster = GBufferRaster::new(scene, channels, targets.clone(), depth, view, clock, state);
     let mut pass = builder.custom_pass("gbuffer", raster);
     pass.read_buffer("view", BufferAccess::Uniform, view);
     let depth = pass.depth_attachment(depth);

@@ -49,7 +49,7 @@ struct MeshGpu {
     index_count: u32,
 }
 
-struct GpuState {
+pub(super) struct GpuState {
     meshes: Vec<MeshGpu>,
     instances: wgpu::Buffer,
     light: wgpu::Buffer,
@@ -63,6 +63,34 @@ struct GpuState {
     staging: Vec<InstanceGpu>,
 }
 
+/// A g-buffer node's GPU state, made on its first frame.
+type SharedState = Arc<Mutex<Option<GpuState>>>;
+
+/// G-buffer GPU states by scene and channels (see `add_gbuffer_shared`). Each entry keeps its
+/// scene alive, so the scene's address cannot be reused by another scene while it is a key.
+#[derive(Clone, Default)]
+pub struct GBufferStates(Arc<Mutex<Vec<StateEntry>>>);
+
+/// One shared state and what it was made for.
+type StateEntry = (Arc<Scene>, GBufferChannels, SharedState);
+
+impl GBufferStates {
+    pub(super) fn state(&self, scene: &Arc<Scene>, channels: GBufferChannels) -> SharedState {
+        let Ok(mut list) = self.0.lock() else {
+            return SharedState::default();
+        };
+        if let Some((_, _, s)) = list
+            .iter()
+            .find(|(sc, ch, _)| Arc::ptr_eq(sc, scene) && *ch == channels)
+        {
+            return s.clone();
+        }
+        let s = SharedState::default();
+        list.push((scene.clone(), channels, s.clone()));
+        s
+    }
+}
+
 /// The custom pass behind `add_gbuffer`.
 pub struct GBufferRaster {
     scene: Arc<Scene>,
@@ -71,7 +99,7 @@ pub struct GBufferRaster {
     depth: TextureHandle,
     view: BufferHandle,
     clock: GBufferClock,
-    state: Mutex<Option<GpuState>>,
+    state: SharedState,
 }
 
 impl GBufferRaster {
@@ -82,6 +110,7 @@ impl GBufferRaster {
         depth: TextureHandle,
         view: BufferHandle,
         clock: GBufferClock,
+        state: SharedState,
     ) -> Self {
         Self {
             scene,
@@ -90,7 +119,7 @@ impl GBufferRaster {
             depth,
             view,
             clock,
-            state: Mutex::new(None),
+            state,
         }
     }
 
@@ -195,6 +224,7 @@ impl GBufferRaster {
         state: &GpuState,
         reversed: bool,
     ) -> wgpu::RenderPipeline {
+        PIPELINES_CREATED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let (module, pipeline_layout, targets) =
             (&state.module, &state.pipeline_layout, &state.color_targets);
         let vertex_layout = wgpu::VertexBufferLayout {
@@ -292,6 +322,15 @@ impl GBufferRaster {
             })
             .collect()
     }
+}
+
+/// Raster pipelines every g-buffer node of the process has created (a front end adds them to
+/// the executor's count: a g-buffer pass builds its own pipelines, on its first frame).
+static PIPELINES_CREATED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// See [`PIPELINES_CREATED`].
+pub fn raster_pipelines_created() -> u64 {
+    PIPELINES_CREATED.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 impl CustomPass for GBufferRaster {

@@ -27,7 +27,7 @@ pub use output::{
 };
 pub use progress::ProgressMode;
 pub use sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
-pub use tracer::{offset_epsilon, trace_reference};
+pub use tracer::{offset_epsilon, trace_reference, trace_reference_rows};
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

@@ -123,10 +123,23 @@ pub fn trace_reference(
     surfaces: &SurfaceBuffer,
     params: &ReferenceParams,
 ) -> Result<ReferenceImage, SceneError> {
+    trace_reference_rows(bvh, surfaces, params, 0..surfaces.height)
+}
+
+/// Traces rows `rows` of `surfaces` only (a band of a progressive trace); each pixel's rays are
+/// the ones [`trace_reference`] gives it (they depend on its index in the whole image), so
+/// bands traced one by one make exactly the whole image. The result is `rows.len()` rows tall.
+pub fn trace_reference_rows(
+    bvh: &TriangleBvh,
+    surfaces: &SurfaceBuffer,
+    params: &ReferenceParams,
+    rows: std::ops::Range<u32>,
+) -> Result<ReferenceImage, SceneError> {
     check_inputs(surfaces, params)?;
+    let rows = rows.start.min(surfaces.height)..rows.end.min(surfaces.height);
     let width = surfaces.width as usize;
-    let progress = row_progress(params.progress, u64::from(surfaces.height));
-    let rows: Vec<Vec<(f32, f32)>> = (0..surfaces.height as usize)
+    let progress = row_progress(params.progress, u64::from(rows.end - rows.start));
+    let traced: Vec<Vec<(f32, f32)>> = (rows.start as usize..rows.end as usize)
         .into_par_iter()
         .map(|y| {
             let row = (0..width)
@@ -150,10 +163,10 @@ pub fn trace_reference(
         })
         .collect();
     progress.finish_and_clear();
-    let (accessibility, std_error) = rows.into_iter().flatten().unzip();
+    let (accessibility, std_error) = traced.into_iter().flatten().unzip();
     Ok(ReferenceImage {
         width: surfaces.width,
-        height: surfaces.height,
+        height: rows.end - rows.start,
         accessibility,
         std_error,
     })

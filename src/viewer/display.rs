@@ -1,0 +1,169 @@
+//! The viewer's picture as a pass of the frame graph: it reads the technique's accessibility,
+//! the shaded image and the ray-traced reference (an imported texture the reference worker
+//! fills), and draws into the imported view texture that the window shows and screenshots read.
+//! Both imports are the viewer's own textures, so the graph composes with the viewer the way
+//! it would with any user's renderer.
+//!
+//! Invariant: the view texture holds display values (sRGB bytes): in AO mode a pixel's byte is
+//! what `aograph render` writes into ao.png for the same accessibility.
+
+use std::sync::Arc;
+
+use aograph_graph::{ColorTarget, Extent, GpuContext, GraphBuilder, SizeClass, TextureDesc};
+
+use crate::error::{AppError, AppResult};
+use crate::frame_graph::FrameGraph;
+use crate::renderer::GraphExtension;
+
+/// Name of the imported texture the picture is drawn into.
+pub const VIEW_TEXTURE: &str = "viewer.view";
+/// Name of the imported texture holding the reference (-1 where not traced yet).
+pub const REFERENCE_TEXTURE: &str = "viewer.reference";
+/// The display pass and its uniform block.
+pub const DISPLAY_PASS: &str = "viewer.display";
+pub const DISPLAY_UNIFORM: &str = "display";
+/// Format of the view texture: sRGB, so egui samples it as the colour it shows.
+pub const VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// What the picture shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DisplayMode {
+    #[default]
+    Ao,
+    Shaded,
+    /// The technique left of the split, the reference right of it.
+    Split,
+    /// Technique minus reference, signed.
+    Error,
+}
+
+impl DisplayMode {
+    pub const ALL: [DisplayMode; 4] = [Self::Ao, Self::Shaded, Self::Split, Self::Error];
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ao => "ao",
+            Self::Shaded => "shaded",
+            Self::Split => "split",
+            Self::Error => "error",
+        }
+    }
+    pub fn parse(s: &str) -> AppResult<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| AppError::InvalidArgument {
+                name: "display mode".into(),
+                value: s.into(),
+                allowed: "ao, shaded, split or error".into(),
+            })
+    }
+    /// True when the picture needs the reference.
+    pub fn uses_reference(self) -> bool {
+        matches!(self, Self::Split | Self::Error)
+    }
+}
+
+/// The display uniform block's bytes: mode, split position (0..1 of the width), error scale.
+pub fn display_uniform(mode: DisplayMode, split: f32, error_scale: f32) -> Vec<u8> {
+    let mode = mode as u32;
+    [
+        mode.to_le_bytes(),
+        split.to_le_bytes(),
+        error_scale.to_le_bytes(),
+        0f32.to_le_bytes(),
+    ]
+    .concat()
+}
+
+/// The display pass as a frame-graph extension (see the module docs).
+pub fn display_extension() -> GraphExtension {
+    Arc::new(|b: &mut GraphBuilder, fg: &FrameGraph| {
+        let shaded = fg.shaded.ok_or_else(|| AppError::InvalidArgument {
+            name: "viewer frame graph".into(),
+            value: "no shaded output".into(),
+            allowed: "a frame graph built with FrameOutputs { shaded: true }".into(),
+        })?;
+        let target = b.import_texture(VIEW_TEXTURE, TextureDesc::new(VIEW_FORMAT, SizeClass::FULL));
+        let reference = b.import_texture(
+            REFERENCE_TEXTURE,
+            TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
+        );
+        let mut p = b.fullscreen_pass(DISPLAY_PASS, "viewer/display.wgsl", "vs", "fs");
+        p.sample("ao", fg.ao)
+            .sample("shaded", shaded)
+            .sample("reference", reference);
+        p.uniform(
+            DISPLAY_UNIFORM,
+            &display_uniform(DisplayMode::Ao, 0.5, 0.25),
+        );
+        let out = p.color_target(target, ColorTarget::clear([0.0, 0.0, 0.0, 1.0]));
+        b.export(out);
+        Ok(())
+    })
+}
+
+/// The viewer's two imported textures at one size.
+pub struct DisplayTextures {
+    pub size: Extent,
+    pub view: wgpu::Texture,
+    pub reference: wgpu::Texture,
+}
+
+impl DisplayTextures {
+    pub fn new(gpu: &GpuContext, size: Extent) -> Self {
+        let texture = |label, format, usage| {
+            gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.width,
+                    height: size.height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        use wgpu::TextureUsages as U;
+        let view = texture(
+            VIEW_TEXTURE,
+            VIEW_FORMAT,
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        let reference = texture(
+            REFERENCE_TEXTURE,
+            wgpu::TextureFormat::R32Float,
+            U::TEXTURE_BINDING | U::COPY_DST,
+        );
+        let t = Self {
+            size,
+            view,
+            reference,
+        };
+        t.clear_reference(gpu);
+        t
+    }
+
+    /// Marks the whole reference as not traced yet.
+    pub fn clear_reference(&self, gpu: &GpuContext) {
+        let n = (self.size.width * self.size.height) as usize;
+        self.write_reference(gpu, &vec![-1.0; n]);
+    }
+
+    /// Uploads a reference image (row-major, top row first, one value per pixel).
+    pub fn write_reference(&self, gpu: &GpuContext, values: &[f32]) {
+        gpu.queue.write_texture(
+            self.reference.as_image_copy(),
+            bytemuck::cast_slice(values),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(self.size.width * 4),
+                rows_per_image: Some(self.size.height),
+            },
+            self.reference.size(),
+        );
+    }
+}

@@ -1,0 +1,224 @@
+//! The ray-traced reference for the viewer's current view, traced progressively on a
+//! background thread: the CPU g-buffer of the view (primary rays at pixel centres, checked
+//! against the GPU g-buffer in tests/gbuffer_matches_cpu.rs), then passes of 8, 64 and 256
+//! rays per pixel, each in bands of rows (`trace_reference_rows`: the same rays the whole
+//! image would get), the picture refined band by band. A new job (the
+//! camera moved, the size, radius or scene changed) cancels the one running between bands.
+//!
+//! Invariant: the published image belongs to the newest job (`generation`); a band of an
+//! older job is never published. Rays run on a thread pool of their own, one thread fewer than
+//! the machine has (at least one), so the render loop keeps a core.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+
+use aograph_scene::{
+    Camera, CpuGBuffer, ReferenceNormals, ReferenceParams, Scene, TriangleBvh,
+    reference::ProgressMode,
+};
+
+/// Rays per pixel of each refinement pass.
+pub const PASSES: [u32; 3] = [8, 64, 256];
+/// Rows traced between checks for a newer job.
+const BAND_ROWS: u32 = 8;
+
+/// What to trace.
+#[derive(Clone)]
+pub struct ReferenceJob {
+    pub scene: Arc<Scene>,
+    pub camera: Camera,
+    pub time: f32,
+    pub width: u32,
+    pub height: u32,
+    pub radius: f32,
+}
+
+impl ReferenceJob {
+    /// True when `other` needs a new trace (another view, size, radius or scene).
+    pub fn differs(&self, other: &ReferenceJob) -> bool {
+        !Arc::ptr_eq(&self.scene, &other.scene)
+            || self.camera != other.camera
+            || self.time != other.time
+            || (self.width, self.height) != (other.width, other.height)
+            || self.radius != other.radius
+    }
+}
+
+/// The newest traced picture.
+#[derive(Default)]
+pub struct ReferenceState {
+    pub generation: u64,
+    /// Accessibility per pixel, -1 where nothing is traced yet.
+    pub values: Vec<f32>,
+    pub width: u32,
+    pub height: u32,
+    /// Rays per pixel of the newest complete pass (0 before the first).
+    pub rays_complete: u32,
+    /// Share of all passes' rays done, 0..1.
+    pub progress: f32,
+    /// Set when `values` changed since the viewer last took them.
+    pub dirty: bool,
+    /// The last error (a tracing failure), shown in the panel.
+    pub error: Option<String>,
+}
+
+struct Shared {
+    job: Mutex<Option<(u64, ReferenceJob)>>,
+    wake: Condvar,
+    generation: AtomicU64,
+    state: Mutex<ReferenceState>,
+    quit: std::sync::atomic::AtomicBool,
+}
+
+/// The worker thread and what it shares with the viewer.
+pub struct ReferenceWorker {
+    shared: Arc<Shared>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    last: Option<ReferenceJob>,
+}
+
+impl ReferenceWorker {
+    pub fn start() -> Self {
+        let shared = Arc::new(Shared {
+            job: Mutex::new(None),
+            wake: Condvar::new(),
+            generation: AtomicU64::new(0),
+            state: Mutex::new(ReferenceState::default()),
+            quit: Default::default(),
+        });
+        let s = shared.clone();
+        let thread = std::thread::Builder::new()
+            .name("aograph reference".into())
+            .spawn(move || run(&s))
+            .ok();
+        Self {
+            shared,
+            thread,
+            last: None,
+        }
+    }
+
+    /// Traces `job` unless it is the one being traced; returns whether a new trace started.
+    pub fn request(&mut self, job: ReferenceJob) -> bool {
+        if self.last.as_ref().is_some_and(|l| !l.differs(&job)) {
+            return false;
+        }
+        let generation = self.shared.generation.fetch_add(1, Ordering::AcqRel) + 1;
+        if let Ok(mut st) = self.shared.state.lock() {
+            let n = (job.width * job.height) as usize;
+            *st = ReferenceState {
+                generation,
+                values: vec![-1.0; n],
+                width: job.width,
+                height: job.height,
+                dirty: true,
+                ..Default::default()
+            };
+        }
+        if let Ok(mut j) = self.shared.job.lock() {
+            *j = Some((generation, job.clone()));
+        }
+        self.shared.wake.notify_one();
+        self.last = Some(job);
+        true
+    }
+
+    /// Runs `f` on the newest state (under its lock).
+    pub fn with_state<R>(&self, f: impl FnOnce(&mut ReferenceState) -> R) -> Option<R> {
+        self.shared.state.lock().ok().map(|mut s| f(&mut s))
+    }
+}
+
+impl Drop for ReferenceWorker {
+    fn drop(&mut self) {
+        self.shared.quit.store(true, Ordering::Release);
+        self.shared.generation.fetch_add(1, Ordering::AcqRel);
+        self.shared.wake.notify_one();
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn run(shared: &Shared) {
+    let threads = std::thread::available_parallelism()
+        .map(|n| n.get().saturating_sub(1).max(1))
+        .unwrap_or(1);
+    let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(threads).build() else {
+        return;
+    };
+    loop {
+        let (generation, job) = {
+            let Ok(mut j) = shared.job.lock() else { return };
+            loop {
+                if shared.quit.load(Ordering::Acquire) {
+                    return;
+                }
+                if let Some(job) = j.take() {
+                    break job;
+                }
+                j = match shared.wake.wait(j) {
+                    Ok(j) => j,
+                    Err(_) => return,
+                };
+            }
+        };
+        let current = || shared.generation.load(Ordering::Acquire) == generation;
+        pool.install(|| trace_job(shared, generation, &job, &current));
+    }
+}
+
+/// Traces `job` pass by pass and band by band, publishing as it goes, until done or stale.
+fn trace_job(shared: &Shared, generation: u64, job: &ReferenceJob, current: &dyn Fn() -> bool) {
+    let gbuffer = CpuGBuffer::trace(&job.scene, &job.camera, job.width, job.height, job.time);
+    if !current() {
+        return;
+    }
+    let surfaces = gbuffer.surfaces(ReferenceNormals::Geometric);
+    let bvh = TriangleBvh::new(&job.scene.world_triangles(job.time));
+    let total: u64 = PASSES.iter().map(|&r| r as u64).sum::<u64>() * job.height as u64;
+    let mut done: u64 = 0;
+    for &rays in &PASSES {
+        let params = ReferenceParams {
+            radius: job.radius,
+            rays_per_pixel: rays,
+            progress: ProgressMode::Never,
+            ..Default::default()
+        };
+        let mut y0 = 0;
+        while y0 < job.height {
+            if !current() {
+                return;
+            }
+            let rows = BAND_ROWS.min(job.height - y0);
+            let traced =
+                aograph_scene::trace_reference_rows(&bvh, &surfaces, &params, y0..y0 + rows);
+            let Ok(mut st) = shared.state.lock() else {
+                return;
+            };
+            if st.generation != generation {
+                return;
+            }
+            match traced {
+                Ok(image) => {
+                    let start = (y0 * job.width) as usize;
+                    st.values[start..start + image.accessibility.len()]
+                        .copy_from_slice(&image.accessibility);
+                    st.dirty = true;
+                }
+                Err(e) => {
+                    st.error = Some(e.to_string());
+                    return;
+                }
+            }
+            done += rays as u64 * rows as u64;
+            st.progress = done as f32 / total as f32;
+            y0 += rows;
+        }
+        if let Ok(mut st) = shared.state.lock() {
+            if st.generation == generation {
+                st.rays_complete = rays;
+            }
+        }
+    }
+}
