@@ -101,8 +101,11 @@ impl ViewerApp {
                 allowed: "a surface the device can present to".into(),
             })?;
         let inner = window.inner_size();
+        // Copies out of the window's texture make window screenshots, where the surface allows.
+        let usage =
+            wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_SRC);
         let surface_config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage,
             format,
             color_space: wgpu::SurfaceColorSpace::Auto,
             width: inner.width.max(1),
@@ -277,6 +280,10 @@ impl ViewerApp {
         }
         buffers.push(encoder.finish());
         r.gpu.queue.submit(buffers);
+        if let Some(path) = r.session.window_shot.take() {
+            window_screenshot(&r.gpu, &frame.texture, &path)?;
+            println!("window screenshot {}", path.display());
+        }
         r.gpu.queue.present(frame);
         free(&mut r.egui_renderer, &unused);
         let errors = r.gpu.take_errors();
@@ -340,6 +347,34 @@ impl ViewerApp {
             _ => {}
         }
     }
+}
+
+/// Writes the window's texture to `path` as a PNG (BGRA surfaces swapped to RGBA).
+fn window_screenshot(
+    gpu: &GpuContext,
+    texture: &wgpu::Texture,
+    path: &std::path::Path,
+) -> AppResult<()> {
+    if !texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
+        return Err(AppError::InvalidArgument {
+            name: "window-screenshot".into(),
+            value: "the window's surface cannot be copied on this device".into(),
+            allowed: "`screenshot`, which saves the picture without the panel".into(),
+        });
+    }
+    let mut bytes = aograph_graph::read_texture(&gpu.device, &gpu.queue, texture, 0)?.bytes;
+    if matches!(
+        texture.format(),
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    ) {
+        for px in bytes.chunks_exact_mut(4) {
+            px.swap(0, 2);
+        }
+    }
+    for px in bytes.chunks_exact_mut(4) {
+        px[3] = 255;
+    }
+    crate::images::write_rgba_png(path, texture.width(), texture.height(), &bytes)
 }
 
 /// Frees the egui textures a frame no longer needs.

@@ -57,7 +57,8 @@ fn parse_default(text: &str) -> Option<toml::Value> {
 pub fn side_panel(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
     egui::Panel::left("controls")
         .resizable(true)
-        .default_size(330.0)
+        .default_size(340.0)
+        .min_size(300.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 if let Some((error, text)) = &p.message {
@@ -69,136 +70,142 @@ pub fn side_panel(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
                     ui.colored_label(color, text);
                     ui.separator();
                 }
-                scene_section(ui, s, p);
                 technique_section(ui, s, p);
-                params_section(ui, s, p);
                 display_section(ui, s);
-                camera_section(ui, s, p);
                 timing_section(ui, s);
+                params_section(ui, s, p);
+                camera_section(ui, s, p);
+                scene_section(ui, s, p);
                 save_section(ui, s, p);
             });
         });
 }
 
 fn scene_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
-    ui.collapsing("Scene", |ui| {
-        let current = s.settings.scene.label();
-        let mut picked = None;
-        egui::ComboBox::from_label("procedural")
-            .selected_text(&current)
-            .show_ui(ui, |ui| {
-                for name in aograph_scene::PROCEDURAL_SCENE_NAMES {
-                    if ui.selectable_label(current == *name, *name).clicked() {
-                        picked = Some(SceneSource::Procedural(name.to_string()));
+    egui::CollapsingHeader::new("Scene")
+        .default_open(false)
+        .show(ui, |ui| {
+            let current = s.settings.scene.label();
+            let mut picked = None;
+            egui::ComboBox::from_label("procedural")
+                .selected_text(&current)
+                .show_ui(ui, |ui| {
+                    for name in aograph_scene::PROCEDURAL_SCENE_NAMES {
+                        if ui.selectable_label(current == *name, *name).clicked() {
+                            picked = Some(SceneSource::Procedural(name.to_string()));
+                        }
                     }
+                });
+            ui.horizontal(|ui| {
+                ui.text_edit_singleline(&mut p.scene_path)
+                    .on_hover_text("a .gltf or .glb file (or drop one on the window)");
+                if ui.button("Open").clicked() && !p.scene_path.trim().is_empty() {
+                    picked = Some(SceneSource::File(PathBuf::from(p.scene_path.trim())));
                 }
             });
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut p.scene_path)
-                .on_hover_text("a .gltf or .glb file (or drop one on the window)");
-            if ui.button("Open").clicked() && !p.scene_path.trim().is_empty() {
-                picked = Some(SceneSource::File(PathBuf::from(p.scene_path.trim())));
+            if let Some(source) = picked {
+                let label = source.label();
+                p.report(s.load_scene(source).map(|_| format!("opened {label}")));
             }
         });
-        if let Some(source) = picked {
-            let label = source.label();
-            p.report(s.load_scene(source).map(|_| format!("opened {label}")));
-        }
-    });
 }
 
 fn technique_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
-    ui.collapsing("Technique", |ui| {
-        let current = s.settings.ao.technique.clone();
-        let names = s.registry.names();
-        ui.horizontal_wrapped(|ui| {
-            for name in names {
-                if ui.selectable_label(current == name, &name).clicked() && current != name {
-                    p.report(s.set_technique(&name).map(|_| format!("technique {name}")));
+    egui::CollapsingHeader::new("Technique")
+        .default_open(true)
+        .show(ui, |ui| {
+            let current = s.settings.ao.technique.clone();
+            let names = s.registry.names();
+            ui.horizontal_wrapped(|ui| {
+                for name in names {
+                    if ui.selectable_label(current == name, &name).clicked() && current != name {
+                        p.report(s.set_technique(&name).map(|_| format!("technique {name}")));
+                    }
                 }
-            }
-        });
-    })
-    .header_response
-    .on_hover_text("switching is live; plans seen before are reused");
+            });
+        })
+        .header_response
+        .on_hover_text("switching is live; plans seen before are reused");
 }
 
 fn params_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
-    ui.collapsing("Parameters", |ui| {
-        // The shared radius R and the intermediate precision.
-        let mut r = s.settings.ao.radius;
-        let speed = r as f64 * 0.01;
-        ui.horizontal(|ui| {
-            let drag = ui.add(
-                egui::DragValue::new(&mut r)
-                    .range(1e-4..=1e5)
-                    .speed(speed)
-                    .prefix("R = "),
-            );
-            if drag.changed() {
-                p.report(
-                    s.set_radius(RadiusSetting::Units(r))
-                        .map(|_| format!("R = {r}")),
+    egui::CollapsingHeader::new("Parameters")
+        .default_open(true)
+        .show(ui, |ui| {
+            // The shared radius R and the intermediate precision.
+            let mut r = s.settings.ao.radius;
+            let speed = r as f64 * 0.01;
+            ui.horizontal(|ui| {
+                let drag = ui.add(
+                    egui::DragValue::new(&mut r)
+                        .range(1e-4..=1e5)
+                        .speed(speed)
+                        .prefix("R = "),
                 );
+                if drag.changed() {
+                    p.report(
+                        s.set_radius(RadiusSetting::Units(r))
+                            .map(|_| format!("R = {r}")),
+                    );
+                }
+                if ui.button("auto").clicked() {
+                    p.report(s.set_radius(RadiusSetting::Auto).map(|_| "R auto".into()));
+                }
+            });
+            ui.small(&s.radius_note);
+            let mut f = s.settings.ao.intermediate_format;
+            egui::ComboBox::from_label("intermediate precision")
+                .selected_text(match f {
+                    IntermediateFormat::R16Float => "r16float",
+                    IntermediateFormat::R32Float => "r32float",
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut f, IntermediateFormat::R16Float, "r16float");
+                    ui.selectable_value(&mut f, IntermediateFormat::R32Float, "r32float");
+                });
+            if f != s.settings.ao.intermediate_format {
+                p.report(s.set_intermediate(f).map(|_| "precision changed".into()));
             }
-            if ui.button("auto").clicked() {
-                p.report(s.set_radius(RadiusSetting::Auto).map(|_| "R auto".into()));
+            ui.separator();
+            let Ok(technique) = s.technique().cloned() else {
+                return;
+            };
+            let name = technique.name();
+            let current = s.settings.ao.params_for(name);
+            for spec in technique.parameters() {
+                let value = current
+                    .get(spec.name)
+                    .cloned()
+                    .or_else(|| parse_default(&spec.default));
+                let kind = param_kind(&spec, || {
+                    let mut t = toml::Table::new();
+                    t.insert(spec.name.into(), toml::Value::Integer(1));
+                    technique.check(&t).is_ok()
+                });
+                let key = format!("{name}.{}", spec.name);
+                let changed = ui
+                    .horizontal(|ui| {
+                        let out = control(ui, &kind, spec.name, value.as_ref(), &mut p.text, &key);
+                        if current.contains_key(spec.name) && ui.small_button("reset").clicked() {
+                            return Some(None);
+                        }
+                        out.map(Some)
+                    })
+                    .inner;
+                ui.small(spec.doc);
+                match changed {
+                    Some(Some(v)) => {
+                        let text = format!("{} = {v}", spec.name);
+                        p.report(s.set_param(spec.name, v).map(|_| text));
+                    }
+                    Some(None) => p.report(
+                        s.reset_param(spec.name)
+                            .map(|_| format!("{} reset", spec.name)),
+                    ),
+                    None => {}
+                }
             }
         });
-        ui.small(&s.radius_note);
-        let mut f = s.settings.ao.intermediate_format;
-        egui::ComboBox::from_label("intermediate precision")
-            .selected_text(match f {
-                IntermediateFormat::R16Float => "r16float",
-                IntermediateFormat::R32Float => "r32float",
-            })
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut f, IntermediateFormat::R16Float, "r16float");
-                ui.selectable_value(&mut f, IntermediateFormat::R32Float, "r32float");
-            });
-        if f != s.settings.ao.intermediate_format {
-            p.report(s.set_intermediate(f).map(|_| "precision changed".into()));
-        }
-        ui.separator();
-        let Ok(technique) = s.technique().cloned() else {
-            return;
-        };
-        let name = technique.name();
-        let current = s.settings.ao.params_for(name);
-        for spec in technique.parameters() {
-            let value = current
-                .get(spec.name)
-                .cloned()
-                .or_else(|| parse_default(&spec.default));
-            let kind = param_kind(&spec, || {
-                let mut t = toml::Table::new();
-                t.insert(spec.name.into(), toml::Value::Integer(1));
-                technique.check(&t).is_ok()
-            });
-            let key = format!("{name}.{}", spec.name);
-            let changed = ui
-                .horizontal(|ui| {
-                    let out = control(ui, &kind, spec.name, value.as_ref(), &mut p.text, &key);
-                    if current.contains_key(spec.name) && ui.small_button("reset").clicked() {
-                        return Some(None);
-                    }
-                    out.map(Some)
-                })
-                .inner;
-            ui.small(spec.doc);
-            match changed {
-                Some(Some(v)) => {
-                    let text = format!("{} = {v}", spec.name);
-                    p.report(s.set_param(spec.name, v).map(|_| text));
-                }
-                Some(None) => p.report(
-                    s.reset_param(spec.name)
-                        .map(|_| format!("{} reset", spec.name)),
-                ),
-                None => {}
-            }
-        }
-    });
 }
 
 /// One parameter's control; returns the new value when the user changed it.
@@ -236,6 +243,9 @@ fn control(
             picked
         }
         ParamKind::Int { min, max, odd } => {
+            if value.is_none() {
+                ui.weak("(preset)");
+            }
             let mut v = value.and_then(|v| v.as_integer()).unwrap_or(*min);
             let slider = egui::Slider::new(&mut v, *min..=*max).text(name);
             let slider = if *odd { slider.step_by(2.0) } else { slider };
@@ -244,6 +254,9 @@ fn control(
                 .then_some(toml::Value::Integer(if *odd { v | 1 } else { v }))
         }
         ParamKind::Float { min, max } => {
+            if value.is_none() {
+                ui.weak("(preset)");
+            }
             let mut v = value
                 .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
                 .unwrap_or(*min);
@@ -290,125 +303,133 @@ fn control(
 }
 
 fn display_section(ui: &mut egui::Ui, s: &mut Session) {
-    ui.collapsing("Display", |ui| {
-        ui.horizontal(|ui| {
-            for m in DisplayMode::ALL {
-                ui.selectable_value(&mut s.settings.display, m, m.name());
+    egui::CollapsingHeader::new("Display")
+        .default_open(true)
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                for m in DisplayMode::ALL {
+                    ui.selectable_value(&mut s.settings.display, m, m.name());
+                }
+            });
+            if s.settings.display == DisplayMode::Split {
+                ui.add(egui::Slider::new(&mut s.settings.split, 0.0..=1.0).text("split"));
             }
+            if s.settings.display == DisplayMode::Error {
+                ui.add(
+                    egui::Slider::new(&mut s.settings.error_scale, 0.01..=1.0)
+                        .text("full colour at |error|"),
+                );
+                ui.small("red: the technique is too bright; blue: too dark");
+            }
+            ui.checkbox(&mut s.settings.animate, "animate the scene");
         });
-        if s.settings.display == DisplayMode::Split {
-            ui.add(egui::Slider::new(&mut s.settings.split, 0.0..=1.0).text("split"));
-        }
-        if s.settings.display == DisplayMode::Error {
-            ui.add(
-                egui::Slider::new(&mut s.settings.error_scale, 0.01..=1.0)
-                    .text("full colour at |error|"),
-            );
-            ui.small("red: the technique is too bright; blue: too dark");
-        }
-        ui.checkbox(&mut s.settings.animate, "animate the scene");
-    });
 }
 
 fn camera_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
-    ui.collapsing("Camera", |ui| {
-        ui.horizontal(|ui| {
-            ui.selectable_value(&mut s.camera.mode, CameraMode::Orbit, "orbit");
-            ui.selectable_value(&mut s.camera.mode, CameraMode::Fly, "fly");
-            if ui.button("reset (R)").clicked() {
-                s.camera.reset();
-            }
-        });
-        let mut picked = None;
-        egui::ComboBox::from_label("views")
-            .selected_text("choose a view")
-            .show_ui(ui, |ui| {
-                for (name, _) in &s.views {
-                    if ui.selectable_label(false, name).clicked() {
-                        picked = Some(name.clone());
-                    }
+    egui::CollapsingHeader::new("Camera")
+        .default_open(false)
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.selectable_value(&mut s.camera.mode, CameraMode::Orbit, "orbit");
+                ui.selectable_value(&mut s.camera.mode, CameraMode::Fly, "fly");
+                if ui.button("reset (R)").clicked() {
+                    s.camera.reset();
                 }
             });
-        if let Some(name) = picked {
-            p.report(s.set_view(&name).map(|_| format!("view {name}")));
-        }
-        ui.small(
+            let mut picked = None;
+            egui::ComboBox::from_label("views")
+                .selected_text("choose a view")
+                .show_ui(ui, |ui| {
+                    for (name, _) in &s.views {
+                        if ui.selectable_label(false, name).clicked() {
+                            picked = Some(name.clone());
+                        }
+                    }
+                });
+            if let Some(name) = picked {
+                p.report(s.set_view(&name).map(|_| format!("view {name}")));
+            }
+            ui.small(
             "drag: orbit (fly: look); wheel: zoom; WASD move, Q/E down/up; F: orbit/fly; R: reset",
         );
-    });
+        });
 }
 
 fn timing_section(ui: &mut egui::Ui, s: &mut Session) {
-    ui.collapsing("Timings and memory", |ui| {
-        let size = s.size();
-        ui.label(format!(
-            "frame {:.1} ms (moving average, wall clock) at {size}",
-            s.stats.frame_ms
-        ));
-        ui.label(if s.stats.cpu_times {
-            "per pass: CPU times (a software device)"
-        } else {
-            "per pass: GPU timestamps"
-        });
-        let max = s
-            .stats
-            .passes
-            .iter()
-            .map(|p| p.2)
-            .fold(0.0f64, f64::max)
-            .max(1e-6);
-        for (name, last, avg) in &s.stats.passes {
-            ui.add(
-                egui::ProgressBar::new((*avg / max) as f32)
-                    .text(format!("{name}: {avg:.2} ms (last {last:.2})")),
-            );
-        }
-        let plan = &s.renderer.plan;
-        let (bytes, unshared) = texture_bytes(plan, size);
-        ui.label(format!(
-            "textures: {:.2} MiB ({:.2} MiB without reuse)",
-            bytes as f64 / 1048576.0,
-            unshared as f64 / 1048576.0
-        ));
-        let culled = plan.culled_names();
-        ui.label(format!(
-            "culled passes: {}",
-            if culled.is_empty() {
-                "none".to_string()
+    egui::CollapsingHeader::new("Timings and memory")
+        .default_open(true)
+        .show(ui, |ui| {
+            let size = s.size();
+            ui.label(format!(
+                "frame {:.1} ms (moving average, wall clock) at {size}",
+                s.stats.frame_ms
+            ));
+            ui.label(if s.stats.cpu_times {
+                "per pass: CPU times (a software device)"
             } else {
-                culled.join(", ")
+                "per pass: GPU timestamps"
+            });
+            let max = s
+                .stats
+                .passes
+                .iter()
+                .map(|p| p.2)
+                .fold(0.0f64, f64::max)
+                .max(1e-6);
+            for (name, last, avg) in &s.stats.passes {
+                ui.add(
+                    egui::ProgressBar::new((*avg / max) as f32)
+                        .text(format!("{name}: {avg:.2} ms (last {last:.2})")),
+                );
             }
-        ));
-        ui.label(format!("pipelines created: {}", s.pipelines_created()));
-        ui.add(egui::ProgressBar::new(s.reference_progress).text(format!(
-            "reference: {} rays/pixel done ({:.0}%)",
-            s.reference_rays,
-            s.reference_progress * 100.0
-        )));
-    });
+            let plan = &s.renderer.plan;
+            let (bytes, unshared) = texture_bytes(plan, size);
+            ui.label(format!(
+                "textures: {:.2} MiB ({:.2} MiB without reuse)",
+                bytes as f64 / 1048576.0,
+                unshared as f64 / 1048576.0
+            ));
+            let culled = plan.culled_names();
+            ui.label(format!(
+                "culled passes: {}",
+                if culled.is_empty() {
+                    "none".to_string()
+                } else {
+                    culled.join(", ")
+                }
+            ));
+            ui.label(format!("pipelines created: {}", s.pipelines_created()));
+            ui.add(egui::ProgressBar::new(s.reference_progress).text(format!(
+                "reference: {} rays/pixel done ({:.0}%)",
+                s.reference_rays,
+                s.reference_progress * 100.0
+            )));
+        });
 }
 
 fn save_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
-    ui.collapsing("Save", |ui| {
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut p.save_path);
-            if ui.button("save config").clicked() {
-                let path = PathBuf::from(&p.save_path);
-                p.report(
-                    s.save_config(&path)
-                        .map(|_| format!("wrote {}", path.display())),
-                );
-            }
+    egui::CollapsingHeader::new("Save")
+        .default_open(false)
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.text_edit_singleline(&mut p.save_path);
+                if ui.button("save config").clicked() {
+                    let path = PathBuf::from(&p.save_path);
+                    p.report(
+                        s.save_config(&path)
+                            .map(|_| format!("wrote {}", path.display())),
+                    );
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.text_edit_singleline(&mut p.screenshot_path);
+                if ui.button("screenshot").clicked() {
+                    let path = PathBuf::from(&p.screenshot_path);
+                    p.report(
+                        s.screenshot(&path)
+                            .map(|_| format!("wrote {}", path.display())),
+                    );
+                }
+            });
         });
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut p.screenshot_path);
-            if ui.button("screenshot").clicked() {
-                let path = PathBuf::from(&p.screenshot_path);
-                p.report(
-                    s.screenshot(&path)
-                        .map(|_| format!("wrote {}", path.display())),
-                );
-            }
-        });
-    });
 }

@@ -21,6 +21,7 @@
 //! wait 10                      # render 10 frames
 //! wait-reference 8             # until the reference has a complete pass of >= 8 rays
 //! screenshot out/a.png         # the picture as shown
+//! window-screenshot out/w.png  # the whole window, panel included (after the next frame)
 //! save out/view.toml           # the settings as a config
 //! mark                         # remember the pipelines created so far
 //! expect-no-new-pipelines      # fail if any pipeline was created since `mark`
@@ -55,6 +56,7 @@ pub enum Action {
     Wait(u32),
     WaitReference(u32),
     Screenshot(PathBuf),
+    WindowScreenshot(PathBuf),
     Save(PathBuf),
     Mark,
     ExpectNoNewPipelines,
@@ -91,7 +93,7 @@ fn line_error(path: &Path, line: usize, message: impl std::fmt::Display) -> AppE
 
 /// The actions a script knows, for error messages.
 const ACTIONS: &str = "technique, param, radius, precision, display, split, view, camera, orbit, \
-     zoom, move, scene, size, wait, wait-reference, screenshot, save, mark, \
+     zoom, move, scene, size, wait, wait-reference, screenshot, window-screenshot, save, mark, \
      expect-no-new-pipelines, stats, quit";
 
 fn parse_line(text: &str) -> Result<Option<Action>, String> {
@@ -208,6 +210,7 @@ fn parse_line(text: &str) -> Result<Option<Action>, String> {
             Action::WaitReference(count(args[0])?)
         }
         "screenshot" => Action::Screenshot(PathBuf::from(rest)),
+        "window-screenshot" => Action::WindowScreenshot(PathBuf::from(rest)),
         "save" => Action::Save(PathBuf::from(rest)),
         "mark" => Action::Mark,
         "expect-no-new-pipelines" => Action::ExpectNoNewPipelines,
@@ -229,7 +232,7 @@ impl Script {
         let mut actions = Vec::new();
         for (i, line) in text.lines().enumerate() {
             if let Some(a) = parse_line(line).map_err(|m| line_error(path, i + 1, m))? {
-                if matches!(a, Action::Screenshot(ref p) | Action::Save(ref p) if p.as_os_str().is_empty())
+                if matches!(a, Action::Screenshot(ref p) | Action::WindowScreenshot(ref p) | Action::Save(ref p) if p.as_os_str().is_empty())
                 {
                     return Err(line_error(path, i + 1, "needs a file path"));
                 }
@@ -319,6 +322,11 @@ impl Script {
                 create_parent(p)?;
                 s.screenshot(p)?;
                 println!("screenshot {}", p.display());
+            }
+            Action::WindowScreenshot(p) => {
+                create_parent(p)?;
+                s.window_shot = Some(p.clone());
+                return Ok(Some(Step::Frame));
             }
             Action::Save(p) => {
                 create_parent(p)?;

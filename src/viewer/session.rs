@@ -102,6 +102,9 @@ pub struct Session {
     pub time: f32,
     pub frames: u64,
     last_frame: Option<Instant>,
+    /// A screenshot of the whole window (panel included) asked for, taken after the next frame
+    /// is drawn.
+    pub window_shot: Option<std::path::PathBuf>,
     /// Rays per pixel of the reference now shown (0: none yet).
     pub reference_rays: u32,
     pub reference_progress: f32,
@@ -174,6 +177,7 @@ impl Session {
             time: 0.0,
             frames: 0,
             last_frame: None,
+            window_shot: None,
             reference_rays: 0,
             reference_progress: 0.0,
         })

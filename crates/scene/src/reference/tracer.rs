@@ -187,6 +187,56 @@ mod tests {
     }
 
     #[test]
+    fn bands_of_rows_traced_one_by_one_make_exactly_the_whole_image() {
+        // A floor under a tilted ceiling: every pixel sees another amount of occlusion.
+        let tri =
+            |a: [f32; 3], b: [f32; 3], c: [f32; 3]| [Vec3::from(a), Vec3::from(b), Vec3::from(c)];
+        let bvh = TriangleBvh::new(&[
+            tri([-5.0, 0.2, -5.0], [5.0, 1.5, -5.0], [-5.0, 0.2, 5.0]),
+            tri([5.0, 1.5, -5.0], [5.0, 1.5, 5.0], [-5.0, 0.2, 5.0]),
+        ]);
+        let (w, h) = (7u32, 5u32);
+        let n = (w * h) as usize;
+        let surfaces = SurfaceBuffer {
+            width: w,
+            height: h,
+            points: (0..n)
+                .map(|i| {
+                    Vec3::new(
+                        (i as u32 % w) as f32 - 3.0,
+                        0.0,
+                        (i as u32 / w) as f32 - 2.0,
+                    )
+                })
+                .collect(),
+            normals: vec![Vec3::Y; n],
+            valid: (0..n).map(|i| i != 3).collect(),
+        };
+        let params = ReferenceParams {
+            radius: 2.0,
+            rays_per_pixel: 16,
+            progress: super::super::ProgressMode::Never,
+            ..Default::default()
+        };
+        let whole = trace_reference(&bvh, &surfaces, &params).unwrap();
+        let mut bands = Vec::new();
+        for y in (0..h).step_by(2) {
+            let band = trace_reference_rows(&bvh, &surfaces, &params, y..(y + 2).min(h)).unwrap();
+            assert_eq!(band.height, (y + 2).min(h) - y);
+            bands.extend(band.accessibility);
+        }
+        assert_eq!(bands, whole.accessibility);
+        assert!(whole.accessibility.iter().any(|&a| a < 1.0) && whole.accessibility[3] == 1.0);
+        // Rows past the end are clipped, not an error.
+        assert_eq!(
+            trace_reference_rows(&bvh, &surfaces, &params, 4..9)
+                .unwrap()
+                .height,
+            1
+        );
+    }
+
+    #[test]
     fn bad_parameters_and_sizes_are_errors() {
         let bvh = TriangleBvh::new(&[]);
         let surfaces = single_pixel(Vec3::ZERO, Vec3::Y);
