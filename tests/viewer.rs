@@ -227,6 +227,37 @@ fn a_script_error_names_its_line_and_fails_the_viewer() {
 }
 
 #[test]
+fn a_bad_scene_file_is_a_message_and_the_scene_stays() {
+    let Some(xvfb) = xvfb_run() else { return };
+    let dir = temp_dir("bad-scene");
+    let bad = dir.join("broken.gltf");
+    std::fs::write(&bad, "{ this is not glTF").unwrap();
+    let script = dir.join("open.txt");
+    std::fs::write(
+        &script,
+        format!(
+            "size 64 48\nwait 2\nscreenshot {d}/before.png\nopen {b}\nopen {d}/missing.glb\n\
+             wait 2\nscreenshot {d}/after.png\nquit\n",
+            d = dir.display(),
+            b = bad.display()
+        ),
+    )
+    .unwrap();
+    let stdout = view(xvfb, &script, &[]);
+    let failures: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("open failed"))
+        .collect();
+    assert_eq!(failures.len(), 2, "{stdout}");
+    assert!(failures[0].contains("broken.gltf"), "{}", failures[0]);
+    assert!(failures[1].contains("missing.glb"), "{}", failures[1]);
+    assert_eq!(
+        gray(&dir.join("before.png")).2,
+        gray(&dir.join("after.png")).2
+    );
+}
+
+#[test]
 fn without_a_display_the_viewer_says_how_to_get_one() {
     let out = Command::new(env!("CARGO_BIN_EXE_aograph"))
         .arg("view")

@@ -16,7 +16,8 @@
 //! orbit 120 -30                # drag the camera by pixels
 //! zoom 2                       # wheel steps
 //! move forward 0.5             # fly: forward/back/left/right/up/down, seconds
-//! scene teapot.gltf            # a procedural name or a file
+//! scene teapot.gltf            # a procedural name or a file (a failure fails the script)
+//! open teapot.gltf             # as the panel opens one: a failure is a message, the scene stays
 //! size 160 96                  # render size
 //! wait 10                      # render 10 frames
 //! wait-reference 8             # until the reference has a complete pass of >= 8 rays
@@ -52,6 +53,7 @@ pub enum Action {
     Zoom(f32),
     Move(MoveKeys, f32),
     Scene(SceneSource),
+    Open(SceneSource),
     Size(u32, u32),
     Wait(u32),
     WaitReference(u32),
@@ -93,7 +95,7 @@ fn line_error(path: &Path, line: usize, message: impl std::fmt::Display) -> AppE
 
 /// The actions a script knows, for error messages.
 const ACTIONS: &str = "technique, param, radius, precision, display, split, view, camera, orbit, \
-     zoom, move, scene, size, wait, wait-reference, screenshot, window-screenshot, save, mark, \
+     zoom, move, scene, open, size, wait, wait-reference, screenshot, window-screenshot, save, mark, \
      expect-no-new-pipelines, stats, quit";
 
 fn parse_line(text: &str) -> Result<Option<Action>, String> {
@@ -196,6 +198,10 @@ fn parse_line(text: &str) -> Result<Option<Action>, String> {
         "scene" => {
             need(1)?;
             Action::Scene(SceneSource::parse(args[0]))
+        }
+        "open" => {
+            need(1)?;
+            Action::Open(SceneSource::parse(args[0]))
         }
         "size" => {
             need(2)?;
@@ -305,6 +311,10 @@ impl Script {
             Action::Zoom(steps) => s.camera.scroll(*steps),
             Action::Move(keys, seconds) => s.camera.fly(*keys, *seconds),
             Action::Scene(source) => s.load_scene(source.clone())?,
+            Action::Open(source) => match s.load_scene(source.clone()) {
+                Ok(()) => println!("opened {}", source.label()),
+                Err(e) => println!("open failed, the scene stays: {e}"),
+            },
             Action::Size(w, h) => s.resize(aograph_graph::Extent::new(*w, *h))?,
             Action::Wait(n) => {
                 if *n > 0 {
