@@ -62,6 +62,10 @@ fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
 pub type GraphExtension =
     Arc<dyn Fn(&mut GraphBuilder, &FrameGraph) -> AppResult<()> + Send + Sync>;
 
+/// Graphs kept for settings seen before (every technique and preset of a session, with room);
+/// beyond that the kept ones are dropped and rebuilt when asked for again.
+const MAX_BUILT_GRAPHS: usize = 32;
+
 /// One scene, one technique at a time, frames on demand.
 pub struct Renderer {
     pub gpu: Arc<GpuContext>,
@@ -256,6 +260,10 @@ impl Renderer {
         let old_plan = std::mem::replace(&mut self.plan, plan);
         let old_key = std::mem::replace(&mut self.current_key, key);
         if !force {
+            // Bounded: a window being resized builds a graph per size on the way.
+            if self.built.len() >= MAX_BUILT_GRAPHS {
+                self.built.clear();
+            }
             self.built.insert(old_key, (old_graph, old_plan));
         }
         Ok(())

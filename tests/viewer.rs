@@ -205,6 +205,42 @@ fn a_scripted_session_swaps_techniques_live_and_matches_render() {
 }
 
 #[test]
+fn every_technique_swaps_live_while_flying_through_columns() {
+    let Some(xvfb) = xvfb_run() else { return };
+    let dir = temp_dir("every");
+    let techniques = aograph_ao::TechniqueRegistry::with_builtins().names();
+    let mut script = String::from("size 96 64\nwait 1\n");
+    for (i, t) in techniques.iter().enumerate() {
+        // Fly in and turn, render, then come back: every picture looks down the hall.
+        script.push_str(&format!(
+            "technique {t}\nmove forward 0.1\norbit 20 0\nwait 2\nscreenshot {}/{i}-{t}.png\n\
+             orbit -20 0\nmove back 0.1\n",
+            dir.display()
+        ));
+    }
+    // Back through all of them: every plan is known, nothing is created.
+    script.push_str("mark\n");
+    for t in &techniques {
+        script.push_str(&format!("technique {t}\nmove left 0.05\nwait 1\n"));
+    }
+    script.push_str("expect-no-new-pipelines\nquit\n");
+    let path = dir.join("every.txt");
+    std::fs::write(&path, script).unwrap();
+    let stdout = view(xvfb, &path, &[]);
+    assert!(
+        stdout.contains("no pipelines created since mark"),
+        "{stdout}"
+    );
+    for (i, t) in techniques.iter().enumerate() {
+        let (_, _, v) = gray(&dir.join(format!("{i}-{t}.png")));
+        assert!(v.iter().all(|x| x.is_finite()), "{t}");
+        if t != "none" {
+            assert!(v.iter().any(|&x| x < 0.95), "{t} shows no occlusion at all");
+        }
+    }
+}
+
+#[test]
 fn a_script_error_names_its_line_and_fails_the_viewer() {
     let Some(xvfb) = xvfb_run() else { return };
     let dir = temp_dir("bad-script");
