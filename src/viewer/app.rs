@@ -161,7 +161,7 @@ impl ViewerApp {
         };
         if let Some(script) = self.options.script.as_mut() {
             if script.step(&mut r.session)? == Step::Quit {
-                println!("{}", stats_line(&r.session));
+                println!("at exit: {}", stats_line(&r.session));
                 el.exit();
                 return Ok(());
             }

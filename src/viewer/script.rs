@@ -303,7 +303,10 @@ impl Script {
             Action::Param(n, v) => s.set_param(n, v.clone())?,
             Action::Radius(r) => s.set_radius(*r)?,
             Action::Precision(f) => s.set_intermediate(*f)?,
-            Action::Display(m) => s.settings.display = *m,
+            Action::Display(m) => {
+                s.settings.display = *m;
+                s.stats.recent.clear();
+            }
             Action::Split(v) => s.settings.split = *v,
             Action::View(v) => s.set_view(v)?,
             Action::Camera(text) => s.set_camera_text(text)?,

@@ -108,6 +108,8 @@ pub struct Session {
     /// Rays per pixel of the reference now shown (0: none yet).
     pub reference_rays: u32,
     pub reference_progress: f32,
+    /// The reference worker's last failure, for the panel.
+    pub reference_error: Option<String>,
 }
 
 impl Session {
@@ -180,6 +182,7 @@ impl Session {
             window_shot: None,
             reference_rays: 0,
             reference_progress: 0.0,
+            reference_error: None,
         })
     }
 
@@ -341,17 +344,21 @@ impl Session {
         Ok(())
     }
 
-    /// Starts a new trace when the view changed; uploads what the worker traced since.
+    /// Starts a new trace when the view changed (while the picture shows the reference: in the
+    /// other modes the worker rests, leaving the CPU to the frame); uploads what the worker
+    /// traced since.
     fn update_reference(&mut self, camera: Camera) {
         let size = self.textures.size;
-        let started = self.reference.request(ReferenceJob {
-            scene: self.scene.clone(),
-            camera,
-            time: self.time,
-            width: size.width,
-            height: size.height,
-            radius: self.settings.ao.radius,
-        });
+        let wanted = self.settings.display.uses_reference();
+        let started = wanted
+            && self.reference.request(ReferenceJob {
+                scene: self.scene.clone(),
+                camera,
+                time: self.time,
+                width: size.width,
+                height: size.height,
+                radius: self.settings.ao.radius,
+            });
         if started {
             self.textures.clear_reference(&self.gpu);
         }
@@ -364,9 +371,12 @@ impl Session {
             }
             (st.rays_complete, st.progress, st.error.take())
         });
-        if let Some((rays, progress, _error)) = taken {
+        if let Some((rays, progress, error)) = taken {
             self.reference_rays = rays;
             self.reference_progress = progress;
+            if error.is_some() {
+                self.reference_error = error;
+            }
         }
     }
 
