@@ -57,6 +57,32 @@ fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
     Ok(())
 }
 
+/// How one-shot runs and benchmarks time passes: GPU timestamps on a GPU; CPU wall time per
+/// pass (each pass submitted and waited for) on a software device or one without timestamps.
+/// Lavapipe's timestamps do not bracket a compute pass's own work: a pass alone in its chain
+/// reads ~0.03 ms for a kernel that takes 62 ms, and a dependent pass's interval takes in part
+/// of its producer's time (README, "Performance"). `AOGRAPH_TIMING=gpu|cpu|off` overrides.
+/// A real-time front end sets its own mode (the viewer: timestamps, never waiting).
+pub fn timing_mode(gpu: &GpuContext) -> AppResult<aograph_graph::TimingMode> {
+    use aograph_graph::TimingMode;
+    let default = if gpu.has_timestamps() && !gpu.is_software() {
+        TimingMode::GpuTimestamps
+    } else {
+        TimingMode::CpuWall
+    };
+    match std::env::var("AOGRAPH_TIMING").ok().as_deref() {
+        None | Some("") => Ok(default),
+        Some("gpu") => Ok(TimingMode::GpuTimestamps),
+        Some("cpu") => Ok(TimingMode::CpuWall),
+        Some("off") => Ok(TimingMode::Off),
+        Some(other) => Err(AppError::InvalidArgument {
+            name: "AOGRAPH_TIMING".into(),
+            value: other.into(),
+            allowed: "gpu, cpu or off".into(),
+        }),
+    }
+}
+
 /// Passes a front end adds after the frame graph (the viewer's display pass), declared on the
 /// same builder with the frame graph's handles.
 pub type GraphExtension =
@@ -137,11 +163,7 @@ impl Renderer {
         let mut compiler = GraphCompiler::new();
         let plan = compiler.compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
-        // One-shot runs and benchmarks want per-pass times: without timestamp queries, measure
-        // CPU wall time per pass (which waits per pass; a real-time front end turns it off).
-        if !gpu.has_timestamps() {
-            exec.set_timing(aograph_graph::TimingMode::CpuWall)?;
-        }
+        exec.set_timing(timing_mode(&gpu)?)?;
         let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("view"),
             size: std::mem::size_of::<aograph_frame::ViewUniforms>() as u64,

@@ -31,7 +31,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         if (any(q < vec2<i32>(0)) || any(q >= size)) { continue; }
         let z_q = textureLoad(depth, q, 0).r;
         if (!(z_q > 0.0)) { continue; }
-        var w = blur_weight(params, k) * depth_weight(z_p, z_q, params.depth_sigma);
+        var w = params.weights[u32(abs(k)) / 4u][u32(abs(k)) % 4u] * depth_weight(z_p, z_q, params.depth_sigma);
         if (k != 0) {
             w = w * normal_weight(n_p, unit_normal(textureLoad(normals, q, 0)), params.normal_power);
         }

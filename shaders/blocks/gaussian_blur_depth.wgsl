@@ -28,7 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         if (any(q < vec2<i32>(0)) || any(q >= size)) { continue; }
         let z_q = textureLoad(depth, q, 0).r;
         if (!(z_q > 0.0)) { continue; }
-        let w = blur_weight(params, k) * depth_weight(z_p, z_q, params.depth_sigma);
+        let w = params.weights[u32(abs(k)) / 4u][u32(abs(k)) % 4u] * depth_weight(z_p, z_q, params.depth_sigma);
         sum = sum + w * textureLoad(src, q, 0).r;
         wsum = wsum + w;
     }

@@ -16,6 +16,7 @@ pub mod bitmap_text;
 pub mod images;
 pub mod plot;
 pub mod report;
+pub mod roofline;
 pub mod run;
 pub mod scaling;
 pub mod search;
@@ -132,6 +133,7 @@ pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
         ),
         edge_band: s.metrics.edge_band,
         edge_jump: s.metrics.edge_jump,
+        peaks: None,
     }
 }
 
@@ -174,7 +176,10 @@ pub fn run_bench(
     progress: bool,
 ) -> AppResult<Vec<RunRecord>> {
     let s = &plan.settings;
-    let meta = bench_meta(&ctx.gpu, s);
+    let meta = BenchMeta {
+        peaks: ctx.peaks,
+        ..bench_meta(&ctx.gpu, s)
+    };
     let colours = ctx.registry.names();
     let mut writer = match out {
         Some(dir) => {

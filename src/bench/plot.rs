@@ -326,6 +326,7 @@ pub(crate) mod tests {
             },
             texture_bytes: 0,
             texture_bytes_unshared: 0,
+            roofline: Vec::new(),
             metrics: crate::metrics::Metrics {
                 pixels: 1,
                 mae,

@@ -51,6 +51,9 @@ pub struct BenchMeta {
     pub ssim: String,
     pub edge_band: u32,
     pub edge_jump: f32,
+    /// The device's peaks measured in the run (the roofline's ceilings).
+    #[serde(default)]
+    pub peaks: Option<super::roofline::DevicePeaks>,
 }
 
 impl BenchMeta {
@@ -89,7 +92,7 @@ pub struct ResultsFile {
     pub runs: Vec<RunRecord>,
 }
 
-pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,image";
+pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image";
 
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -101,6 +104,23 @@ fn csv_field(s: &str) -> String {
 
 fn opt(v: Option<f64>, d: usize) -> String {
     v.map(|v| num(v, d)).unwrap_or_default()
+}
+
+/// The roofline column: `pass=load fraction/byte fraction` per pass (load fraction empty when
+/// the pass declares no loads).
+fn roofline_field(r: &RunRecord) -> String {
+    r.roofline
+        .iter()
+        .map(|p| {
+            format!(
+                "{}={}/{}",
+                p.pass,
+                opt(p.load_fraction, 4),
+                num(p.byte_fraction, 4)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(";")
 }
 
 /// One CSV line (no newline) for `r`.
@@ -148,6 +168,7 @@ pub fn csv_row(r: &RunRecord) -> String {
         m.edge_pixels.to_string(),
         opt(m.flicker, 6),
         csv_field(&passes),
+        csv_field(&roofline_field(r)),
         csv_field(r.image.as_deref().unwrap_or("")),
     ]
     .join(",")
@@ -463,6 +484,9 @@ pub fn write_report(
     if !runs.is_empty() {
         let _ = writeln!(s, "Settings: {}\n", settings_line(meta));
         runs_section(&mut s, meta, runs);
+        if let Some(peaks) = &meta.peaks {
+            s.push_str(&super::roofline::markdown(peaks, runs));
+        }
     }
     if let Some(sc) = scaling {
         s.push('\n');

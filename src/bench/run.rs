@@ -19,10 +19,11 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use aograph_ao::{AoConfig, TechniqueRegistry};
-use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, texture_bytes};
+use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, pass_costs, texture_bytes};
 use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};
 
+use super::roofline::{DevicePeaks, PassRoofline, passes_under};
 use super::stats::Spread;
 use super::sweep::ParamSet;
 use crate::config::RadiusSetting;
@@ -74,6 +75,8 @@ pub struct BenchContext {
     pub gpu: Arc<GpuContext>,
     pub shaders: Arc<ShaderLibrary>,
     pub registry: TechniqueRegistry,
+    /// The device's peaks, measured at the start of the run, when the run reports a roofline.
+    pub peaks: Option<DevicePeaks>,
 }
 
 /// The g-buffer pass (shared by every technique, not counted in a technique's total).
@@ -251,6 +254,9 @@ pub struct RunRecord {
     pub metrics: Metrics,
     /// The side-by-side image, relative to the output directory.
     pub image: Option<String>,
+    /// Every pass under the device's peaks (empty when the run measured none).
+    #[serde(default)]
+    pub roofline: Vec<PassRoofline>,
 }
 
 fn default_view() -> String {
@@ -348,6 +354,10 @@ pub fn run_technique(
     )?;
     metrics.flicker = flicker.value();
     let (bytes, unshared) = texture_bytes(&r.plan, extent);
+    let roofline = ctx
+        .peaks
+        .map(|p| passes_under(&p, &pass_costs(&r.plan, extent), &times.passes))
+        .unwrap_or_default();
     let record = RunRecord {
         scene: reference.label.clone(),
         view: reference.view.clone(),
@@ -368,6 +378,7 @@ pub fn run_technique(
         texture_bytes_unshared: unshared,
         metrics,
         image: None,
+        roofline,
     };
     Ok(RunOutput { record, ao: last })
 }

@@ -329,10 +329,18 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
         .map(|s| check_size("--scaling-sizes", *s).map(|_| *s))
         .collect::<AppResult<_>>()?;
     let radii = radii(args, plan.settings.radius)?;
+    let gpu = gpu()?;
+    // The device's own peaks, for the roofline of every pass (a second or two).
+    let peaks = if args.scaling {
+        None
+    } else {
+        Some(crate::bench::roofline::measure_peaks(&gpu)?)
+    };
     let ctx = BenchContext {
-        gpu: gpu()?,
+        gpu,
         shaders: shader_library(),
         registry,
+        peaks,
     };
     let started = std::time::Instant::now();
     let out = &args.out;

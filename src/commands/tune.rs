@@ -146,6 +146,7 @@ pub fn tune(args: &TuneArgs) -> AppResult<()> {
         gpu: gpu()?,
         shaders: shader_library(),
         registry,
+        peaks: None,
     };
     let records = run_bench(&ctx, &plan, None, !args.run.quiet)?;
     let device = format!(

@@ -118,6 +118,7 @@ pub fn tune_search(args: &TuneArgs) -> AppResult<()> {
         gpu: gpu()?,
         shaders: shader_library(),
         registry,
+        peaks: None,
     };
     let evaluate = |scenes: &[SceneSource], sets: &[ParamSet]| -> AppResult<Vec<Score>> {
         let plan = BenchPlan {

@@ -120,6 +120,7 @@ impl GraphBuilder {
             buffers: Vec::new(),
             uniforms: Vec::new(),
             side_effect: false,
+            loads_per_invocation: None,
         });
         let id = PassId(self.decl.passes.len() - 1);
         PassBuilder { graph: self, id }
@@ -538,6 +539,12 @@ impl PassBuilder<'_> {
         if let PassKind::Compute { dispatch, .. } = &mut self.decl().kind {
             *dispatch = Some(d);
         }
+        self
+    }
+    /// States the texel loads one invocation of this pass makes (a thread of a compute pass, a
+    /// fragment of a full-screen pass), for rooflines (`pass_costs`).
+    pub fn loads_per_invocation(&mut self, loads: f32) -> &mut Self {
+        self.decl().loads_per_invocation = Some(loads);
         self
     }
     /// Keeps the pass even when no output depends on it.

@@ -203,6 +203,10 @@ pub struct PassDecl {
     pub uniforms: Vec<UniformHandle>,
     /// Kept even when no output needs it (e.g. it writes to the CPU or a swapchain).
     pub side_effect: bool,
+    /// Texel loads one invocation (thread or fragment) makes, as the pass's author states them
+    /// for its parameters: what a roofline compares the pass's load rate with (`cost.rs`).
+    /// Not part of the structure: it changes no plan.
+    pub loads_per_invocation: Option<f32>,
 }
 
 impl PassDecl {

@@ -10,6 +10,7 @@ mod attachment;
 mod bind;
 mod builder;
 mod compile;
+mod cost;
 mod custom;
 mod declaration;
 mod dot;
@@ -34,6 +35,7 @@ mod timing;
 pub use attachment::{AttachmentOps, ColorTarget, DepthTarget, LoadOp};
 pub use builder::{GraphBuilder, HistoryTexture, PassBuilder};
 pub use compile::{CompileOptions, CompiledGraph, CulledPass, GraphCompiler, PlanKey, compile};
+pub use cost::{PassCost, pass_costs};
 pub use custom::{BoundTexture, CustomPass, NoopPass, PassContext};
 pub use declaration::{
     BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind, ResourceDecl, ResourceKind,

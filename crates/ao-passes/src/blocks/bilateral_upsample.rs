@@ -166,6 +166,13 @@ pub fn bilateral_upsample(
         _pad: 0.0,
     };
     p.uniform("params", bytemuck::bytes_of(&u));
+    // The full-resolution centre (depth, normal), then 4 low-resolution taps of AO, depth and
+    // normal.
+    p.loads_per_invocation(if inputs.normals.is_some() {
+        2.0 + 4.0 * 3.0
+    } else {
+        1.0 + 4.0 * 2.0
+    });
     let out = p.write_storage("dst", out);
     p.dispatch_over(out);
     Ok(out)

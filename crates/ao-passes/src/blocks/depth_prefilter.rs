@@ -95,6 +95,7 @@ pub fn depth_prefilter(
         let mut p = b.compute_pass(&name, "blocks/depth_prefilter.wgsl", "main");
         p.sample("src", pyramid.levels[l as usize - 1]);
         p.uniform("params", bytemuck::bytes_of(&uniform));
+        p.loads_per_invocation(4.0); // the 2x2 block
         let out = p.write_storage("dst", out);
         p.dispatch_over(out);
         pyramid.levels.push(out);

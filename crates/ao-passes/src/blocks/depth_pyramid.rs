@@ -136,6 +136,8 @@ pub fn depth_pyramid(
         let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, size));
         let mut p = b.compute_pass(&name, "blocks/depth_pyramid.wgsl", entry);
         p.sample("src", pyramid.levels[l as usize - 1]);
+        // The 3x3 average reads 9 texels (and the centre again); min and max read 2x2.
+        p.loads_per_invocation(if reduction.factor() == 3 { 10.0 } else { 4.0 });
         let out = p.write_storage("dst", out);
         p.dispatch_over(out);
         pyramid.levels.push(out);

@@ -102,6 +102,8 @@ pub fn edge_denoise(
             .sample("edges", edges)
             .sample("depth", depth);
         p.uniform("params", bytemuck::bytes_of(&uniform));
+        // Centre depth and AO, 5 edge texels, 8 neighbours' depth and AO.
+        p.loads_per_invocation(23.0);
         let out = p.write_storage("dst", out);
         p.dispatch_over(out);
         src = out;

@@ -195,6 +195,11 @@ pub(crate) fn blur_pass(
         p.sample(binding, *h);
     }
     p.uniform("params", bytemuck::bytes_of(uniform));
+    // Each tap reads the input and every guide (depth, normals); the centre reads the guides
+    // once more.
+    let taps = 2 * uniform.radius + 1;
+    let guides = extra.len() as f32;
+    p.loads_per_invocation(taps as f32 * (1.0 + guides) + guides);
     let out = p.write_storage("dst", out);
     p.dispatch_over(out);
     Ok(out)

@@ -348,6 +348,7 @@ impl AoTechnique for Gtao {
                     "ao/gtao/ao.wgsl"
                 },
                 uniform: bytemuck::bytes_of(&uniform),
+                loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
                 effect_radius,
                 falloff_range: p.falloff_range,
                 denoise: EdgeDenoise {

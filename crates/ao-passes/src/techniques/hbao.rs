@@ -257,6 +257,8 @@ impl AoTechnique for Hbao {
         };
         let mut pass = ctx.builder.compute_pass("hbao.ao", &shader, "main");
         pass.sample("depth", depth).sample("normals", normals);
+        // The centre's depth and normal, one depth tap per step and direction.
+        pass.loads_per_invocation(2.0 + (p.directions * p.steps) as f32);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         let raw = pass.write_storage("ao", raw);

@@ -252,6 +252,8 @@ impl AoTechnique for PyramidHbao {
             pass.sample(&format!("depth{l}"), pyramid.level(l));
         }
         pass.sample("normals", normals);
+        // The centre's depth and normal, step_count taps per direction and level.
+        pass.loads_per_invocation(2.0 + (p.directions * p.step_count * levels) as f32);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         let raw = pass.write_storage("ao", target);

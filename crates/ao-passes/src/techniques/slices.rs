@@ -40,6 +40,9 @@ pub(crate) struct SlicePasses<'a> {
     pub denoise: EdgeDenoise,
     /// A further texture the AO pass writes (gtao's bent normals).
     pub extra_output: Option<ExtraOutput>,
+    /// Texel loads of the AO pass per pixel (for the bench's roofline): the centre's depth,
+    /// normal and four edge neighbours, and two depth taps per step and slice.
+    pub loads_per_pixel: f32,
 }
 
 /// The passes every slice-based technique runs: `<prefix>.depth_level1..4` (XeGTAO's depth
@@ -93,7 +96,8 @@ pub(crate) fn slice_passes(
     {
         pass.sample(binding, mips.level(l));
     }
-    pass.sample("normals", normals);
+    pass.sample("normals", normals)
+        .loads_per_invocation(s.loads_per_pixel);
     let raw = pass.write_storage("ao", raw);
     let edges = pass.write_storage("edges", edges);
     let mut extras = Vec::new();

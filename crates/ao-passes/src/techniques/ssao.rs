@@ -165,6 +165,8 @@ impl AoTechnique for Ssao {
         let shader = ctx.shader("ao/ssao/ao.wgsl");
         let mut pass = ctx.builder.compute_pass("ssao.ao", &shader, "main");
         pass.sample("depth", depth).sample("normals", normals);
+        // The centre's depth and normal, one depth tap per sample.
+        pass.loads_per_invocation(2.0 + p.samples as f32);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         let raw = pass.write_storage("ao", raw);
@@ -179,6 +181,8 @@ impl AoTechnique for Ssao {
             .builder
             .compute_pass("ssao.blur", "ao/ssao/blur.wgsl", "main");
         pass.sample("raw", raw).sample("depth", depth);
+        // The centre's depth, then depth and AO over the 4x4 tile.
+        pass.loads_per_invocation(1.0 + 16.0 * 2.0);
         let out = pass.write_storage("ao", out);
         pass.dispatch_over(out);
         Ok(AoOutput::new(out))

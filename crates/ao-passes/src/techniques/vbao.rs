@@ -268,6 +268,7 @@ impl AoTechnique for Vbao {
                 prefix: "vbao",
                 shader: "ao/vbao/ao.wgsl",
                 uniform: bytemuck::bytes_of(&uniform),
+                loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
                 effect_radius,
                 falloff_range: PREFILTER_FALLOFF_RANGE,
                 denoise: EdgeDenoise {

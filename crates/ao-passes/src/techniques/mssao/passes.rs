@@ -79,7 +79,8 @@ pub fn downsample(ctx: &mut AoBuildContext<'_>, l: u32, src: Level, u: &MssaoUni
     );
     common(&mut p, view, u);
     p.sample("src_positions", src.positions)
-        .sample("src_normals", src.normals);
+        .sample("src_normals", src.normals)
+        .loads_per_invocation(8.0); // 2x2 positions and normals (Table 2)
     let positions = p.write_storage("dst_positions", positions);
     let normals = p.write_storage("dst_normals", normals);
     p.dispatch_over(positions);
@@ -142,7 +143,8 @@ pub fn blur(
     common(&mut p, view, u);
     p.sample("positions", g.positions)
         .sample("normals", g.normals)
-        .sample("src", tuple);
+        .sample("src", tuple)
+        .loads_per_invocation(27.0); // 3x3 positions, normals and tuples (Table 4)
     let out = p.write_storage("dst", out);
     p.dispatch_over(out);
     out
