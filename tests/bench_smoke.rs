@@ -83,6 +83,46 @@ fn bench_writes_every_output_and_each_parses() {
             .expect("results.json parses");
     assert_eq!(json.runs.len(), runs);
     assert!(!json.meta.device.is_empty());
+    // The roofline: the device's peaks measured in the run, every pass of every run under
+    // them, and the fractions are the rates over the peaks.
+    let peaks = json
+        .meta
+        .peaks
+        .expect("the run measured the device's peaks");
+    assert!(
+        peaks.loads_per_s > 1e6 && peaks.bytes_per_s > 1e6,
+        "{peaks:?}"
+    );
+    for r in &json.runs {
+        let names: Vec<&str> = r.times.passes.iter().map(|p| p.name.as_str()).collect();
+        let roof: Vec<&str> = r.roofline.iter().map(|p| p.pass.as_str()).collect();
+        assert_eq!(
+            roof, names,
+            "{} {}: every timed pass has a roofline row",
+            r.scene, r.technique
+        );
+        for p in &r.roofline {
+            assert!(p.bytes > 0 || p.invocations == 0, "{}: {p:?}", r.technique);
+            assert!((p.byte_fraction - p.bytes_per_s / peaks.bytes_per_s).abs() < 1e-9);
+            if let (Some(rate), Some(f)) = (p.loads_per_s, p.load_fraction) {
+                assert!((f - rate / peaks.loads_per_s).abs() < 1e-9, "{p:?}");
+            }
+        }
+    }
+    let hbao = json.runs.iter().find(|r| r.technique == "hbao").unwrap();
+    let blur = hbao
+        .roofline
+        .iter()
+        .find(|p| p.pass == "hbao.blur_x")
+        .unwrap();
+    // HBAO's 5-tap blur reads the AO and the depth guide at each tap and the centre's depth
+    // once more: 11 loads a pixel, over 64x64 invocations.
+    assert_eq!(
+        (blur.loads_per_invocation, blur.invocations),
+        (Some(11.0), 64 * 64)
+    );
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("## Roofline") && report.contains("| hbao.blur_x |"));
     for r in &json.runs {
         let what = format!("{} {} {}", r.scene, r.technique, r.label);
         let m = &r.metrics;

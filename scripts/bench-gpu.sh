@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The full benchmark for a GPU (or any device): builds in release and runs `aograph bench` with
+# every technique at every preset (configs/sweeps/presets.toml), at 1920x1080 and 1280x720,
+# with the roofline (the device's own load and byte peaks, every pass's share of them), into
+# one results folder: <out>/<width>x<height>/{report.md,results.csv,results.json,pareto.*}
+# and <out>/device.txt.
+#
+#   bash scripts/bench-gpu.sh [OUT]            # default OUT: bench-gpu
+#   SIZES="96x64" FRAMES=1 WARMUP=0 RAYS=4 SCENES=columns PROFILE=debug \
+#       bash scripts/bench-gpu.sh out      # a smoke run (CI: the debug build it already has)
+#
+# On lavapipe (no GPU) the times are CPU times; on a GPU, AOGRAPH_TIMING=gpu is the default
+# (GPU timestamps), and the report names the device.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-bench-gpu}
+sizes=${SIZES:-"1920x1080 1280x720"}
+frames=${FRAMES:-8}
+warmup=${WARMUP:-2}
+rays=${RAYS:-256}
+scenes=${SCENES:-columns,sphere-on-plane,corner}
+profile=${PROFILE:-release}
+bash scripts/ensure-vulkan.sh
+if [ "$profile" = release ]; then
+    cargo build --release --locked --quiet
+else
+    cargo build --locked --quiet
+fi
+mkdir -p "$out"
+{
+    echo "aograph bench-gpu, $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+    echo "sizes: $sizes; scenes: $scenes; frames $frames after $warmup warm-up; reference $rays rays"
+    command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader || true
+} > "$out/device.txt"
+for size in $sizes; do
+    w=${size%x*}
+    h=${size#*x}
+    "./target/$profile/aograph" bench \
+        --scenes "$scenes" --techniques all --sweep configs/sweeps/presets.toml \
+        --width "$w" --height "$h" --frames "$frames" --warmup "$warmup" --rays "$rays" \
+        --quiet --out "$out/$size"
+    grep -m1 "^Device:" "$out/$size/report.md" >> "$out/device.txt"
+done
+echo "bench-gpu: wrote $out/ ($(echo $sizes | wc -w) sizes)"
