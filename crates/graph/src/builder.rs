@@ -121,6 +121,7 @@ impl GraphBuilder {
             uniforms: Vec::new(),
             side_effect: false,
             loads_per_invocation: None,
+            constants: Vec::new(),
         });
         let id = PassId(self.decl.passes.len() - 1);
         PassBuilder { graph: self, id }
@@ -545,6 +546,35 @@ impl PassBuilder<'_> {
     /// fragment of a full-screen pass), for rooflines (`pass_costs`).
     pub fn loads_per_invocation(&mut self, loads: f32) -> &mut Self {
         self.decl().loads_per_invocation = Some(loads);
+        self
+    }
+    /// Sets the shader's pipeline-overridable constant `name` (`override name: T = ...;` in the
+    /// WGSL) for this pass; setting it again replaces the value. The value is compiled into the
+    /// pipeline, so a loop bound the driver can unroll goes here rather than in a uniform; each
+    /// distinct value is a pipeline of its own (cached). Compile checks that the shader declares
+    /// the constant; a non-finite value is an error.
+    pub fn constant(&mut self, name: &str, value: f64) -> &mut Self {
+        if !value.is_finite() {
+            let pass = self.decl().name.clone();
+            self.graph.decl.errors.push(GraphError::InvalidPass {
+                pass,
+                message: format!(
+                    "pipeline constant `{name}` = {value}: a constant must be a finite number"
+                ),
+            });
+            return self;
+        }
+        let constants = &mut self.decl().constants;
+        match constants.binary_search_by(|c| c.name.as_str().cmp(name)) {
+            Ok(i) => constants[i].value = value,
+            Err(i) => constants.insert(
+                i,
+                PipelineConstant {
+                    name: name.to_string(),
+                    value,
+                },
+            ),
+        }
         self
     }
     /// Keeps the pass even when no output depends on it.

@@ -207,6 +207,34 @@ pub struct PassDecl {
     /// for its parameters: what a roofline compares the pass's load rate with (`cost.rs`).
     /// Not part of the structure: it changes no plan.
     pub loads_per_invocation: Option<f32>,
+    /// Values of the shader's pipeline-overridable constants (`override NAME` in WGSL), sorted
+    /// by name: fixed when the pipeline is built, so each distinct set is its own pipeline.
+    pub constants: Vec<PipelineConstant>,
+}
+
+/// A value for one `override` declaration of a pass's shader (WGSL's pipeline-overridable
+/// constants; Vulkan's specialization constants). Unlike a uniform, the driver compiles the
+/// value in: a loop bound becomes a constant it can unroll.
+#[derive(Clone, Debug)]
+pub struct PipelineConstant {
+    pub name: String,
+    pub value: f64,
+}
+
+// Equal and hashed by the value's bits (values are finite: `PassBuilder::constant`), so a
+// constant can key a pipeline.
+impl PartialEq for PipelineConstant {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name && self.value.to_bits() == other.value.to_bits()
+    }
+}
+impl Eq for PipelineConstant {}
+
+impl std::hash::Hash for PipelineConstant {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.name.hash(state);
+        self.value.to_bits().hash(state);
+    }
 }
 
 impl PassDecl {
@@ -234,8 +262,8 @@ pub struct GraphDecl {
 }
 
 impl GraphDecl {
-    /// Hash of the declaration's structure: resources, passes, uses, shaders, attachment
-    /// operations, and each uniform block's owner, binding and size, but not its contents. A
+    /// Hash of the declaration's structure: resources, passes, uses, shaders, pipeline
+    /// constants, attachment operations, and each uniform block's owner, binding and size, but not its contents. A
     /// changed parameter value therefore hits the compile cache and the executor's pipelines;
     /// the executor writes the new declaration's contents into the plan's uniform buffers
     /// (see `Executor`), and per-frame data goes through `Executor::write_uniform`.
@@ -250,6 +278,7 @@ impl GraphDecl {
                 &p.buffers,
                 &p.uniforms,
                 p.side_effect,
+                &p.constants,
             )
                 .hash(&mut h);
         }

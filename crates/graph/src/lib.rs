@@ -38,8 +38,8 @@ pub use compile::{CompileOptions, CompiledGraph, CulledPass, GraphCompiler, Plan
 pub use cost::{PassCost, pass_costs};
 pub use custom::{BoundTexture, CustomPass, NoopPass, PassContext};
 pub use declaration::{
-    BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind, ResourceDecl, ResourceKind,
-    ResourceOrigin, TextureUse, UniformDecl, UniformHandle,
+    BufferUse, Dispatch, GraphDecl, PassDecl, PassId, PassKind, PipelineConstant, ResourceDecl,
+    ResourceKind, ResourceOrigin, TextureUse, UniformDecl, UniformHandle,
 };
 pub use dot::to_dot;
 pub use error::{GraphError, GraphResult};
@@ -54,7 +54,7 @@ pub use resource::{
 };
 pub use shader::{
     ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo,
-    storage_precision_variant,
+    ShaderOverride, storage_precision_variant,
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};

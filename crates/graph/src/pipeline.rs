@@ -5,14 +5,14 @@
 //! (whether a float texture is filterable on this device); nothing is written by hand. All
 //! bindings are visible to every stage the pass uses. A pipeline is identified by its
 //! [`PipelineKey`]: the shader's expanded source (by hash), its entry points, the layout
-//! entries, and for full-screen passes the colour targets (format, blend) and depth state. Two
+//! entries, the values of its pipeline-overridable constants, and for full-screen passes the colour targets (format, blend) and depth state. Two
 //! plans, or two passes of one plan, with equal keys share one pipeline.
 
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use crate::attachment::AttachmentOps;
-use crate::declaration::{GraphDecl, PassDecl, PassKind};
+use crate::declaration::{GraphDecl, PassDecl, PassKind, PipelineConstant};
 use crate::shader::{ShaderBindingKind, ShaderModuleInfo};
 
 /// A pass's pipeline and its layouts, one per bind group index in use.
@@ -106,6 +106,7 @@ pub(crate) struct PipelineKey {
     source: u64,
     stage: StageKey,
     groups: Vec<(u32, Vec<wgpu::BindGroupLayoutEntry>)>,
+    constants: Vec<PipelineConstant>,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -192,6 +193,7 @@ pub(crate) fn pipeline_key(
         source: info.source_hash,
         stage,
         groups: by_group.into_iter().collect(),
+        constants: pass.constants.clone(),
     })
 }
 
@@ -310,6 +312,16 @@ fn create_pipeline(
         bind_group_layouts: &all,
         immediate_size: 0,
     });
+    // The pass's `override` values, compiled into the pipeline by the driver.
+    let constants: Vec<(&str, f64)> = key
+        .constants
+        .iter()
+        .map(|c| (c.name.as_str(), c.value))
+        .collect();
+    let options = wgpu::PipelineCompilationOptions {
+        constants: &constants,
+        ..Default::default()
+    };
     match &key.stage {
         StageKey::Compute { entry } => {
             let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -317,7 +329,7 @@ fn create_pipeline(
                 layout: Some(&layout),
                 module,
                 entry_point: Some(entry),
-                compilation_options: Default::default(),
+                compilation_options: options.clone(),
                 cache: None,
             });
             PassPipeline::Compute {
@@ -358,7 +370,7 @@ fn create_pipeline(
                 vertex: wgpu::VertexState {
                     module,
                     entry_point: Some(vertex),
-                    compilation_options: Default::default(),
+                    compilation_options: options.clone(),
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState::default(),
@@ -367,7 +379,7 @@ fn create_pipeline(
                 fragment: Some(wgpu::FragmentState {
                     module,
                     entry_point: Some(fragment),
-                    compilation_options: Default::default(),
+                    compilation_options: options.clone(),
                     targets: &targets,
                 }),
                 multiview_mask: None,

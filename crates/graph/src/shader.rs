@@ -77,6 +77,16 @@ pub struct ShaderModuleInfo {
     pub source_hash: u64,
     pub bindings: Vec<ShaderBinding>,
     pub entries: Vec<ShaderEntry>,
+    /// The module's pipeline-overridable constants (`override` declarations), by name.
+    pub overrides: Vec<ShaderOverride>,
+}
+
+/// One `override NAME: T [= default];` declaration of a module.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ShaderOverride {
+    pub name: String,
+    /// Whether the declaration has a default: one without must be set by every pass.
+    pub has_default: bool,
 }
 
 impl ShaderModuleInfo {
@@ -451,12 +461,23 @@ fn parse_and_reflect(
         source.hash(&mut h);
         h.finish()
     };
+    let overrides = module
+        .overrides
+        .iter()
+        .filter_map(|(_, o)| {
+            Some(ShaderOverride {
+                name: o.name.clone()?,
+                has_default: o.init.is_some(),
+            })
+        })
+        .collect();
     Ok(ShaderModuleInfo {
         name: name.to_string(),
         source,
         source_hash,
         bindings,
         entries,
+        overrides,
     })
 }
 

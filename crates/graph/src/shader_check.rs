@@ -65,6 +65,32 @@ pub(crate) fn check_pass_shader(
     for b in &info.bindings {
         check_binding_supplied(decl, pass, &info, &b.name, &b.kind)?;
     }
+    // Pipeline constants: each set one is declared; each declared one without a default is set.
+    let declared: Vec<&str> = info.overrides.iter().map(|o| o.name.as_str()).collect();
+    for c in &pass.constants {
+        if !declared.contains(&c.name.as_str()) {
+            return Err(invalid(format!(
+                "pipeline constant `{}` is set, but shader `{shader}` declares no `override {}`; \
+                 it declares: {}",
+                c.name,
+                c.name,
+                if declared.is_empty() {
+                    "none".to_string()
+                } else {
+                    declared.join(", ")
+                }
+            )));
+        }
+    }
+    for o in info.overrides.iter().filter(|o| !o.has_default) {
+        if !pass.constants.iter().any(|c| c.name == o.name) {
+            return Err(invalid(format!(
+                "shader `{shader}` declares `override {}` without a default: set it with \
+                 `PassBuilder::constant`",
+                o.name
+            )));
+        }
+    }
     let named = pass
         .textures
         .iter()

@@ -67,6 +67,26 @@ fn accumulate_decl() -> (GraphDecl, TextureHandle) {
     (b.build(), cur)
 }
 
+/// pattern -> constants(GAIN, REPEAT) -> exported; `constants` as (name, value) pairs.
+fn constants_decl(constants: &[(&str, f64)]) -> (GraphDecl, TextureHandle) {
+    let mut b = GraphBuilder::new();
+    let desc = TextureDesc::new(R32Float, SizeClass::FULL);
+    let img = b.create_texture("pattern", desc);
+    let img = b
+        .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
+        .color_attachment(img);
+    let out = b.create_texture("gained", desc);
+    let mut p = b.compute_pass("gain", "constants.wgsl", "main");
+    p.sample("src", img);
+    for (name, value) in constants {
+        p.constant(name, *value);
+    }
+    let out = p.write_storage("dst", out);
+    p.dispatch_over(out);
+    b.export(out);
+    (b.build(), out)
+}
+
 fn plan(decl: GraphDecl) -> Arc<CompiledGraph> {
     Arc::new(compile(decl, &shaders(), CompileOptions::default()).expect("compiles"))
 }
@@ -292,4 +312,63 @@ fn plan_state_is_bounded() {
         assert!(exec.plan_count() <= 16, "{} plans held", exec.plan_count());
     }
     assert_eq!(exec.plan_count(), 16);
+}
+
+#[test]
+fn pipeline_constants_are_compiled_in_and_each_value_set_is_one_cached_pipeline() {
+    let Some(gpu) = test_gpu() else { return };
+    let (d6, out6) = constants_decl(&[("GAIN", 2.0), ("REPEAT", 3.0)]);
+    let (d1, out1) = constants_decl(&[("REPEAT", 2.0), ("GAIN", 0.5)]);
+    assert_ne!(
+        d6.structure_hash(),
+        d1.structure_hash(),
+        "constants are structure: they change the pipeline"
+    );
+    let (a, b) = (plan(d6), plan(d1));
+    let mut exec = Executor::new(gpu.clone());
+    exec.execute(&a, SIZE).unwrap();
+    exec.execute(&b, SIZE).unwrap();
+    assert_eq!(read(&exec, &a, out6), expected(|v| v * 6.0));
+    assert_eq!(read(&exec, &b, out1), expected(|v| v));
+    assert_eq!(
+        exec.pipeline_created_count(),
+        3,
+        "pattern, and gain once per value set"
+    );
+    // The same values in another plan (set in another order, one set twice) reuse it.
+    let (again, out) = constants_decl(&[("REPEAT", 3.0), ("GAIN", 9.0), ("GAIN", 2.0)]);
+    assert_eq!(again.structure_hash(), a.decl.structure_hash());
+    let again = plan(again);
+    exec.execute(&again, SIZE).unwrap();
+    assert_eq!(read(&exec, &again, out), expected(|v| v * 6.0));
+    assert_eq!(exec.pipeline_created_count(), 3);
+    // GAIN has a default (1.0): leaving it out is allowed.
+    let (default_gain, out) = constants_decl(&[("REPEAT", 4.0)]);
+    let default_gain = plan(default_gain);
+    exec.execute(&default_gain, SIZE).unwrap();
+    assert_eq!(read(&exec, &default_gain, out), expected(|v| v * 4.0));
+    assert!(gpu.take_errors().is_empty());
+}
+
+#[test]
+fn pipeline_constants_the_shader_does_not_declare_or_needs_are_compile_errors() {
+    let compile_err = |constants: &[(&str, f64)]| {
+        compile(constants_decl(constants).0, &shaders(), CompileOptions::default())
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    };
+    let e = compile_err(&[("REPEAT", 1.0), ("GIAN", 2.0)]);
+    assert!(
+        e.contains("`GIAN`") && e.contains("declares: GAIN, REPEAT") && e.contains("gain"),
+        "{e}"
+    );
+    let e = compile_err(&[("GAIN", 2.0)]);
+    assert!(
+        e.contains("`override REPEAT` without a default") && e.contains("constant"),
+        "{e}"
+    );
+    let e = compile_err(&[("REPEAT", 1.0), ("GAIN", f64::NAN)]);
+    assert!(e.contains("`GAIN` = NaN") && e.contains("finite"), "{e}");
+    assert_eq!(compile_err(&[("REPEAT", 1.0)]), "");
 }

@@ -1,6 +1,7 @@
 //! Shaders and passes the graph's GPU tests share: a full-screen pattern whose values are
 //! multiples of 1/16 (so GPU and CPU arithmetic agree exactly), a 1-2-1 blur, a scale-and-offset
-//! pass with a uniform block, a squaring pass and a history accumulator; and custom passes
+//! pass with a uniform block, a squaring pass, a history accumulator, a pass with pipeline
+//! constants; and custom passes
 //! that record nothing but carry a cache key or a counter.
 
 #![allow(dead_code)]
@@ -78,6 +79,24 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 "#;
 
+/// A gain and a repeat count as pipeline-overridable constants: dst = src * GAIN, added
+/// REPEAT times in a loop (REPEAT has no default: every pass must set it).
+pub const CONSTANTS: &str = r#"
+override GAIN: f32 = 1.0;
+override REPEAT: u32;
+@group(0) @binding(0) var src: texture_2d<f32>;
+@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(src);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let v = textureLoad(src, vec2<i32>(id.xy), 0).r;
+    var sum = 0.0;
+    for (var i = 0u; i < REPEAT; i = i + 1u) { sum = sum + v * GAIN; }
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(sum, 0.0, 0.0, 0.0));
+}
+"#;
+
 /// Every shader above, by file name.
 pub fn shaders() -> ShaderLibrary {
     let lib = ShaderLibrary::inline_only();
@@ -86,6 +105,7 @@ pub fn shaders() -> ShaderLibrary {
     lib.add_inline("scale.wgsl", SCALE);
     lib.add_inline("square.wgsl", SQUARE);
     lib.add_inline("accumulate.wgsl", ACCUMULATE);
+    lib.add_inline("constants.wgsl", CONSTANTS);
     lib
 }
 
