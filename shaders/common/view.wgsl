@@ -54,3 +54,36 @@ fn pixels_per_unit(z: f32, view: View) -> f32 {
     }
     return scale / max(z, 1e-30);
 }
+
+// `view_position` as an affine map of pixel coordinates, for loops that rebuild many samples
+// (one multiply-add per axis instead of the NDC round trip): with uv = pixel * inv_size,
+// xy = (pixel * scale + offset) * (z for a perspective, 1 for an orthographic camera), z = -z.
+struct PixelToView {
+    scale: vec2<f32>,
+    offset: vec2<f32>,
+    // 1 for a perspective camera (xy grows with depth), 0 for an orthographic one.
+    perspective: f32,
+}
+
+fn pixel_to_view(view: View, inv_size: vec2<f32>) -> PixelToView {
+    let s = vec2<f32>(view.proj[0][0], view.proj[1][1]);
+    var m: PixelToView;
+    m.scale = vec2<f32>(2.0, -2.0) * inv_size / s;
+    if (view.near_far.w > 0.5) {
+        let offset = vec2<f32>(view.proj[3][0], view.proj[3][1]);
+        m.offset = (vec2<f32>(-1.0, 1.0) - offset) / s;
+        m.perspective = 0.0;
+    } else {
+        let shear = vec2<f32>(view.proj[2][0], view.proj[2][1]);
+        m.offset = (vec2<f32>(-1.0, 1.0) + shear) / s;
+        m.perspective = 1.0;
+    }
+    return m;
+}
+
+// The view-space position of the surface at `pixel` (full-resolution pixel coordinates, not
+// rounded) with linear depth `z`: `view_position(pixel * inv_size, z, view)`.
+fn pixel_view_position(m: PixelToView, pixel: vec2<f32>, z: f32) -> vec3<f32> {
+    let depth_scale = mix(1.0, z, m.perspective);
+    return vec3<f32>((pixel * m.scale + m.offset) * depth_scale, -z);
+}

@@ -53,8 +53,8 @@ pub use resource::{
     TextureAccess, TextureDesc, TextureHandle, texel_bytes,
 };
 pub use shader::{
-    ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo,
-    ShaderOverride, storage_precision_variant,
+    ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo, ShaderOverride,
+    storage_precision_variant,
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};

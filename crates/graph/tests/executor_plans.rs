@@ -353,10 +353,14 @@ fn pipeline_constants_are_compiled_in_and_each_value_set_is_one_cached_pipeline(
 #[test]
 fn pipeline_constants_the_shader_does_not_declare_or_needs_are_compile_errors() {
     let compile_err = |constants: &[(&str, f64)]| {
-        compile(constants_decl(constants).0, &shaders(), CompileOptions::default())
-            .err()
-            .map(|e| e.to_string())
-            .unwrap_or_default()
+        compile(
+            constants_decl(constants).0,
+            &shaders(),
+            CompileOptions::default(),
+        )
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default()
     };
     let e = compile_err(&[("REPEAT", 1.0), ("GIAN", 2.0)]);
     assert!(

@@ -16,11 +16,11 @@ struct Params {
     sin_bias: f32,
     // Pyramid factor K (3).
     factor: f32,
-    // Levels L (level 0 included), directions D, reads per level.
+    // Levels L (level 0 included), directions D.
     levels: u32,
     directions: u32,
-    step_count: u32,
     pad0: u32,
+    pad1: u32,
 }
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -39,57 +39,81 @@ alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var ao: IntermediateStorage;
 
 const TAU: f32 = 6.283185307179586;
+// Reads per direction and level (`step_count`): a pipeline constant, not a uniform, so the
+// driver unrolls the march (on lavapipe a loop with a uniform bound costs 35% more).
+override STEP_COUNT: u32 = 4u;
 
-// One direction's march state, carried from level to level.
-struct March {
-    // Receiver: view-space position, normal, pixel centre, 1 / full size.
+// What every sample of one pixel's march shares.
+struct Receiver {
+    // View-space position and unit normal of P.
     o: vec3<f32>,
     n: vec3<f32>,
+    // P's pixel centre (full-resolution pixels) and the pixel-to-view map.
     pc: vec2<f32>,
-    inv_size: vec2<f32>,
-    dir: vec2<f32>,
-    // Distance marched (full-res pixels), step, level scale K^l, best W * sin (Eq. 8).
-    t: f32,
-    step: f32,
-    scale: f32,
-    a_max: f32,
-    eps: f32,
-    pixel_world: f32,
-    done: bool,
+    to_view: PixelToView,
+    // |V|^2 below which a sample is P itself (spec §6.3), 1 / R.
+    eps2: f32,
+    inv_radius: f32,
 }
 
-// step_count reads on one pyramid level. The level's texture is a parameter (not a switch in
-// the loop), so each call site reads exactly one texture: on SIMD CPUs such as lavapipe a
-// switch over textures executes every case.
-fn march_level(tex: texture_2d<f32>, l: u32, m: ptr<function, March>, edges: ptr<function, PyramidEdges>, full: vec2<i32>) {
-    for (var i = 0u; i < params.step_count; i = i + 1u) {
-        (*m).t = (*m).t + (*m).step;
-        let q = (*m).pc + (*m).dir * (*m).t;
-        if (any(q < vec2<f32>(0.0)) || any(q >= vec2<f32>(full))) { (*m).done = true; return; }
-        if (ray_distance((*m).o, q * (*m).inv_size) >= params.radius + (*m).scale * (*m).pixel_world) { (*m).done = true; return; }
-        let tx = min(vec2<i32>(floor(q / (*m).scale)), (*edges).last[l]);
+// One direction's march, carried from level to level: the direction, how far it may go
+// (the screen's edge along it), the distance marched (full-resolution pixels) and the best
+// W(r) sin(alpha) so far (Eq. 8).
+struct March {
+    dir: vec2<f32>,
+    t_exit: f32,
+    t: f32,
+    a_max: f32,
+}
+
+// step_count reads on one pyramid level of texels `scale` pixels wide, `step` pixels apart.
+// The level's texture is a parameter (not a switch in the loop), so each call site reads
+// exactly one texture: on SIMD CPUs such as lavapipe a switch over textures executes every
+// case. The body has no branch: a sample off screen, on the sky or on P itself contributes 0.
+fn march_level(tex: texture_2d<f32>, edge: PyramidEdge, scale: f32, step: f32, g: Receiver, m_in: March) -> March {
+    var m = m_in;
+    let inv_scale = 1.0 / scale; // a power of K: exact, and folded where the level is known
+    for (var i = 0u; i < STEP_COUNT; i = i + 1u) {
+        m.t = m.t + step;
+        let q = g.pc + m.dir * m.t;
+        let tx = clamp(vec2<i32>(floor(q * inv_scale)), vec2<i32>(0), edge.last);
         let zs = textureLoad(tex, tx, 0).r;
-        if (!(zs > 0.0)) { continue; }
-        let c = pyramid_texel_centre(edges, tx, l, (*m).scale);
-        let v = view_position(c * (*m).inv_size, zs, view) - (*m).o;
-        let r = length(v);
-        if (r < (*m).eps) { continue; }
+        let v = pixel_view_position(g.to_view, pyramid_texel_centre(edge, tx, scale), zs) - g.o;
+        let r2 = dot(v, v);
+        let r = sqrt(r2);
         // Eq. 8: the max over samples of W(r) * sin(alpha), W(r) = max(0, 1 - r/R); sin(alpha)
         // less the g-buffer normals' rounding (common/horizon.wgsl).
-        let w = max(0.0, 1.0 - r / params.radius);
-        (*m).a_max = max((*m).a_max, w * max(0.0, sin_elevation((*m).n, v, r) - params.sin_bias));
+        let w = max(0.0, 1.0 - r * g.inv_radius);
+        let a = w * max(0.0, sin_elevation(g.n, v, r) - params.sin_bias);
+        let counts = zs > 0.0 && r2 >= g.eps2 && m.t < m.t_exit;
+        m.a_max = max(m.a_max, select(0.0, a, counts));
     }
-    // Next level: the step and the texel footprint both grow by K.
-    (*m).step = (*m).step * params.factor;
-    (*m).scale = (*m).scale * params.factor;
+    return m;
 }
 
-fn ray_distance(o: vec3<f32>, uv: vec2<f32>) -> f32 {
-    let r = view_position(uv, 1.0, view);
-    if (view.near_far.w > 0.5) {
-        return length(r.xy - o.xy);
+// Whether the march can stop before a level whose first sample is `t` pixels out: that
+// sample is off screen, or its line of sight passes farther than R (plus the level's texel
+// size) from P. Both only grow with t along a direction (the angle between P's line of sight
+// and the sample's does), so every later sample is out too. Squared, without a root: the
+// distance from P to the line through the eye along r is |P x r| / |r| (perspective); for an
+// orthographic camera, the distance across the view axis.
+fn march_ends(g: Receiver, m: March, t: f32, scale: f32, pixel_world: f32) -> bool {
+    if (t >= m.t_exit) { return true; }
+    let limit = params.radius + scale * pixel_world;
+    let r = pixel_view_position(g.to_view, g.pc + m.dir * t, 1.0);
+    if (g.to_view.perspective < 0.5) {
+        let d = r.xy - g.o.xy;
+        return dot(d, d) >= limit * limit;
     }
-    return length(cross(o, r)) / max(length(r), 1e-30);
+    let c = cross(g.o, r);
+    return dot(c, c) >= limit * limit * dot(r, r);
+}
+
+// The march's distance to the screen's edge along `dir` from the pixel centre `pc`.
+fn screen_exit(pc: vec2<f32>, dir: vec2<f32>, full: vec2<f32>) -> f32 {
+    let to_far = select(pc, full - pc, dir > vec2<f32>(0.0));
+    let t = select(vec2<f32>(3.0e38), to_far / abs(dir), dir != vec2<f32>(0.0));
+    return min(t.x, t.y);
 }
 
 fn store(p: vec2<i32>, v: f32) {
@@ -110,51 +134,71 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         store(p, 1.0);
         return;
     }
-    let n = nw.xyz / nl;
-    let inv_size = 1.0 / vec2<f32>(full);
-    let pc = vec2<f32>(p) + 0.5;
-    let o = view_position(pc * inv_size, z, view);
-    // Spec §6.3: |V| below eps is P aliased onto itself; skip it.
-    let eps = 1e-4 * z;
+    var g: Receiver;
+    g.n = nw.xyz / nl;
+    g.pc = vec2<f32>(p) + 0.5;
+    g.to_view = pixel_to_view(view, 1.0 / vec2<f32>(full));
+    g.o = pixel_view_position(g.to_view, g.pc, z);
+    // Spec §6.3: |V| below eps = 1e-4 z is P aliased onto itself; skip it.
+    g.eps2 = 1e-8 * z * z;
+    g.inv_radius = 1.0 / params.radius;
     // World size of one full-resolution pixel at P, for the early-out slack.
     let pixel_world = 1.0 / max(pixels_per_unit(z, view), 1e-30);
     let levels = clamp(params.levels, 1u, 5u);
     let k = params.factor;
-    var edges = pyramid_edges(full, i32(k), levels);
+    let ki = i32(k);
+    // The levels' edge texels (common/pyramid.wgsl), once per pixel.
+    let e0 = pyramid_edge0(full);
+    let e1 = pyramid_next_edge(e0, vec2<i32>(textureDimensions(depth1)), ki, 1.0);
+    let e2 = pyramid_next_edge(e1, vec2<i32>(textureDimensions(depth2)), ki, k);
+    let e3 = pyramid_next_edge(e2, vec2<i32>(textureDimensions(depth3)), ki, k * k);
+    let e4 = pyramid_next_edge(e3, vec2<i32>(textureDimensions(depth4)), ki, k * k * k);
 
     // Spec §2.5: per-pixel rotation from a low-discrepancy dither (R2 sequence over pixels,
     // a blue-noise-like pattern) instead of a 32x32 blue-noise texture; per-direction jitter
     // u_d and start-step multiplier xi_d from a hash tiled every 32 pixels.
     let rotation = fract(0.7548776662 * f32(p.x) + 0.5698402910 * f32(p.y));
     let tile = vec2<u32>(p) % vec2<u32>(32u);
+    let pixel_seed = pcg_hash(tile.x ^ pcg_hash(tile.y));
     let dirs = max(params.directions, 1u);
     var occlusion = 0.0;
     for (var d = 0u; d < dirs; d = d + 1u) {
         // theta_d = 2 pi (rotation + (d + u_d) / D): random, stratified directions (§2.5).
-        let u = hash_pixel(tile, 2u * d);
+        // One hash per direction: its high 16 bits give u_d, its low 16 bits xi_d.
+        let h = pcg_hash(pixel_seed ^ (d * 0x9e3779b9u));
+        let u = f32(h >> 16u) / 65536.0;
         let theta = TAU * (rotation + (f32(d) + u) / f32(dirs));
-        let dir = vec2<f32>(cos(theta), sin(theta));
-        // xi_d in [0.5, 1.5): the random start-step multiplier of §2.5.
         var m: March;
-        m.o = o;
-        m.n = n;
-        m.pc = pc;
-        m.inv_size = inv_size;
-        m.dir = dir;
+        m.dir = vec2<f32>(cos(theta), sin(theta));
+        m.t_exit = screen_exit(g.pc, m.dir, vec2<f32>(full));
         m.t = 0.0;
-        m.step = params.initial_step * (0.5 + hash_pixel(tile, 2u * d + 1u));
-        m.scale = 1.0;
         m.a_max = 0.0;
-        m.eps = eps;
-        m.pixel_world = pixel_world;
-        m.done = false;
-        march_level(depth, 0u, &m, &edges, full);
-        if (levels > 1u && !m.done) { march_level(depth1, 1u, &m, &edges, full); }
-        if (levels > 2u && !m.done) { march_level(depth2, 2u, &m, &edges, full); }
-        if (levels > 3u && !m.done) { march_level(depth3, 3u, &m, &edges, full); }
-        if (levels > 4u && !m.done) { march_level(depth4, 4u, &m, &edges, full); }
-        let a_max = m.a_max;
-        occlusion = occlusion + a_max;
+        // xi_d in [0.5, 1.5): the random start-step multiplier of §2.5; the step and the
+        // texel footprint both grow by K per level.
+        let s0 = params.initial_step * (0.5 + f32(h & 0xffffu) / 65536.0);
+        // Level 0 always: its first sample is under 1.5 pixels away.
+        m = march_level(depth, e0, 1.0, s0, g, m);
+        var step = s0 * k;
+        var scale = k;
+        if (levels > 1u && !march_ends(g, m, m.t + step, scale, pixel_world)) {
+            m = march_level(depth1, e1, scale, step, g, m);
+            step = step * k;
+            scale = scale * k;
+            if (levels > 2u && !march_ends(g, m, m.t + step, scale, pixel_world)) {
+                m = march_level(depth2, e2, scale, step, g, m);
+                step = step * k;
+                scale = scale * k;
+                if (levels > 3u && !march_ends(g, m, m.t + step, scale, pixel_world)) {
+                    m = march_level(depth3, e3, scale, step, g, m);
+                    step = step * k;
+                    scale = scale * k;
+                    if (levels > 4u && !march_ends(g, m, m.t + step, scale, pixel_world)) {
+                        m = march_level(depth4, e4, scale, step, g, m);
+                    }
+                }
+            }
+        }
+        occlusion = occlusion + m.a_max;
     }
     // Step 3 (§2.3): AO(P) = 1 - (1/D) sum_d A(theta_d).
     store(p, clamp(1.0 - occlusion / f32(dirs), 0.0, 1.0));

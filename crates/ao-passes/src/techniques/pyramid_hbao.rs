@@ -20,8 +20,10 @@
 //!   level 0 is then sampled at its texel spacing, and level l at one texel of level l.
 //! - step_count S = 4 reads per level (the spec suggests 4-8): with L = 4 the march reaches
 //!   s0 xi S (K^L - 1)/(K - 1) = 160 xi px (xi in [0.5, 1.5)), about R at 720p for the default
-//!   scenes; the march stops once every further sample is beyond R, so a larger reach costs
-//!   nothing where it is not needed.
+//!   scenes; before each level past the first the march stops if that level's first sample
+//!   is off screen or its line of sight passes farther than R from P (both only grow along a
+//!   direction), so a larger reach costs little where it is not needed. S is a pipeline
+//!   constant (`STEP_COUNT`): the driver unrolls the march, and each S is its own pipeline.
 //! - L = 4 levels by default (the paper tests 1-5; its Viking Room saturates at 4), 1 to 5.
 //!   L counts level 0 (spec §2.4 [IMPL]): L = 1 marches the full-resolution depth only.
 //! - xi_d in [0.5, 1.5) (spec §2.5 [IMPL]); directions theta_d = 2 pi (phi + (d + u_d)/D):
@@ -33,6 +35,10 @@
 //!   are rebuilt at the centre of their (coarse) texel, whose edge texels are exact centroids.
 //!   A block mixing sky and geometry keeps its centre texel rather than the mean of its
 //!   geometry (blocks::depth_pyramid), which would be rebuilt at the wrong place.
+//! - Cost (lavapipe, 256x256, columns and sphere-on-plane, no blur on either side as in the
+//!   paper's Table 1): L = 4 at 16 ms against HBAO 64x80 at 417-495 ms, 26-30x cheaper at a
+//!   lower MAE (0.1029 against 0.1215, 0.0196 against 0.0198); 22-27x with both blurs. The
+//!   march body has no branch: off-screen, sky and self samples are selected out.
 //! - The raw AO (when blurred) and the blur's horizontal pass are intermediates in
 //!   `[ao] intermediate_format`, written by the matching shader variants.
 //!
@@ -114,8 +120,7 @@ struct AoUniform {
     factor: f32,
     levels: u32,
     directions: u32,
-    step_count: u32,
-    _pad: u32,
+    _pad: [u32; 2],
 }
 
 impl PyramidHbaoParams {
@@ -236,8 +241,7 @@ impl AoTechnique for PyramidHbao {
             factor: K as f32,
             levels,
             directions: p.directions,
-            step_count: p.step_count,
-            _pad: 0,
+            _pad: [0; 2],
         };
         // The raw AO is an intermediate when blurred: its writer is the matching shader variant.
         let shader = if p.blur {
@@ -256,6 +260,8 @@ impl AoTechnique for PyramidHbao {
         pass.loads_per_invocation(2.0 + (p.directions * p.step_count * levels) as f32);
         pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
+        // The march's length is compiled in: the driver unrolls it (shader, `STEP_COUNT`).
+        pass.constant("STEP_COUNT", p.step_count as f64);
         let raw = pass.write_storage("ao", target);
         pass.dispatch_over(raw);
         if !p.blur {
