@@ -60,6 +60,21 @@ impl TextureReadback {
             }
         })
     }
+    /// Every channel of a 32-bit integer format as stored (bit patterns kept: `to_f32` would
+    /// round values above 2^24, such as packed normals).
+    pub fn to_u32(&self) -> GraphResult<Vec<u32>> {
+        use wgpu::TextureFormat as F;
+        match self.format {
+            F::R32Uint | F::Rg32Uint | F::Rgba32Uint => Ok(self
+                .bytes
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect()),
+            f => Err(GraphError::Gpu(format!(
+                "reading back {f:?} as 32-bit unsigned integers is not supported"
+            ))),
+        }
+    }
     /// Channel `c` of every texel as f32.
     pub fn channel(&self, c: usize) -> GraphResult<Vec<f32>> {
         let n = self.channels().max(1);
