@@ -85,7 +85,7 @@ pub fn build_frame_graph_with(
     }
     if outputs.surfaces {
         let face = outputs.surface_normals == ReferenceNormals::Geometric;
-        if requested.contains(GBufferChannel::Normals) && requested.face_normals != face {
+        if requested.has_normals() && requested.face_normals != face {
             return Err(AppError::InvalidArgument {
                 name: "surface normals".into(),
                 value: outputs.surface_normals.name().into(),
@@ -170,6 +170,7 @@ pub fn build_frame_graph_with(
             .positions
             .into_iter()
             .chain(gbuffer.normals)
+            .chain(gbuffer.normals_oct)
             .for_each(|h| b.export(h));
     }
     if outputs.linear_depth {

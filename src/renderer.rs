@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
-use aograph_frame::VIEW_BUFFER;
+use aograph_frame::{GBufferChannel, VIEW_BUFFER};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
     PassTimings, ShaderLibrary, TextureHandle,
@@ -401,6 +401,13 @@ impl Renderer {
     /// shaded.png's pixels (RGBA8, sRGB-encoded).
     pub fn read_shaded(&self) -> AppResult<Vec<u8>> {
         Ok(self.read_channel(self.graph.shaded, "shaded")?.bytes)
+    }
+
+    /// A g-buffer channel of the last frame as stored, for the channels [`FrameOutputs`]
+    /// keeps readable: with `surfaces`, positions and the normals in whichever encodings the
+    /// frame wrote (`normals`, `normals_oct`); with `linear_depth`, linear depth.
+    pub fn read_gbuffer(&self, c: GBufferChannel) -> AppResult<aograph_graph::TextureReadback> {
+        self.read_channel(self.graph.gbuffer.get(c), c.name())
     }
 
     /// Linear depth of the last frame (0 = sky).

@@ -385,3 +385,72 @@ fn gpu_gbuffer_matches_cpu_primary_rays_on_every_scene() {
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+#[test]
+fn compact_normals_decode_to_the_wide_normals_on_every_procedural_scene() {
+    // MSSAO asks for face normals in the compact encoding (normals_oct, R32Uint); the
+    // reference's surfaces add the Rgba16Float normals of the same (geometric) kind, so one
+    // g-buffer writes both. Decoded, they agree within both encodings' rounding: f16 moves a
+    // component by up to 2^-11 of 1 (5e-4 rad), the octahedral code by under 1e-4 rad. Sky
+    // (depth 0) carries code 0.
+    use aograph::{FrameOutputs, Renderer, shader_library};
+    use aograph_ao::{AoConfig, TechniqueRegistry};
+    use aograph_frame::{GBufferChannel, normal_oct};
+    let Some(gpu) = test_gpu() else { return };
+    let registry = TechniqueRegistry::with_builtins();
+    let ao = AoConfig {
+        technique: "mssao".into(),
+        ..AoConfig::default()
+    };
+    let outputs = FrameOutputs {
+        surfaces: true,
+        surface_normals: ReferenceNormals::Geometric,
+        linear_depth: true,
+        ..Default::default()
+    };
+    let mut worst = 0.0f32;
+    for name in PROCEDURAL_SCENE_NAMES {
+        let scene = Arc::new(procedural_scene(name).expect("procedural scene"));
+        let mut r = Renderer::new(
+            gpu.clone(),
+            shader_library(),
+            &registry,
+            scene,
+            &ao,
+            outputs,
+            SIZE,
+        )
+        .expect("renderer");
+        r.render(0.0).expect("frame");
+        let wide = r
+            .read_gbuffer(GBufferChannel::Normals)
+            .unwrap()
+            .to_f32()
+            .unwrap();
+        let codes = r
+            .read_gbuffer(GBufferChannel::NormalsOct)
+            .unwrap()
+            .to_u32()
+            .unwrap();
+        let depth = r.read_linear_depth().unwrap();
+        let mut geometry = 0;
+        for (i, &code) in codes.iter().enumerate() {
+            if depth[i].is_nan() || depth[i] <= 0.0 {
+                assert_eq!(code, 0, "{name}: sky pixel {} has a normal code", pixel(i));
+                continue;
+            }
+            geometry += 1;
+            let w = Vec3::from_slice(&wide[i * 4..i * 4 + 3]).normalize();
+            let c = Vec3::from_array(normal_oct::decode(code));
+            let angle = w.cross(c).length().atan2(w.dot(c));
+            worst = worst.max(angle);
+            assert!(
+                angle < 1e-3,
+                "{name}: pixel {}: wide {w}, compact {c}, {angle:e} rad apart",
+                pixel(i)
+            );
+        }
+        assert!(geometry > 100, "{name}: {geometry} geometry pixels");
+    }
+    eprintln!("compact against wide normals: worst {worst:e} rad");
+}

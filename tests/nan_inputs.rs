@@ -4,7 +4,7 @@
 //!
 //! The g-buffer is a real frame of `columns` (rendered, read back as raw bytes) with poison
 //! written into it: NaN linear depth in a block of pixels, +infinity depth at others, NaN
-//! normals and NaN positions elsewhere. Each technique's own graph is then built on imported
+//! normals (garbage codes in the compact normals) and NaN positions elsewhere. Each technique's own graph is then built on imported
 //! copies of those channels and run for three frames (the temporal ones accumulate), so the
 //! poison reaches every pass: kernels that sample it, blurs that average it, histories that
 //! keep it. The shaders detect non-finite values by their bit pattern (shaders/common/
@@ -67,6 +67,25 @@ fn poisoned(r: &Renderer, channel: GBufferChannel) -> Vec<u8> {
             .flat_map(|h| h.to_le_bytes())
             .collect::<Vec<u8>>()
             .repeat(n),
+        // The compact normals of the source's normals (the source frame writes the wide
+        // encoding); no code is NaN, so the poisoned block gets the codes of the square's
+        // corners and of -1 in both components, which decode to the seams of the map.
+        GBufferChannel::NormalsOct => {
+            let h = r.graph.gbuffer.normals.expect("the source renders normals");
+            let wide = r.exec.read_texture(&r.plan, h).expect("reads back");
+            let wide = wide.to_f32().expect("Rgba16Float");
+            (0..n)
+                .flat_map(|i| {
+                    let code = if in_block(i, &NAN_NORMAL) {
+                        [0xffff_ffffu32, 0x8000_8000, 0x7fff_7fff][i % 3]
+                    } else {
+                        let v = &wide[i * 4..i * 4 + 3];
+                        aograph_frame::normal_oct::encode([v[0], v[1], v[2]])
+                    };
+                    code.to_le_bytes()
+                })
+                .collect()
+        }
         c => {
             let h = r
                 .graph
@@ -141,6 +160,7 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
     let channels = [
         GBufferChannel::LinearDepth,
         GBufferChannel::Normals,
+        GBufferChannel::NormalsOct,
         GBufferChannel::Positions,
         GBufferChannel::Albedo,
         GBufferChannel::DirectLight,

@@ -1,7 +1,8 @@
 #include "common/view.wgsl"
+#include "common/normal_oct.wgsl"
 // The g-buffer pass: rasterises every instance and writes the channels the graph requested
 // (outputs without a colour target are discarded by the pipeline). Sky keeps the clear
-// values: linear depth 0, normal.w = 0, position.w = 0, motion 0.
+// values: linear depth 0, normal.w = 0, position.w = 0, motion 0, normal_oct 0.
 
 struct Instance {
     model: mat4x4<f32>,
@@ -60,6 +61,8 @@ struct GBuffer {
     @location(3) albedo: vec4<f32>,
     @location(4) direct_light: vec4<f32>,
     @location(5) motion: vec2<f32>,
+    // The normal again, compact (common/normal_oct.wgsl): written where a technique asks.
+    @location(6) normal_oct: u32,
 }
 
 fn clip_to_uv(c: vec4<f32>) -> vec2<f32> {
@@ -85,6 +88,7 @@ fn shade(in: VsOut, n: vec3<f32>) -> GBuffer {
     var g: GBuffer;
     g.linear_depth = max(-in.view_pos.z, 1e-30);
     g.normal = vec4<f32>(n, 1.0);
+    g.normal_oct = normal_oct_encode(n);
     g.position = vec4<f32>(in.view_pos, 1.0);
     g.albedo = vec4<f32>(in.color.rgb, 1.0);
     let ndl = max(dot(wn, -light.direction.xyz), 0.0);

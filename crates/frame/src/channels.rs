@@ -23,10 +23,14 @@ pub enum GBufferChannel {
     DirectLight,
     /// Screen-space motion to the previous frame in UV units (Rg32Float): prev_uv = uv + m.
     Motion,
+    /// View-space unit normals, compact: octahedral, two snorm16 in one u32 (R32Uint,
+    /// shaders/common/normal_oct.wgsl). 4 bytes against `Normals`' 8 and finer (error below
+    /// 1e-4 rad); sky is where linear depth is 0 (a cleared texel decodes to +z).
+    NormalsOct,
 }
 
 impl GBufferChannel {
-    pub const ALL: [GBufferChannel; 7] = [
+    pub const ALL: [GBufferChannel; 8] = [
         Self::Depth,
         Self::LinearDepth,
         Self::Normals,
@@ -34,6 +38,7 @@ impl GBufferChannel {
         Self::Albedo,
         Self::DirectLight,
         Self::Motion,
+        Self::NormalsOct,
     ];
     /// The channel's default format (`Depth`: [`DepthFormat::default`]; a set may choose
     /// another depth format, see [`GBufferChannels::depth_format`]).
@@ -47,6 +52,7 @@ impl GBufferChannel {
             Self::Albedo => F::Rgba8Unorm,
             Self::DirectLight => F::Rgba16Float,
             Self::Motion => F::Rg32Float,
+            Self::NormalsOct => F::R32Uint,
         }
     }
     pub fn name(self) -> &'static str {
@@ -58,6 +64,7 @@ impl GBufferChannel {
             Self::Albedo => "albedo",
             Self::DirectLight => "direct_light",
             Self::Motion => "motion",
+            Self::NormalsOct => "normals_oct",
         }
     }
     fn bit(self) -> u8 {
@@ -113,6 +120,15 @@ impl GBufferChannels {
         self.face_normals = true;
         self.with(GBufferChannel::Normals)
     }
+    /// Face normals in the compact encoding ([`GBufferChannel::NormalsOct`]).
+    pub fn with_compact_face_normals(mut self) -> Self {
+        self.face_normals = true;
+        self.with(GBufferChannel::NormalsOct)
+    }
+    /// Whether the set has normals in either encoding.
+    pub fn has_normals(&self) -> bool {
+        self.contains(GBufferChannel::Normals) || self.contains(GBufferChannel::NormalsOct)
+    }
     /// The same set, rasterising into a `depth_format` depth buffer.
     pub fn with_depth_format(mut self, depth_format: DepthFormat) -> Self {
         self.depth_format = depth_format;
@@ -151,6 +167,7 @@ pub struct GBufferTextures {
     pub albedo: Option<TextureHandle>,
     pub direct_light: Option<TextureHandle>,
     pub motion: Option<TextureHandle>,
+    pub normals_oct: Option<TextureHandle>,
 }
 
 impl GBufferTextures {
@@ -163,6 +180,7 @@ impl GBufferTextures {
             GBufferChannel::Albedo => self.albedo,
             GBufferChannel::DirectLight => self.direct_light,
             GBufferChannel::Motion => self.motion,
+            GBufferChannel::NormalsOct => self.normals_oct,
         }
     }
     pub fn set(&mut self, c: GBufferChannel, h: TextureHandle) {
@@ -174,6 +192,7 @@ impl GBufferTextures {
             GBufferChannel::Albedo => &mut self.albedo,
             GBufferChannel::DirectLight => &mut self.direct_light,
             GBufferChannel::Motion => &mut self.motion,
+            GBufferChannel::NormalsOct => &mut self.normals_oct,
         };
         *slot = Some(h);
     }

@@ -158,7 +158,7 @@ impl GBufferRaster {
             label: Some(SHADER),
             source: wgpu::ShaderSource::Wgsl(info.source.as_str().into()),
         });
-        // Locations 0..5 in the shader's order; unrequested channels get no target.
+        // Locations 0..6 in the shader's order; unrequested channels get no target.
         let order = [
             GBufferChannel::LinearDepth,
             GBufferChannel::Normals,
@@ -166,6 +166,7 @@ impl GBufferRaster {
             GBufferChannel::Albedo,
             GBufferChannel::DirectLight,
             GBufferChannel::Motion,
+            GBufferChannel::NormalsOct,
         ];
         let targets: Vec<Option<wgpu::ColorTargetState>> = order
             .iter()
@@ -415,6 +416,7 @@ impl CustomPass for GBufferRaster {
             GBufferChannel::Albedo,
             GBufferChannel::DirectLight,
             GBufferChannel::Motion,
+            GBufferChannel::NormalsOct,
         ];
         let mut views = Vec::with_capacity(order.len());
         for c in order {
