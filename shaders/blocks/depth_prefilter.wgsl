@@ -17,34 +17,39 @@ struct PrefilterParams {
 @group(0) @binding(1) var<uniform> params: PrefilterParams;
 @group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
 
+// One child: its depth clamped-loaded, and whether it is in the image.
+fn child(base: vec2<i32>, k: vec2<i32>, src_size: vec2<i32>) -> vec2<f32> {
+    let q = base + k;
+    let z = textureLoad(src, min(q, src_size - vec2<i32>(1)), 0).r;
+    return vec2<f32>(z, select(0.0, 1.0, all(q < src_size)));
+}
+
+// The child's weighted depth and weight (0 for out-of-image and sky children).
+fn weigh(c: vec2<f32>, z_max: f32, r: f32, falloff: f32) -> vec2<f32> {
+    let w = select(0.0, saturate((r - (z_max - c.x)) / falloff), c.y > 0.5 && c.x > 0.0);
+    return vec2<f32>(w * c.x, w);
+}
+
+// Branch-free: the four children loaded (clamped) and masked, no array indexed at run time.
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(dst);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let src_size = vec2<i32>(textureDimensions(src));
     let base = vec2<i32>(id.xy) * 2;
-    var z = array<f32, 4>(0.0, 0.0, 0.0, 0.0);
-    var z_max = 0.0;
-    var sky = false;
-    for (var k = 0; k < 4; k = k + 1) {
-        let q = base + vec2<i32>(k & 1, k >> 1u);
-        if (q.x < src_size.x && q.y < src_size.y) {
-            z[k] = textureLoad(src, q, 0).r;
-            z_max = max(z_max, z[k]);
-            sky = sky || !(z[k] > 0.0);
-        }
-    }
+    let c0 = child(base, vec2<i32>(0, 0), src_size);
+    let c1 = child(base, vec2<i32>(1, 0), src_size);
+    let c2 = child(base, vec2<i32>(0, 1), src_size);
+    let c3 = child(base, vec2<i32>(1, 1), src_size);
+    let inside = vec4<f32>(c0.y, c1.y, c2.y, c3.y) > vec4<f32>(0.5);
+    let z = vec4<f32>(c0.x, c1.x, c2.x, c3.x);
+    let zi = select(vec4<f32>(0.0), z, inside);
+    let z_max = max(max(zi.x, zi.y), max(zi.z, zi.w));
+    let sky = any(inside & !(z > vec4<f32>(0.0)));
     let r = params.shape.x;
     let falloff = max(params.shape.y, 1e-30);
-    var sum = 0.0;
-    var weights = 0.0;
-    for (var k = 0; k < 4; k = k + 1) {
-        if (z[k] > 0.0) {
-            let w = saturate((r - (z_max - z[k])) / falloff);
-            sum = sum + w * z[k];
-            weights = weights + w;
-        }
-    }
-    let v = select(0.0, sum / max(weights, 1e-30), weights > 0.0 && !sky);
+    let t = weigh(c0, z_max, r, falloff) + weigh(c1, z_max, r, falloff)
+        + weigh(c2, z_max, r, falloff) + weigh(c3, z_max, r, falloff);
+    let v = select(0.0, t.x / max(t.y, 1e-30), t.y > 0.0 && !sky);
     textureStore(dst, vec2<i32>(id.xy), vec4<f32>(v, 0.0, 0.0, 0.0));
 }

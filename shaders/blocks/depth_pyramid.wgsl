@@ -14,26 +14,30 @@ fn average_3x3(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(dst);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let src_size = vec2<i32>(textureDimensions(src));
+    let last = src_size - vec2<i32>(1);
     let base = vec2<i32>(id.xy) * 3;
+    // Branch-free: every tap is loaded (clamped into the image) and counted by masks, so the
+    // loop unrolls into straight loads (on SIMD CPU drivers a branch per tap costs more than
+    // the load).
     var sum = 0.0;
-    var n = 0u;
-    var sky = 0u;
+    var n = 0.0;
+    var sky = 0.0;
+    var centre = 0.0;
     for (var j = 0; j < 3; j = j + 1) {
         for (var i = 0; i < 3; i = i + 1) {
             let q = base + vec2<i32>(i, j);
-            if (q.x >= src_size.x || q.y >= src_size.y) { continue; }
-            let z = textureLoad(src, q, 0).r;
-            if (z > 0.0) {
-                sum = sum + z;
-                n = n + 1u;
-            } else {
-                sky = sky + 1u;
-            }
+            let inside = all(q < src_size);
+            let z = textureLoad(src, min(q, last), 0).r;
+            let geometry = inside && z > 0.0;
+            sum = sum + select(0.0, z, geometry);
+            n = n + select(0.0, 1.0, geometry);
+            sky = sky + select(0.0, 1.0, inside && !(z > 0.0));
+            // The (1, 1) tap, clamped into the image: the block's centre texel.
+            centre = select(centre, z, i == 1 && j == 1);
         }
     }
-    var v = select(0.0, sum / f32(max(n, 1u)), n > 0u);
-    if (n > 0u && sky > 0u) {
-        let centre = textureLoad(src, min(base + vec2<i32>(1), src_size - 1), 0).r;
+    var v = select(0.0, sum / max(n, 1.0), n > 0.0);
+    if (n > 0.0 && sky > 0.0) {
         v = select(0.0, centre, centre > 0.0);
     }
     textureStore(dst, vec2<i32>(id.xy), vec4<f32>(v, 0.0, 0.0, 0.0));
@@ -44,23 +48,20 @@ fn reduce_2x2(id: vec2<u32>, farthest: bool) {
     let size = textureDimensions(dst);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let src_size = vec2<i32>(textureDimensions(src));
+    let last = src_size - vec2<i32>(1);
     let base = vec2<i32>(id) * 2;
     var lo = 3.0e38;
     var hi = 0.0;
-    var n = 0u;
     for (var j = 0; j < 2; j = j + 1) {
         for (var i = 0; i < 2; i = i + 1) {
             let q = base + vec2<i32>(i, j);
-            if (q.x >= src_size.x || q.y >= src_size.y) { continue; }
-            let z = textureLoad(src, q, 0).r;
-            if (z > 0.0) {
-                lo = min(lo, z);
-                hi = max(hi, z);
-                n = n + 1u;
-            }
+            let z = textureLoad(src, min(q, last), 0).r;
+            let geometry = all(q < src_size) && z > 0.0;
+            lo = min(lo, select(3.0e38, z, geometry));
+            hi = max(hi, select(0.0, z, geometry));
         }
     }
-    let v = select(select(lo, hi, farthest), 0.0, n == 0u);
+    let v = select(select(lo, hi, farthest), 0.0, hi == 0.0);
     textureStore(dst, vec2<i32>(id), vec4<f32>(v, 0.0, 0.0, 0.0));
 }
 
