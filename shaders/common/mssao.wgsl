@@ -1,11 +1,18 @@
+#include "common/view.wgsl"
+#include "common/normal_oct.wgsl"
 // MSSAO (Hoang & Low, "Efficient screen-space approach to high-quality multi-scale ambient
 // occlusion", The Visual Computer 2012): the math every MSSAO pass shares. Equation numbers are
 // the paper's; ../shared/specs/mssao.md records them. Self-contained (no globals): the pass files
 // include this after common/view.wgsl and pass their textures in.
 //
-// Conventions: level 0 is the finest (the paper's Res_1). Positions are view-space (w = 1 on
-// geometry, 0 on sky), normals view-space unit vectors (w likewise). "AO" is occlusion, 1 - k_A,
-// as in the paper; the tuple textures hold (max of per-level means, raw sum, sample count).
+// Conventions: level 0 is the finest (the paper's Res_1). Every level stores linear depth
+// (R32Float, 0 on sky) and the view-space unit normal, octahedral in one u32
+// (common/normal_oct.wgsl): 8 bytes a texel instead of 24 for an Rgba32Float position and an
+// Rgba16Float normal. A texel's view-space position is rebuilt from its depth at its centre
+// (`mssao_texel_centre`), and downsampling stores the depth its chosen surface has there
+// (`mssao_plane_depth`), so a plane stays on itself at every level. "AO" is occlusion, 1 - k_A, as in the
+// paper; the tuple textures hold (max of per-level means, raw sum, sample count).
+
 
 // Mirror of `MssaoUniform` in crates/ao-passes/src/techniques/mssao/passes.rs (48 bytes).
 struct MssaoParams {
@@ -36,11 +43,56 @@ struct MssaoSurface {
     valid: bool,
 }
 
-fn mssao_surface(positions: texture_2d<f32>, normals: texture_2d<f32>, c: vec2<i32>) -> MssaoSurface {
-    let p = textureLoad(positions, c, 0);
-    let n = textureLoad(normals, c, 0);
-    let valid = p.w > 0.5 && -p.z > 0.0;
-    return MssaoSurface(p.xyz, n.xyz, valid);
+// Where one level's texels lie: the full-resolution pixel-to-view map, the level's texel
+// size in full-resolution pixels (2^l) and the full resolution.
+struct MssaoGrid {
+    to_view: PixelToView,
+    scale: f32,
+    full: vec2<f32>,
+}
+
+fn mssao_grid(view: View, level: u32) -> MssaoGrid {
+    return MssaoGrid(pixel_to_view(view, view.viewport.zw), f32(1u << level), view.viewport.xy);
+}
+
+// The centre, in full-resolution pixels, of the pixels texel c covers: [c 2^l, (c + 1) 2^l)
+// within the image (the last texel of an odd size covers fewer).
+fn mssao_texel_centre(g: MssaoGrid, c: vec2<i32>) -> vec2<f32> {
+    let lo = vec2<f32>(c) * g.scale;
+    return 0.5 * (lo + min(lo + g.scale, g.full));
+}
+
+// Geometry: a positive, finite depth (0 marks sky; NaN fails both tests).
+fn mssao_is_geometry(z: f32) -> bool {
+    return z > 0.0 && z < 3.0e38;
+}
+
+// The view-space position of texel c of a level with depth z: rebuilt at the texel's centre.
+fn mssao_position(g: MssaoGrid, c: vec2<i32>, z: f32) -> vec3<f32> {
+    return pixel_view_position(g.to_view, mssao_texel_centre(g, c), z);
+}
+
+// The depth where the line of sight through texel c's centre meets the plane through p with
+// normal n; 0 where it misses the plane in front of the camera (parallel, or non-finite).
+fn mssao_plane_depth(g: MssaoGrid, c: vec2<i32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    // r: the point at depth 1 on the line (perspective: X = t r has depth t); for an
+    // orthographic camera X = (r.xy, -t).
+    let r = pixel_view_position(g.to_view, mssao_texel_centre(g, c), 1.0);
+    var t: f32;
+    if (g.to_view.perspective > 0.5) {
+        t = dot(n, p) / dot(n, r);
+    } else {
+        t = (dot(n.xy, r.xy) - dot(n, p)) / n.z;
+    }
+    return select(0.0, t, t > 0.0 && t < 3.0e38);
+}
+
+fn mssao_surface(depth: texture_2d<f32>, normals: texture_2d<u32>, g: MssaoGrid, c: vec2<i32>) -> MssaoSurface {
+    let z = textureLoad(depth, c, 0).x;
+    let valid = mssao_is_geometry(z);
+    let p = mssao_position(g, c, select(1.0, z, valid));
+    let n = normal_oct_decode(textureLoad(normals, c, 0).x);
+    return MssaoSurface(p, n, valid);
 }
 
 fn mssao_in_bounds(c: vec2<i32>, size: vec2<i32>) -> bool {
@@ -71,22 +123,22 @@ fn mssao_kernel_radius(r0: f32, level: u32, r_max: f32) -> f32 {
 
 // One tap of the neighbourhood: (ao, counted). Off-screen taps are skipped (the g-buffer has no
 // data there); sky taps count as unoccluding samples (nothing is there).
-fn mssao_tap(positions: texture_2d<f32>, size: vec2<i32>, c: vec2<i32>, p: vec3<f32>, n: vec3<f32>, d_max: f32) -> vec2<f32> {
+fn mssao_tap(depth: texture_2d<f32>, g: MssaoGrid, size: vec2<i32>, c: vec2<i32>, p: vec3<f32>, n: vec3<f32>, d_max: f32) -> vec2<f32> {
     if (!mssao_in_bounds(c, size)) {
         return vec2<f32>(0.0);
     }
-    let q = textureLoad(positions, c, 0);
-    if (!(q.w > 0.5 && -q.z > 0.0)) {
+    let z = textureLoad(depth, c, 0).x;
+    if (!mssao_is_geometry(z)) {
         return vec2<f32>(0.0, 1.0);
     }
-    return vec2<f32>(mssao_sample_ao(p, n, q.xyz, d_max), 1.0);
+    return vec2<f32>(mssao_sample_ao(p, n, mssao_position(g, c, z), d_max), 1.0);
 }
 
 // Coarse levels (Sec. 4.3, Fig. 6 left): every other pixel of the (2 R + 1)^2 kernel, i.e. the
 // odd offsets +-1, +-3, +-5 (36 of 121 taps at R = 5) with |o.x|, |o.y| <= R. Returns
 // (un-normalised sum of Eq. 6, sample count N); N = 0 when R < 1 (no samples under a pixel).
-fn mssao_near_interleaved(positions: texture_2d<f32>, c: vec2<i32>, s: MssaoSurface, radius: f32, d_max: f32) -> vec2<f32> {
-    let size = vec2<i32>(textureDimensions(positions));
+fn mssao_near_interleaved(depth: texture_2d<f32>, g: MssaoGrid, c: vec2<i32>, s: MssaoSurface, radius: f32, d_max: f32) -> vec2<f32> {
+    let size = vec2<i32>(textureDimensions(depth));
     var acc = vec2<f32>(0.0);
     if (!(radius >= 1.0)) {
         return acc;
@@ -95,7 +147,7 @@ fn mssao_near_interleaved(positions: texture_2d<f32>, c: vec2<i32>, s: MssaoSurf
     let k = (i32(floor((radius - 1.0) * 0.5)) * 2) + 1;
     for (var oy = -k; oy <= k; oy = oy + 2) {
         for (var ox = -k; ox <= k; ox = ox + 2) {
-            acc = acc + mssao_tap(positions, size, c + vec2<i32>(ox, oy), s.p, s.n, d_max);
+            acc = acc + mssao_tap(depth, g, size, c + vec2<i32>(ox, oy), s.p, s.n, d_max);
         }
     }
     return acc;
@@ -113,8 +165,8 @@ const MSSAO_POISSON: array<vec2<f32>, 16> = array<vec2<f32>, 16>(
 
 // Finest level: the Poisson disk scaled by R and rounded to texels. A point that rounds onto the
 // shaded pixel itself is not a neighbour and is skipped. Returns (sum, N) as above.
-fn mssao_near_poisson(positions: texture_2d<f32>, c: vec2<i32>, s: MssaoSurface, radius: f32, d_max: f32) -> vec2<f32> {
-    let size = vec2<i32>(textureDimensions(positions));
+fn mssao_near_poisson(depth: texture_2d<f32>, g: MssaoGrid, c: vec2<i32>, s: MssaoSurface, radius: f32, d_max: f32) -> vec2<f32> {
+    let size = vec2<i32>(textureDimensions(depth));
     var acc = vec2<f32>(0.0);
     if (!(radius >= 1.0)) {
         return acc;
@@ -125,7 +177,7 @@ fn mssao_near_poisson(positions: texture_2d<f32>, c: vec2<i32>, s: MssaoSurface,
         if (all(o == vec2<i32>(0))) {
             continue;
         }
-        acc = acc + mssao_tap(positions, size, c + o, s.p, s.n, d_max);
+        acc = acc + mssao_tap(depth, g, size, c + o, s.p, s.n, d_max);
     }
     return acc;
 }
@@ -148,7 +200,7 @@ fn mssao_bilateral_weight(n: vec3<f32>, z: f32, ni: vec3<f32>, zi: f32, t_n: f32
 // weights 9/16, 3/16, 3/16, 1/16, times Eq. 8 and Eq. 9, normalised. Coarse sky texels get no
 // weight; if every bilateral weight underflows, the bilinear weights alone are used; if every
 // coarse texel is sky, the result is (0, 0, 0): no far-field occlusion.
-fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_positions: texture_2d<f32>, coarse_normals: texture_2d<f32>, c: vec2<i32>, s: MssaoSurface, t_n: f32, t_z: f32) -> vec3<f32> {
+fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coarse_normals: texture_2d<u32>, coarse_grid: MssaoGrid, c: vec2<i32>, s: MssaoSurface, t_n: f32, t_z: f32) -> vec3<f32> {
     let cs = vec2<i32>(textureDimensions(coarse_ao));
     let m = c / 2;
     // A fine texel centre lies a quarter coarse texel from its parent's centre, towards the
@@ -163,7 +215,7 @@ fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_positions: texture_2d<f32>,
     var w_bilinear = 0.0;
     for (var j = 0; j < 4; j = j + 1) {
         let t = clamp(taps[j], vec2<i32>(0), cs - vec2<i32>(1));
-        let q = mssao_surface(coarse_positions, coarse_normals, t);
+        let q = mssao_surface(coarse_depth, coarse_normals, coarse_grid, t);
         if (!q.valid) {
             continue;
         }

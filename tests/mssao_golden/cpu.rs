@@ -6,12 +6,98 @@ use super::*;
 // ---------------------------------------------------------------------------------------------
 // CPU mirror of shaders/common/mssao.wgsl and the pass files (same f32 operations, same order)
 
+/// One pyramid level: what the GPU stores (linear depth `z`, octahedral normals `bits`) and
+/// what its passes see (positions rebuilt at texel centres, decoded normals; w = 1 on
+/// geometry, 0 on sky).
 #[derive(Clone)]
 pub(crate) struct Level {
     pub(crate) w: usize,
     pub(crate) h: usize,
+    pub(crate) z: Vec<f32>,
+    pub(crate) bits: Vec<u32>,
     pub(crate) p: Vec<V4>,
     pub(crate) n: Vec<V4>,
+}
+
+/// `MssaoGrid`: the full-resolution pixel-to-view map (`pixel_to_view` in
+/// shaders/common/view.wgsl, same f32 operations) and the level's texel size in pixels.
+#[derive(Clone, Copy)]
+pub(crate) struct Grid {
+    pub(crate) scale: [f32; 2],
+    pub(crate) offset: [f32; 2],
+    pub(crate) perspective: bool,
+    pub(crate) texel: f32,
+    pub(crate) full: [f32; 2],
+}
+
+impl Grid {
+    pub(crate) fn new(u: &ViewUniforms, level: u32) -> Self {
+        let s = [u.proj[0][0], u.proj[1][1]];
+        let inv = [u.viewport[2], u.viewport[3]];
+        let perspective = u.near_far[3] <= 0.5;
+        let shift = if perspective {
+            [u.proj[2][0], u.proj[2][1]]
+        } else {
+            [-u.proj[3][0], -u.proj[3][1]]
+        };
+        Self {
+            scale: [2.0 * inv[0] / s[0], -2.0 * inv[1] / s[1]],
+            offset: [(-1.0 + shift[0]) / s[0], (1.0 + shift[1]) / s[1]],
+            perspective,
+            texel: (1u32 << level) as f32,
+            full: [u.viewport[0], u.viewport[1]],
+        }
+    }
+    /// `mssao_texel_centre`: the centre of the full-resolution pixels texel (x, y) covers.
+    pub(crate) fn centre(&self, x: usize, y: usize) -> [f32; 2] {
+        let c = |v: usize, full: f32| {
+            let lo = v as f32 * self.texel;
+            0.5 * (lo + (lo + self.texel).min(full))
+        };
+        [c(x, self.full[0]), c(y, self.full[1])]
+    }
+    /// `mssao_position`: texel (x, y) with depth z, rebuilt at the texel's centre.
+    pub(crate) fn position(&self, x: usize, y: usize, z: f32) -> V3 {
+        let px = self.centre(x, y);
+        let k = if self.perspective { z } else { 1.0 };
+        [
+            (px[0] * self.scale[0] + self.offset[0]) * k,
+            (px[1] * self.scale[1] + self.offset[1]) * k,
+            -z,
+        ]
+    }
+}
+
+/// `mssao_is_geometry`.
+pub(crate) fn is_geometry(z: f32) -> bool {
+    z > 0.0 && z < 3.0e38
+}
+
+impl Level {
+    /// The level the passes see from stored depth and normals.
+    pub(crate) fn rebuild(w: usize, h: usize, z: Vec<f32>, bits: Vec<u32>, grid: &Grid) -> Self {
+        let mut p = vec![[0.0; 4]; w * h];
+        let mut n = vec![[0.0; 4]; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let i = y * w + x;
+                let d = oct_decode(bits[i]);
+                n[i] = [d[0], d[1], d[2], 1.0];
+                if is_geometry(z[i]) {
+                    let q = grid.position(x, y, z[i]);
+                    p[i] = [q[0], q[1], q[2], 1.0];
+                }
+            }
+        }
+        Self {
+            w,
+            h,
+            z,
+            bits,
+            p,
+            n,
+        }
+    }
 }
 
 #[derive(Clone, Copy)]
@@ -270,29 +356,40 @@ pub(crate) fn blur(src: &[V4], l: &Level, k: &Consts) -> Vec<V3> {
     out
 }
 
+/// `mssao_plane_depth`: where the line of sight through texel (x, y)'s centre meets the plane
+/// through p with normal n; 0 where it misses.
+pub(crate) fn plane_depth(g: &Grid, x: usize, y: usize, p: V3, n: V3) -> f32 {
+    let r = g.position(x, y, 1.0);
+    let t = if g.perspective {
+        dot(n, p) / dot(n, r)
+    } else {
+        (n[0] * r[0] + n[1] * r[1] - dot(n, p)) / n[2]
+    };
+    if t > 0.0 && t < 3.0e38 { t } else { 0.0 }
+}
+
 /// Table 2 (downsample.wgsl): sort the 2x2 sub-pixels by depth (sky last, stable), keep the
-/// mean of the middle two when the range is at most d_threshold, else the second-nearest.
-pub(crate) fn downsample(src: &Level, d_threshold: f32) -> Level {
+/// mean position and renormalised mean normal of the middle two when the range is at most
+/// d_threshold, else the second-nearest's, and store the depth of that point's plane at the
+/// new texel's centre within the block's geometry depths, or sky where a block with sky looks
+/// past it there (`src_grid`, `grid`: the levels' grids).
+pub(crate) fn downsample(src: &Level, d_threshold: f32, src_grid: &Grid, grid: &Grid) -> Level {
     const SKY: f32 = 3.0e38;
     let (w, h) = (src.w.div_ceil(2), src.h.div_ceil(2));
-    let mut out = Level {
-        w,
-        h,
-        p: vec![[0.0; 4]; w * h],
-        n: vec![[0.0; 4]; w * h],
-    };
+    let mut depth = vec![0.0f32; w * h];
+    let mut bits = vec![0u32; w * h];
     for y in 0..h {
         for x in 0..w {
-            let mut pos = [[0.0; 4]; 4];
-            let mut nrm = [[0.0; 4]; 4];
+            let mut nrm = [0u32; 4];
             let mut z = [0.0f32; 4];
+            let mut at = [(0usize, 0usize); 4];
             for i in 0..4 {
                 let cx = (2 * x + (i & 1)).min(src.w - 1);
                 let cy = (2 * y + (i >> 1)).min(src.h - 1);
-                pos[i] = src.p[cy * src.w + cx];
-                nrm[i] = src.n[cy * src.w + cx];
-                let d = -pos[i][2];
-                z[i] = if pos[i][3] > 0.5 && d > 0.0 { d } else { SKY };
+                let d = src.z[cy * src.w + cx];
+                nrm[i] = src.bits[cy * src.w + cx];
+                z[i] = if is_geometry(d) { d } else { SKY };
+                at[i] = (cx, cy);
             }
             let mut idx = [0usize, 1, 2, 3];
             for i in 1..4 {
@@ -303,36 +400,40 @@ pub(crate) fn downsample(src: &Level, d_threshold: f32) -> Level {
                 }
             }
             let (i1, i2) = (idx[1], idx[2]);
-            let (p, n) = if z[i1] >= SKY {
-                ([0.0; 4], [0.0; 4])
-            } else if z[idx[3]] - z[idx[0]] <= d_threshold {
-                let p = [
-                    0.5 * (pos[i1][0] + pos[i2][0]),
-                    0.5 * (pos[i1][1] + pos[i2][1]),
-                    0.5 * (pos[i1][2] + pos[i2][2]),
-                    1.0,
+            if z[i1] >= SKY {
+                continue; // sky: depth 0, code 0
+            }
+            let p1 = src_grid.position(at[i1].0, at[i1].1, z[i1]);
+            let n1 = oct_decode(nrm[i1]);
+            let (mut p, mut nv, mut n, mut d) = (p1, n1, nrm[i1], z[i1]);
+            if z[idx[3]] - z[idx[0]] <= d_threshold {
+                d = 0.5 * (z[i1] + z[i2]);
+                let p2 = src_grid.position(at[i2].0, at[i2].1, z[i2]);
+                p = [
+                    0.5 * (p1[0] + p2[0]),
+                    0.5 * (p1[1] + p2[1]),
+                    0.5 * (p1[2] + p2[2]),
                 ];
-                let s = [
-                    nrm[i1][0] + nrm[i2][0],
-                    nrm[i1][1] + nrm[i2][1],
-                    nrm[i1][2] + nrm[i2][2],
-                ];
+                let b = oct_decode(nrm[i2]);
+                let s = [n1[0] + b[0], n1[1] + b[1], n1[2] + b[2]];
                 let l = dot(s, s).sqrt();
-                let n = if l > 1e-6 {
-                    [s[0] / l, s[1] / l, s[2] / l, 1.0]
-                } else {
-                    [nrm[i1][0], nrm[i1][1], nrm[i1][2], 1.0]
-                };
-                (p, n.map(f16_round))
+                if l > 1e-6 {
+                    nv = [s[0] / l, s[1] / l, s[2] / l];
+                    n = oct_encode(nv);
+                }
+            }
+            let hi = if z[i2] < SKY {
+                if z[idx[3]] < SKY { z[idx[3]] } else { z[i2] }
             } else {
-                (
-                    [pos[i1][0], pos[i1][1], pos[i1][2], 1.0],
-                    [nrm[i1][0], nrm[i1][1], nrm[i1][2], 1.0],
-                )
+                z[i1]
             };
-            out.p[y * w + x] = p;
-            out.n[y * w + x] = n;
+            let t = plane_depth(grid, x, y, p, nv);
+            if z[idx[3]] >= SKY && !(t > 0.0 && t <= hi) {
+                continue; // the centre looks past the surface into the sky
+            }
+            depth[y * w + x] = if t > 0.0 { t.clamp(z[idx[0]], hi) } else { d };
+            bits[y * w + x] = n;
         }
     }
-    out
+    Level::rebuild(w, h, depth, bits, grid)
 }

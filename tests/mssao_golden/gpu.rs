@@ -138,12 +138,10 @@ impl Mssao {
         );
         for (c, tex) in &self.inputs {
             let bytes: Vec<u8> = match c {
-                GBufferChannel::Positions => g
-                    .positions
-                    .iter()
-                    .flatten()
-                    .flat_map(|v| v.to_le_bytes())
-                    .collect(),
+                GBufferChannel::NormalsOct => {
+                    g.normals_oct.iter().flat_map(|v| v.to_le_bytes()).collect()
+                }
+                // The temporal filter's (tests/mssao_golden/temporal.rs).
                 GBufferChannel::Normals => g
                     .normals
                     .iter()
@@ -203,15 +201,18 @@ impl Mssao {
             .collect()
     }
 
-    /// What `pass` wrote to its `binding`, as RGBA (missing channels 0).
-    pub(crate) fn read(&self, pass: &str, binding: &str) -> Vec<V4> {
-        let h = self
-            .writes
+    /// The texture `pass` wrote to its `binding`.
+    pub(crate) fn written(&self, pass: &str, binding: &str) -> TextureHandle {
+        self.writes
             .iter()
             .find(|(p, b, _)| p == pass && b == binding)
             .unwrap_or_else(|| panic!("no pass {pass} writes {binding}"))
-            .2;
-        self.read_handle(h)
+            .2
+    }
+
+    /// What `pass` wrote to its `binding`, as RGBA (missing channels 0).
+    pub(crate) fn read(&self, pass: &str, binding: &str) -> Vec<V4> {
+        self.read_handle(self.written(pass, binding))
     }
 
     /// The technique's output (after the temporal filter where it is on).
@@ -228,16 +229,30 @@ impl Mssao {
     /// Pyramid level `l` as the GPU holds it (level 0 is the g-buffer `g`).
     pub(crate) fn level(&self, l: u32, g: &GBuffer) -> Level {
         if l == 0 {
-            return g.level();
+            return g.level(&self.grid(0));
         }
         let pass = format!("mssao.downsample{l}");
         let e = self.size.mip(l);
-        Level {
-            w: e.width as usize,
-            h: e.height as usize,
-            p: self.read(&pass, "dst_positions"),
-            n: self.read(&pass, "dst_normals"),
-        }
+        let depth = self.read(&pass, "dst_depth").iter().map(|v| v[0]).collect();
+        let h = self.written(&pass, "dst_normals");
+        let bits = self
+            .exec
+            .read_texture(&self.plan, h)
+            .expect("reads back")
+            .to_u32()
+            .expect("normals are R32Uint");
+        Level::rebuild(
+            e.width as usize,
+            e.height as usize,
+            depth,
+            bits,
+            &self.grid(l),
+        )
+    }
+
+    /// Where level `l`'s texels lie in the last frame's view.
+    pub(crate) fn grid(&self, l: u32) -> Grid {
+        Grid::new(&self.uniforms, l)
     }
 
     pub(crate) fn consts(&self, radius: f32, p: &Params) -> Consts {

@@ -1,13 +1,24 @@
-//! Hand-made inputs of the MSSAO golden tests: fp16 encoding of the normals, g-buffers
-//! built on the CPU (a box scene cast ray by ray: exact world points and normals) and the
-//! cameras that view them.
+//! Hand-made inputs of the MSSAO golden tests: the octahedral encoding of the normals (as
+//! shaders/common/normal_oct.wgsl), g-buffers built on the CPU (a box scene cast ray by ray:
+//! exact world points and normals) and the cameras that view them.
 
 use super::*;
 
 // ---------------------------------------------------------------------------------------------
-// fp16 (the g-buffer's and the pyramid's normals are Rgba16Float)
+// Octahedral normals (the g-buffer's `normals_oct` and the pyramid's normals are R32Uint)
 
-/// f32 to f16 bits, round to nearest even (values in the normal f16 range or below).
+/// `normal_oct_encode` (aograph_frame::normal_oct, the shader's CPU side).
+pub(crate) fn oct_encode(n: V3) -> u32 {
+    aograph_frame::normal_oct::encode(n)
+}
+
+/// `normal_oct_decode`: a unit vector (0 decodes to +z).
+pub(crate) fn oct_decode(b: u32) -> V3 {
+    aograph_frame::normal_oct::decode(b)
+}
+
+/// f32 to f16 bits, round to nearest even (values in the normal f16 range or below): the
+/// temporal filter's `Normals` channel is Rgba16Float.
 pub(crate) fn f16_bits(x: f32) -> u16 {
     let b = x.to_bits();
     let sign = ((b >> 16) & 0x8000) as u16;
@@ -29,31 +40,19 @@ pub(crate) fn f16_bits(x: f32) -> u16 {
     sign | h as u16
 }
 
-pub(crate) fn f16_value(h: u16) -> f32 {
-    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let e = ((h >> 10) & 0x1f) as i32;
-    let m = (h & 0x3ff) as f32;
-    match e {
-        0 => sign * m * 2f32.powi(-24),
-        _ => sign * (1.0 + m / 1024.0) * 2f32.powi(e - 15),
-    }
-}
-
-pub(crate) fn f16_round(x: f32) -> f32 {
-    f16_value(f16_bits(x))
-}
-
 // ---------------------------------------------------------------------------------------------
 // Hand-made g-buffers
 
-/// View-space positions (w = 1 on geometry, 0 on sky) and normals (stored as the GPU holds
-/// them: rounded to f16), row-major.
+/// View-space positions (w = 1 on geometry, 0 on sky) and normals, octahedral as the GPU
+/// holds them (`normals_oct`; `normals` their decoded unit vectors), row-major. The GPU gets
+/// the positions' linear depth only and rebuilds positions on their pixels' centre rays.
 #[derive(Clone)]
 pub(crate) struct GBuffer {
     pub(crate) w: usize,
     pub(crate) h: usize,
     pub(crate) positions: Vec<V4>,
     pub(crate) normals: Vec<V4>,
+    pub(crate) normals_oct: Vec<u32>,
 }
 
 impl GBuffer {
@@ -63,12 +62,15 @@ impl GBuffer {
             h,
             positions: vec![[0.0; 4]; w * h],
             normals: vec![[0.0; 4]; w * h],
+            normals_oct: vec![0; w * h],
         }
     }
     pub(crate) fn set(&mut self, x: usize, y: usize, p: V3, n: V3) {
         let i = y * self.w + x;
         self.positions[i] = [p[0], p[1], p[2], 1.0];
-        self.normals[i] = [f16_round(n[0]), f16_round(n[1]), f16_round(n[2]), 1.0];
+        self.normals_oct[i] = oct_encode(n);
+        let d = oct_decode(self.normals_oct[i]);
+        self.normals[i] = [d[0], d[1], d[2], 1.0];
     }
     /// Linear depth as the g-buffer writes it: -z on geometry, 0 on sky.
     pub(crate) fn linear_depth(&self) -> Vec<f32> {
@@ -83,13 +85,15 @@ impl GBuffer {
             })
             .collect()
     }
-    pub(crate) fn level(&self) -> Level {
-        Level {
-            w: self.w,
-            h: self.h,
-            p: self.positions.clone(),
-            n: self.normals.clone(),
-        }
+    /// Level 0 as the GPU sees it: depth and octahedral normals, positions rebuilt on `grid`.
+    pub(crate) fn level(&self, grid: &Grid) -> Level {
+        Level::rebuild(
+            self.w,
+            self.h,
+            self.linear_depth(),
+            self.normals_oct.clone(),
+            grid,
+        )
     }
 }
 

@@ -6,8 +6,8 @@
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<uniform> params: MssaoParams;
-@group(0) @binding(2) var positions: texture_2d<f32>;
-@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<u32>;
 // The tuple is an intermediate: rgba32float here, rgba16float in the `?intermediate=r16float`
 // variant (crates/graph/src/shader.rs, "Variants").
 alias IntermediateStorage = texture_storage_2d<rgba32float, write>;
@@ -18,13 +18,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(ao);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let c = vec2<i32>(id.xy);
-    let s = mssao_surface(positions, normals, c);
+    let grid = mssao_grid(view, params.level);
+    let s = mssao_surface(depth, normals, grid, c);
     if (!s.valid) {
         textureStore(ao, c, vec4<f32>(0.0));
         return;
     }
     let r0 = params.d_max * pixels_per_unit(-s.p.z, view);
     let radius = mssao_kernel_radius(r0, params.level, params.r_max);
-    let near = mssao_near_interleaved(positions, c, s, radius, params.d_max);
+    let near = mssao_near_interleaved(depth, grid, c, s, radius, params.d_max);
     textureStore(ao, c, vec4<f32>(mssao_combine(near, vec3<f32>(0.0)), 0.0));
 }

@@ -7,11 +7,11 @@
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<uniform> params: MssaoParams;
-@group(0) @binding(2) var positions: texture_2d<f32>;
-@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<u32>;
 @group(0) @binding(4) var coarse_ao: texture_2d<f32>;
-@group(0) @binding(5) var coarse_positions: texture_2d<f32>;
-@group(0) @binding(6) var coarse_normals: texture_2d<f32>;
+@group(0) @binding(5) var coarse_depth: texture_2d<f32>;
+@group(0) @binding(6) var coarse_normals: texture_2d<u32>;
 // The tuple is an intermediate: rgba32float here, rgba16float in the `?intermediate=r16float`
 // variant (crates/graph/src/shader.rs, "Variants").
 alias IntermediateStorage = texture_storage_2d<rgba32float, write>;
@@ -22,14 +22,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(ao);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let c = vec2<i32>(id.xy);
-    let s = mssao_surface(positions, normals, c);
+    let grid = mssao_grid(view, params.level);
+    let s = mssao_surface(depth, normals, grid, c);
     if (!s.valid) {
         textureStore(ao, c, vec4<f32>(0.0));
         return;
     }
     let r0 = params.d_max * pixels_per_unit(-s.p.z, view);
     let radius = mssao_kernel_radius(r0, params.level, params.r_max);
-    let near = mssao_near_interleaved(positions, c, s, radius, params.d_max);
-    let far = mssao_upsample(coarse_ao, coarse_positions, coarse_normals, c, s, params.normal_power, params.depth_power);
+    let near = mssao_near_interleaved(depth, grid, c, s, radius, params.d_max);
+    let far = mssao_upsample(coarse_ao, coarse_depth, coarse_normals, mssao_grid(view, params.level + 1u), c, s, params.normal_power, params.depth_power);
     textureStore(ao, c, vec4<f32>(mssao_combine(near, far), 0.0));
 }

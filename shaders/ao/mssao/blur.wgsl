@@ -9,8 +9,8 @@
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<uniform> params: MssaoParams;
-@group(0) @binding(2) var positions: texture_2d<f32>;
-@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<u32>;
 @group(0) @binding(4) var src: texture_2d<f32>;
 // The tuple is an intermediate: rgba32float here, rgba16float in the `?intermediate=r16float`
 // variant (crates/graph/src/shader.rs, "Variants").
@@ -22,7 +22,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(dst);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let c = vec2<i32>(id.xy);
-    let s = mssao_surface(positions, normals, c);
+    let grid = mssao_grid(view, params.level);
+    let s = mssao_surface(depth, normals, grid, c);
     if (!s.valid) {
         textureStore(dst, c, vec4<f32>(0.0));
         return;
@@ -37,7 +38,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if (!mssao_in_bounds(t, isize)) {
                 continue;
             }
-            let q = mssao_surface(positions, normals, t);
+            let q = mssao_surface(depth, normals, grid, t);
             if (!q.valid) {
                 continue;
             }

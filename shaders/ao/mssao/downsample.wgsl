@@ -2,68 +2,116 @@
 #include "common/mssao.wgsl"
 // MSSAO downsampling, one pyramid level (Sec. 4.2, Table 2): each texel of level l takes the four
 // sub-pixels of level l - 1, sorted by positive linear depth z0 <= z1 <= z2 <= z3. If the depth
-// range z3 - z0 is at most d_threshold, position and normal are the means of the middle two (the
+// range z3 - z0 is at most d_threshold, depth and normal are the means of the middle two (the
 // paper's "median"); otherwise the second-nearest sub-pixel is kept as it is. Normals follow the
 // same sorted indices and are renormalised (falling back to n1 when n1 + n2 ~ 0). Sky sub-pixels
 // sort last (infinite depth), so a block with at least two geometry sub-pixels stays geometry.
 // Odd sizes: the level is ceil(size / 2); the 2x2 fetch is clamped at the border.
+// Each level keeps depth and an octahedral normal (common/mssao.wgsl, "Conventions"). Where the
+// paper keeps the mean position of the two sub-pixels (or the second-nearest's), the depth
+// kept is that of the plane through that position with the kept normal, at the new texel's
+// centre, within the block's geometry depths: positions rebuilt at texel centres then lie on
+// the surface (exactly, for a plane) at every level. A block with sky whose centre looks past
+// its surface is sky.
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<uniform> params: MssaoParams;
-@group(0) @binding(2) var src_positions: texture_2d<f32>;
-@group(0) @binding(3) var src_normals: texture_2d<f32>;
-@group(0) @binding(4) var dst_positions: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(5) var dst_normals: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(2) var src_depth: texture_2d<f32>;
+@group(0) @binding(3) var src_normals: texture_2d<u32>;
+@group(0) @binding(4) var dst_depth: texture_storage_2d<r32float, write>;
+@group(0) @binding(5) var dst_normals: texture_storage_2d<r32uint, write>;
 
 const SKY_DEPTH: f32 = 3.0e38;
 
+// A sub-pixel: its depth (sky: SKY_DEPTH), its index in the 2x2 block, its normal code.
+struct SubPixel {
+    z: f32,
+    i: u32,
+    n: u32,
+    // The source texel (clamped into the source level).
+    c: vec2<i32>,
+}
+
+// The order of the sort: by depth, then by index (so equal depths keep the block's order, as
+// a stable sort would; the keys are distinct, so any correct sorting network gives that order).
+fn sub_less(a: SubPixel, b: SubPixel) -> bool {
+    return a.z < b.z || (a.z == b.z && a.i < b.i);
+}
+
+fn sub_min(a: SubPixel, b: SubPixel) -> SubPixel {
+    if (sub_less(b, a)) { return b; }
+    return a;
+}
+
+fn sub_max(a: SubPixel, b: SubPixel) -> SubPixel {
+    if (sub_less(b, a)) { return a; }
+    return b;
+}
+
+fn load_sub_pixel(base: vec2<i32>, i: u32, src_max: vec2<i32>) -> SubPixel {
+    let c = min(base + vec2<i32>(i32(i & 1u), i32(i >> 1u)), src_max);
+    let d = textureLoad(src_depth, c, 0).x;
+    return SubPixel(select(SKY_DEPTH, d, mssao_is_geometry(d)), i, textureLoad(src_normals, c, 0).x, c);
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(dst_positions);
+    let size = textureDimensions(dst_depth);
     if (id.x >= size.x || id.y >= size.y) { return; }
-    let src_max = vec2<i32>(textureDimensions(src_positions)) - vec2<i32>(1);
+    let src_max = vec2<i32>(textureDimensions(src_depth)) - vec2<i32>(1);
     let base = vec2<i32>(id.xy) * 2;
-    var pos: array<vec4<f32>, 4>;
-    var nrm: array<vec4<f32>, 4>;
-    var z: array<f32, 4>;
-    var idx = array<u32, 4>(0u, 1u, 2u, 3u);
-    for (var i = 0u; i < 4u; i = i + 1u) {
-        let c = min(base + vec2<i32>(i32(i & 1u), i32(i >> 1u)), src_max);
-        pos[i] = textureLoad(src_positions, c, 0);
-        nrm[i] = textureLoad(src_normals, c, 0);
-        let d = -pos[i].z;
-        z[i] = select(SKY_DEPTH, d, pos[i].w > 0.5 && d > 0.0);
+    let a = load_sub_pixel(base, 0u, src_max);
+    let b = load_sub_pixel(base, 1u, src_max);
+    let c = load_sub_pixel(base, 2u, src_max);
+    let d = load_sub_pixel(base, 3u, src_max);
+    // The four sorted by a sorting network (0,1)(2,3), (0,2)(1,3), (1,2): no array indexed at
+    // run time (on SIMD CPU drivers such an array lives in per-lane memory).
+    let t0 = sub_min(a, b);
+    let t1 = sub_max(a, b);
+    let t2 = sub_min(c, d);
+    let t3 = sub_max(c, d);
+    let s0 = sub_min(t0, t2);
+    let s3 = sub_max(t1, t3);
+    let m1 = sub_min(t1, t3);
+    let m2 = sub_max(t0, t2);
+    let s1 = sub_min(m1, m2);
+    let s2 = sub_max(m1, m2);
+    let dst_c = vec2<i32>(id.xy);
+    if (s1.z >= SKY_DEPTH) {
+        // Fewer than two geometry sub-pixels: this texel is sky.
+        textureStore(dst_depth, dst_c, vec4<f32>(0.0));
+        textureStore(dst_normals, dst_c, vec4<u32>(0u));
+        return;
     }
-    // Insertion sort of four indices by depth (stable).
-    for (var i = 1u; i < 4u; i = i + 1u) {
-        var j = i;
-        loop {
-            if (j == 0u) { break; }
-            if (z[idx[j - 1u]] <= z[idx[j]]) { break; }
-            let t = idx[j];
-            idx[j] = idx[j - 1u];
-            idx[j - 1u] = t;
-            j = j - 1u;
+    let src_grid = mssao_grid(view, params.level - 1u);
+    let p1 = mssao_position(src_grid, s1.c, s1.z);
+    let n1 = normal_oct_decode(s1.n);
+    var p = p1;
+    var nv = n1;
+    var n = s1.n;
+    var depth = s1.z;
+    if (s3.z - s0.z <= params.d_threshold) {
+        // Table 2: small depth range, the mean of the two middle sub-pixels.
+        depth = 0.5 * (s1.z + s2.z);
+        p = 0.5 * (p1 + mssao_position(src_grid, s2.c, s2.z));
+        let sum = n1 + normal_oct_decode(s2.n);
+        let l = length(sum);
+        if (l > 1e-6) {
+            nv = sum / l;
+            n = normal_oct_encode(nv);
         }
     }
-    let i1 = idx[1];
-    let i2 = idx[2];
-    var p = pos[i1];
-    var n = nrm[i1];
-    if (z[i1] >= SKY_DEPTH) {
-        // Fewer than two geometry sub-pixels: this texel is sky.
-        p = vec4<f32>(0.0);
-        n = vec4<f32>(0.0);
-    } else if (z[idx[3]] - z[idx[0]] <= params.d_threshold) {
-        // Table 2: small depth range, the mean of the two middle sub-pixels.
-        p = vec4<f32>(0.5 * (pos[i1].xyz + pos[i2].xyz), 1.0);
-        let s = nrm[i1].xyz + nrm[i2].xyz;
-        let l = length(s);
-        n = select(vec4<f32>(nrm[i1].xyz, 1.0), vec4<f32>(s / l, 1.0), l > 1e-6);
-    } else {
-        p = vec4<f32>(pos[i1].xyz, 1.0);
-        n = vec4<f32>(nrm[i1].xyz, 1.0);
+    // What the centre's line of sight meets: the kept surface's plane, within the block's
+    // geometry depths [s0, hi] (beyond them, the nearest or farthest child); where it passes
+    // behind every geometry child (or misses the plane) in a block with sky, the sky.
+    let hi = select(s1.z, select(s2.z, s3.z, s3.z < SKY_DEPTH), s2.z < SKY_DEPTH);
+    let t = mssao_plane_depth(mssao_grid(view, params.level), dst_c, p, nv);
+    if (s3.z >= SKY_DEPTH && !(t > 0.0 && t <= hi)) {
+        textureStore(dst_depth, dst_c, vec4<f32>(0.0));
+        textureStore(dst_normals, dst_c, vec4<u32>(0u));
+        return;
     }
-    textureStore(dst_positions, vec2<i32>(id.xy), p);
-    textureStore(dst_normals, vec2<i32>(id.xy), n);
+    depth = select(depth, clamp(t, s0.z, hi), t > 0.0);
+    textureStore(dst_depth, dst_c, vec4<f32>(depth, 0.0, 0.0, 0.0));
+    textureStore(dst_normals, dst_c, vec4<u32>(n, 0u, 0u, 0u));
 }

@@ -7,15 +7,15 @@ use bytemuck::{Pod, Zeroable};
 use super::MssaoParams;
 use crate::technique::AoBuildContext;
 
-/// Format of pyramid positions (the g-buffer's Positions format).
-pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Format of pyramid normals (the g-buffer's Normals format).
-pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of pyramid depth (the g-buffer's LinearDepth format): positions are rebuilt from it.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Format of pyramid normals (the g-buffer's NormalsOct format: octahedral, one u32).
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
-/// One level of the g-buffer pyramid.
+/// One level of the g-buffer pyramid: linear depth and octahedral normals, 8 bytes a texel.
 #[derive(Clone, Copy, Debug)]
 pub struct Level {
-    pub positions: TextureHandle,
+    pub depth: TextureHandle,
     pub normals: TextureHandle,
 }
 
@@ -63,9 +63,9 @@ fn common(
 /// `mssao.downsample{l}`: level l of the g-buffer pyramid from level l - 1 (Table 2).
 pub fn downsample(ctx: &mut AoBuildContext<'_>, l: u32, src: Level, u: &MssaoUniform) -> Level {
     let size = SizeClass::half_pow(l);
-    let positions = ctx.builder.create_texture(
-        &format!("mssao.positions{l}"),
-        TextureDesc::new(POSITION_FORMAT, size),
+    let depth = ctx.builder.create_texture(
+        &format!("mssao.depth{l}"),
+        TextureDesc::new(DEPTH_FORMAT, size),
     );
     let normals = ctx.builder.create_texture(
         &format!("mssao.normals{l}"),
@@ -78,13 +78,13 @@ pub fn downsample(ctx: &mut AoBuildContext<'_>, l: u32, src: Level, u: &MssaoUni
         "main",
     );
     common(&mut p, view, u);
-    p.sample("src_positions", src.positions)
+    p.sample("src_depth", src.depth)
         .sample("src_normals", src.normals)
-        .loads_per_invocation(8.0); // 2x2 positions and normals (Table 2)
-    let positions = p.write_storage("dst_positions", positions);
+        .loads_per_invocation(8.0); // 2x2 depths and normals (Table 2)
+    let depth = p.write_storage("dst_depth", depth);
     let normals = p.write_storage("dst_normals", normals);
-    p.dispatch_over(positions);
-    Level { positions, normals }
+    p.dispatch_over(depth);
+    Level { depth, normals }
 }
 
 /// `mssao.ao{l}` for a level l >= 1: the tuple of Eq. 10. `far` is the blurred tuple of level
@@ -111,11 +111,10 @@ pub fn ao_level(
         .builder
         .compute_pass(&format!("mssao.ao{l}"), &shader, "main");
     common(&mut p, view, u);
-    p.sample("positions", g.positions)
-        .sample("normals", g.normals);
+    p.sample("depth", g.depth).sample("normals", g.normals);
     if let Some((coarse, cg)) = far {
         p.sample("coarse_ao", coarse)
-            .sample("coarse_positions", cg.positions)
+            .sample("coarse_depth", cg.depth)
             .sample("coarse_normals", cg.normals);
     }
     let tuple = p.write_storage("ao", tuple);
@@ -141,10 +140,10 @@ pub fn blur(
         .builder
         .compute_pass(&format!("mssao.blur{l}"), &shader, "main");
     common(&mut p, view, u);
-    p.sample("positions", g.positions)
+    p.sample("depth", g.depth)
         .sample("normals", g.normals)
         .sample("src", tuple)
-        .loads_per_invocation(27.0); // 3x3 positions, normals and tuples (Table 4)
+        .loads_per_invocation(27.0); // 3x3 depths, normals and tuples (Table 4)
     let out = p.write_storage("dst", out);
     p.dispatch_over(out);
     out
@@ -167,11 +166,10 @@ pub fn ao_finest(
     let view = ctx.view;
     let mut p = ctx.builder.compute_pass("mssao.ao0", shader, "main");
     common(&mut p, view, u);
-    p.sample("positions", g.positions)
-        .sample("normals", g.normals);
+    p.sample("depth", g.depth).sample("normals", g.normals);
     if let Some((coarse, cg)) = far {
         p.sample("coarse_ao", coarse)
-            .sample("coarse_positions", cg.positions)
+            .sample("coarse_depth", cg.depth)
             .sample("coarse_normals", cg.normals);
     }
     let out = p.write_storage("accessibility", out);

@@ -28,9 +28,9 @@ fn plan(params: &str) -> Result<CompiledGraph, AoError> {
     );
     let mut gbuffer = GBufferTextures::default();
     for c in [
-        GBufferChannel::Positions,
-        GBufferChannel::Normals,
+        GBufferChannel::NormalsOct,
         GBufferChannel::LinearDepth,
+        GBufferChannel::Normals,
     ] {
         gbuffer.set(
             c,
@@ -231,14 +231,41 @@ fn defaults_are_the_papers_and_every_parameter_is_documented() {
 }
 
 #[test]
-fn reads_positions_and_face_normals() {
+fn reads_linear_depth_and_compact_face_normals_only() {
     let c = AoTechnique::channels(&Mssao, &MssaoParams::default());
     assert!(
-        c.contains(GBufferChannel::Positions)
-            && c.contains(GBufferChannel::Normals)
+        c.contains(GBufferChannel::LinearDepth)
+            && c.contains(GBufferChannel::NormalsOct)
             && c.face_normals
     );
-    assert!(!c.contains(GBufferChannel::LinearDepth) && !c.contains(GBufferChannel::Motion));
+    for wide in [
+        GBufferChannel::Positions,
+        GBufferChannel::Normals,
+        GBufferChannel::Motion,
+    ] {
+        assert!(!c.contains(wide), "{wide:?}");
+    }
+}
+
+#[test]
+fn every_pyramid_level_holds_8_bytes_a_texel() {
+    // Depth (R32Float) and an octahedral normal (R32Uint) per level, g-buffer included: the
+    // plan at 1024x1024 is the g-buffer's 8 MiB, a third more for the pyramid, the tuples and
+    // the output (README, "Memory").
+    let plan = plan("levels = 4").unwrap();
+    for l in 1..4 {
+        for (name, format) in [
+            (format!("mssao.depth{l}"), wgpu::TextureFormat::R32Float),
+            (format!("mssao.normals{l}"), wgpu::TextureFormat::R32Uint),
+        ] {
+            let r = plan.decl.resource_by_name(&name).expect(&name);
+            assert_eq!(
+                plan.decl.resources[r].texture_desc().map(|d| d.format),
+                Some(format),
+                "{name}"
+            );
+        }
+    }
 }
 
 #[test]
