@@ -1,7 +1,8 @@
 //! `pyramid-hbao` on the GPU: a plane is unoccluded from straight down to 80 degrees off its
 //! normal; outputs are finite, in [0, 1], sky exactly 1, for every level count and odd sizes;
 //! on `sphere-on-plane` the MAE against the ray-traced reference is printed and bounded, and
-//! the contact region is occluded (a constant-1 shader cannot pass).
+//! the contact region is occluded (a constant-1 shader cannot pass); each added pyramid level
+//! only adds samples, so accessibility never rises with L, pixel by pixel.
 
 mod common;
 
@@ -22,8 +23,19 @@ fn render(
     size: Extent,
     camera: Option<Camera>,
 ) -> Option<common::AoRun> {
+    render_at(scene, params, size, camera, RADIUS)
+}
+
+/// [`render`] with the AO radius `radius`.
+fn render_at(
+    scene: &str,
+    params: &str,
+    size: Extent,
+    camera: Option<Camera>,
+    radius: f32,
+) -> Option<common::AoRun> {
     let gpu = test_gpu()?;
-    let config = common::ao_config("pyramid-hbao", RADIUS, params);
+    let config = common::ao_config("pyramid-hbao", radius, params);
     let registry = TechniqueRegistry::with_builtins();
     let outputs = FrameOutputs {
         linear_depth: true,
@@ -191,4 +203,51 @@ fn sphere_on_plane_is_close_to_the_reference_and_occluded_at_the_contact() {
     );
     assert!(contact < open - 0.05, "contact {contact} vs open {open}");
     assert!(min < 0.9, "image min {min}");
+}
+
+#[test]
+fn each_added_level_only_adds_samples_so_accessibility_never_rises() {
+    // The march of L + 1 levels is the march of L levels plus the next level's reads (the same
+    // directions, jitter and steps; Eq. 8 keeps a maximum), so without the blur every pixel's
+    // accessibility at L + 1 is at most its value at L, exactly, and lower somewhere while the
+    // next level still reaches geometry within R. R = 8 on `columns` (26 units across) keeps
+    // geometry within R for every level's reach at 96x64 (L = 4 reaches 80 px). Fails if the
+    // shader ignores the level count it is built with (`LEVELS`), or marches a level twice.
+    let size = Extent::new(96, 64);
+    let runs: Vec<Vec<f32>> = (1..=5)
+        .map_while(|l| {
+            render_at(
+                "columns",
+                &format!("levels = {l}\nblur = false"),
+                size,
+                None,
+                8.0,
+            )
+            .map(|r| r.ao)
+        })
+        .collect();
+    if runs.is_empty() {
+        return;
+    }
+    for l in 1..runs.len() {
+        let (fewer, more) = (&runs[l - 1], &runs[l]);
+        let rises = fewer.iter().zip(more).filter(|(a, b)| b > a).count();
+        let lower = fewer.iter().zip(more).filter(|(a, b)| b < a).count();
+        let drop: f32 =
+            fewer.iter().zip(more).map(|(a, b)| a - b).sum::<f32>() / fewer.len() as f32;
+        println!(
+            "L = {} -> {}: {lower} pixels lower, mean accessibility drop {drop:.5}",
+            l,
+            l + 1
+        );
+        assert_eq!(rises, 0, "L = {} -> {}: {rises} pixels rose", l, l + 1);
+        if l < 4 {
+            assert!(
+                lower > 100,
+                "L = {} -> {}: only {lower} pixels lower",
+                l,
+                l + 1
+            );
+        }
+    }
 }

@@ -16,7 +16,8 @@ struct Params {
     sin_bias: f32,
     // Pyramid factor K (3).
     factor: f32,
-    // Levels L (level 0 included), directions D.
+    // Levels L (level 0 included; the pipeline constant LEVELS is what the march reads),
+    // directions D.
     levels: u32,
     directions: u32,
     pad0: u32,
@@ -42,6 +43,11 @@ const TAU: f32 = 6.283185307179586;
 // Reads per direction and level (`step_count`): a pipeline constant, not a uniform, so the
 // driver unrolls the march (on lavapipe a loop with a uniform bound costs 35% more).
 override STEP_COUNT: u32 = 4u;
+// Pyramid levels L, level 0 included (`levels`): a pipeline constant too, so the marches of
+// levels the pyramid does not have are not in the pipeline at all. SIMD CPU drivers such as
+// lavapipe run both sides of a branch under a mask: with L in a uniform, L = 1 cost what
+// L = 5 does.
+override LEVELS: u32 = 4u;
 
 // What every sample of one pixel's march shares.
 struct Receiver {
@@ -144,7 +150,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     g.inv_radius = 1.0 / params.radius;
     // World size of one full-resolution pixel at P, for the early-out slack.
     let pixel_world = 1.0 / max(pixels_per_unit(z, view), 1e-30);
-    let levels = clamp(params.levels, 1u, 5u);
+    let levels = clamp(LEVELS, 1u, 5u);
     let k = params.factor;
     let ki = i32(k);
     // The levels' edge texels (common/pyramid.wgsl), once per pixel.
