@@ -95,6 +95,19 @@ fn mssao_surface(depth: texture_2d<f32>, normals: texture_2d<u32>, g: MssaoGrid,
     return MssaoSurface(p, n, valid);
 }
 
+// A texel's linear depth and normal only, for the filters (Eqs. 8-9 weigh by nothing else):
+// no position to rebuild.
+struct MssaoDepthNormal {
+    z: f32,
+    n: vec3<f32>,
+    valid: bool,
+}
+
+fn mssao_depth_normal(depth: texture_2d<f32>, normals: texture_2d<u32>, c: vec2<i32>) -> MssaoDepthNormal {
+    let z = textureLoad(depth, c, 0).x;
+    return MssaoDepthNormal(z, normal_oct_decode(textureLoad(normals, c, 0).x), mssao_is_geometry(z));
+}
+
 fn mssao_in_bounds(c: vec2<i32>, size: vec2<i32>) -> bool {
     return all(c >= vec2<i32>(0)) && all(c < size);
 }

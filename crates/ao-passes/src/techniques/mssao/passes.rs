@@ -143,7 +143,9 @@ pub fn blur(
     p.sample("depth", g.depth)
         .sample("normals", g.normals)
         .sample("src", tuple)
-        .loads_per_invocation(27.0); // 3x3 depths, normals and tuples (Table 4)
+        // 3x3 tuples, and each workgroup's 10x10 tile of depths and normals (shaders/ao/mssao/
+        // blur.wgsl) shared by its 64 threads (Table 4).
+        .loads_per_invocation(9.0 + 2.0 * 100.0 / 64.0);
     let out = p.write_storage("dst", out);
     p.dispatch_over(out);
     out
