@@ -22,14 +22,21 @@ fn expected(f: impl Fn(f32) -> f32) -> Vec<f32> {
         .collect()
 }
 
-/// pattern -> scale(scale, offset) -> exported.
-fn scale_decl(scale: f32, offset: f32) -> (GraphDecl, TextureHandle) {
+/// A graph with the full-screen pattern drawn: the builder, the R32Float full-size
+/// descriptor, the pattern texture.
+fn pattern_graph() -> (GraphBuilder, TextureDesc, TextureHandle) {
     let mut b = GraphBuilder::new();
     let desc = TextureDesc::new(R32Float, SizeClass::FULL);
     let img = b.create_texture("pattern", desc);
     let img = b
         .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
         .color_attachment(img);
+    (b, desc, img)
+}
+
+/// pattern -> scale(scale, offset) -> exported.
+fn scale_decl(scale: f32, offset: f32) -> (GraphDecl, TextureHandle) {
+    let (mut b, desc, img) = pattern_graph();
     let out = b.create_texture("scaled", desc);
     let mut p = b.compute_pass("scale", "scale.wgsl", "main");
     p.sample("src", img);
@@ -42,12 +49,7 @@ fn scale_decl(scale: f32, offset: f32) -> (GraphDecl, TextureHandle) {
 
 /// pattern -> square -> exported (another structure, another pipeline).
 fn square_decl() -> (GraphDecl, TextureHandle) {
-    let mut b = GraphBuilder::new();
-    let desc = TextureDesc::new(R32Float, SizeClass::FULL);
-    let img = b.create_texture("pattern", desc);
-    let img = b
-        .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
-        .color_attachment(img);
+    let (mut b, desc, img) = pattern_graph();
     let out = b.create_texture("squared", desc);
     let mut p = b.compute_pass("square", "square.wgsl", "main");
     p.sample("src", img);
@@ -69,12 +71,7 @@ fn accumulate_decl() -> (GraphDecl, TextureHandle) {
 
 /// pattern -> constants(GAIN, REPEAT) -> exported; `constants` as (name, value) pairs.
 fn constants_decl(constants: &[(&str, f64)]) -> (GraphDecl, TextureHandle) {
-    let mut b = GraphBuilder::new();
-    let desc = TextureDesc::new(R32Float, SizeClass::FULL);
-    let img = b.create_texture("pattern", desc);
-    let img = b
-        .fullscreen_pass("pattern", "pattern.wgsl", "vs", "fs")
-        .color_attachment(img);
+    let (mut b, desc, img) = pattern_graph();
     let out = b.create_texture("gained", desc);
     let mut p = b.compute_pass("gain", "constants.wgsl", "main");
     p.sample("src", img);
