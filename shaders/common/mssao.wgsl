@@ -20,7 +20,8 @@ struct MssaoParams {
     level: u32,
     // 1: the 3x3 blur also weighs by Eqs. 8-9 (the prose's "bilateral"); 0: Table 4's weights only.
     bilateral_blur: u32,
-    pad0: u32,
+    // Fig. 8's upsampling: 0 nearest, 1 bilinear, 2 bilateral (the paper's).
+    upsampling: u32,
     pad1: u32,
     // d_max: the AO radius of influence in view units (= the shared radius R).
     d_max: f32,
@@ -211,9 +212,14 @@ fn mssao_bilateral_weight(n: vec3<f32>, z: f32, ni: vec3<f32>, zi: f32, t_n: f32
 // Bilateral 2x2 upsampling (Sec. 4.5, Fig. 9, Eqs. 8-9) of the blurred tuple of the next
 // coarser level to fine texel `c` with surface `s`: the four nearest coarse texels with bilinear
 // weights 9/16, 3/16, 3/16, 1/16, times Eq. 8 and Eq. 9, normalised. Coarse sky texels get no
-// weight; if every bilateral weight underflows, the bilinear weights alone are used; if every
-// coarse texel is sky, the result is (0, 0, 0): no far-field occlusion.
-fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coarse_normals: texture_2d<u32>, coarse_grid: MssaoGrid, c: vec2<i32>, s: MssaoSurface, t_n: f32, t_z: f32) -> vec3<f32> {
+// weight; if every bilateral weight underflows, the bilinear weights are used; if every
+// coarse texel is sky, the result is (0, 0, 0): no far-field occlusion. `mode` is Fig. 8's
+// comparison: 2 as described, 1 the bilinear weights alone, 0 the enclosing coarse texel
+// alone (its tuple, or (0, 0, 0) where it is sky).
+const MSSAO_NEAREST: u32 = 0u;
+const MSSAO_BILATERAL: u32 = 2u;
+
+fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coarse_normals: texture_2d<u32>, coarse_grid: MssaoGrid, c: vec2<i32>, s: MssaoSurface, t_n: f32, t_z: f32, mode: u32) -> vec3<f32> {
     let cs = vec2<i32>(textureDimensions(coarse_ao));
     let m = c / 2;
     // A fine texel centre lies a quarter coarse texel from its parent's centre, towards the
@@ -221,6 +227,9 @@ fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coa
     let d = select(vec2<i32>(-1), vec2<i32>(1), (c & vec2<i32>(1)) == vec2<i32>(1));
     var taps = array<vec2<i32>, 4>(m, m + vec2<i32>(d.x, 0), m + vec2<i32>(0, d.y), m + d);
     var wb = array<f32, 4>(9.0 / 16.0, 3.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0);
+    if (mode == MSSAO_NEAREST) {
+        wb = array<f32, 4>(1.0, 0.0, 0.0, 0.0);
+    }
     let z = -s.p.z;
     var sum_bilateral = vec3<f32>(0.0);
     var w_bilateral = 0.0;
@@ -229,7 +238,7 @@ fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coa
     for (var j = 0; j < 4; j = j + 1) {
         let t = clamp(taps[j], vec2<i32>(0), cs - vec2<i32>(1));
         let q = mssao_surface(coarse_depth, coarse_normals, coarse_grid, t);
-        if (!q.valid) {
+        if (!q.valid || !(wb[j] > 0.0)) {
             continue;
         }
         let a = textureLoad(coarse_ao, t, 0).xyz;
@@ -239,7 +248,7 @@ fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coa
         sum_bilinear = sum_bilinear + wb[j] * a;
         w_bilinear = w_bilinear + wb[j];
     }
-    if (w_bilateral > 1e-30) {
+    if (mode == MSSAO_BILATERAL && w_bilateral > 1e-30) {
         return sum_bilateral / w_bilateral;
     }
     if (w_bilinear > 0.0) {

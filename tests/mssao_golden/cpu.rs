@@ -130,6 +130,8 @@ pub(crate) struct Consts {
     pub(crate) t_n: f32,
     pub(crate) t_z: f32,
     pub(crate) bilateral_blur: bool,
+    /// Fig. 8's upsampling: 0 nearest, 1 bilinear, 2 bilateral.
+    pub(crate) upsampling: u32,
     /// The view block's proj[1][1] and viewport height (Eq. 5's s / (2 tan(alpha / 2))).
     pub(crate) proj11: f32,
     pub(crate) height: f32,
@@ -262,7 +264,8 @@ pub(crate) fn xyz(v: V4) -> V3 {
     [v[0], v[1], v[2]]
 }
 
-/// Fig. 9: the 2x2 nearest coarse texels with 9/16, 3/16, 3/16, 1/16 times Eqs. 8-9.
+/// Fig. 9: the 2x2 nearest coarse texels with 9/16, 3/16, 3/16, 1/16 times Eqs. 8-9 (`k.upsampling`
+/// 2); the bilinear weights alone (1); the enclosing coarse texel alone (0).
 pub(crate) fn upsample(coarse: &[V4], cl: &Level, x: i32, y: i32, s: &Surface, k: &Consts) -> V3 {
     let (mx, my) = (x / 2, y / 2);
     let (dx, dy) = (
@@ -270,7 +273,11 @@ pub(crate) fn upsample(coarse: &[V4], cl: &Level, x: i32, y: i32, s: &Surface, k
         if y & 1 == 1 { 1 } else { -1 },
     );
     let taps = [(mx, my), (mx + dx, my), (mx, my + dy), (mx + dx, my + dy)];
-    let wb = [9.0 / 16.0, 3.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0];
+    let wb = if k.upsampling == 0 {
+        [1.0, 0.0, 0.0, 0.0]
+    } else {
+        [9.0 / 16.0, 3.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0]
+    };
     let z = -s.p[2];
     let (mut sum_bl, mut w_bl, mut sum_lin, mut w_lin) = ([0.0f32; 3], 0.0f32, [0.0f32; 3], 0.0f32);
     for j in 0..4 {
@@ -281,6 +288,9 @@ pub(crate) fn upsample(coarse: &[V4], cl: &Level, x: i32, y: i32, s: &Surface, k
         let Some(q) = cl.surface(tx, ty) else {
             continue;
         };
+        if wb[j] <= 0.0 {
+            continue;
+        }
         let a = xyz(coarse[cl.index(tx, ty)]);
         let w = wb[j] * bilateral_weight(s.n, z, q.n, -q.p[2], k.t_n, k.t_z);
         for c in 0..3 {
@@ -290,7 +300,7 @@ pub(crate) fn upsample(coarse: &[V4], cl: &Level, x: i32, y: i32, s: &Surface, k
         w_bl += w;
         w_lin += wb[j];
     }
-    if w_bl > 1e-30 {
+    if k.upsampling == 2 && w_bl > 1e-30 {
         sum_bl.map(|v| v / w_bl)
     } else if w_lin > 0.0 {
         sum_lin.map(|v| v / w_lin)

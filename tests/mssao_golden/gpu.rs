@@ -262,6 +262,7 @@ impl Mssao {
             t_n: p.t_n,
             t_z: p.t_z,
             bilateral_blur: p.bilateral_blur,
+            upsampling: p.upsampling,
             proj11: self.uniforms.proj[1][1],
             height: self.uniforms.viewport[1],
         }
@@ -274,6 +275,8 @@ pub(crate) struct Params {
     pub(crate) t_n: f32,
     pub(crate) t_z: f32,
     pub(crate) bilateral_blur: bool,
+    /// 0 nearest, 1 bilinear, 2 bilateral (`upsampling`).
+    pub(crate) upsampling: u32,
 }
 
 pub(crate) const DEFAULTS: Params = Params {
@@ -281,6 +284,7 @@ pub(crate) const DEFAULTS: Params = Params {
     t_n: 8.0,
     t_z: 16.0,
     bilateral_blur: true,
+    upsampling: 2,
 };
 
 /// Runs one frame of the box scene from [`front_camera`] with `levels` and extra `params`.

@@ -455,6 +455,49 @@ fn upsampling_weighs_the_2x2_coarse_texels_9_3_3_1_times_eqs_8_and_9() {
 }
 
 #[test]
+fn fig_8_upsampling_modes_take_the_enclosing_texel_or_the_bilinear_weights() {
+    // `upsampling = "nearest"` passes on the enclosing coarse texel's tuple, "bilinear" the
+    // four nearest with 9/16, 3/16, 3/16, 1/16 and no Eqs. 8-9; sums and counts checked as
+    // above against the CPU; the three modes give different counts.
+    let radius = 1.5;
+    let mut counts = Vec::new();
+    for (mode, name) in [(0, "nearest"), (1, "bilinear"), (2, "bilateral")] {
+        let Some((m, g)) = box_scene_run(4, radius, &format!("upsampling = \"{name}\"")) else {
+            return;
+        };
+        let k = m.consts(
+            radius,
+            &Params {
+                upsampling: mode,
+                ..DEFAULTS
+            },
+        );
+        let l = 1;
+        let got = m.read(&format!("mssao.ao{l}"), "ao");
+        let want: Vec<V3> = near_and_far(&m, &g, l, &k)
+            .iter()
+            .map(|t| t.map_or([0.0; 3], |(n, f)| combine(n, f)))
+            .collect();
+        let e_sum = assert_close(&channel(&got, 1), &channel3(&want, 1), SUM_FLOOR, name);
+        let e_n = assert_close(&channel(&got, 2), &channel3(&want, 2), 0.0, name);
+        println!("{name}: level {l} sums within {e_sum:e}, counts within {e_n:e} (relative)");
+        counts.push(channel(&got, 2));
+    }
+    let differ = |a: &[f32], b: &[f32]| {
+        a.iter()
+            .zip(b)
+            .filter(|(x, y)| (*x - *y).abs() > 0.01)
+            .count()
+    };
+    let (nb, bb) = (
+        differ(&counts[0], &counts[1]),
+        differ(&counts[1], &counts[2]),
+    );
+    println!("texels whose count differs: nearest/bilinear {nb}, bilinear/bilateral {bb}");
+    assert!(nb > 10 && bb > 10, "the modes must differ: {nb}, {bb}");
+}
+
+#[test]
 fn levels_combine_by_the_max_of_means_eq_10_and_into_accessibility_by_eq_11() {
     let radius = 1.5;
     let Some((m, g)) = box_scene_run(4, radius, "") else {

@@ -29,7 +29,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let r0 = params.d_max * pixels_per_unit(-s.p.z, view);
     let radius = mssao_kernel_radius(r0, 0u, params.r_max);
     let near = mssao_near_poisson(depth, grid, c, s, radius, params.d_max);
-    let far = mssao_upsample(coarse_ao, coarse_depth, coarse_normals, mssao_grid(view, 0u + 1u), c, s, params.normal_power, params.depth_power);
+    let far = mssao_upsample(coarse_ao, coarse_depth, coarse_normals, mssao_grid(view, 0u + 1u), c, s, params.normal_power, params.depth_power, params.upsampling);
     let a = mssao_accessibility(mssao_combine(near, far));
     textureStore(accessibility, c, vec4<f32>(a, 0.0, 0.0, 0.0));
 }

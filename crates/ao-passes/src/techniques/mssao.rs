@@ -120,6 +120,9 @@ pub struct MssaoParams {
     /// Multiply the 3x3 blur's weights by Eqs. 8-9 (the paper's prose calls it bilateral;
     /// Table 4 lists only 1 / ((dx + 1)(dy + 1))).
     pub bilateral_blur: bool,
+    /// How a level's blurred tuple reaches the next finer level (Sec. 4.5, Fig. 8): the
+    /// paper's bilateral 2x2 upsampling, or the plain bilinear or nearest it compares with.
+    pub upsampling: Upsampling,
     /// The optional temporal filter (Sec. 4.6, Eqs. 12-14). Off by default.
     pub temporal: bool,
     /// k (Eq. 14): weight of the reprojected history when the depth test passes.
@@ -127,6 +130,30 @@ pub struct MssaoParams {
     /// epsilon (Eq. 13): relative depth tolerance of the reprojection test (not given by the
     /// paper; the spec suggests 0.01 to 0.05, the shared block's default is 0.03).
     pub temporal_epsilon: f32,
+}
+
+/// The upsampling of Fig. 8 (shaders/common/mssao.wgsl, `mssao_upsample`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Upsampling {
+    /// The coarse texel the fine texel lies in.
+    Nearest,
+    /// The four nearest coarse texels, weights 9/16, 3/16, 3/16, 1/16.
+    Bilinear,
+    /// The bilinear weights times Eq. 8 (normals) and Eq. 9 (depths): the paper's.
+    #[default]
+    Bilateral,
+}
+
+impl Upsampling {
+    /// The shader's code for it (`MssaoParams.upsampling`).
+    pub fn code(self) -> u32 {
+        match self {
+            Self::Nearest => 0,
+            Self::Bilinear => 1,
+            Self::Bilateral => 2,
+        }
+    }
 }
 
 impl Default for MssaoParams {
@@ -138,6 +165,7 @@ impl Default for MssaoParams {
             normal_power: 8.0,
             depth_power: 16.0,
             bilateral_blur: true,
+            upsampling: Upsampling::Bilateral,
             temporal: false,
             temporal_k: 0.5,
             temporal_epsilon: DEFAULT_EPSILON,
@@ -199,6 +227,11 @@ impl AoTechnique for Mssao {
                 "bilateral_blur",
                 "true or false",
                 "weigh the 3x3 blur by Eqs. 8-9 as well (Sec. 4.5)",
+            ),
+            spec(
+                "upsampling",
+                "\"bilateral\", \"bilinear\" or \"nearest\"",
+                "how a coarse level's tuple reaches the finer one (Sec. 4.5, Fig. 8): bilinear weights times Eqs. 8-9 (the paper's), bilinear alone, or the enclosing coarse texel",
             ),
             spec(
                 "temporal",

@@ -25,7 +25,9 @@ pub struct Level {
 pub struct MssaoUniform {
     pub level: u32,
     pub bilateral_blur: u32,
-    pub pad0: [u32; 2],
+    /// `Upsampling::code`.
+    pub upsampling: u32,
+    pub pad0: u32,
     /// d_max of Eq. 7 = the shared radius R.
     pub d_max: f32,
     pub r_max: f32,
@@ -40,7 +42,8 @@ impl MssaoUniform {
         Self {
             level,
             bilateral_blur: p.bilateral_blur as u32,
-            pad0: [0; 2],
+            upsampling: p.upsampling.code(),
+            pad0: 0,
             d_max: radius,
             r_max: p.r_max,
             d_threshold: p.d_threshold,
