@@ -16,12 +16,11 @@ struct Params {
     sin_bias: f32,
     // Pyramid factor K (3).
     factor: f32,
-    // Levels L (level 0 included; the pipeline constant LEVELS is what the march reads),
-    // directions D.
-    levels: u32,
+    // Directions D (the level count L and the steps per level are pipeline constants).
     directions: u32,
     pad0: u32,
     pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> view: View;

@@ -120,9 +120,8 @@ struct AoUniform {
     initial_step: f32,
     sin_bias: f32,
     factor: f32,
-    levels: u32,
     directions: u32,
-    _pad: [u32; 2],
+    _pad: [u32; 3],
 }
 
 impl PyramidHbaoParams {
@@ -241,9 +240,8 @@ impl AoTechnique for PyramidHbao {
             initial_step: p.initial_step,
             sin_bias: p.angle_bias.to_radians().sin(),
             factor: K as f32,
-            levels,
             directions: p.directions,
-            _pad: [0; 2],
+            _pad: [0; 3],
         };
         // The raw AO is an intermediate when blurred: its writer is the matching shader variant.
         let shader = if p.blur {
