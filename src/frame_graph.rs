@@ -30,6 +30,9 @@ pub struct FrameOutputs {
     pub surface_normals: ReferenceNormals,
     /// Linear depth, read back (depth image, edge bands).
     pub linear_depth: bool,
+    /// The g-buffer's motion vectors (previous uv - current uv), read back, where the scene
+    /// moves (a static scene has none: `read_gbuffer(Motion)` is then an error).
+    pub motion: bool,
     /// Format of the g-buffer's hardware depth buffer (Depth32Float by default).
     pub depth_format: DepthFormat,
 }
@@ -109,6 +112,9 @@ pub fn build_frame_graph_with(
     if outputs.linear_depth {
         requested = requested.with(GBufferChannel::LinearDepth);
     }
+    if outputs.motion {
+        requested = requested.with(GBufferChannel::Motion);
+    }
     let channels = required_channels(requested, &scene).with_depth_format(outputs.depth_format);
     let mut b = GraphBuilder::new();
     let view = b.import_buffer(
@@ -175,6 +181,9 @@ pub fn build_frame_graph_with(
     }
     if outputs.linear_depth {
         gbuffer.linear_depth.into_iter().for_each(|h| b.export(h));
+    }
+    if outputs.motion {
+        gbuffer.motion.into_iter().for_each(|h| b.export(h));
     }
     Ok(FrameGraph {
         decl: b.build(),

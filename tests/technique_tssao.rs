@@ -1010,3 +1010,39 @@ fn temporal_block_averages_blends_and_resets() {
     r.render(0.0).unwrap();
     assert_eq!(uniform_value(&r), 0.0, "frame 6 (input 0) after a resize");
 }
+
+#[test]
+fn point_visibility_weighs_occluders_by_distance_so_it_reads_lighter_than_the_march() {
+    // "point" tests one point s_i = p + R (1 - u) w per sample: an occluder at distance d
+    // along w blocks it with probability 1 - d/R, while the march blocks it whenever d < R.
+    // So converged, on a scene full of occluders, the point test is lighter pixel by pixel
+    // (up to sampling noise), and both agree where nothing is within R.
+    let size = Extent::new(64, 64);
+    let converged = |visibility: &str| -> Option<(Vec<f32>, Vec<f32>)> {
+        let config = tssao(&format!("visibility = \"{visibility}\""));
+        let mut r = renderer(procedural_scene("cornell-box").unwrap(), &config, size)?;
+        for _ in 0..24 {
+            r.render(0.0).unwrap();
+        }
+        Some((ao(&r), depth(&r)))
+    };
+    let Some((march, d)) = converged("march") else {
+        return;
+    };
+    let (point, _) = converged("point").unwrap();
+    let geometry: Vec<usize> = (0..d.len()).filter(|i| d[*i] > 0.0).collect();
+    let mean = |a: &[f32]| geometry.iter().map(|i| a[*i]).sum::<f32>() / geometry.len() as f32;
+    let (m_march, m_point) = (mean(&march), mean(&point));
+    eprintln!("mean accessibility: march {m_march:.4}, point {m_point:.4}");
+    assert!(m_point > m_march + 0.02, "march {m_march}, point {m_point}");
+    // Noise: 24 frames of k = 32 then 8 samples is about 300 samples a pixel (sigma < 0.03).
+    let darker = geometry
+        .iter()
+        .filter(|i| point[**i] < march[**i] - 0.1)
+        .count();
+    assert!(
+        darker * 100 < geometry.len(),
+        "{darker} of {} pixels",
+        geometry.len()
+    );
+}

@@ -14,6 +14,7 @@
 
 pub mod bitmap_text;
 pub mod images;
+pub mod motion;
 pub mod plot;
 pub mod report;
 pub mod roofline;
@@ -151,7 +152,7 @@ pub fn progress_bar(len: u64, show: bool) -> ProgressBar {
     pb
 }
 
-fn file_safe(s: &str) -> String {
+pub(crate) fn file_safe(s: &str) -> String {
     s.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' || c == '.' {

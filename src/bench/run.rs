@@ -172,6 +172,51 @@ pub struct FrameTimes {
     pub passes: Vec<PassTime>,
 }
 
+/// Per-frame pass times gathered into [`FrameTimes`].
+#[derive(Default)]
+pub struct FrameTimeSamples {
+    per_pass: Vec<(String, Vec<f64>)>,
+    totals: Vec<f64>,
+    frame_totals: Vec<f64>,
+    source: Option<TimingSource>,
+}
+
+impl FrameTimeSamples {
+    /// Adds one measured frame.
+    pub fn push(&mut self, t: &aograph_graph::PassTimings) {
+        self.source = t.source.or(self.source);
+        let mut total = 0.0;
+        for (name, ms) in &t.passes {
+            if !is_gbuffer_pass(name) {
+                total += ms;
+            }
+            match self.per_pass.iter_mut().find(|(n, _)| n == name) {
+                Some((_, v)) => v.push(*ms),
+                None => self.per_pass.push((name.clone(), vec![*ms])),
+            }
+        }
+        self.totals.push(total);
+        self.frame_totals.push(t.total_ms());
+    }
+
+    /// Median and spread of every measured frame.
+    pub fn finish(self) -> FrameTimes {
+        FrameTimes {
+            timing_source: timing_source_name(self.source).into(),
+            total_ms: Spread::of(&self.totals),
+            frame_ms: Spread::of(&self.frame_totals),
+            passes: self
+                .per_pass
+                .into_iter()
+                .map(|(name, v)| PassTime {
+                    name,
+                    ms: Spread::of(&v),
+                })
+                .collect(),
+        }
+    }
+}
+
 /// Renders `warmup` + `frames` still frames, calling `tick` after each and `measured` after
 /// each measured one, and summarises the measured frames' timings.
 pub fn time_frames(
@@ -181,42 +226,17 @@ pub fn time_frames(
     tick: &mut dyn FnMut(),
     measured: &mut dyn FnMut(&Renderer) -> AppResult<()>,
 ) -> AppResult<FrameTimes> {
-    let mut per_pass: Vec<(String, Vec<f64>)> = Vec::new();
-    let (mut totals, mut frame_totals) = (Vec::new(), Vec::new());
-    let mut source = None;
+    let mut samples = FrameTimeSamples::default();
     for f in 0..warmup + frames {
         r.render(0.0)?;
         let t = r.timings()?;
         if f >= warmup {
-            source = t.source.or(source);
-            let mut total = 0.0;
-            for (name, ms) in &t.passes {
-                if !is_gbuffer_pass(name) {
-                    total += ms;
-                }
-                match per_pass.iter_mut().find(|(n, _)| n == name) {
-                    Some((_, v)) => v.push(*ms),
-                    None => per_pass.push((name.clone(), vec![*ms])),
-                }
-            }
-            totals.push(total);
-            frame_totals.push(t.total_ms());
+            samples.push(&t);
             measured(r)?;
         }
         tick();
     }
-    Ok(FrameTimes {
-        timing_source: timing_source_name(source).into(),
-        total_ms: Spread::of(&totals),
-        frame_ms: Spread::of(&frame_totals),
-        passes: per_pass
-            .into_iter()
-            .map(|(name, v)| PassTime {
-                name,
-                ms: Spread::of(&v),
-            })
-            .collect(),
-    })
+    Ok(samples.finish())
 }
 
 /// One row of the results.

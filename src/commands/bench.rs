@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use aograph_ao::TechniqueRegistry;
 
 use super::gpu;
+use crate::bench::motion::{MotionKind, MotionSettings, run_motion_bench};
 use crate::bench::{
     BenchContext, BenchPlan, BenchSettings, Sweep, ViewChoice, plan_param_sets, scaling,
 };
@@ -55,6 +56,43 @@ pub struct BenchArgs {
     /// Radii (world units) for --scaling. Default: R times 0.5, 1, 2, 4.
     #[arg(long, value_delimiter = ',')]
     pub scaling_radii: Vec<f32>,
+    /// Move the camera instead of holding it still: orbit (about its target), path (a
+    /// straight walk forward and to the right) or scene (the view's own camera path); every
+    /// frame is scored against its own reference. Writes motion.csv, motion.json, motion.md.
+    #[arg(long)]
+    pub motion: Option<String>,
+    /// Frames per second of a --motion run (frame i is at time i / fps).
+    #[arg(long, default_value_t = crate::bench::motion::DEFAULT_FPS)]
+    pub fps: f32,
+    /// Reference rays per pixel of a --motion run (one reference per measured frame).
+    #[arg(long, default_value_t = crate::bench::motion::DEFAULT_MOTION_RAYS)]
+    pub motion_rays: u32,
+}
+
+/// The validated motion flags (`None` without --motion).
+fn motion_settings(args: &BenchArgs) -> AppResult<Option<MotionSettings>> {
+    let Some(kind) = args.motion.as_deref() else {
+        return Ok(None);
+    };
+    if args.scaling {
+        return Err(AppError::InvalidArgument {
+            name: "--motion".into(),
+            value: kind.into(),
+            allowed: "no --motion with --scaling (scaling times a still camera)".into(),
+        });
+    }
+    if !(args.fps.is_finite() && args.fps > 0.0) {
+        return Err(AppError::InvalidArgument {
+            name: "--fps".into(),
+            value: args.fps.to_string(),
+            allowed: "a finite number of frames per second greater than 0".into(),
+        });
+    }
+    Ok(Some(MotionSettings {
+        kind: MotionKind::parse(kind)?,
+        fps: args.fps,
+        rays: positive("--motion-rays", args.motion_rays)?,
+    }))
 }
 
 /// How each run is made, shared by `bench` and `tune`.
@@ -329,9 +367,10 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
         .map(|s| check_size("--scaling-sizes", *s).map(|_| *s))
         .collect::<AppResult<_>>()?;
     let radii = radii(args, plan.settings.radius)?;
+    let motion = motion_settings(args)?;
     let gpu = gpu()?;
     // The device's own peaks, for the roofline of every pass (a second or two).
-    let peaks = if args.scaling {
+    let peaks = if args.scaling || motion.is_some() {
         None
     } else {
         Some(crate::bench::roofline::measure_peaks(&gpu)?)
@@ -363,6 +402,28 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
             "scaling_points.csv",
             "scaling.json",
             "report.md",
+        ] {
+            println!("wrote {}", out.join(f).display());
+        }
+        return Ok(());
+    }
+    if let Some(m) = motion {
+        let records = run_motion_bench(&ctx, &plan, &m, Some(out), !args.run.quiet)?;
+        println!(
+            "ran {} run(s) under motion `{}` ({} frame(s) each, {} references/view) on {} in {:.1} s",
+            records.len(),
+            m.kind.name(),
+            plan.settings.frames,
+            plan.settings.frames,
+            ctx.gpu.describe(),
+            started.elapsed().as_secs_f64(),
+        );
+        for f in [
+            "motion.csv",
+            "motion_frames.csv",
+            "motion.json",
+            "motion.md",
+            "images/",
         ] {
             println!("wrote {}", out.join(f).display());
         }

@@ -9,7 +9,7 @@
 // ao_buffer = (accessibility, n_t, Halton index, depth; negative depth = moving surface)
 
 struct TssaoParams {
-    // k1, k2, steps per sample, unused
+    // k1, k2, steps per sample, visibility (0 march, 1 point)
     counts: vec4<u32>,
     // n_smooth, falloff (0 none, 1 quadratic), Halton length, unused
     modes: vec4<u32>,
@@ -60,18 +60,21 @@ struct Visibility {
 }
 
 // V(p, s_i) along the segment o -> o + r w, tested at `steps` points t_j = r (j + 1 - u) / steps,
-// the last one at t = r.
+// the last one at t = r ("march"); or, the paper's single test ("point"), at s_i = o + r (1 - u) w
+// alone: a point uniformly distributed along the direction, which weighs an occluder at distance
+// d by 1 - d / r (the paper's "linear falloff", §4).
 fn visibility(o: vec3<f32>, c0: vec4<f32>, w: vec3<f32>, r: f32, u: f32, size: vec2<i32>) -> Visibility {
     var out: Visibility;
     out.occlusion = 0.0;
     out.has_texel = false;
-    let steps = clamp(params.counts.z, 1u, 8u);
+    let point = params.counts.w == 1u;
+    let steps = select(clamp(params.counts.z, 1u, 8u), 1u, point);
     // Clip coordinates are affine along the segment: c0 = proj * o, plus t times this.
     let cd = view.proj * vec4<f32>(w, 0.0);
     for (var j = 0u; j < steps; j = j + 1u) {
         // The last point sits at R itself: an occluder anywhere along a wall-like depth
         // buffer leaves it behind the surface, so hits up to R all count (binary mode).
-        let t = select(r * (f32(j) + 1.0 - u) / f32(steps), r, j + 1u == steps);
+        let t = select(r * (f32(j) + 1.0 - u) / f32(steps), r, j + 1u == steps && !point);
         let zq = -(o.z + w.z * t);
         let c = c0 + cd * t;
         if (view.near_far.w < 0.5 && !(zq > 1e-6 && c.w > 1e-6)) {

@@ -40,6 +40,14 @@
 //!   unoccluding. This is the reference's definition (a ray hitting geometry within R)
 //!   evaluated on the depth buffer. steps = 4: on `columns` (96x64) the converged MAE is 0.040,
 //!   0.032, 0.027, 0.027 for 1, 2, 4, 8 steps.
+//! - `visibility = "point"` is the paper's own test instead (§3.1, [RGS09]: "checking whether
+//!   s_i is visible in the z-buffer"): one depth test per sample, at s_i = p + R (1 - u) w, a
+//!   point placed uniformly along the sample's direction. An occluder at distance d then
+//!   blocks with probability 1 - d/R, the "linear falloff" the paper says its equal weights
+//!   amount to (§4), so against the binary reference it reads lighter than the march; it
+//!   costs one depth load a sample instead of `steps`.
+//! - `neighbourhood_test = false` drops Eq. 8 (the disocclusion test, Eq. 7, alone): the
+//!   paper's Fig. 8 comparison, where contact shadows stay behind moving objects.
 //! - Falloff D: `none` (D = 1, the reference's binary mode; the paper's Fig. 12 comparison
 //!   with Mental Ray also weighted samples equally) or `quadratic` (1 - (t/R)^2 at the
 //!   blocked point, the reference's obscurance mode). The paper's example exp() is not offered:
@@ -169,6 +177,12 @@ pub struct TssaoParams {
     pub falloff: String,
     /// Cap of the projected radius, as a fraction of the image height.
     pub max_screen_radius: f32,
+    /// V(p, s_i): "march" (`steps` points along the segment, the last at R) or "point" (the
+    /// paper's single depth test at s_i, a point uniformly placed along the direction).
+    pub visibility: String,
+    /// The neighbourhood test, Eq. 8. Off: the disocclusion test alone (Fig. 8's left image,
+    /// which shows what Eq. 8 prevents: contact shadows left behind by moving objects).
+    pub neighbourhood_test: bool,
 }
 
 impl Default for TssaoParams {
@@ -188,9 +202,13 @@ impl Default for TssaoParams {
             steps: 4,
             falloff: "none".into(),
             max_screen_radius: 0.5,
+            visibility: "march".into(),
+            neighbourhood_test: true,
         }
     }
 }
+
+const VISIBILITY: [&str; 2] = ["march", "point"];
 
 const FALLOFFS: [&str; 2] = ["none", "quadratic"];
 
@@ -198,7 +216,7 @@ const FALLOFFS: [&str; 2] = ["none", "quadratic"];
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct SampleUniform {
-    /// k1, k2, steps, unused
+    /// k1, k2, steps, visibility (0 march, 1 point)
     counts: [u32; 4],
     /// n_smooth, falloff (0 none, 1 quadratic), Halton length, unused
     modes: [u32; 4],
@@ -298,6 +316,16 @@ impl AoTechnique for Tssao {
                 "0.01 to 2",
                 "cap of the projected radius R, as a fraction of the image height",
             ),
+            spec(
+                "visibility",
+                "\"march\" or \"point\"",
+                "V(p, s_i): march (steps points up to R) or point (the paper's single depth test)",
+            ),
+            spec(
+                "neighbourhood_test",
+                "true or false",
+                "the neighbourhood test, Eq. 8 (false: disocclusion test only, the paper's Fig. 8)",
+            ),
         ]
     }
     fn validate(&self, p: &TssaoParams) -> AoResult<()> {
@@ -322,6 +350,7 @@ impl AoTechnique for Tssao {
         check_param(t, "filter_sigma", p.filter_sigma, 0.01, 10.0)?;
         check_param(t, "steps", p.steps, 1, MAX_STEPS)?;
         check_one_of(t, "falloff", p.falloff.as_str(), &FALLOFFS)?;
+        check_one_of(t, "visibility", p.visibility.as_str(), &VISIBILITY)?;
         check_param(t, "max_screen_radius", p.max_screen_radius, 0.01, 2.0)
     }
     fn reach_pixels(&self, p: &TssaoParams, height: u32, _: Option<f32>) -> Option<f32> {
@@ -343,6 +372,10 @@ impl AoTechnique for Tssao {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         let falloff = FALLOFFS.iter().position(|f| *f == p.falloff).unwrap_or(0) as u32;
+        let visibility = VISIBILITY
+            .iter()
+            .position(|v| *v == p.visibility)
+            .unwrap_or(0) as u32;
 
         // The AO buffer and its reprojection (shared temporal block: Eqs. 3 and 7).
         let history = ao_history(ctx.builder, "tssao");
@@ -357,7 +390,7 @@ impl AoTechnique for Tssao {
 
         // k new samples, Eq. 8, Eqs. 5-6: writes the AO buffer.
         let uniform = SampleUniform {
-            counts: [p.k1, p.k2, p.steps, 0],
+            counts: [p.k1, p.k2, p.steps, visibility],
             modes: [p.n_smooth, falloff, HALTON_LENGTH, 0],
             thresholds: [p.c_spatial, p.c_rot, p.n_max as f32, ctx.radius],
             tolerances: [
@@ -367,7 +400,12 @@ impl AoTechnique for Tssao {
                 0.0,
             ],
         };
-        let entry = if r.has_motion { "main_dynamic" } else { "main" };
+        // Without Eq. 8 (or without motion, where it always holds) the test is compiled out.
+        let entry = if r.has_motion && p.neighbourhood_test {
+            "main_dynamic"
+        } else {
+            "main"
+        };
         let mut pass = ctx
             .builder
             .compute_pass("tssao.sample", "ao/tssao/sample.wgsl", entry);
