@@ -320,6 +320,19 @@ pub fn ao_config(set: &ParamSet, radius: f32) -> AoConfig {
     c
 }
 
+/// An error naming `set` when the GPU reported validation errors during its run.
+pub fn check_gpu_errors(ctx: &BenchContext, set: &ParamSet) -> AppResult<()> {
+    let errors = ctx.gpu.take_errors();
+    if !errors.is_empty() {
+        return Err(AppError::InvalidArgument {
+            name: format!("{} ({})", set.technique, set.label()),
+            value: format!("GPU validation errors: {}", errors.join("; ")),
+            allowed: "a run without validation errors".into(),
+        });
+    }
+    Ok(())
+}
+
 /// Runs `set` on `reference`'s scene; `tick` is called after every frame (progress).
 pub fn run_technique(
     ctx: &BenchContext,
@@ -356,14 +369,7 @@ pub fn run_technique(
         flicker.push(&last, &reference.valid);
         Ok(())
     })?;
-    let errors = ctx.gpu.take_errors();
-    if !errors.is_empty() {
-        return Err(AppError::InvalidArgument {
-            name: format!("{} ({})", set.technique, set.label()),
-            value: format!("GPU validation errors: {}", errors.join("; ")),
-            allowed: "a run without validation errors".into(),
-        });
-    }
+    check_gpu_errors(ctx, set)?;
     let mut metrics = compare(
         &last,
         &reference.accessibility,

@@ -1,0 +1,178 @@
+//! The files of a motion run: motion.csv (one row per run), motion_frames.csv (per-frame
+//! MAE), motion.json and motion.md. Invariant: every file is rewritten whole, atomically, after
+//! each run, so an interrupted bench leaves complete files of the runs that finished.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::bench::run::FrameTimes;
+use crate::error::{AppError, AppResult};
+use crate::images::write_atomic;
+
+/// One row of motion.csv: a technique and parameter set over a motion run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotionRecord {
+    pub scene: String,
+    pub view: String,
+    pub motion: String,
+    pub technique: String,
+    pub label: String,
+    pub params: BTreeMap<String, toml::Value>,
+    pub width: u32,
+    pub height: u32,
+    pub radius: f32,
+    pub rays: u32,
+    pub fps: f32,
+    pub frames: u32,
+    pub warmup: u32,
+    /// The technique's passes ("total", g-buffer excluded), the whole frame ("frame", what a
+    /// frame rate is made of) and each pass, over the measured frames.
+    #[serde(flatten)]
+    pub times: FrameTimes,
+    pub mae_mean: f64,
+    pub mae_worst: f64,
+    pub edge_mae_mean: Option<f64>,
+    pub ssim_mean: f64,
+    /// MAE near surfaces that move on their own (`None`: nothing moves on its own).
+    pub moving_mae_mean: Option<f64>,
+    /// Mean change of a surface point's accessibility from frame to frame (module docs).
+    pub flicker: Option<f64>,
+    /// Share of the measured pixels that had a history to compare with.
+    pub flicker_coverage: Option<f64>,
+    /// Per measured frame: MAE.
+    pub frame_mae: Vec<f64>,
+    pub image: Option<String>,
+}
+
+impl MotionRecord {
+    pub const CSV_HEADER: &'static str = "scene,view,motion,technique,label,width,height,radius,rays,fps,frames,warmup,timing_source,total_ms_median,total_ms_q1,total_ms_q3,frame_ms_median,mae_mean,mae_worst,edge_mae_mean,ssim_mean,moving_mae_mean,flicker,flicker_coverage";
+
+    pub fn csv_row(&self) -> String {
+        let opt = |v: Option<f64>| v.map(|v| format!("{v:.6}")).unwrap_or_default();
+        format!(
+            "{},{},{},{},\"{}\",{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.6},{:.6},{},{:.6},{},{},{}",
+            self.scene,
+            self.view,
+            self.motion,
+            self.technique,
+            self.label.replace('"', "\"\""),
+            self.width,
+            self.height,
+            self.radius,
+            self.rays,
+            self.fps,
+            self.frames,
+            self.warmup,
+            self.times.timing_source,
+            self.times.total_ms.median,
+            self.times.total_ms.q1,
+            self.times.total_ms.q3,
+            self.times.frame_ms.median,
+            self.mae_mean,
+            self.mae_worst,
+            opt(self.edge_mae_mean),
+            self.ssim_mean,
+            opt(self.moving_mae_mean),
+            opt(self.flicker),
+            opt(self.flicker_coverage),
+        )
+    }
+}
+
+pub(super) fn write_motion_files(dir: &Path, records: &[MotionRecord]) -> AppResult<()> {
+    let mut csv = format!("{}\n", MotionRecord::CSV_HEADER);
+    let mut per_frame = String::from("scene,view,motion,technique,label,frame,mae\n");
+    for r in records {
+        csv.push_str(&r.csv_row());
+        csv.push('\n');
+        for (i, mae) in r.frame_mae.iter().enumerate() {
+            per_frame.push_str(&format!(
+                "{},{},{},{},\"{}\",{},{:.6}\n",
+                r.scene,
+                r.view,
+                r.motion,
+                r.technique,
+                r.label.replace('"', "\"\""),
+                i,
+                mae
+            ));
+        }
+    }
+    write_atomic(&dir.join("motion.csv"), csv.as_bytes())?;
+    write_atomic(&dir.join("motion_frames.csv"), per_frame.as_bytes())?;
+    let json = serde_json::to_string_pretty(records)
+        .map_err(|e| AppError::io("serialise", dir.join("motion.json"), e))?;
+    write_atomic(&dir.join("motion.json"), json.as_bytes())?;
+    write_atomic(&dir.join("motion.md"), motion_report(records).as_bytes())
+}
+
+/// motion.md: one table per scene, view and motion.
+pub fn motion_report(records: &[MotionRecord]) -> String {
+    let mut md = String::from("# aograph bench: techniques under motion\n\n");
+    md.push_str(
+        "Every measured frame is scored against its own reference. Flicker: mean change of a \
+         surface point's accessibility from one frame to the next (pixels with a history on \
+         the same surface; coverage = their share). Near moving: MAE within R of surfaces that \
+         move on their own.\n",
+    );
+    let mut keys: Vec<(String, String, String)> = Vec::new();
+    for r in records {
+        let k = (r.scene.clone(), r.view.clone(), r.motion.clone());
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    let opt = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_else(|| "-".into());
+    for (scene, view, motion) in keys {
+        let rows: Vec<&MotionRecord> = records
+            .iter()
+            .filter(|r| r.scene == scene && r.view == view && r.motion == motion)
+            .collect();
+        let first = rows[0];
+        md.push_str(&format!(
+            "\n## {scene} / {view}, motion `{motion}`\n\n{}x{}, {} frames at {} fps after {} warm-up, R = {}, {} rays/pixel, {}\n\n",
+            first.width, first.height, first.frames, first.fps, first.warmup, first.radius,
+            first.rays, first.times.timing_source
+        ));
+        md.push_str("| technique | parameters | total ms | frame ms | MAE mean | MAE worst | edge MAE | SSIM | near moving MAE | flicker | coverage |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+        for r in rows {
+            md.push_str(&format!(
+                "| {} | {} | {:.2} | {:.2} | {:.4} | {:.4} | {} | {:.3} | {} | {} | {} |\n",
+                r.technique,
+                r.label,
+                r.times.total_ms.median,
+                r.times.frame_ms.median,
+                r.mae_mean,
+                r.mae_worst,
+                opt(r.edge_mae_mean),
+                r.ssim_mean,
+                opt(r.moving_mae_mean),
+                opt(r.flicker),
+                r.flicker_coverage
+                    .map(|c| format!("{:.0}%", 100.0 * c))
+                    .unwrap_or_else(|| "-".into()),
+            ));
+        }
+        md.push_str("\nPer pass (median ms over the measured frames, in execution order):\n\n");
+        for r in records
+            .iter()
+            .filter(|r| r.scene == scene && r.view == view && r.motion == motion)
+        {
+            let passes: Vec<String> = r
+                .times
+                .passes
+                .iter()
+                .map(|p| format!("{} {:.2}", p.name, p.ms.median))
+                .collect();
+            md.push_str(&format!(
+                "- {} {}: {}\n",
+                r.technique,
+                r.label,
+                passes.join(", ")
+            ));
+        }
+    }
+    md
+}
