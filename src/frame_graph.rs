@@ -33,6 +33,8 @@ pub struct FrameOutputs {
     /// The g-buffer's motion vectors (previous uv - current uv), read back, where the scene
     /// moves (a static scene has none: `read_gbuffer(Motion)` is then an error).
     pub motion: bool,
+    /// The g-buffer's albedo, read back (the radiance reference's receivers).
+    pub albedo: bool,
     /// Format of the g-buffer's hardware depth buffer (Depth32Float by default).
     pub depth_format: DepthFormat,
 }
@@ -115,6 +117,9 @@ pub fn build_frame_graph_with(
     if outputs.motion {
         requested = requested.with(GBufferChannel::Motion);
     }
+    if outputs.albedo {
+        requested = requested.with(GBufferChannel::Albedo);
+    }
     let channels = required_channels(requested, &scene).with_depth_format(outputs.depth_format);
     let mut b = GraphBuilder::new();
     let view = b.import_buffer(
@@ -184,6 +189,9 @@ pub fn build_frame_graph_with(
     }
     if outputs.motion {
         gbuffer.motion.into_iter().for_each(|h| b.export(h));
+    }
+    if outputs.albedo {
+        gbuffer.albedo.into_iter().for_each(|h| b.export(h));
     }
     Ok(FrameGraph {
         decl: b.build(),

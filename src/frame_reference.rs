@@ -22,6 +22,7 @@ use aograph_scene::{
     CacheKey, Camera, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals,
     ReferenceParams, Scene, SurfaceBuffer, TriangleBvh,
 };
+use glam::Vec3;
 
 use crate::error::AppResult;
 use crate::frame_graph::FrameOutputs;
@@ -141,6 +142,67 @@ pub fn trace_surfaces(
         let bvh = TriangleBvh::new(&tris);
         aograph_scene::trace_reference(&bvh, surfaces, &params)
     })?)
+}
+
+/// The radiance reference of `view` (issue 19): the scene's built-in sky
+/// ([`aograph_scene::SkyEnvironment::for_scene`]) integrated from the g-buffer's points with
+/// `s`'s radius and rays, one diffuse bounce from geometry within R
+/// ([`aograph_scene::trace_radiance`]). Receivers' albedo is the g-buffer's. Not cached on
+/// disk: it is traced once per scene and view of a run.
+pub fn radiance_reference(
+    gpu: Arc<GpuContext>,
+    shaders: Arc<ShaderLibrary>,
+    view: &FrameView,
+    s: &ReferenceSettings,
+) -> AppResult<aograph_scene::RadianceImage> {
+    let registry = TechniqueRegistry::with_builtins();
+    let ao = AoConfig {
+        technique: "none".into(),
+        ..AoConfig::default()
+    };
+    let outputs = FrameOutputs {
+        surfaces: true,
+        surface_normals: s.normals,
+        albedo: true,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(
+        gpu,
+        shaders,
+        &registry,
+        view.scene.clone(),
+        &ao,
+        outputs,
+        view.extent,
+    )?;
+    r.render_with_camera(view.time, view.camera)?;
+    let surfaces = r.surfaces()?;
+    let albedo: Vec<Vec3> = r
+        .read_gbuffer(aograph_frame::GBufferChannel::Albedo)?
+        .to_f32()?
+        .chunks_exact(4)
+        .map(|c| Vec3::new(c[0], c[1], c[2]))
+        .collect();
+    let tris = view.scene.world_triangles(view.time);
+    let tri_albedo = view.scene.world_triangle_albedo(view.time);
+    let bvh = TriangleBvh::new(&tris);
+    let params = ReferenceParams {
+        radius: s.radius,
+        rays_per_pixel: s.rays,
+        mode: s.mode,
+        progress: ProgressMode::Never,
+    };
+    Ok(aograph_scene::trace_radiance(
+        &bvh,
+        &aograph_scene::BounceSurfaces {
+            triangles: &tris,
+            albedo: &tri_albedo,
+        },
+        &surfaces,
+        &albedo,
+        &aograph_scene::SkyEnvironment::for_scene(&view.scene),
+        &params,
+    )?)
 }
 
 /// The reference of the last frame `r` rendered, whatever normals `r`'s technique reads.

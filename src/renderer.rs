@@ -11,7 +11,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms};
+use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
 use aograph_frame::{GBufferChannel, VIEW_BUFFER};
 use aograph_graph::{
@@ -83,6 +83,25 @@ pub fn timing_mode(gpu: &GpuContext) -> AppResult<aograph_graph::TimingMode> {
     }
 }
 
+/// The lighting block of `scene`: its directional light, ambient and built-in sky.
+fn lighting_of(scene: &Scene) -> LightingUniforms {
+    let l = &scene.light;
+    let sky = aograph_scene::SkyEnvironment::for_scene(scene);
+    LightingUniforms::new(
+        l.direction.into(),
+        l.color.map(|c| c * l.intensity),
+        scene.ambient,
+    )
+    .with_sky(SkyColours {
+        zenith: sky.zenith.into(),
+        horizon: sky.horizon.into(),
+        ground: sky.ground.into(),
+        sun_direction: sky.sun_direction.into(),
+        sun_irradiance: sky.sun_irradiance.into(),
+        sun_exponent: sky.sun_exponent,
+    })
+}
+
 /// Passes a front end adds after the frame graph (the viewer's display pass), declared on the
 /// same builder with the frame graph's handles.
 pub type GraphExtension =
@@ -116,6 +135,8 @@ pub struct Renderer {
     /// The g-buffer's GPU state, shared by every graph of the current scene.
     gbuffer: GBufferStates,
     view_buffer: wgpu::Buffer,
+    /// The lighting block (SSDO's light, ambient and sky), rewritten with the scene.
+    lighting_buffer: wgpu::Buffer,
     frame_index: u32,
     prev: Option<(f32, Camera)>,
     cut: bool,
@@ -171,13 +192,9 @@ impl Renderer {
             mapped_at_creation: false,
         });
         exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
-        // The scene's light and ambient, for techniques that shade (SSDO); unused otherwise.
-        let l = &scene.light;
-        let lighting = LightingUniforms::new(
-            l.direction.into(),
-            l.color.map(|c| c * l.intensity),
-            scene.ambient,
-        );
+        // The scene's light, ambient and sky, for techniques that shade (SSDO); unused
+        // otherwise.
+        let lighting = lighting_of(&scene);
         let lighting_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("lighting"),
             size: std::mem::size_of::<LightingUniforms>() as u64,
@@ -186,7 +203,7 @@ impl Renderer {
         });
         gpu.queue
             .write_buffer(&lighting_buffer, 0, lighting.bytes());
-        exec.import_buffer(LIGHTING_BUFFER, lighting_buffer);
+        exec.import_buffer(LIGHTING_BUFFER, lighting_buffer.clone());
         let mut r = Self {
             gpu,
             shaders,
@@ -205,6 +222,7 @@ impl Renderer {
             current_key: String::new(),
             gbuffer,
             view_buffer,
+            lighting_buffer,
             frame_index: 0,
             prev: None,
             cut: false,
@@ -306,6 +324,9 @@ impl Renderer {
             return Err(e);
         }
         self.built.clear();
+        self.gpu
+            .queue
+            .write_buffer(&self.lighting_buffer, 0, lighting_of(&self.scene).bytes());
         self.cut();
         Ok(())
     }

@@ -327,6 +327,7 @@ pub(crate) mod tests {
             texture_bytes: 0,
             texture_bytes_unshared: 0,
             roofline: Vec::new(),
+            radiance: None,
             metrics: crate::metrics::Metrics {
                 pixels: 1,
                 mae,

@@ -92,7 +92,7 @@ pub struct ResultsFile {
     pub runs: Vec<RunRecord>,
 }
 
-pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image";
+pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image,radiance_direct_rmse,radiance_direct_psnr,radiance_full_rmse,radiance_full_psnr";
 
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -170,6 +170,10 @@ pub fn csv_row(r: &RunRecord) -> String {
         csv_field(&passes),
         csv_field(&roofline_field(r)),
         csv_field(r.image.as_deref().unwrap_or("")),
+        opt(r.radiance.map(|x| x.direct_rmse), 6),
+        opt(r.radiance.map(|x| x.direct_psnr), 3),
+        opt(r.radiance.map(|x| x.full_rmse), 6),
+        opt(r.radiance.map(|x| x.full_psnr), 3),
     ]
     .join(",")
 }
@@ -484,6 +488,7 @@ pub fn write_report(
     if !runs.is_empty() {
         let _ = writeln!(s, "Settings: {}\n", settings_line(meta));
         runs_section(&mut s, meta, runs);
+        radiance_section(&mut s, runs);
         if let Some(peaks) = &meta.peaks {
             s.push_str(&super::roofline::markdown(peaks, runs));
         }
@@ -493,6 +498,34 @@ pub fn write_report(
         s.push_str(&sc.markdown());
     }
     write_atomic(&dir.join("report.md"), s.as_bytes())
+}
+
+/// SSDO's radiance against the radiance reference (runs with `environment = "sky"`).
+fn radiance_section(s: &mut String, runs: &[RunRecord]) {
+    let scored: Vec<&RunRecord> = runs.iter().filter(|r| r.radiance.is_some()).collect();
+    if scored.is_empty() {
+        return;
+    }
+    s.push_str(
+        "\n## SSDO radiance against the radiance reference\n\nLinear radiance over the non-sky \
+         pixels, all three channels; PSNR's peak is the reference's brightest channel.\n\n\
+         | scene | parameters | direct RMSE | direct PSNR dB | direct + bounce RMSE | direct + bounce PSNR dB |\n\
+         |---|---|---:|---:|---:|---:|\n",
+    );
+    for r in scored {
+        if let Some(x) = r.radiance {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.4} | {:.2} | {:.4} | {:.2} |",
+                r.scene_view(),
+                r.label,
+                x.direct_rmse,
+                x.direct_psnr,
+                x.full_rmse,
+                x.full_psnr
+            );
+        }
+    }
 }
 
 #[cfg(test)]

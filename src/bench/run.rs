@@ -29,8 +29,12 @@ use super::sweep::ParamSet;
 use crate::config::RadiusSetting;
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
-use crate::frame_reference::{FrameView, ReferenceSettings, reference_surfaces, trace_surfaces};
-use crate::metrics::{FlickerMeter, MetricOptions, Metrics, compare};
+use crate::frame_reference::{
+    FrameView, ReferenceSettings, radiance_reference, reference_surfaces, trace_surfaces,
+};
+use crate::metrics::{
+    FlickerMeter, MetricOptions, Metrics, RadianceScores, compare, radiance_scores,
+};
 use crate::prepared_scene::PreparedScene;
 use crate::renderer::Renderer;
 
@@ -277,6 +281,10 @@ pub struct RunRecord {
     /// Every pass under the device's peaks (empty when the run measured none).
     #[serde(default)]
     pub roofline: Vec<PassRoofline>,
+    /// SSDO under the sky (`environment = "sky"`): its radiance outputs against the radiance
+    /// reference; `None` for every other run.
+    #[serde(default)]
+    pub radiance: Option<RadianceScores>,
 }
 
 fn default_view() -> String {
@@ -307,6 +315,11 @@ impl RunRecord {
 pub struct RunOutput {
     pub record: RunRecord,
     pub ao: Vec<f32>,
+}
+
+/// Whether `set` is SSDO under the sky, the run the radiance reference scores.
+pub fn scores_radiance(set: &ParamSet) -> bool {
+    set.technique == "ssdo" && set.params.get("environment").and_then(|v| v.as_str()) == Some("sky")
 }
 
 /// Builds an `[ao]` config for `set` at radius `radius`.
@@ -370,6 +383,28 @@ pub fn run_technique(
         Ok(())
     })?;
     check_gpu_errors(ctx, set)?;
+    let radiance = if scores_radiance(set) {
+        let view = FrameView {
+            scene: reference.prepared.scene.clone(),
+            camera: reference.prepared.scene.camera_at(0.0),
+            time: 0.0,
+            extent,
+        };
+        let truth = radiance_reference(
+            ctx.gpu.clone(),
+            ctx.shaders.clone(),
+            &view,
+            &s.reference(reference.prepared.radius),
+        )?;
+        radiance_scores(
+            &r.read_extra("ssdo_direct")?,
+            &r.read_extra("ssdo_indirect")?,
+            &truth,
+            &reference.valid,
+        )
+    } else {
+        None
+    };
     let mut metrics = compare(
         &last,
         &reference.accessibility,
@@ -405,6 +440,7 @@ pub fn run_technique(
         metrics,
         image: None,
         roofline,
+        radiance,
     };
     Ok(RunOutput { record, ao: last })
 }

@@ -16,6 +16,7 @@ pub mod edges;
 pub mod error;
 pub mod flicker;
 pub mod nonfinite;
+pub mod radiance;
 pub mod ssim;
 
 use serde::{Deserialize, Serialize};
@@ -23,6 +24,7 @@ use serde::{Deserialize, Serialize};
 pub use edges::{DEFAULT_EDGE_BAND, DEFAULT_EDGE_JUMP, depth_edges, edge_band};
 pub use error::{ErrorStats, error_stats, masked_mae, psnr};
 pub use flicker::FlickerMeter;
+pub use radiance::{RadianceScores, radiance_scores};
 pub use ssim::{SsimParams, SsimWindow, ssim};
 
 use crate::error::{AppError, AppResult};

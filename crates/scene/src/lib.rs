@@ -9,6 +9,7 @@ pub mod animation;
 mod atomic_file;
 pub mod bounds;
 pub mod camera;
+pub mod environment;
 pub mod error;
 pub mod gbuffer;
 pub mod gltf_export;
@@ -27,6 +28,7 @@ pub mod views;
 pub use animation::{AnimatedTransform, Animation, Interpolation, Track, TrsKeyframes};
 pub use bounds::Aabb;
 pub use camera::{Camera, CameraMotion, CameraRay, Projection};
+pub use environment::{SkyEnvironment, SkyIrradiance};
 pub use error::SceneError;
 pub use gltf_export::export_glb;
 pub use gltf_import::{GltfImport, GltfInfo, MaterialInfo, import_gltf, load_scene};
@@ -36,8 +38,8 @@ pub use procedural::{PROCEDURAL_SCENE_NAMES, procedural_scene};
 pub use projected_radius::{ProjectedRadius, projected_radius};
 pub use radius::{SuggestedRadius, suggested_radius};
 pub use reference::{
-    BruteForceTracer, CacheKey, CpuGBuffer, ReferenceCache, ReferenceImage, ReferenceMode,
-    ReferenceNormals, ReferenceParams, SurfaceBuffer, TriangleBvh, primary_hits, trace_reference,
-    trace_reference_rows,
+    BounceSurfaces, BruteForceTracer, CacheKey, CpuGBuffer, RadianceImage, ReferenceCache,
+    ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams, SurfaceBuffer, TriangleBvh,
+    primary_hits, trace_radiance, trace_reference, trace_reference_rows,
 };
 pub use scene_builder::SceneBuilder;

@@ -338,6 +338,23 @@ impl Scene {
             .collect()
     }
 
+    /// The linear RGB albedo (material base colour) of every triangle of
+    /// [`Scene::world_triangles`], in the same order; a mesh whose material index is out of
+    /// range gets the default material's.
+    pub fn world_triangle_albedo(&self, t: f32) -> Vec<Vec3> {
+        self.placed_meshes(t)
+            .flat_map(|(mesh, _)| {
+                let c = self
+                    .materials
+                    .get(mesh.material)
+                    .copied()
+                    .unwrap_or_default()
+                    .base_color;
+                std::iter::repeat_n(Vec3::new(c[0], c[1], c[2]), mesh.triangles().count())
+            })
+            .collect()
+    }
+
     /// Per-vertex world-space unit normals of [`Scene::world_triangles`] at time `t`, in the
     /// same order: each vertex normal carried by its instance's normal matrix (the inverse
     /// transpose, see [`crate::normal_transform`]) and renormalised, the rule the GPU g-buffer's

@@ -9,7 +9,7 @@ struct SsdoParams {
     shape: vec4<f32>,
     // distance clamp of E2 (scene units), light lobe exponent, sky gradient, blur plane tolerance
     light: vec4<f32>,
-    // N, bounce (0/1), unused x2
+    // N, bounce (0/1), environment (0 ambient, 1 sky), unused
     counts: vec4<u32>,
     // 16 interleaved sets of up to 16 samples, [set * 16 + i] = (lambda_i omega_i in units of
     // r_max in the frame (t, b, n), cos theta_i)
@@ -23,6 +23,26 @@ struct Lighting {
     light_color: vec4<f32>,
     // Ambient: the constant environment radiance (linear RGB).
     ambient: vec4<f32>,
+    // The sky (environment = "sky"): zenith, horizon, ground radiance; direction towards the
+    // sun and lobe exponent k (w); the sun lobe's irradiance on a surface facing it.
+    sky_zenith: vec4<f32>,
+    sky_horizon: vec4<f32>,
+    sky_ground: vec4<f32>,
+    sun_direction: vec4<f32>,
+    sun_irradiance: vec4<f32>,
+}
+
+// Radiance of the sky arriving from world direction `w` (unit): zenith to horizon by sqrt(y),
+// horizon to ground over y in [-0.25, 0], plus the sun lobe E (k + 1) / (2 pi) max(0, w.s)^k.
+// CPU mirror: aograph_scene::SkyEnvironment::radiance.
+fn sky_radiance(sky: Lighting, w: vec3<f32>) -> vec3<f32> {
+    var c = mix(sky.sky_horizon.rgb, sky.sky_ground.rgb, min(-w.y / 0.25, 1.0));
+    if (w.y >= 0.0) {
+        c = mix(sky.sky_horizon.rgb, sky.sky_zenith.rgb, sqrt(w.y));
+    }
+    let k = sky.sun_direction.w;
+    let lobe = pow(max(dot(w, sky.sun_direction.xyz), 0.0), k) * (k + 1.0) / 6.28318531;
+    return c + sky.sun_irradiance.rgb * lobe;
 }
 
 // One classified sample point.

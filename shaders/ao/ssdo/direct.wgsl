@@ -5,8 +5,9 @@
 // ssdo.direct: direct light with directional occlusion (specs/ssdo.md §1.2, E1) and the
 // AO-equivalent accessibility. N samples P + lambda_i omega_i of the pixel's interleaved set
 // (4x4 pattern) are classified by ssdo_tap; each visible direction brings the environment
-// L_in(omega_i) = ambient * (1 + g omega_i.up) weighted by cos theta_i, and votes for the
-// directional light with weight max(0, omega_i.l)^k. Output rgb = L_dir, a = accessibility
+// L_in(omega_i) = ambient * (1 + g omega_i.up), or the sky's radiance (environment = "sky"),
+// weighted by cos theta_i, and votes for the directional light with weight max(0, omega_i.l)^k
+// (ambient only: the sky holds its sun). Output rgb = L_dir, a = accessibility
 // sum V_i cos theta_i / sum cos theta_i. Choices: module docs of techniques/ssdo.rs.
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -49,6 +50,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let up = (view.view * vec4<f32>(0.0, 1.0, 0.0, 0.0)).xyz;
     let gradient = params.light.z;
     let lobe = params.light.y;
+    // environment = "sky": L_in(omega) is the sky's, in world space, and the sun is in the sky
+    // (its lobe), so the g-buffer's unshadowed directional light is not added.
+    let sky = params.counts.z == 1u;
+    let to_world = mat3x3<f32>(view.inv_view[0].xyz, view.inv_view[1].xyz, view.inv_view[2].xyz);
 
     var sum_cos = 0.0;
     var visible_cos = 0.0;
@@ -64,7 +69,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let v = 1.0 - tap.occlusion;
         let cos_t = k.w;
         // E1: (rho / pi) L_in V cos dw, with dw normalised per set (module docs).
-        env = env + ambient * (max(1.0 + gradient * dot(w, up), 0.0) * v * cos_t);
+        var l_in = ambient * max(1.0 + gradient * dot(w, up), 0.0);
+        if (sky) {
+            l_in = sky_radiance(lighting, ssdo_normalize(to_world * w));
+        }
+        env = env + l_in * (v * cos_t);
         sum_cos = sum_cos + cos_t;
         visible_cos = visible_cos + v * cos_t;
         let lw = pow(max(dot(w, to_light), 0.0), lobe);
@@ -72,13 +81,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         sun_visible = sun_visible + lw * v;
     }
     var a = 1.0;
-    var env_mean = ambient;
+    var env_mean = select(ambient, sky_radiance(lighting, ssdo_normalize(to_world * n)), sky);
     if (sum_cos > 1e-6) {
         a = visible_cos / sum_cos;
         env_mean = env / sum_cos;
     }
     let sun_visibility = select(1.0, sun_visible / sun_weight, sun_weight > 1e-6);
-    let l_dir = rho * env_mean + sun * sun_visibility;
+    let l_dir = rho * env_mean + select(sun * sun_visibility, vec3<f32>(0.0), sky);
     a = accessibility_or_one(a);
     textureStore(radiance, px, vec4<f32>(ssdo_clean(l_dir), a));
 }

@@ -25,8 +25,14 @@
 //!
 //! Where the paper is silent (choices, here and in the shaders):
 //! - r_max is the shared R (`[ao] radius`); the paper leaves it to the user per scene.
-//! - Environment L_in: constant, the scene's ambient (what shaded.png uses), optionally tilted by
-//!   `sky_gradient`: L_in(w) = ambient * (1 + g * w.up). The paper uses an environment map.
+//! - Environment L_in: by default constant, the scene's ambient (what shaded.png uses),
+//!   optionally tilted by `sky_gradient`: L_in(w) = ambient * (1 + g * w.up); with a constant
+//!   L_in the direct term is exactly albedo x L x A. `environment = "sky"` is the paper's case
+//!   (an environment map, Fig. 3): the built-in procedural sky with a sun
+//!   (`aograph_scene::SkyEnvironment`, filled into the lighting block by the renderer), colour
+//!   varying with direction, integrated over the visible sample directions; its sun is a lobe
+//!   of the sky, so the directional light's separate visibility vote is off. The radiance
+//!   reference (`aograph_scene::trace_radiance`) integrates the same sky.
 //! - The directional light: the paper shades important lights with shadow maps, which aograph
 //!   does not have. Here the sun is the g-buffer's unshadowed DirectLight (rho E max(0, n.l))
 //!   times a per-sample-weighted visibility sum V_i w_i / sum w_i, w_i = max(0, omega_i.l)^k,
@@ -70,10 +76,10 @@ use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{BufferAccess, BufferDesc, SizeClass, TextureDesc, TextureHandle};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{AoResult, check_param};
+use crate::error::{AoResult, check_one_of, check_param};
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
 pub use kernel::MAX_SAMPLES;
-pub use lighting::{LIGHTING_BUFFER, LightingUniforms};
+pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
 
 /// Format of the radiance outputs (the intermediates follow `intermediate_format`).
 pub const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -102,7 +108,13 @@ pub struct SsdoParams {
     pub light_lobe: f32,
     /// Sky gradient of the environment: L_in = ambient * (1 + g * omega.up).
     pub sky_gradient: f32,
+    /// L_in: "ambient" (the scene's constant ambient, tilted by `sky_gradient`, plus the
+    /// directional light's visibility vote) or "sky" (the built-in sky with its sun,
+    /// `aograph_scene::SkyEnvironment`: coloured, directional shadows, paper Fig. 3).
+    pub environment: String,
 }
+
+const ENVIRONMENTS: [&str; 2] = ["ambient", "sky"];
 
 impl Default for SsdoParams {
     fn default() -> Self {
@@ -115,6 +127,7 @@ impl Default for SsdoParams {
             bias: 0.01,
             light_lobe: 4.0,
             sky_gradient: 0.0,
+            environment: "ambient".into(),
         }
     }
 }
@@ -132,7 +145,7 @@ impl SsdoParams {
                 self.sky_gradient,
                 BLUR_PLANE_TOLERANCE * radius,
             ],
-            counts: [n, self.bounce as u32, 0, 0],
+            counts: [n, self.bounce as u32, (self.environment == "sky") as u32, 0],
             samples: kernel::sample_table(n),
         }
     }
@@ -188,6 +201,11 @@ impl AoTechnique for Ssdo {
                 "0 to 1",
                 "environment = ambient * (1 + g * up): 0 is the scene's constant ambient",
             ),
+            spec(
+                "environment",
+                "\"ambient\" or \"sky\"",
+                "L_in: the scene's ambient plus its directional light, or the built-in sky with its sun",
+            ),
         ]
     }
     fn validate(&self, p: &SsdoParams) -> AoResult<()> {
@@ -197,7 +215,8 @@ impl AoTechnique for Ssdo {
         check_param("ssdo", "fade_start", p.fade_start, 0.0, 1.0)?;
         check_param("ssdo", "bias", p.bias, 0.0, 0.5)?;
         check_param("ssdo", "light_lobe", p.light_lobe, 1.0, 64.0)?;
-        check_param("ssdo", "sky_gradient", p.sky_gradient, 0.0, 1.0)
+        check_param("ssdo", "sky_gradient", p.sky_gradient, 0.0, 1.0)?;
+        check_one_of("ssdo", "environment", p.environment.as_str(), &ENVIRONMENTS)
     }
     fn channels(&self, _: &SsdoParams) -> GBufferChannels {
         GBufferChannels::of(&[
@@ -433,7 +452,8 @@ mod tests {
                 "fade_start",
                 "bias",
                 "light_lobe",
-                "sky_gradient"
+                "sky_gradient",
+                "environment"
             ]
         );
         assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");

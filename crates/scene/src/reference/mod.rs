@@ -15,7 +15,8 @@ mod cache;
 mod cpu_gbuffer;
 mod output;
 mod progress;
-mod sampling;
+mod radiance;
+pub(crate) mod sampling;
 mod tracer;
 
 pub use brute_force::BruteForceTracer;
@@ -26,6 +27,7 @@ pub use output::{
     RAW_MAGIC, RawF32Image, ReferenceImage, read_raw_f32, write_png16, write_raw_f32,
 };
 pub use progress::ProgressMode;
+pub use radiance::{BounceSurfaces, RadianceImage, trace_radiance};
 pub use sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
 pub use tracer::{offset_epsilon, trace_reference, trace_reference_rows};
 

@@ -21,6 +21,26 @@ pub struct LightingUniforms {
     pub light_color: [f32; 4],
     /// Linear RGB ambient (the constant environment radiance), unused w.
     pub ambient: [f32; 4],
+    /// The sky environment (`environment = "sky"`; `aograph_scene::SkyEnvironment`, mirrored
+    /// by `sky_radiance` in common.wgsl): zenith, horizon and ground radiance (rgb, unused w),
+    pub sky_zenith: [f32; 4],
+    pub sky_horizon: [f32; 4],
+    pub sky_ground: [f32; 4],
+    /// the unit direction towards the sun (xyz) and the lobe exponent k (w),
+    pub sun_direction: [f32; 4],
+    /// and the irradiance the sun lobe puts on a surface facing it (rgb, unused w).
+    pub sun_irradiance: [f32; 4],
+}
+
+/// The sky of [`LightingUniforms::with_sky`]: world space, +Y up, linear RGB.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SkyColours {
+    pub zenith: [f32; 3],
+    pub horizon: [f32; 3],
+    pub ground: [f32; 3],
+    pub sun_direction: [f32; 3],
+    pub sun_irradiance: [f32; 3],
+    pub sun_exponent: f32,
 }
 
 impl LightingUniforms {
@@ -40,6 +60,35 @@ impl LightingUniforms {
             light_direction: [d.x, d.y, d.z, 0.0],
             light_color: [r, g, b, 0.0],
             ambient: [ar, ag, ab, 0.0],
+            ..Self::zeroed()
+        }
+    }
+
+    /// This block with `sky` as its sky environment (non-finite or negative colours become 0,
+    /// a degenerate sun direction points up, a non-finite exponent is 1).
+    pub fn with_sky(self, sky: SkyColours) -> Self {
+        let clean = |c: [f32; 3]| {
+            let [r, g, b] = c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+            [r, g, b, 0.0]
+        };
+        let d = glam::Vec3::from(sky.sun_direction);
+        let d = if d.is_finite() {
+            d.try_normalize().unwrap_or(glam::Vec3::Y)
+        } else {
+            glam::Vec3::Y
+        };
+        let k = if sky.sun_exponent.is_finite() {
+            sky.sun_exponent.max(1.0)
+        } else {
+            1.0
+        };
+        Self {
+            sky_zenith: clean(sky.zenith),
+            sky_horizon: clean(sky.horizon),
+            sky_ground: clean(sky.ground),
+            sun_direction: [d.x, d.y, d.z, k],
+            sun_irradiance: clean(sky.sun_irradiance),
+            ..self
         }
     }
     pub fn bytes(&self) -> &[u8] {
@@ -60,6 +109,6 @@ mod tests {
             LightingUniforms::new([0.0; 3], [0.0; 3], [0.0; 3]).light_direction,
             [0.0, -1.0, 0.0, 0.0]
         );
-        assert_eq!(std::mem::size_of::<LightingUniforms>(), 48);
+        assert_eq!(std::mem::size_of::<LightingUniforms>(), 128);
     }
 }
