@@ -13,13 +13,9 @@ use std::sync::Arc;
 
 use aograph::{FrameOutputs, ReferenceSettings, Renderer};
 use aograph_ao::AoConfig;
-use aograph_ao::ParamSpec;
-use aograph_ao::blocks::temporal::{
-    TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
-};
-use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
-use aograph_frame::GBufferChannels;
-use aograph_graph::{BufferAccess, Extent, PassTimings, SizeClass, TextureDesc, test_gpu};
+use aograph_ao::TechniqueRegistry;
+use aograph_ao::blocks::temporal::TemporalMode;
+use aograph_graph::{Extent, PassTimings, test_gpu};
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::{Mat4, Vec3};
 
@@ -850,103 +846,6 @@ fn example_config_parses_with_paper_defaults() {
     }
 }
 
-/// A test technique: accessibility (frame index mod 2) per frame, through the shared temporal
-/// block (the way MSSAO's temporal filter and any spatial technique use it).
-struct ParityThroughTemporal(TemporalMode);
-
-#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
-struct NoParams {}
-
-const PARITY_SHADER: &str = "#include \"common/view.wgsl\"
-@group(0) @binding(0) var<uniform> view: View;
-@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(dst);
-    if (id.x >= size.x || id.y >= size.y) { return; }
-    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(f32(view.frame.x & 1u), 0.0, 0.0, 0.0));
-}
-";
-
-impl AoTechnique for ParityThroughTemporal {
-    type Params = NoParams;
-    fn name(&self) -> &'static str {
-        "parity-temporal"
-    }
-    fn description(&self) -> &'static str {
-        "test: frame parity through blocks::temporal"
-    }
-    fn param_specs(&self) -> Vec<ParamSpec> {
-        Vec::new()
-    }
-    fn validate(&self, _: &NoParams) -> AoResult<()> {
-        Ok(())
-    }
-    fn channels(&self, _: &NoParams) -> GBufferChannels {
-        temporal_channels()
-    }
-    fn is_temporal(&self, _: &NoParams) -> bool {
-        true
-    }
-    fn build(&self, ctx: &mut AoBuildContext<'_>, _: &NoParams) -> AoResult<AoOutput> {
-        let t = ctx.builder.create_texture(
-            "parity",
-            TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
-        );
-        let mut p = ctx
-            .builder
-            .compute_pass("parity.fill", "test/parity.wgsl", "main");
-        p.read_buffer("view", BufferAccess::Uniform, ctx.view);
-        let t = p.write_storage("dst", t);
-        p.dispatch_over(t);
-        let params = TemporalAccumulation {
-            n_max: 4,
-            mode: self.0,
-            ..Default::default()
-        };
-        Ok(AoOutput::new(
-            add_temporal(
-                ctx.builder,
-                "parity.temporal",
-                t,
-                &ctx.gbuffer,
-                ctx.view,
-                &params,
-            )?
-            .accumulated,
-        ))
-    }
-}
-
-fn parity_renderer(mode: TemporalMode) -> Option<Renderer> {
-    let gpu = test_gpu()?;
-    let mut registry = TechniqueRegistry::with_builtins();
-    registry.register(ParityThroughTemporal(mode));
-    let shaders = aograph::shader_library();
-    shaders.add_inline("test/parity.wgsl", PARITY_SHADER);
-    let config = AoConfig {
-        technique: "parity-temporal".into(),
-        radius: RADIUS,
-        ..AoConfig::default()
-    };
-    let outputs = FrameOutputs {
-        linear_depth: true,
-        ..Default::default()
-    };
-    Some(
-        Renderer::new(
-            gpu,
-            shaders,
-            &registry,
-            Arc::new(procedural_scene("columns").unwrap()),
-            &config,
-            outputs,
-            Extent::new(64, 48),
-        )
-        .expect("frame graph builds"),
-    )
-}
-
 /// The accumulated value on every non-sky pixel of the last frame (they must all agree).
 fn uniform_value(r: &Renderer) -> f32 {
     let (a, d) = (ao(r), depth(r));
@@ -969,7 +868,11 @@ fn uniform_value(r: &Renderer) -> f32 {
 #[test]
 fn temporal_block_averages_blends_and_resets() {
     // Average (TSSAO Eqs. 5-6, one sample per frame), n_max = 4: inputs 0, 1, 0, 1, 0, 1, ...
-    let Some(mut r) = parity_renderer(TemporalMode::Average) else {
+    let Some(mut r) = common::parity::renderer(
+        TemporalMode::Average,
+        procedural_scene("columns").unwrap(),
+        Extent::new(64, 48),
+    ) else {
         return;
     };
     let mut expected = Vec::new();
@@ -993,7 +896,12 @@ fn temporal_block_averages_blends_and_resets() {
     assert_eq!(uniform_value(&r), 0.0, "frame 8 (input 0) after a cut");
 
     // FixedBlend(0.5) (MSSAO Eq. 14): A = 0.5 A_prev + 0.5 x.
-    let mut r = parity_renderer(TemporalMode::FixedBlend(0.5)).unwrap();
+    let mut r = common::parity::renderer(
+        TemporalMode::FixedBlend(0.5),
+        procedural_scene("columns").unwrap(),
+        Extent::new(64, 48),
+    )
+    .unwrap();
     let mut a = 0.0f32;
     for f in 0..6u32 {
         r.render(0.0).unwrap();

@@ -36,12 +36,7 @@ fn clip_uv(c: vec4<f32>) -> vec2<f32> {
 
 // Linear depth of a point in the previous camera's clip space (same projection as now).
 fn clip_depth(c: vec4<f32>) -> f32 {
-    if (view.near_far.w > 0.5) {
-        // Orthographic: clip.z = proj[2][2] z_view + proj[3][2], w = 1.
-        let a = view.proj[2][2];
-        return select(0.0, -(c.z - view.proj[3][2]) / a, abs(a) > 1e-30);
-    }
-    return c.w;
+    return clip_linear_depth(c, view);
 }
 
 // Linear depth at which the ray through `uv` meets the plane through `o` with normal `n`, or
@@ -72,15 +67,21 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let pv = view_position(uv, z, view);
 
     // Eq. 3: the camera-only reprojection gives the previous depth d_new (and prev_uv for
-    // static geometry); moving geometry takes prev_uv from the g-buffer's motion.
+    // static geometry); where the g-buffer has motion, prev_uv and the previous depth are the
+    // surface's own (3D motion: its previous transform through the previous camera).
     let c = view.view_to_prev_clip * vec4<f32>(pv, 1.0);
-    let d_new = clip_depth(c);
+    var d_new = clip_depth(c);
     let uv_cam = clip_uv(c);
     var prev_uv = uv_cam;
     var moving = false;
     if (params.has_motion != 0u) {
-        prev_uv = uv + textureLoad(motion, p, 0).xy;
-        moving = length((prev_uv - uv_cam) * view.viewport.xy) > params.moving_pixels;
+        let m = textureLoad(motion, p, 0);
+        prev_uv = uv + m.xy;
+        moving = length((prev_uv - uv_cam) * view.viewport.xy) > params.moving_pixels
+            || (m.z > 0.0 && abs(1.0 - m.z / max(d_new, 1e-30)) > 0.25 * params.epsilon);
+        if (m.z > 0.0) {
+            d_new = m.z;
+        }
     }
     let flag_moving = select(0.0, 2.0, moving);
 

@@ -17,6 +17,17 @@ struct View {
     time: vec4<f32>,
 }
 
+// Linear depth of a clip-space point (the current projection's: the previous frame's is the
+// same): w for a perspective camera; from z for an orthographic one (clip.z = proj[2][2]
+// z_view + proj[3][2], w = 1).
+fn clip_linear_depth(c: vec4<f32>, view: View) -> f32 {
+    if (view.near_far.w > 0.5) {
+        let a = view.proj[2][2];
+        return select(0.0, -(c.z - view.proj[3][2]) / a, abs(a) > 1e-30);
+    }
+    return c.w;
+}
+
 // Pixel centre of integer pixel `p` in UV (0..1, y down).
 fn pixel_uv(p: vec2<i32>, view: View) -> vec2<f32> {
     return (vec2<f32>(p) + 0.5) * view.viewport.zw;

@@ -60,7 +60,8 @@ struct GBuffer {
     @location(2) position: vec4<f32>,
     @location(3) albedo: vec4<f32>,
     @location(4) direct_light: vec4<f32>,
-    @location(5) motion: vec2<f32>,
+    // (prev_uv - uv, previous linear depth, unused): 3D motion.
+    @location(5) motion: vec4<f32>,
     // The normal again, compact (common/normal_oct.wgsl): written where a technique asks.
     @location(6) normal_oct: u32,
 }
@@ -93,7 +94,11 @@ fn shade(in: VsOut, n: vec3<f32>) -> GBuffer {
     g.albedo = vec4<f32>(in.color.rgb, 1.0);
     let ndl = max(dot(wn, -light.direction.xyz), 0.0);
     g.direct_light = vec4<f32>(in.color.rgb * light.color.rgb * ndl, 1.0);
-    g.motion = clip_to_uv(in.prev_clip) - clip_to_uv(in.cur_clip);
+    g.motion = vec4<f32>(
+        clip_to_uv(in.prev_clip) - clip_to_uv(in.cur_clip),
+        max(clip_linear_depth(in.prev_clip, view), 0.0),
+        0.0,
+    );
     return g;
 }
 

@@ -2,6 +2,8 @@
 //! small size, trace the reference on the same g-buffer surfaces, and compare.
 #![allow(dead_code)]
 
+pub mod parity;
+
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, ReferenceSettings, Renderer};

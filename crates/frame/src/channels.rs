@@ -21,7 +21,10 @@ pub enum GBufferChannel {
     Albedo,
     /// Directly lit radiance: albedo * light * max(0, n.l), unshadowed (Rgba16Float).
     DirectLight,
-    /// Screen-space motion to the previous frame in UV units (Rg32Float): prev_uv = uv + m.
+    /// Motion to the previous frame, in 3D (Rgba32Float): xy = screen-space motion in UV units
+    /// (prev_uv = uv + m.xy), z = the surface's linear depth in the previous frame (its own
+    /// previous transform through the previous camera: an object approaching the camera keeps
+    /// its history), w unused; 0 on sky.
     Motion,
     /// View-space unit normals, compact: octahedral, two snorm16 in one u32 (R32Uint,
     /// shaders/common/normal_oct.wgsl). 4 bytes against `Normals`' 8 and finer (error below
@@ -51,7 +54,7 @@ impl GBufferChannel {
             Self::Positions => F::Rgba32Float,
             Self::Albedo => F::Rgba8Unorm,
             Self::DirectLight => F::Rgba16Float,
-            Self::Motion => F::Rg32Float,
+            Self::Motion => F::Rgba32Float,
             Self::NormalsOct => F::R32Uint,
         }
     }

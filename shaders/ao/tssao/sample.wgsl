@@ -35,19 +35,16 @@ struct TssaoParams {
 // Linear depth of a view-space point in the previous camera (camera-only reprojection; the
 // previous projection is the current one).
 fn prev_depth(v: vec3<f32>) -> f32 {
-    let c = view.view_to_prev_clip * vec4<f32>(v, 1.0);
-    if (view.near_far.w > 0.5) {
-        let a = view.proj[2][2];
-        return select(0.0, -(c.z - view.proj[3][2]) / a, abs(a) > 1e-30);
-    }
-    return c.w;
+    return clip_linear_depth(view.view_to_prev_clip * vec4<f32>(v, 1.0), view);
 }
 
-// Position in the previous view of the surface at pixel `q` (view-space point `v`): prev_uv
-// from the motion vector, depth from the camera-only reprojection (spec: motion is 2D).
+// Position in the previous view of the surface at pixel `q` (view-space point `v`), from the
+// g-buffer's 3D motion: prev_uv = uv + m.xy at the previous depth m.z (the camera-only depth
+// where the g-buffer has none).
 fn prev_position(q: vec2<i32>, v: vec3<f32>) -> vec3<f32> {
-    let uv = pixel_uv(q, view) + textureLoad(motion, q, 0).xy;
-    return view_position(uv, max(prev_depth(v), 1e-6), view);
+    let m = textureLoad(motion, q, 0);
+    let d = select(prev_depth(v), m.z, m.z > 0.0);
+    return view_position(pixel_uv(q, view) + m.xy, max(d, 1e-6), view);
 }
 
 struct Visibility {
@@ -215,7 +212,9 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
                 if (all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv < vec2<f32>(1.0)) && view.frame.y != 0u) {
                     let hs = vec2<i32>(textureDimensions(previous));
                     let h = textureLoad(previous, clamp(vec2<i32>(floor(prev_uv * vec2<f32>(hs))), vec2<i32>(0), hs - 1), 0);
-                    if (h.w < 0.0 && abs(1.0 - prev_depth(s) / -h.w) >= params.tolerances.x) {
+                    let zm = textureLoad(motion, v.texel, 0).z;
+                    let d_prev = select(prev_depth(s), zm, zm > 0.0);
+                    if (h.w < 0.0 && abs(1.0 - d_prev / -h.w) >= params.tolerances.x) {
                         changed = true;
                     }
                 }

@@ -18,7 +18,7 @@
 //! - Flicker under motion: the same surface point should keep its accessibility from one
 //!   frame to the next (the reference's does: it does not depend on the camera). Each pixel is
 //!   followed into the previous frame (its world point through the previous camera, or the
-//!   g-buffer's motion vector where instances move) and compared with the previous frame's
+//!   g-buffer's 3D motion, previous uv and previous depth, where instances move) and compared with the previous frame's
 //!   accessibility there, interpolated bilinearly from four texels that all lie on the same
 //!   surface (their interpolated depth within [`SAME_SURFACE_DEPTH`] of the point's, no depth
 //!   jump of more than [`SILHOUETTE_RATIO`] among them); pixels without such a history

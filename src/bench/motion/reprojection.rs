@@ -26,7 +26,8 @@ pub struct Reprojection {
 
 impl Reprojection {
     /// `points` (world space, valid where `valid`) seen in the previous frame: through
-    /// `prev_camera`, or at uv + `motion` (pairs, previous uv - current uv) where given; kept
+    /// `prev_camera`, or at uv + `motion` (the g-buffer's RGBA: previous uv - current uv,
+    /// previous linear depth) where given; kept
     /// where the four texels around it lie on one surface (no depth jump beyond
     /// [`SILHOUETTE_RATIO`]) whose depth there, interpolated as 1 / depth, is within
     /// [`SAME_SURFACE_DEPTH`] of the point's depth from the previous camera.
@@ -49,9 +50,14 @@ impl Reprojection {
                     return None;
                 }
                 let p = points[i];
-                let expected = -view.transform_point3(p).z;
+                // The point's previous depth: the g-buffer's 3D motion where given, else through
+                // the previous camera (exact for static geometry).
+                let expected = match motion {
+                    Some(m) if m[4 * i + 2] > 0.0 => m[4 * i + 2],
+                    _ => -view.transform_point3(p).z,
+                };
                 let uv = match motion {
-                    Some(m) => pixel_uv(i, w, h) + Vec2::new(m[2 * i], m[2 * i + 1]),
+                    Some(m) => pixel_uv(i, w, h) + Vec2::new(m[4 * i], m[4 * i + 1]),
                     None => clip_uv(view_projection * p.extend(1.0))?,
                 };
                 // Texel-centre coordinates; a point within half a texel of the image's edge is
@@ -125,7 +131,9 @@ fn clip_uv(clip: glam::Vec4) -> Option<Vec2> {
     })
 }
 
-/// Pixels whose surface moves on its own: `motion` less what the camera alone explains.
+/// Pixels whose surface moves on its own: `motion` (the g-buffer's RGBA) less what the camera
+/// alone explains, across the screen (more than [`MOVING_PIXELS`]) or along the view axis (a
+/// previous depth off the camera-only one by more than [`SAME_SURFACE_DEPTH`]).
 pub fn moving_pixels(
     points: &[Vec3],
     valid: &[bool],
@@ -136,6 +144,7 @@ pub fn moving_pixels(
 ) -> Vec<bool> {
     let (w, h) = (width as usize, height as usize);
     let vp = prev_camera.view_projection(width as f32 / height as f32);
+    let view = prev_camera.view();
     let size = Vec2::new(width as f32, height as f32);
     (0..w * h)
         .map(|i| {
@@ -143,9 +152,14 @@ pub fn moving_pixels(
                 return false;
             }
             let uv = pixel_uv(i, w, h);
-            let moved = uv + Vec2::new(motion[2 * i], motion[2 * i + 1]);
+            let moved = uv + Vec2::new(motion[4 * i], motion[4 * i + 1]);
+            let depth = -view.transform_point3(points[i]).z;
+            let previous = motion[4 * i + 2];
+            let along = previous > 0.0 && (previous - depth).abs() > SAME_SURFACE_DEPTH * depth;
             match clip_uv(vp * points[i].extend(1.0)) {
-                Some(camera_only) => ((moved - camera_only) * size).length() > MOVING_PIXELS,
+                Some(camera_only) => {
+                    along || ((moved - camera_only) * size).length() > MOVING_PIXELS
+                }
                 None => true,
             }
         })

@@ -56,11 +56,13 @@
 //!
 //! # Decisions the papers leave open (written down here)
 //!
-//! - Depth of the current point in the previous frame (d_new of Eq. 7): the camera-only
-//!   reprojection of the current view-space point (`view_to_prev_clip`). The g-buffer's motion
-//!   vectors are 2D (UV), so a moving object's own motion along the view axis is not known;
-//!   it passes Eq. 7 while it stays under epsilon * depth per frame (0.1 units per frame at depth
-//!   8 is 1.3%, well within the default 3%). The previous camera is assumed to have the same
+//! - Depth of the current point in the previous frame (d_new of Eq. 7): where the g-buffer has
+//!   motion, its 3D motion's previous depth (the surface's own previous transform through the
+//!   previous camera), so an object approaching the camera keeps its history however fast;
+//!   elsewhere (static scenes) the camera-only reprojection of the current view-space point
+//!   (`view_to_prev_clip`), exact for static geometry. A pixel counts as moving when its
+//!   motion differs from the camera-only one by more than [`MOVING_PIXELS`] across the screen
+//!   or a quarter of epsilon along the view axis. The previous camera is assumed to have the same
 //!   projection as the current one (the renderer changes only the camera's pose).
 //! - Eq. 7 per bilinear tap against the tangent plane: each of the 2x2 texels around prev_uv
 //!   is tested with d_new taken where its pixel ray meets the current point's tangent plane

@@ -61,14 +61,13 @@
 //!   pattern), advances by k each frame, wraps modulo L, and runs on across a disocclusion
 //!   (spec §10.2 [I]). Pattern rotation (§3.6.4) turns the pattern about the normal by a
 //!   per-pixel angle and shifts the step jitter by a per-pixel offset.
-//! - Eq. 7 epsilon: 0.03 (`depth_epsilon`, the middle of the spec's 0.01-0.05; objects in
-//!   `dynamic` move up to 1.3% of their depth per frame along the view axis, which the 2D motion
-//!   vectors do not carry). Eq. 8 epsilon: 0.02 R (`neighbour_epsilon`, the low end of the
-//!   spec's 2-10% of R: occluders moving 3 cm per frame, like `dynamic`'s spinner, still trip
-//!   it). The g-buffer's motion is 2D, so the previous positions s_i^old, p_old of Eq. 8 are
-//!   rebuilt from prev_uv = uv + motion and the camera-only previous depth: exact for static
-//!   geometry (the test then never fires under camera motion, as in the paper) and for motion
-//!   parallel to the image plane. Eq. 8 runs only where the scene has motion vectors and the
+//! - Eq. 7 epsilon: 0.03 (`depth_epsilon`, the middle of the spec's 0.01-0.05). Eq. 8
+//!   epsilon: 0.02 R (`neighbour_epsilon`, the low end of the spec's 2-10% of R: occluders
+//!   moving 3 cm per frame, like `dynamic`'s spinner, still trip it). The g-buffer's motion is
+//!   3D (previous uv and previous linear depth, `GBufferChannel::Motion`), so the previous
+//!   positions s_i^old, p_old of Eq. 8 and the previous depth of Eq. 7 are the surfaces' true
+//!   ones, for motion along the view axis too; exact for static geometry (the test then never
+//!   fires under camera motion, as in the paper). Eq. 8 runs only where the scene has motion vectors and the
 //!   pixel's history is valid.
 //! - Eq. 8 extended to the previous occupant ([I], for spec §12's noted gap: an occluder that
 //!   left p's kernel is hit by no current sample): at each sample's previous position the AO
