@@ -147,8 +147,8 @@ pub fn trace_surfaces(
 /// The radiance reference of `view` (issue 19): the scene's built-in sky
 /// ([`aograph_scene::SkyEnvironment::for_scene`]) integrated from the g-buffer's points with
 /// `s`'s radius and rays, one diffuse bounce from geometry within R
-/// ([`aograph_scene::trace_radiance`]). Receivers' albedo is the g-buffer's. Not cached on
-/// disk: it is traced once per scene and view of a run.
+/// ([`aograph_scene::trace_radiance`]). Receivers' albedo is the g-buffer's. Cached on disk
+/// like the AO reference ([`CacheKey::radiance`]).
 pub fn radiance_reference(
     gpu: Arc<GpuContext>,
     shaders: Arc<ShaderLibrary>,
@@ -185,24 +185,29 @@ pub fn radiance_reference(
         .collect();
     let tris = view.scene.world_triangles(view.time);
     let tri_albedo = view.scene.world_triangle_albedo(view.time);
-    let bvh = TriangleBvh::new(&tris);
     let params = ReferenceParams {
         radius: s.radius,
         rays_per_pixel: s.rays,
         mode: s.mode,
         progress: ProgressMode::Never,
     };
-    Ok(aograph_scene::trace_radiance(
-        &bvh,
-        &aograph_scene::BounceSurfaces {
-            triangles: &tris,
-            albedo: &tri_albedo,
-        },
-        &surfaces,
-        &albedo,
-        &aograph_scene::SkyEnvironment::for_scene(&view.scene),
-        &params,
-    )?)
+    let sky = aograph_scene::SkyEnvironment::for_scene(&view.scene);
+    let key = CacheKey::radiance(&tris, &surfaces, &params, &tri_albedo, &albedo, &sky);
+    Ok(
+        ReferenceCache::new(cache_dir()).get_or_trace_radiance(key, || {
+            aograph_scene::trace_radiance(
+                &TriangleBvh::new(&tris),
+                &aograph_scene::BounceSurfaces {
+                    triangles: &tris,
+                    albedo: &tri_albedo,
+                },
+                &surfaces,
+                &albedo,
+                &sky,
+                &params,
+            )
+        })?,
+    )
 }
 
 /// The reference of the last frame `r` rendered, whatever normals `r`'s technique reads.

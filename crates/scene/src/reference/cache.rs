@@ -10,12 +10,17 @@
 //!   in, so editing the tracer's code invalidates old entries without a hand-bumped version.
 //!
 //! Entries are two raw AOREF32 files, `<key>.accessibility.aoref` and
-//! `<key>.std_error.aoref`, each written atomically. Invariants: a changed input changes the
+//! `<key>.std_error.aoref`, each written atomically. Radiance references (SSDO's, see
+//! [`super::trace_radiance`]) have keys of their own ([`CacheKey::radiance`]: also the sky,
+//! every albedo and the radiance code) and two files, `<key>.radiance_direct.aoref` and
+//! `<key>.radiance_indirect.aoref`, RGB interleaved in rows three times as wide. Invariants: a changed input changes the
 //! key (up to hash collisions); a truncated or corrupt entry is reported on stderr and treated
 //! as a miss, never returned.
 
 use super::output::{ReferenceImage, read_raw_f32, write_raw_f32};
+use super::radiance::RadianceImage;
 use super::{ReferenceParams, SurfaceBuffer};
+use crate::environment::SkyEnvironment;
 use crate::error::SceneError;
 use glam::Vec3;
 use std::fmt;
@@ -28,6 +33,12 @@ const TRACER_SOURCES: [&str; 3] = [
     include_str!("tracer.rs"),
     include_str!("sampling.rs"),
     include_str!("bvh.rs"),
+];
+
+/// The radiance estimator's code (with the tracer's, [`TRACER_SOURCES`]).
+const RADIANCE_SOURCES: [&str; 2] = [
+    include_str!("radiance.rs"),
+    include_str!("../environment.rs"),
 ];
 
 /// 128-bit FNV-1a hasher over explicit byte sequences (stable across platforms and Rust
@@ -107,6 +118,41 @@ impl CacheKey {
 }
 
 /// A directory of cached reference images.
+impl CacheKey {
+    /// The key of a radiance reference: everything [`CacheKey::new`] covers, plus the
+    /// radiance code, the sky, and every triangle's and pixel's albedo.
+    pub fn radiance(
+        triangles: &[[Vec3; 3]],
+        surfaces: &SurfaceBuffer,
+        params: &ReferenceParams,
+        triangle_albedo: &[Vec3],
+        pixel_albedo: &[Vec3],
+        sky: &SkyEnvironment,
+    ) -> CacheKey {
+        let mut h = Fnv1a128(CacheKey::new(triangles, surfaces, params).0);
+        h.bytes(b"radiance");
+        for source in RADIANCE_SOURCES {
+            h.u32(source.len() as u32);
+            h.bytes(source.as_bytes());
+        }
+        for list in [triangle_albedo, pixel_albedo] {
+            h.u32(list.len() as u32);
+            list.iter().for_each(|v| h.vec3(*v));
+        }
+        for v in [
+            sky.zenith,
+            sky.horizon,
+            sky.ground,
+            sky.sun_direction,
+            sky.sun_irradiance,
+        ] {
+            h.vec3(v);
+        }
+        h.f32(sky.sun_exponent);
+        CacheKey(h.0)
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct ReferenceCache {
     dir: PathBuf,
@@ -177,6 +223,81 @@ impl ReferenceCache {
     }
 
     /// The cached image for `key`, or the result of `trace` (then stored).
+    fn radiance_paths(&self, key: CacheKey) -> [PathBuf; 2] {
+        [
+            self.dir.join(format!("{key}.radiance_direct.aoref")),
+            self.dir.join(format!("{key}.radiance_indirect.aoref")),
+        ]
+    }
+
+    /// The radiance entry for `key`, if present and whole (a corrupt one warns and misses).
+    pub fn load_radiance(&self, key: CacheKey) -> Option<RadianceImage> {
+        let paths = self.radiance_paths(key);
+        if !paths.iter().all(|p| p.exists()) {
+            return None;
+        }
+        let read = |path: &PathBuf| -> Result<(u32, u32, Vec<Vec3>), SceneError> {
+            let raw = read_raw_f32(path)?;
+            if raw.width % 3 != 0 {
+                return Err(SceneError::BadReferenceFile {
+                    path: path.clone(),
+                    reason: "its width is not three channels a pixel".into(),
+                });
+            }
+            let rgb = raw.values.chunks_exact(3).map(Vec3::from_slice).collect();
+            Ok((raw.width / 3, raw.height, rgb))
+        };
+        match (read(&paths[0]), read(&paths[1])) {
+            (Ok((w, h, direct)), Ok((w2, h2, indirect))) if (w, h) == (w2, h2) => {
+                Some(RadianceImage {
+                    width: w,
+                    height: h,
+                    direct,
+                    indirect,
+                })
+            }
+            (Err(e), _) | (_, Err(e)) => {
+                eprintln!("warning: ignoring corrupt radiance cache entry: {e}");
+                None
+            }
+            _ => {
+                eprintln!(
+                    "warning: ignoring radiance cache entry {key}: its two files differ in size"
+                );
+                None
+            }
+        }
+    }
+
+    /// Writes `image` under `key` (each file atomically).
+    pub fn store_radiance(&self, key: CacheKey, image: &RadianceImage) -> Result<(), SceneError> {
+        std::fs::create_dir_all(&self.dir)
+            .map_err(|e| SceneError::io("create cache directory", &self.dir, e))?;
+        let [direct, indirect] = self.radiance_paths(key);
+        let flat = |v: &[Vec3]| v.iter().flat_map(|c| c.to_array()).collect::<Vec<f32>>();
+        write_raw_f32(
+            &indirect,
+            image.width * 3,
+            image.height,
+            &flat(&image.indirect),
+        )?;
+        write_raw_f32(&direct, image.width * 3, image.height, &flat(&image.direct))
+    }
+
+    /// The radiance entry for `key`, traced by `trace` (and stored) when missing.
+    pub fn get_or_trace_radiance(
+        &self,
+        key: CacheKey,
+        trace: impl FnOnce() -> Result<RadianceImage, SceneError>,
+    ) -> Result<RadianceImage, SceneError> {
+        if let Some(image) = self.load_radiance(key) {
+            return Ok(image);
+        }
+        let image = trace()?;
+        self.store_radiance(key, &image)?;
+        Ok(image)
+    }
+
     pub fn get_or_trace(
         &self,
         key: CacheKey,
@@ -229,6 +350,57 @@ mod tests {
             ..params
         };
         assert_eq!(base, CacheKey::new(&tris, &surfaces(), &quiet));
+    }
+
+    #[test]
+    fn radiance_entries_have_keys_of_their_own_and_round_trip() {
+        let tris = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]];
+        let params = ReferenceParams::default();
+        let sky = SkyEnvironment::for_scene(&crate::procedural_scene("plane").unwrap());
+        let (tri_albedo, px_albedo) = (vec![Vec3::splat(0.5)], vec![Vec3::ONE, Vec3::ZERO]);
+        let key = |t: &[Vec3], p: &[Vec3], s: &SkyEnvironment| {
+            CacheKey::radiance(&tris, &surfaces(), &params, t, p, s)
+        };
+        let base = key(&tri_albedo, &px_albedo, &sky);
+        assert_ne!(base, CacheKey::new(&tris, &surfaces(), &params));
+        assert_ne!(base, key(&[Vec3::splat(0.6)], &px_albedo, &sky));
+        assert_ne!(base, key(&tri_albedo, &[Vec3::ONE, Vec3::X], &sky));
+        let warmer = SkyEnvironment {
+            sun_exponent: 9.0,
+            ..sky
+        };
+        assert_ne!(base, key(&tri_albedo, &px_albedo, &warmer));
+
+        let dir =
+            std::env::temp_dir().join(format!("aograph-radiance-cache-{}", std::process::id()));
+        let cache = ReferenceCache::new(&dir);
+        let image = RadianceImage {
+            width: 2,
+            height: 1,
+            direct: vec![Vec3::new(0.1, 0.2, 0.3), Vec3::ZERO],
+            indirect: vec![Vec3::new(0.01, 0.0, 0.5), Vec3::ZERO],
+        };
+        assert_eq!(cache.load_radiance(base), None);
+        let mut traced = 0;
+        let first = cache
+            .get_or_trace_radiance(base, || {
+                traced += 1;
+                Ok(image.clone())
+            })
+            .unwrap();
+        let second = cache
+            .get_or_trace_radiance(base, || {
+                traced += 1;
+                Ok(image.clone())
+            })
+            .unwrap();
+        assert_eq!((first, second.clone(), traced), (image.clone(), image, 1));
+        // A truncated file is a miss, not an error or a wrong image.
+        let direct = dir.join(format!("{base}.radiance_direct.aoref"));
+        let bytes = std::fs::read(&direct).unwrap();
+        std::fs::write(&direct, &bytes[..bytes.len() - 4]).unwrap();
+        assert_eq!(cache.load_radiance(base), None);
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
