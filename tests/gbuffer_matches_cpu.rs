@@ -3,6 +3,9 @@
 //! [1, 8, 1], a mirrored node and a sheared nested pair). The reference starts its rays from the
 //! GPU g-buffer, so this is what makes it trustworthy on real assets.
 //!
+//! Animated scenes are compared a third time, mid-animation (CesiumMan mid-stride: the GPU's
+//! skinning against the CPU's, `Scene::world_triangles`).
+//!
 //! Checks, per scene at 128x96:
 //! - coverage (geometry or sky) agrees on at least 99.5% of pixels;
 //! - away from silhouettes (every 3x3 neighbour sees geometry in both buffers and lies within
@@ -97,10 +100,11 @@ fn close_view(scene: &Scene) -> Camera {
     )
 }
 
-/// The CPU g-buffer at the pixel centres and at four probes `SNAP` pixels off them.
-fn cpu_gbuffers(scene: &Scene, camera: &Camera) -> Vec<CpuGBuffer> {
-    let triangles = scene.world_triangles(0.0);
-    let normals = scene.world_vertex_normals(0.0);
+/// The CPU g-buffer at time `time` at the pixel centres and at four probes `SNAP` pixels off
+/// them.
+fn cpu_gbuffers(scene: &Scene, camera: &Camera, time: f32) -> Vec<CpuGBuffer> {
+    let triangles = scene.world_triangles(time);
+    let normals = scene.world_vertex_normals(time);
     let bvh = TriangleBvh::new(&triangles);
     [
         Vec2::ZERO,
@@ -202,12 +206,12 @@ fn normals_touching(g: &Geometry, point: Vec3, reach: f32, eye: Vec3) -> Vec<(Ve
         .collect()
 }
 
-fn compare(scene: &Arc<Scene>, camera: Camera) -> Option<Agreement> {
+fn compare(scene: &Arc<Scene>, camera: Camera, time: f32) -> Option<Agreement> {
     let gpu = test_gpu()?;
     let view = FrameView {
         camera,
         scene: scene.clone(),
-        time: 0.0,
+        time,
         extent: SIZE,
     };
     let shaders = aograph::shader_library();
@@ -228,7 +232,7 @@ fn compare(scene: &Arc<Scene>, camera: Camera) -> Option<Agreement> {
         geometric.points, shading.points,
         "the two g-buffers place points alike"
     );
-    let cpu = cpu_gbuffers(scene, &camera);
+    let cpu = cpu_gbuffers(scene, &camera, time);
     let c = &cpu[0];
     let n = c.valid.len();
     let agree = (0..n).filter(|&i| c.valid[i] == geometric.valid[i]).count();
@@ -240,8 +244,8 @@ fn compare(scene: &Arc<Scene>, camera: Camera) -> Option<Agreement> {
         ..Default::default()
     };
     let g = Geometry {
-        triangles: scene.world_triangles(0.0),
-        normals: scene.world_vertex_normals(0.0),
+        triangles: scene.world_triangles(time),
+        normals: scene.world_vertex_normals(time),
     };
     for i in (0..n).filter(|&i| c.valid[i] && geometric.valid[i] && interior(i, c, &geometric)) {
         a.compared += 1;
@@ -323,8 +327,16 @@ fn gpu_gbuffer_matches_cpu_primary_rays_on_every_scene() {
     let mut worst = (1.0f64, 0.0f32, 1.0f32, 1.0f32);
     for (name, scene) in scenes {
         let scene = Arc::new(scene);
-        for (view, camera) in [("own", scene.camera_at(0.0)), ("close", close_view(&scene))] {
-            let Some(a) = compare(&scene, camera) else {
+        let mut views = vec![
+            ("own".to_string(), scene.camera_at(0.0), 0.0),
+            ("close".to_string(), close_view(&scene), 0.0),
+        ];
+        if scene.is_animated() {
+            let t = 0.37 * scene.duration();
+            views.push((format!("close, t = {t:.2}"), close_view(&scene), t));
+        }
+        for (view, camera, time) in views {
+            let Some(a) = compare(&scene, camera, time) else {
                 return;
             };
             let name = format!("{name} ({view})");

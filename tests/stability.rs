@@ -590,6 +590,7 @@ fn degenerate_scene() -> Scene {
         positions: p,
         indices: vec![0, 0, 1, 2, 2, 2, 0, 1, 2, 2, 3, 4, 5, 5, 3, 1, 1, 1],
         material: 0,
+        skin_weights: Vec::new(),
     };
     b.add(degenerate, Mat4::from_translation(Vec3::new(0.0, 0.0, 0.0)));
     // A box collapsed to one point (every vertex coincides), above the floor.
@@ -631,6 +632,7 @@ fn degenerate_scene() -> Scene {
         normals: vec![Vec3::Z; 3],
         indices: vec![0, 1, 2],
         material: 0,
+        skin_weights: Vec::new(),
     };
     b.add(sliver, Mat4::from_translation(Vec3::new(-0.7, 0.0, 0.3)));
     b.build(Camera::perspective(

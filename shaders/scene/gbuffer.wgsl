@@ -12,6 +12,16 @@ struct Instance {
     // the rule the CPU g-buffer uses too). Exact under non-uniform scale, shear and mirroring.
     normal_model: mat3x3<f32>,
     color: vec4<f32>,
+    // A skinned instance's first entry in `palette` (x) and its joint count (y); the model
+    // matrices are then unused (glTF ignores a skinned node's transform).
+    skin: vec4<u32>,
+}
+
+// One joint's skinning matrix, world(t) * inverse_bind, now and at the previous frame
+// (crates/scene/src/skin.rs).
+struct JointPalette {
+    current: mat4x4<f32>,
+    previous: mat4x4<f32>,
 }
 
 struct Light {
@@ -23,6 +33,8 @@ struct Light {
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<storage, read> instances: array<Instance>;
 @group(0) @binding(2) var<uniform> light: Light;
+// Every skinned instance's palette, one after another (one unused entry when nothing is skinned).
+@group(0) @binding(3) var<storage, read> palette: array<JointPalette>;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -34,24 +46,59 @@ struct VsOut {
     @location(5) world_normal: vec3<f32>,
 }
 
-@vertex
-fn vs(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @builtin(instance_index) ii: u32) -> VsOut {
-    let inst = instances[ii];
-    let world = inst.model * vec4<f32>(position, 1.0);
-    let prev_world = inst.prev_model * vec4<f32>(position, 1.0);
+// A vertex placed by `model` now and `prev_model` at the previous frame; `normal_model` carries
+// its normal (see Instance).
+fn place(position: vec3<f32>, normal: vec3<f32>, model: mat4x4<f32>, prev_model: mat4x4<f32>,
+         normal_model: mat3x3<f32>, color: vec4<f32>) -> VsOut {
+    let world = model * vec4<f32>(position, 1.0);
+    let prev_world = prev_model * vec4<f32>(position, 1.0);
     let vp = view.view * world;
     // Normalised per vertex, then interpolated and renormalised per fragment. A mesh without
     // normals uploads zero normals: its fragments fall back to the geometric normal.
-    let wn = normalize_safe_or_zero(inst.normal_model * normal);
+    let wn = normalize_safe_or_zero(normal_model * normal);
     var out: VsOut;
     out.clip = view.proj * vp;
     out.cur_clip = out.clip;
     out.view_pos = vp.xyz;
     out.view_normal = (view.view * vec4<f32>(wn, 0.0)).xyz;
     out.world_normal = wn;
-    out.color = inst.color;
+    out.color = color;
     out.prev_clip = view.prev_view_proj * prev_world;
     return out;
+}
+
+@vertex
+fn vs(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @builtin(instance_index) ii: u32) -> VsOut {
+    let inst = instances[ii];
+    return place(position, normal, inst.model, inst.prev_model, inst.normal_model, inst.color);
+}
+
+// sign(det M) cof(M) of m's linear part: crates/scene/src/normal_transform.rs's rule.
+fn normal_matrix(m: mat4x4<f32>) -> mat3x3<f32> {
+    let c0 = m[0].xyz;
+    let c1 = m[1].xyz;
+    let c2 = m[2].xyz;
+    let cofactor = mat3x3<f32>(cross(c1, c2), cross(c2, c0), cross(c0, c1));
+    return cofactor * select(1.0, -1.0, dot(c0, cross(c1, c2)) < 0.0);
+}
+
+// Linear blend skinning (glTF 2.0 3.7.3.3): the vertex's matrix is sum_k w_k palette[j_k], summed
+// in k order as the CPU does (JointWeights::blend), now and at the previous frame.
+@vertex
+fn vs_skinned(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>,
+              @location(2) joints: vec4<u32>, @location(3) weights: vec4<f32>,
+              @builtin(instance_index) ii: u32) -> VsOut {
+    let inst = instances[ii];
+    var model = mat4x4<f32>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+    var prev_model = model;
+    let last = arrayLength(&palette) - 1u;
+    for (var k = 0u; k < 4u; k += 1u) {
+        // The importer keeps joints below the skin's count; min() keeps a bad file in the buffer.
+        let j = palette[min(inst.skin.x + min(joints[k], inst.skin.y - 1u), last)];
+        model += j.current * weights[k];
+        prev_model += j.previous * weights[k];
+    }
+    return place(position, normal, model, prev_model, normal_matrix(model), inst.color);
 }
 
 struct GBuffer {

@@ -121,6 +121,24 @@ pub fn scene_info_text(source: &SceneSource) -> AppResult<String> {
         "triangles: {} placed, {unique} in the meshes",
         scene.triangle_count()
     );
+    if let Some(info) = gltf.as_ref().filter(|i| !i.skins.is_empty()) {
+        let skinned = (scene.instances.iter())
+            .filter(|i| {
+                scene
+                    .meshes
+                    .get(i.mesh)
+                    .is_some_and(|m| i.skin_for(m).is_some())
+            })
+            .count();
+        let skins: Vec<String> = (info.skins.iter())
+            .map(|(name, joints)| format!("{name} ({joints} joints)"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "skins: {}; {skinned} mesh instance(s) deformed on the GPU",
+            skins.join(", ")
+        );
+    }
     let (mut stretched, mut mirrored) = (0, 0);
     for i in &scene.instances {
         let (ns, mi) = transform_kind(Mat3::from_mat4(i.transform));

@@ -5,7 +5,9 @@
 //! scene mesh that has triangles (POSITION with min/max, NORMAL when the mesh has one per
 //! vertex, u32 indices), materials with baseColorFactor (metallic 0, roughness 1), and the t = 0
 //! camera as a camera node (a reversed-Z infinite perspective is written without zfar).
-//! Not written: animations, camera motion, the light and ambient (glTF has no ambient).
+//! A skinned instance is written as a mesh of its own, posed at t = 0 in world space (the
+//! skeleton is not exported).
+//! Not written: animations, skins, camera motion, the light and ambient (glTF has no ambient).
 //! Invariants: the file is a valid glb (12-byte header, JSON chunk padded with spaces and BIN
 //! chunk padded with zeros to 4 bytes, every buffer view 4-byte aligned); it is written to a
 //! temporary file in the same directory and renamed, so a failed export leaves no partial file;
@@ -169,17 +171,31 @@ pub fn glb_bytes(scene: &Scene, path_for_errors: &Path) -> Result<Vec<u8>, Scene
         mesh_index.push(made.as_ref().map(|_| meshes.len()));
         meshes.extend(made);
     }
-    let mut nodes: Vec<Value> = scene
-        .instances
-        .iter()
-        .filter_map(|instance| {
-            let mesh = (*mesh_index.get(instance.mesh)?)?;
-            let matrix = instance.transform_at(0.0);
-            matrix
-                .is_finite()
-                .then(|| json!({"mesh": mesh, "matrix": matrix.to_cols_array()}))
-        })
-        .collect();
+    let mut nodes: Vec<Value> = Vec::with_capacity(scene.instances.len() + 1);
+    for (i, instance) in scene.instances.iter().enumerate() {
+        let skinned = scene
+            .meshes
+            .get(instance.mesh)
+            .is_some_and(|m| instance.skin_for(m).is_some());
+        if skinned {
+            let Some(posed) = scene.posed_mesh(i, 0.0) else {
+                continue;
+            };
+            let Some(made) = mesh_json(&mut layout, &posed, scene.materials.len()) else {
+                continue;
+            };
+            meshes.push(made);
+            nodes.push(json!({"mesh": meshes.len() - 1}));
+            continue;
+        }
+        let Some(mesh) = mesh_index.get(instance.mesh).copied().flatten() else {
+            continue;
+        };
+        let matrix = instance.transform_at(0.0);
+        if matrix.is_finite() {
+            nodes.push(json!({"mesh": mesh, "matrix": matrix.to_cols_array()}));
+        }
+    }
     let camera = scene.camera_at(0.0);
     nodes.push(
         json!({"name": "camera", "camera": 0, "matrix": camera_matrix(&camera).to_cols_array()}),

@@ -22,6 +22,7 @@ pub mod projected_radius;
 pub mod radius;
 pub mod reference;
 pub mod scene_builder;
+pub mod skin;
 pub mod view_block;
 pub mod views;
 
@@ -43,3 +44,4 @@ pub use reference::{
     primary_hits, trace_radiance, trace_reference, trace_reference_rows,
 };
 pub use scene_builder::SceneBuilder;
+pub use skin::{Joint, JointWeights, Skin};

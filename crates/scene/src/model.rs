@@ -4,13 +4,16 @@
 //! Invariants the loaders and procedural builders keep (and the queries tolerate when a caller
 //! breaks them): mesh indices form a triangle list (`indices.len() % 3 == 0`) whose entries are
 //! below `positions.len()`; `normals` is empty or has one unit normal per position; positions are
-//! finite; `Instance::transform` equals the instance's transform at t = 0. Queries skip
-//! out-of-range indices and instances instead of panicking.
+//! finite; `Instance::transform` equals the instance's transform at t = 0; `Mesh::skin_weights`
+//! is empty or has one entry per position, and an instance with a skin draws a mesh with
+//! weights (else the skin is ignored and the instance is rigid). Queries skip out-of-range
+//! indices and instances instead of panicking.
 
 use crate::animation::Animation;
 use crate::bounds::Aabb;
 use crate::camera::{Camera, CameraMotion};
-use crate::normal_transform::transform_normal;
+use crate::normal_transform::{normal_matrix, transform_normal};
+use crate::skin::{JointWeights, Skin};
 use glam::{Mat4, Vec3};
 
 /// An indexed triangle mesh in its own (object) space.
@@ -25,6 +28,9 @@ pub struct Mesh {
     pub indices: Vec<u32>,
     /// Index into [`Scene::materials`].
     pub material: usize,
+    /// One skinning influence set per position (glTF JOINTS_0 / WEIGHTS_0), or empty for a
+    /// rigid mesh. Used only by instances that carry a [`Skin`].
+    pub skin_weights: Vec<JointWeights>,
 }
 
 impl Mesh {
@@ -57,6 +63,32 @@ impl Mesh {
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(self.triangles().flatten())
     }
+
+    /// World-space bounds under `pose`: the object bounds' box transformed for a rigid pose,
+    /// the posed referenced vertices' box for a skinned one.
+    pub(crate) fn posed_bounds(&self, pose: &Pose) -> Aabb {
+        match pose {
+            Pose::Rigid(m) => self.bounds().transformed(m),
+            Pose::Skinned(_) => {
+                let world = pose.positions(self);
+                Aabb::from_points(
+                    self.indices
+                        .iter()
+                        .filter_map(|&i| world.get(i as usize).copied()),
+                )
+            }
+        }
+    }
+
+    /// Triangles whose corners are all in range, as index triples (the order of
+    /// [`Mesh::triangles`]).
+    fn valid_triangles(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
+        let n = self.positions.len();
+        self.indices
+            .chunks_exact(3)
+            .map(|t| [t[0] as usize, t[1] as usize, t[2] as usize])
+            .filter(move |t| t.iter().all(|&i| i < n))
+    }
 }
 
 /// Surface appearance; AO needs none of it, shading and SSDO use the colour.
@@ -87,6 +119,67 @@ pub struct Instance {
     /// is drawn and traced like any geometry but has no size of its own, so it is left out of
     /// [`Scene::content_bounds`] (framing and the automatic radius). glTF instances never are.
     pub backdrop: bool,
+    /// The skeleton deforming the mesh, if it is skinned: its vertices then follow the skin's
+    /// joints and `transform` / `animation` are not used (glTF ignores a skinned node's own
+    /// transform).
+    pub skin: Option<Skin>,
+}
+
+/// Where a placed mesh's vertices go at one time: one matrix for all, or a skin's palette
+/// blended per vertex by the mesh's [`JointWeights`].
+pub(crate) enum Pose {
+    Rigid(Mat4),
+    Skinned(Vec<Mat4>),
+}
+
+impl Pose {
+    /// The object-to-world matrix of vertex `vertex` of `mesh` (a vertex without weights under
+    /// a skin gets zero, which `Instance::pose` never produces: it picks a skin only for a mesh
+    /// with weights).
+    pub(crate) fn vertex_matrix(&self, mesh: &Mesh, vertex: usize) -> Mat4 {
+        match self {
+            Pose::Rigid(m) => *m,
+            Pose::Skinned(palette) => mesh
+                .skin_weights
+                .get(vertex)
+                .map_or(Mat4::ZERO, |w| w.blend(palette)),
+        }
+    }
+
+    /// Every vertex of `mesh` in world space.
+    pub(crate) fn positions(&self, mesh: &Mesh) -> Vec<Vec3> {
+        match self {
+            Pose::Rigid(m) => mesh
+                .positions
+                .iter()
+                .map(|p| m.transform_point3(*p))
+                .collect(),
+            Pose::Skinned(_) => (mesh.positions.iter().enumerate())
+                .map(|(i, p)| self.vertex_matrix(mesh, i).transform_point3(*p))
+                .collect(),
+        }
+    }
+
+    /// Every vertex normal of `mesh` in world space (unit, zero where a vertex has none or the
+    /// transform flattens it), by the rule of [`crate::normal_transform`].
+    pub(crate) fn normals(&self, mesh: &Mesh) -> Vec<Vec3> {
+        let rigid = match self {
+            Pose::Rigid(m) => Some(normal_matrix(*m)),
+            Pose::Skinned(_) => None,
+        };
+        (0..mesh.positions.len())
+            .map(|i| {
+                let Some(n) = mesh.normals.get(i) else {
+                    return Vec3::ZERO;
+                };
+                let world = match rigid {
+                    Some(nm) => (nm * *n).try_normalize().filter(|v| v.is_finite()),
+                    None => transform_normal(self.vertex_matrix(mesh, i), *n),
+                };
+                world.unwrap_or(Vec3::ZERO)
+            })
+            .collect()
+    }
 }
 
 impl Instance {
@@ -97,6 +190,7 @@ impl Instance {
             transform,
             animation: None,
             backdrop: false,
+            skin: None,
         }
     }
 
@@ -107,6 +201,28 @@ impl Instance {
             transform: animation.matrix_at(0.0),
             animation: Some(animation),
             backdrop: false,
+            skin: None,
+        }
+    }
+
+    /// A skinned instance of `mesh` (whose vertices carry [`JointWeights`]).
+    pub fn skinned(mesh: usize, skin: Skin) -> Instance {
+        Instance {
+            skin: Some(skin),
+            ..Instance::fixed(mesh, Mat4::IDENTITY)
+        }
+    }
+
+    /// The skin that deforms this instance's `mesh`: its own, when the mesh has weights.
+    pub fn skin_for<'a>(&'a self, mesh: &Mesh) -> Option<&'a Skin> {
+        self.skin.as_ref().filter(|_| !mesh.skin_weights.is_empty())
+    }
+
+    /// Where `mesh` (this instance's) goes at time `t`.
+    pub(crate) fn pose(&self, mesh: &Mesh, t: f32) -> Pose {
+        match self.skin_for(mesh) {
+            Some(skin) => Pose::Skinned(skin.palette(t)),
+            None => Pose::Rigid(self.transform_at(t)),
         }
     }
 
@@ -118,9 +234,18 @@ impl Instance {
         }
     }
 
-    /// True when the transform changes over time.
+    /// True when the transform, or the skin's joints, change over time.
     pub fn is_moving(&self) -> bool {
         self.animation.as_ref().is_some_and(Animation::is_moving)
+            || self.skin.as_ref().is_some_and(Skin::is_moving)
+    }
+
+    /// The instance's animation length in seconds (its transform's or its skin's, whichever
+    /// is longer; 0 when it does not move).
+    pub fn duration(&self) -> f32 {
+        let own = self.animation.as_ref().map_or(0.0, Animation::duration);
+        let skin = self.skin.as_ref().map_or(0.0, Skin::duration);
+        own.max(skin)
     }
 }
 
@@ -205,10 +330,7 @@ impl Scene {
 
     /// Longest animation cycle or keyframe range in seconds (0 for a static scene).
     pub fn duration(&self) -> f32 {
-        let instances = self
-            .instances
-            .iter()
-            .filter_map(|i| i.animation.as_ref().map(Animation::duration));
+        let instances = self.instances.iter().map(Instance::duration);
         let camera = match &self.camera_motion {
             Some(CameraMotion::Orbit { period, .. }) => period.max(0.0),
             Some(CameraMotion::Node(animation)) => animation.duration(),
@@ -230,7 +352,7 @@ impl Scene {
             .filter(|instance| !instance.backdrop)
             .filter_map(|instance| {
                 let mesh = self.meshes.get(instance.mesh)?;
-                Some(mesh.bounds().transformed(&instance.transform))
+                Some(mesh.posed_bounds(&instance.pose(mesh, 0.0)))
             })
             .fold(Aabb::EMPTY, Aabb::union)
     }
@@ -273,6 +395,13 @@ impl Scene {
             {
                 return Err(format!("mesh {i}: normal {n} is not a finite unit vector"));
             }
+            if !(m.skin_weights.is_empty() || m.skin_weights.len() == m.positions.len()) {
+                return Err(format!(
+                    "mesh {i}: {} skin weights for {} positions",
+                    m.skin_weights.len(),
+                    m.positions.len()
+                ));
+            }
             if m.material >= self.materials.len() {
                 return Err(format!(
                     "mesh {i}: material {} of {}",
@@ -292,6 +421,24 @@ impl Scene {
             if !inst.transform.is_finite() {
                 return Err(format!("instance {i}: transform is not finite"));
             }
+            if let Some(skin) = &inst.skin {
+                let joints = skin.joints.len();
+                let weights = &self.meshes[inst.mesh].skin_weights;
+                if let Some(w) = weights
+                    .iter()
+                    .find(|w| w.joints.iter().any(|&j| j as usize >= joints))
+                {
+                    return Err(format!(
+                        "instance {i}: joint index in {:?} of a skin with {joints} joints",
+                        w.joints
+                    ));
+                }
+                if skin.joints.iter().any(|j| !j.inverse_bind.is_finite()) {
+                    return Err(format!(
+                        "instance {i}: an inverse bind matrix is not finite"
+                    ));
+                }
+            }
         }
         Ok(())
     }
@@ -305,37 +452,68 @@ impl Scene {
         }
     }
 
-    /// Every instance whose mesh exists, with that mesh and its transform at time `t`: the walk
+    /// Every instance whose mesh exists, with that mesh and its pose at time `t`: the walk
     /// the bounds, counts and world-space triangle lists below share.
-    fn placed_meshes(&self, t: f32) -> impl Iterator<Item = (&Mesh, Mat4)> {
+    fn placed_meshes(&self, t: f32) -> impl Iterator<Item = (&Mesh, Pose)> {
         self.instances.iter().filter_map(move |instance| {
             let mesh = self.meshes.get(instance.mesh)?;
-            Some((mesh, instance.transform_at(t)))
+            Some((mesh, instance.pose(mesh, t)))
         })
+    }
+
+    /// Every instance whose mesh exists, with that mesh (no pose: for counts).
+    fn instance_meshes(&self) -> impl Iterator<Item = &Mesh> {
+        self.instances
+            .iter()
+            .filter_map(|instance| self.meshes.get(instance.mesh))
     }
 
     /// World-space bounds at time `t`.
     pub fn bounds_at(&self, t: f32) -> Aabb {
         self.placed_meshes(t)
-            .map(|(mesh, m)| mesh.bounds().transformed(&m))
+            .map(|(mesh, pose)| mesh.posed_bounds(&pose))
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
     /// Number of triangles over all instances.
     pub fn triangle_count(&self) -> usize {
-        self.placed_meshes(0.0)
-            .map(|(mesh, _)| mesh.triangle_count())
-            .sum()
+        self.instance_meshes().map(Mesh::triangle_count).sum()
     }
 
-    /// Every instance's triangles in world space at time `t`, for the reference ray tracer.
+    /// Every instance's triangles in world space at time `t` (skins deformed), for the
+    /// reference ray tracer.
     pub fn world_triangles(&self, t: f32) -> Vec<[Vec3; 3]> {
-        self.placed_meshes(t)
-            .flat_map(|(mesh, m)| {
-                mesh.triangles()
-                    .map(move |tri| tri.map(|p| m.transform_point3(p)))
-            })
-            .collect()
+        let mut out = Vec::with_capacity(self.triangle_count());
+        for (mesh, pose) in self.placed_meshes(t) {
+            let world = pose.positions(mesh);
+            out.extend(mesh.valid_triangles().map(|tri| tri.map(|i| world[i])));
+        }
+        out
+    }
+
+    /// The mesh of instance `instance` posed at time `t`, in world space (skin deformed,
+    /// transform applied; vertices without a normal get none): a still copy for exporters.
+    /// `None` when the instance or its mesh does not exist.
+    pub fn posed_mesh(&self, instance: usize, t: f32) -> Option<Mesh> {
+        let inst = self.instances.get(instance)?;
+        let mesh = self.meshes.get(inst.mesh)?;
+        let pose = inst.pose(mesh, t);
+        let normals = if mesh.normals.len() == mesh.positions.len() {
+            pose.normals(mesh)
+                .into_iter()
+                .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Some(Mesh {
+            name: mesh.name.clone(),
+            positions: pose.positions(mesh),
+            normals,
+            indices: mesh.indices.clone(),
+            material: mesh.material,
+            skin_weights: Vec::new(),
+        })
     }
 
     /// The linear RGB albedo (material base colour) of every triangle of
@@ -360,12 +538,12 @@ impl Scene {
     /// transpose, see [`crate::normal_transform`]) and renormalised, the rule the GPU g-buffer's
     /// vertex shader applies. Vertices without a usable normal get zero.
     pub fn world_vertex_normals(&self, t: f32) -> Vec<[Vec3; 3]> {
-        self.placed_meshes(t)
-            .flat_map(|(mesh, m)| {
-                mesh.triangle_normals()
-                    .map(move |tri| tri.map(|n| transform_normal(m, n).unwrap_or(Vec3::ZERO)))
-            })
-            .collect()
+        let mut out = Vec::with_capacity(self.triangle_count());
+        for (mesh, pose) in self.placed_meshes(t) {
+            let world = pose.normals(mesh);
+            out.extend(mesh.valid_triangles().map(|tri| tri.map(|i| world[i])));
+        }
+        out
     }
 }
 
@@ -381,6 +559,7 @@ mod tests {
             normals: vec![Vec3::Z; 3],
             indices: vec![0, 1, 2, 0, 1, 7],
             material: 0,
+            skin_weights: Vec::new(),
         };
         let instance = match animation {
             Some(a) => Instance::animated(0, a),

@@ -1,6 +1,8 @@
 //! The g-buffer's raster pass: uploads the scene's meshes once, the per-instance transforms
-//! (now and at the previous frame) every frame, and draws every instance into the requested
-//! colour targets plus depth. Depth is reversed (clear 0, test Greater) when the camera uses
+//! and skinned instances' joint palettes (now and at the previous frame) every frame, and draws
+//! every instance into the requested colour targets plus depth. Skinned instances are drawn by
+//! a second pipeline (`vs_skinned`, with the mesh's joints and weights as a second vertex
+//! buffer), built only for a scene that has them. Depth is reversed (clear 0, test Greater) when the camera uses
 //! an infinite reversed-Z projection: the frame's camera as the clock reports it
 //! (`GBufferFrame::reversed_z`), else the scene's; one pipeline per depth test, built when
 //! first needed, so a renderer may switch cameras between the two conventions.
@@ -29,6 +31,24 @@ struct InstanceGpu {
     /// WGSL `mat3x3<f32>`: three columns padded to 16 bytes each.
     normal_model: [[f32; 4]; 3],
     color: [f32; 4],
+    /// First palette entry and joint count of a skinned instance.
+    skin: [u32; 4],
+}
+
+/// One joint's skinning matrix now and at the previous frame (WGSL `JointPalette`).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct JointGpu {
+    current: [[f32; 4]; 4],
+    previous: [[f32; 4]; 4],
+}
+
+/// The skinned vertex buffer's element: JOINTS_0 widened to u32 and the normalised weights.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct SkinVertexGpu {
+    joints: [u32; 4],
+    weights: [f32; 4],
 }
 
 /// The WGSL layout of a 3x3 matrix: columns padded to vec4.
@@ -47,14 +67,22 @@ struct MeshGpu {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
+    /// Joints and weights per vertex, for a mesh with skin weights.
+    skin: Option<wgpu::Buffer>,
 }
 
 pub(super) struct GpuState {
     meshes: Vec<MeshGpu>,
     instances: wgpu::Buffer,
     light: wgpu::Buffer,
-    /// Depth test Less (index 0) and Greater (reversed Z, index 1), built on first use.
-    pipelines: [Option<wgpu::RenderPipeline>; 2],
+    /// Every skinned instance's joint palette (at least one entry, so it can always be bound).
+    palette: wgpu::Buffer,
+    /// Per instance, its first palette entry when it is drawn skinned.
+    palette_offsets: Vec<Option<u32>>,
+    palette_staging: Vec<JointGpu>,
+    /// Rigid (`vs`) and skinned (`vs_skinned`) pipelines, each with depth test Less (index 0)
+    /// and Greater (reversed Z, index 1), built on first use.
+    pipelines: [[Option<wgpu::RenderPipeline>; 2]; 2],
     module: wgpu::ShaderModule,
     pipeline_layout: wgpu::PipelineLayout,
     color_targets: Vec<Option<wgpu::ColorTargetState>>,
@@ -182,6 +210,22 @@ impl GBufferRaster {
             })
             .collect();
         let meshes = self.upload_meshes(device);
+        let mut palette_offsets = Vec::with_capacity(self.scene.instances.len());
+        let mut joints = 0u32;
+        for inst in &self.scene.instances {
+            let skin = (self.scene.meshes.get(inst.mesh)).and_then(|mesh| inst.skin_for(mesh));
+            palette_offsets.push(skin.map(|skin| {
+                let first = joints;
+                joints += skin.joints.len() as u32;
+                first
+            }));
+        }
+        let palette = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("gbuffer joint palette"),
+            size: (joints.max(1) as usize * std::mem::size_of::<JointGpu>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let n = self.scene.instances.len().max(1);
         let instances = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("gbuffer instances"),
@@ -209,7 +253,10 @@ impl GBufferRaster {
             meshes,
             instances,
             light,
-            pipelines: [None, None],
+            palette,
+            palette_offsets,
+            palette_staging: Vec::with_capacity(joints as usize),
+            pipelines: Default::default(),
             module,
             pipeline_layout,
             color_targets: targets,
@@ -223,6 +270,7 @@ impl GBufferRaster {
         &self,
         device: &wgpu::Device,
         state: &GpuState,
+        skinned: bool,
         reversed: bool,
     ) -> wgpu::RenderPipeline {
         PIPELINES_CREATED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -233,14 +281,21 @@ impl GBufferRaster {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
         };
+        let skin_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<SkinVertexGpu>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![2 => Uint32x4, 3 => Float32x4],
+        };
+        let buffers = [Some(vertex_layout), Some(skin_layout)];
+        let buffers = if skinned { &buffers[..] } else { &buffers[..1] };
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("gbuffer"),
             layout: Some(pipeline_layout),
             vertex: wgpu::VertexState {
                 module,
-                entry_point: Some("vs"),
+                entry_point: Some(if skinned { "vs_skinned" } else { "vs" }),
                 compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout)],
+                buffers,
             },
             primitive: wgpu::PrimitiveState {
                 cull_mode: None,
@@ -319,6 +374,22 @@ impl GBufferRaster {
                         usage: wgpu::BufferUsages::INDEX,
                     }),
                     index_count: (indices.len() / 3 * 3) as u32,
+                    skin: (m.skin_weights.len() == m.positions.len() && !m.positions.is_empty())
+                        .then(|| {
+                            let skin: Vec<SkinVertexGpu> = m
+                                .skin_weights
+                                .iter()
+                                .map(|w| SkinVertexGpu {
+                                    joints: w.joints.map(u32::from),
+                                    weights: w.weights,
+                                })
+                                .collect();
+                            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                                label: Some("mesh joints and weights"),
+                                contents: bytemuck::cast_slice(&skin),
+                                usage: wgpu::BufferUsages::VERTEX,
+                            })
+                        }),
                 }
             })
             .collect()
@@ -358,7 +429,8 @@ impl CustomPass for GBufferRaster {
         };
         let frame = self.clock.get();
         state.staging.clear();
-        for inst in &self.scene.instances {
+        state.palette_staging.clear();
+        for (inst, offset) in self.scene.instances.iter().zip(&state.palette_offsets) {
             let color = self
                 .scene
                 .materials
@@ -372,16 +444,35 @@ impl CustomPass for GBufferRaster {
                 .map(|m| m.base_color)
                 .unwrap_or([0.8, 0.8, 0.8, 1.0]);
             let model = inst.transform_at(frame.time);
+            let mut skin = [0; 4];
+            if let (Some(first), Some(s)) = (offset, &inst.skin) {
+                let (now, before) = (s.palette(frame.time), s.palette(frame.prev_time));
+                state
+                    .palette_staging
+                    .extend(now.iter().zip(&before).map(|(c, p)| JointGpu {
+                        current: c.to_cols_array_2d(),
+                        previous: p.to_cols_array_2d(),
+                    }));
+                skin = [*first, now.len() as u32, 0, 0];
+            }
             state.staging.push(InstanceGpu {
                 model: model.to_cols_array_2d(),
                 prev_model: inst.transform_at(frame.prev_time).to_cols_array_2d(),
                 normal_model: padded_mat3(normal_matrix(model)),
                 color,
+                skin,
             });
         }
         if !state.staging.is_empty() {
             ctx.queue
                 .write_buffer(&state.instances, 0, bytemuck::cast_slice(&state.staging));
+        }
+        if !state.palette_staging.is_empty() {
+            ctx.queue.write_buffer(
+                &state.palette,
+                0,
+                bytemuck::cast_slice(&state.palette_staging),
+            );
         }
         let view_buffer = ctx.buffer(self.view)?.clone();
         if state
@@ -404,6 +495,10 @@ impl CustomPass for GBufferRaster {
                     wgpu::BindGroupEntry {
                         binding: 2,
                         resource: state.light.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: state.palette.as_entire_binding(),
                     },
                 ],
             });
@@ -441,9 +536,16 @@ impl CustomPass for GBufferRaster {
             .collect();
         let depth_view = ctx.view(self.depth)?.clone();
         let reversed = frame.reversed_z.unwrap_or_else(|| self.reversed_z());
-        if state.pipelines[reversed as usize].is_none() {
-            let pipeline = self.create_pipeline(ctx.device, state, reversed);
-            state.pipelines[reversed as usize] = Some(pipeline);
+        for skinned in [false, true] {
+            let needed = if skinned {
+                state.palette_offsets.iter().any(Option::is_some)
+            } else {
+                state.palette_offsets.iter().any(Option::is_none)
+            };
+            if needed && state.pipelines[skinned as usize][reversed as usize].is_none() {
+                let pipeline = self.create_pipeline(ctx.device, state, skinned, reversed);
+                state.pipelines[skinned as usize][reversed as usize] = Some(pipeline);
+            }
         }
         let clear_depth = if reversed { 0.0 } else { 1.0 };
         let mut rp = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -461,18 +563,30 @@ impl CustomPass for GBufferRaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if let Some(pipeline) = &state.pipelines[reversed as usize] {
-            rp.set_pipeline(pipeline);
-        }
         if let Some((_, bg)) = &state.bind_group {
             rp.set_bind_group(0, bg, &[]);
         }
-        for (i, inst) in self.scene.instances.iter().enumerate() {
+        let mut bound = None;
+        for (i, (inst, offset)) in (self.scene.instances.iter())
+            .zip(&state.palette_offsets)
+            .enumerate()
+        {
             let Some(mesh) = state.meshes.get(inst.mesh) else {
                 continue;
             };
             if mesh.index_count == 0 {
                 continue;
+            }
+            let skin = offset.and(mesh.skin.as_ref());
+            let skinned = skin.is_some();
+            if bound != Some(skinned) {
+                if let Some(pipeline) = &state.pipelines[skinned as usize][reversed as usize] {
+                    rp.set_pipeline(pipeline);
+                }
+                bound = Some(skinned);
+            }
+            if let Some(skin) = skin {
+                rp.set_vertex_buffer(1, skin.slice(..));
             }
             rp.set_vertex_buffer(0, mesh.vertices.slice(..));
             rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);

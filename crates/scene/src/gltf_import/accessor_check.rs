@@ -33,6 +33,21 @@ pub(super) const INDICES: AccessorShape = AccessorShape {
     dimensions: Dimensions::Scalar,
     role: "indices",
 };
+pub(super) const JOINTS: AccessorShape = AccessorShape {
+    types: &[DataType::U8, DataType::U16],
+    dimensions: Dimensions::Vec4,
+    role: "JOINTS_0",
+};
+pub(super) const WEIGHTS: AccessorShape = AccessorShape {
+    types: &[DataType::F32, DataType::U8, DataType::U16],
+    dimensions: Dimensions::Vec4,
+    role: "WEIGHTS_0",
+};
+pub(super) const INVERSE_BIND_MATRICES: AccessorShape = AccessorShape {
+    types: &[DataType::F32],
+    dimensions: Dimensions::Mat4,
+    role: "inverseBindMatrices",
+};
 pub(super) const KEY_TIMES: AccessorShape = AccessorShape {
     types: &[DataType::F32],
     dimensions: Dimensions::Scalar,

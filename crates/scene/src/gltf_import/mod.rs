@@ -5,10 +5,11 @@
 //! none), base colour factors, every camera node in depth-first order (named after its node,
 //! else its camera, else "camera N"; the first is the default camera; its world transform
 //! places it), and translation/rotation/scale node animations of the first clip (as instance
-//! and camera animations).
+//! and camera animations), and skins (JOINTS_0 / WEIGHTS_0, inverse bind matrices, joints
+//! animated by the same clip: see `crate::skin`; the skinned node's own transform is ignored,
+//! as glTF specifies).
 //! What is not: images and textures (never loaded; missing image files only cause a warning,
-//! since AO needs no textures), skinning (skinned meshes are placed in their bind pose by their
-//! node's transform), morph targets, lights. Non-triangle primitives (points, lines, line loops,
+//! since AO needs no textures), morph targets, lights. Non-triangle primitives (points, lines, line loops,
 //! line strips) are skipped with a warning; triangle strips and fans are converted to lists.
 //! Warnings go to stderr from [`load_scene`]; [`import_gltf`] returns them instead.
 //! Without a camera in the file, the default camera is the automatic one (see
@@ -20,6 +21,7 @@ mod accessor_check;
 mod buffers;
 mod node_animation;
 mod primitive_reader;
+mod skin_reader;
 
 use crate::animation::{AnimatedTransform, Animation, TrsKeyframes};
 use crate::camera::{Camera, CameraMotion, Projection};
@@ -27,6 +29,7 @@ use crate::error::SceneError;
 use crate::model::{
     DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, NamedCamera, Scene,
 };
+use crate::skin::Skin;
 use glam::{Mat4, Vec3};
 use primitive_reader::PrimitiveOutcome;
 use std::collections::{BTreeMap, HashMap};
@@ -50,6 +53,8 @@ pub struct GltfInfo {
     /// glTF meshes (each may hold several primitives).
     pub meshes: usize,
     pub materials: Vec<MaterialInfo>,
+    /// Skins: name and joint count.
+    pub skins: Vec<(String, usize)>,
 }
 
 /// One glTF material's properties that matter to AO and shading.
@@ -111,11 +116,19 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
     let (animated_nodes, animation_warnings) =
         node_animation::read_node_animations(&gltf.document, &buffers);
     warnings.extend(animation_warnings);
+    let skins =
+        skin_reader::read_skins(&gltf.document, &buffers, &animated_nodes).map_err(|message| {
+            SceneError::InvalidGltf {
+                path: path.to_owned(),
+                message,
+            }
+        })?;
 
     let mut walk = NodeWalk {
         path,
         buffers: &buffers,
         animated_nodes: &animated_nodes,
+        skins: &skins,
         materials: gltf
             .document
             .materials()
@@ -169,6 +182,10 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
                     gltf::material::AlphaMode::Blend => "BLEND",
                 },
             })
+            .collect(),
+        skins: skins
+            .iter()
+            .map(|s| (s.name.clone(), s.joints.len()))
             .collect(),
     };
     let mut scene = Scene {
@@ -281,6 +298,25 @@ enum ChainLink {
     Animated(TrsKeyframes),
 }
 
+/// Node `node`'s own link: its keyframes if the first clip animates it, else its local matrix
+/// (`Err` when that is not finite).
+fn node_link(
+    node: &gltf::Node<'_>,
+    animated_nodes: &BTreeMap<usize, TrsKeyframes>,
+) -> Result<ChainLink, String> {
+    if let Some(keys) = animated_nodes.get(&node.index()) {
+        return Ok(ChainLink::Animated(keys.clone()));
+    }
+    let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+    if !local.is_finite() {
+        return Err(format!(
+            "node {} has a transform that is not finite (a value overflows a 32-bit float)",
+            node.index()
+        ));
+    }
+    Ok(ChainLink::Static(local))
+}
+
 /// Parent-first chain of local transforms as an [`Animation`] if any link moves (adjacent
 /// static links are multiplied together), else the fixed world matrix.
 fn chain_transform(chain: &[ChainLink]) -> Result<Animation, Mat4> {
@@ -312,6 +348,8 @@ struct NodeWalk<'a> {
     path: &'a Path,
     buffers: &'a [gltf::buffer::Data],
     animated_nodes: &'a BTreeMap<usize, TrsKeyframes>,
+    /// Every skin of the file, by glTF skin index.
+    skins: &'a [Skin],
     materials: Vec<Material>,
     default_material: Option<usize>,
     meshes: Vec<Mesh>,
@@ -344,19 +382,7 @@ impl NodeWalk<'_> {
             )));
         }
         let mut chain = parents.to_vec();
-        chain.push(match self.animated_nodes.get(&node.index()) {
-            Some(keys) => ChainLink::Animated(keys.clone()),
-            None => {
-                let local = Mat4::from_cols_array_2d(&node.transform().matrix());
-                if !local.is_finite() {
-                    return Err(self.invalid(format!(
-                        "node {} has a transform that is not finite (a value overflows a 32-bit float)",
-                        node.index()
-                    )));
-                }
-                ChainLink::Static(local)
-            }
-        });
+        chain.push(node_link(node, self.animated_nodes).map_err(|m| self.invalid(m))?);
         if let Some(mesh) = node.mesh() {
             let meshes = self.meshes_of(&mesh)?;
             if self.instances.len() + meshes.len() > MAX_INSTANCES {
@@ -364,7 +390,12 @@ impl NodeWalk<'_> {
                     "the node hierarchy makes more than {MAX_INSTANCES} mesh instances"
                 )));
             }
+            let skin = node.skin().and_then(|s| self.skins.get(s.index()));
             for index in meshes {
+                if let Some(instance) = self.skinned_instance(node, index, skin)? {
+                    self.instances.push(instance);
+                    continue;
+                }
                 let instance = match chain_transform(&chain) {
                     Ok(animation) => Instance::animated(index, animation),
                     Err(matrix) => Instance::fixed(index, matrix),
@@ -396,6 +427,45 @@ impl NodeWalk<'_> {
         Ok(())
     }
 
+    /// The instance of scene mesh `mesh` deformed by `skin`, when the node has a skin and the
+    /// mesh has weights (a skin without weights to follow is a warning, the mesh drawn rigid);
+    /// `Err` when a weight names a joint the skin does not have.
+    fn skinned_instance(
+        &mut self,
+        node: &gltf::Node<'_>,
+        mesh: usize,
+        skin: Option<&Skin>,
+    ) -> Result<Option<Instance>, SceneError> {
+        let Some(skin) = skin else {
+            return Ok(None);
+        };
+        let weights = &self.meshes[mesh].skin_weights;
+        if weights.is_empty() {
+            self.warnings.push(format!(
+                "node {} has {} but mesh \"{}\" has no JOINTS_0 / WEIGHTS_0: drawn unskinned",
+                node.index(),
+                skin.name,
+                self.meshes[mesh].name
+            ));
+            return Ok(None);
+        }
+        let joints = skin.joints.len();
+        if let Some((vertex, w)) = weights
+            .iter()
+            .enumerate()
+            .find(|(_, w)| w.joints.iter().any(|&j| j as usize >= joints))
+        {
+            return Err(self.invalid(format!(
+                "mesh \"{}\" vertex {vertex} names joints {:?}, but {} (node {}) has {joints} joints",
+                self.meshes[mesh].name,
+                w.joints,
+                skin.name,
+                node.index()
+            )));
+        }
+        Ok(Some(Instance::skinned(mesh, skin.clone())))
+    }
+
     /// Indices of the scene meshes made from glTF mesh `mesh`, reading it on first use.
     fn meshes_of(&mut self, mesh: &gltf::Mesh<'_>) -> Result<Vec<usize>, SceneError> {
         if let Some(known) = self.mesh_map.get(&mesh.index()) {
@@ -420,7 +490,8 @@ impl NodeWalk<'_> {
                 &primitive,
                 material,
             )? {
-                PrimitiveOutcome::Mesh(m) => {
+                PrimitiveOutcome::Mesh(m, warnings) => {
+                    self.warnings.extend(warnings);
                     self.meshes.push(m);
                     made.push(self.meshes.len() - 1);
                 }

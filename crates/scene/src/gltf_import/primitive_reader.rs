@@ -1,4 +1,5 @@
-//! Turns one glTF mesh primitive into a [`Mesh`]: positions, normals, a triangle list.
+//! Turns one glTF mesh primitive into a [`Mesh`]: positions, normals, a triangle list, and
+//! skinning influences (JOINTS_0 / WEIGHTS_0) when it has both.
 //!
 //! Choices: triangle strips and fans are converted to triangle lists (glTF 2.0 §3.7.2.1 vertex
 //! order); points, lines, line loops and line strips are skipped with a warning. A primitive
@@ -7,18 +8,22 @@
 //! finite positions (a NaN or infinite one is a [`SceneError::NonFiniteVertex`]), indices in
 //! range (else [`SceneError::InvalidGltf`]), one unit normal per position, a whole number of
 //! triangles. Quantized (non-float) positions are skipped with a warning; every accessor is
-//! checked (see `accessor_check`) before the `gltf` reader sees it.
+//! checked (see `accessor_check`) before the `gltf` reader sees it. Weights are normalised to sum
+//! to 1 (a vertex with no positive weight follows its first joint alone, with a warning);
+//! influence sets beyond the first (JOINTS_1, more than four joints) are ignored with a warning.
 
-use super::accessor_check::{INDICES, NORMALS, POSITIONS, check_accessor};
+use super::accessor_check::{INDICES, JOINTS, NORMALS, POSITIONS, WEIGHTS, check_accessor};
 use crate::error::SceneError;
 use crate::model::Mesh;
+use crate::skin::JointWeights;
 use glam::Vec3;
 use gltf::mesh::Mode;
 use std::path::Path;
 
 /// What became of a primitive.
 pub(super) enum PrimitiveOutcome {
-    Mesh(Mesh),
+    /// The mesh, and warnings about it.
+    Mesh(Mesh, Vec<String>),
     /// Skipped for the reason given (a warning for the user).
     Skipped(String),
 }
@@ -140,47 +145,100 @@ pub(super) fn read_primitive(
             .collect::<Option<_>>()?;
         (normals.len() == positions.len()).then_some(normals)
     });
-    let (positions, normals, indices) = match normals {
-        Some(normals) => (positions, normals, indices),
-        None => flat_shaded(&positions, &indices),
+    let mut warnings = Vec::new();
+    let skin_weights =
+        read_skin_weights(buffers, primitive, positions.len(), &mut warnings).map_err(invalid)?;
+    if let Some(w) = warnings.last_mut() {
+        *w = format!("{label}: {w}");
+    }
+    let (positions, normals, indices, skin_weights) = match normals {
+        Some(normals) => (positions, normals, indices, skin_weights),
+        None => {
+            // Un-indexing: flat vertex k is old vertex indices[k], and so are its weights.
+            let unindexed = if skin_weights.is_empty() {
+                Vec::new()
+            } else {
+                indices.iter().map(|&i| skin_weights[i as usize]).collect()
+            };
+            let (p, n, i) = flat_shaded(&positions, &indices);
+            (p, n, i, unindexed)
+        }
     };
-    Ok(PrimitiveOutcome::Mesh(Mesh {
-        name: if primitive.index() == 0 {
-            mesh_name.to_owned()
-        } else {
-            format!("{mesh_name}#{}", primitive.index())
+    Ok(PrimitiveOutcome::Mesh(
+        Mesh {
+            name: if primitive.index() == 0 {
+                mesh_name.to_owned()
+            } else {
+                format!("{mesh_name}#{}", primitive.index())
+            },
+            positions,
+            normals,
+            indices,
+            material,
+            skin_weights,
         },
-        positions,
-        normals,
-        indices,
-        material,
-    }))
+        warnings,
+    ))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn strips_and_fans_become_lists_with_consistent_winding() {
-        assert_eq!(
-            to_triangle_list(Mode::TriangleStrip, vec![0, 1, 2, 3]),
-            vec![0, 1, 2, 1, 3, 2]
-        );
-        assert_eq!(
-            to_triangle_list(Mode::TriangleFan, vec![0, 1, 2, 3]),
-            vec![1, 2, 0, 2, 3, 0]
-        );
-        assert!(to_triangle_list(Mode::TriangleStrip, vec![0, 1]).is_empty());
+/// The primitive's JOINTS_0 / WEIGHTS_0 per vertex, normalised, or empty when it has
+/// neither; `Err` names a broken accessor. Pushes a warning for ignored influences.
+fn read_skin_weights(
+    buffers: &[gltf::buffer::Data],
+    primitive: &gltf::Primitive<'_>,
+    vertices: usize,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<JointWeights>, String> {
+    let joints = primitive.get(&gltf::Semantic::Joints(0));
+    let weights = primitive.get(&gltf::Semantic::Weights(0));
+    let (joints, weights) = match (joints, weights) {
+        (Some(j), Some(w)) => (j, w),
+        (None, None) => return Ok(Vec::new()),
+        (Some(_), None) => return Err("has JOINTS_0 but no WEIGHTS_0".into()),
+        (None, Some(_)) => return Err("has WEIGHTS_0 but no JOINTS_0".into()),
+    };
+    check_accessor(&joints, buffers, &JOINTS)?;
+    check_accessor(&weights, buffers, &WEIGHTS)?;
+    if joints.count() != vertices || weights.count() != vertices {
+        return Err(format!(
+            "JOINTS_0 has {} and WEIGHTS_0 {} entries for {vertices} vertices",
+            joints.count(),
+            weights.count()
+        ));
     }
-
-    #[test]
-    fn flat_shading_unindexes_with_face_normals() {
-        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
-        let (p, n, i) = flat_shaded(&positions, &[0, 1, 2, 0, 3, 1]);
-        assert_eq!(p.len(), 6);
-        assert_eq!(i, vec![0, 1, 2, 3, 4, 5]);
-        assert_eq!(n[0], Vec3::Z);
-        assert_eq!(n[3], Vec3::Y);
+    let reader = primitive.reader(|buffer| buffers.get(buffer.index()).map(|data| &data.0[..]));
+    let (Some(j), Some(w)) = (reader.read_joints(0), reader.read_weights(0)) else {
+        return Err("JOINTS_0 or WEIGHTS_0 could not be read".into());
+    };
+    let mut unweighted = 0;
+    let out = j
+        .into_u16()
+        .zip(w.into_f32())
+        .map(|(joints, weights)| {
+            let raw = JointWeights { joints, weights };
+            raw.normalised().unwrap_or_else(|| {
+                unweighted += 1;
+                JointWeights {
+                    joints: [joints[0], 0, 0, 0],
+                    weights: [1.0, 0.0, 0.0, 0.0],
+                }
+            })
+        })
+        .collect();
+    let mut ignored = Vec::new();
+    if unweighted > 0 {
+        ignored.push(format!(
+            "{unweighted} vertices have no positive weight in WEIGHTS_0: they follow their first joint alone"
+        ));
     }
+    if primitive.get(&gltf::Semantic::Joints(1)).is_some() {
+        ignored.push(
+            "JOINTS_1 / WEIGHTS_1 (over four joints a vertex) are ignored: the first four are renormalised"
+                .into(),
+        );
+    }
+    if !ignored.is_empty() {
+        warnings.push(ignored.join("; "));
+    }
+    Ok(out)
 }

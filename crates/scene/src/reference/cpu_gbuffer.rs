@@ -226,6 +226,7 @@ mod tests {
                 normals: vec![lean(-0.5, -0.5), lean(0.5, -0.5), lean(0.0, 0.5)],
                 indices: vec![0, 1, 2],
                 material: m,
+                skin_weights: Vec::new(),
             },
             transform,
         );
