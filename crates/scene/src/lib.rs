@@ -16,6 +16,7 @@ pub mod gltf_export;
 pub mod gltf_import;
 pub mod model;
 pub mod normal_transform;
+mod pose;
 pub mod primitives;
 pub mod procedural;
 pub mod projected_radius;

@@ -12,7 +12,7 @@
 use crate::animation::Animation;
 use crate::bounds::Aabb;
 use crate::camera::{Camera, CameraMotion};
-use crate::normal_transform::{normal_matrix, transform_normal};
+use crate::pose::Pose;
 use crate::skin::{JointWeights, Skin};
 use glam::{Mat4, Vec3};
 
@@ -64,25 +64,9 @@ impl Mesh {
         Aabb::from_points(self.triangles().flatten())
     }
 
-    /// World-space bounds under `pose`: the object bounds' box transformed for a rigid pose,
-    /// the posed referenced vertices' box for a skinned one.
-    pub(crate) fn posed_bounds(&self, pose: &Pose) -> Aabb {
-        match pose {
-            Pose::Rigid(m) => self.bounds().transformed(m),
-            Pose::Skinned(_) => {
-                let world = pose.positions(self);
-                Aabb::from_points(
-                    self.indices
-                        .iter()
-                        .filter_map(|&i| world.get(i as usize).copied()),
-                )
-            }
-        }
-    }
-
     /// Triangles whose corners are all in range, as index triples (the order of
     /// [`Mesh::triangles`]).
-    fn valid_triangles(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
+    pub(crate) fn valid_triangles(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
         let n = self.positions.len();
         self.indices
             .chunks_exact(3)
@@ -123,63 +107,6 @@ pub struct Instance {
     /// joints and `transform` / `animation` are not used (glTF ignores a skinned node's own
     /// transform).
     pub skin: Option<Skin>,
-}
-
-/// Where a placed mesh's vertices go at one time: one matrix for all, or a skin's palette
-/// blended per vertex by the mesh's [`JointWeights`].
-pub(crate) enum Pose {
-    Rigid(Mat4),
-    Skinned(Vec<Mat4>),
-}
-
-impl Pose {
-    /// The object-to-world matrix of vertex `vertex` of `mesh` (a vertex without weights under
-    /// a skin gets zero, which `Instance::pose` never produces: it picks a skin only for a mesh
-    /// with weights).
-    pub(crate) fn vertex_matrix(&self, mesh: &Mesh, vertex: usize) -> Mat4 {
-        match self {
-            Pose::Rigid(m) => *m,
-            Pose::Skinned(palette) => mesh
-                .skin_weights
-                .get(vertex)
-                .map_or(Mat4::ZERO, |w| w.blend(palette)),
-        }
-    }
-
-    /// Every vertex of `mesh` in world space.
-    pub(crate) fn positions(&self, mesh: &Mesh) -> Vec<Vec3> {
-        match self {
-            Pose::Rigid(m) => mesh
-                .positions
-                .iter()
-                .map(|p| m.transform_point3(*p))
-                .collect(),
-            Pose::Skinned(_) => (mesh.positions.iter().enumerate())
-                .map(|(i, p)| self.vertex_matrix(mesh, i).transform_point3(*p))
-                .collect(),
-        }
-    }
-
-    /// Every vertex normal of `mesh` in world space (unit, zero where a vertex has none or the
-    /// transform flattens it), by the rule of [`crate::normal_transform`].
-    pub(crate) fn normals(&self, mesh: &Mesh) -> Vec<Vec3> {
-        let rigid = match self {
-            Pose::Rigid(m) => Some(normal_matrix(*m)),
-            Pose::Skinned(_) => None,
-        };
-        (0..mesh.positions.len())
-            .map(|i| {
-                let Some(n) = mesh.normals.get(i) else {
-                    return Vec3::ZERO;
-                };
-                let world = match rigid {
-                    Some(nm) => (nm * *n).try_normalize().filter(|v| v.is_finite()),
-                    None => transform_normal(self.vertex_matrix(mesh, i), *n),
-                };
-                world.unwrap_or(Vec3::ZERO)
-            })
-            .collect()
-    }
 }
 
 impl Instance {
@@ -352,7 +279,11 @@ impl Scene {
             .filter(|instance| !instance.backdrop)
             .filter_map(|instance| {
                 let mesh = self.meshes.get(instance.mesh)?;
-                Some(mesh.posed_bounds(&instance.pose(mesh, 0.0)))
+                let pose = match instance.skin_for(mesh) {
+                    Some(skin) => Pose::Skinned(skin.palette(0.0)),
+                    None => Pose::Rigid(instance.transform),
+                };
+                Some(pose.bounds(mesh))
             })
             .fold(Aabb::EMPTY, Aabb::union)
     }
@@ -471,7 +402,7 @@ impl Scene {
     /// World-space bounds at time `t`.
     pub fn bounds_at(&self, t: f32) -> Aabb {
         self.placed_meshes(t)
-            .map(|(mesh, pose)| mesh.posed_bounds(&pose))
+            .map(|(mesh, pose)| pose.bounds(mesh))
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
