@@ -93,10 +93,12 @@ fn vs_skinned(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>,
     var prev_model = model;
     let last = arrayLength(&palette) - 1u;
     for (var k = 0u; k < 4u; k += 1u) {
-        // The importer keeps joints below the skin's count; min() keeps a bad file in the buffer.
-        let j = palette[min(inst.skin.x + min(joints[k], inst.skin.y - 1u), last)];
-        model += j.current * weights[k];
-        prev_model += j.previous * weights[k];
+        // The importer keeps joints below the skin's count; one past it is skipped, as the CPU
+        // skips it, and min() keeps every read inside the buffer.
+        let w = select(weights[k], 0.0, joints[k] >= inst.skin.y);
+        let j = palette[min(inst.skin.x + joints[k], last)];
+        model += j.current * w;
+        prev_model += j.previous * w;
     }
     return place(position, normal, model, prev_model, normal_matrix(model), inst.color);
 }

@@ -140,9 +140,12 @@ impl Instance {
         }
     }
 
-    /// The skin that deforms this instance's `mesh`: its own, when the mesh has weights.
+    /// The skin that deforms this instance's `mesh`: its own, when the mesh has one weight set
+    /// per vertex (the one rule the CPU and the GPU g-buffer use to pick skinning).
     pub fn skin_for<'a>(&'a self, mesh: &Mesh) -> Option<&'a Skin> {
-        self.skin.as_ref().filter(|_| !mesh.skin_weights.is_empty())
+        self.skin.as_ref().filter(|_| {
+            !mesh.skin_weights.is_empty() && mesh.skin_weights.len() == mesh.positions.len()
+        })
     }
 
     /// Where `mesh` (this instance's) goes at time `t`.

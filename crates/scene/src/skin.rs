@@ -108,17 +108,27 @@ mod tests {
 
     #[test]
     fn palette_is_world_times_inverse_bind() {
-        // A joint bound at x = 1 and now at x = 3 moves its vertices by +2 along x.
+        // A joint bound at x = 1, now at x = 3 and turned a quarter about +Y: a vertex bound
+        // one unit above it, at (1, 1, 0), is (0, 1, 0) in the joint's frame, stays so when
+        // turned, and lands at (3, 1, 0); one bound at (2, 0, 0), (1, 0, 0) in the joint's
+        // frame, turns to (0, 0, -1) and lands at (3, 0, -1). The other order
+        // (inverse_bind * world) would put it at (2, 0, -2).
         let skin = Skin {
             name: "s".into(),
             joints: vec![Joint {
                 name: "j".into(),
-                world: fixed(Mat4::from_translation(Vec3::X * 3.0)),
+                world: fixed(
+                    Mat4::from_translation(Vec3::X * 3.0)
+                        * Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2),
+                ),
                 inverse_bind: Mat4::from_translation(Vec3::X * -1.0),
             }],
         };
-        let p = skin.palette(0.0)[0].transform_point3(Vec3::new(1.0, 5.0, 0.0));
-        assert_eq!(p, Vec3::new(3.0, 5.0, 0.0));
+        let palette = skin.palette(0.0);
+        let up = palette[0].transform_point3(Vec3::new(1.0, 1.0, 0.0));
+        assert!((up - Vec3::new(3.0, 1.0, 0.0)).length() < 1e-6, "{up}");
+        let side = palette[0].transform_point3(Vec3::new(2.0, 0.0, 0.0));
+        assert!((side - Vec3::new(3.0, 0.0, -1.0)).length() < 1e-6, "{side}");
         assert!(!skin.is_moving());
     }
 

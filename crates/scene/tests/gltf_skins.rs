@@ -108,6 +108,8 @@ struct Breakage {
     no_weights: bool,
     zero_weight_vertex: bool,
     no_inverse_bind: bool,
+    /// No NORMAL: the importer un-indexes the primitive for flat normals.
+    no_normals: bool,
 }
 
 /// A vertical bar 0.2 wide and 2 high, facing +Z, in three rows of two vertices: y = 0 on
@@ -164,7 +166,10 @@ fn skinned_bar(dir: &Path, name: &str, breakage: Breakage) -> PathBuf {
         "VEC4",
         4,
     );
-    let mut attributes = json!({"POSITION": position, "NORMAL": normal, "JOINTS_0": joints});
+    let mut attributes = json!({"POSITION": position, "JOINTS_0": joints});
+    if !breakage.no_normals {
+        attributes["NORMAL"] = json!(normal);
+    }
     if !breakage.no_weights {
         attributes["WEIGHTS_0"] = json!(weights);
     }
@@ -266,6 +271,32 @@ fn skin_without_inverse_bind_matrices_uses_identity() {
         Vec3::new(0.1, 3.0, 3.0),
         "top row on an identity inverse bind",
     );
+}
+
+#[test]
+fn flat_shaded_skinned_primitive_keeps_each_vertex_on_its_joints() {
+    // Without normals the importer gives every triangle its own three vertices; their
+    // weights must come along, so the posed triangles equal the indexed file's exactly.
+    let dir = temp_dir("flat");
+    let indexed = load_scene(skinned_bar(&dir, "bar.gltf", Breakage::default())).unwrap();
+    let flat = load_scene(skinned_bar(
+        &dir,
+        "flat.gltf",
+        Breakage {
+            no_normals: true,
+            ..Default::default()
+        },
+    ))
+    .unwrap();
+    assert_eq!(flat.meshes[0].positions.len(), 12, "un-indexed");
+    assert_eq!(flat.meshes[0].skin_weights.len(), 12);
+    for t in [0.0, 0.5, 1.0] {
+        assert_eq!(
+            flat.world_triangles(t),
+            indexed.world_triangles(t),
+            "t = {t}"
+        );
+    }
 }
 
 #[test]

@@ -374,7 +374,8 @@ impl GBufferRaster {
                         usage: wgpu::BufferUsages::INDEX,
                     }),
                     index_count: (indices.len() / 3 * 3) as u32,
-                    skin: (m.skin_weights.len() == m.positions.len() && !m.positions.is_empty())
+                    // Exactly the meshes `Instance::skin_for` skins (palette offsets below).
+                    skin: (!m.skin_weights.is_empty() && m.skin_weights.len() == m.positions.len())
                         .then(|| {
                             let skin: Vec<SkinVertexGpu> = m
                                 .skin_weights

@@ -463,6 +463,13 @@ impl NodeWalk<'_> {
                 node.index()
             )));
         }
+        if skin.palette(0.0).iter().any(|m| !m.is_finite()) {
+            return Err(self.invalid(format!(
+                "{} (node {}): a joint's world transform is not finite (its parents' scales overflow a 32-bit float)",
+                skin.name,
+                node.index()
+            )));
+        }
         Ok(Some(Instance::skinned(mesh, skin.clone())))
     }
 

@@ -242,3 +242,31 @@ fn read_skin_weights(
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_become_lists_with_consistent_winding() {
+        assert_eq!(
+            to_triangle_list(Mode::TriangleStrip, vec![0, 1, 2, 3]),
+            vec![0, 1, 2, 1, 3, 2]
+        );
+        assert_eq!(
+            to_triangle_list(Mode::TriangleFan, vec![0, 1, 2, 3]),
+            vec![1, 2, 0, 2, 3, 0]
+        );
+        assert!(to_triangle_list(Mode::TriangleStrip, vec![0, 1]).is_empty());
+    }
+
+    #[test]
+    fn flat_shading_unindexes_with_face_normals() {
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let (p, n, i) = flat_shaded(&positions, &[0, 1, 2, 0, 3, 1]);
+        assert_eq!(p.len(), 6);
+        assert_eq!(i, vec![0, 1, 2, 3, 4, 5]);
+        assert_eq!(n[0], Vec3::Z);
+        assert_eq!(n[3], Vec3::Y);
+    }
+}
