@@ -112,7 +112,7 @@ enum Command {
         #[arg(long, default_value = "out/montage.png")]
         out: PathBuf,
     },
-    /// Procedural scenes.
+    /// Scenes: export one as .glb, describe one, list the procedural ones.
     Scene {
         #[command(subcommand)]
         action: SceneAction,
@@ -121,8 +121,12 @@ enum Command {
 
 #[derive(Subcommand)]
 enum SceneAction {
-    /// Export a procedural scene as .glb.
-    Export { name: String, file: PathBuf },
+    /// Export a scene as .glb: a procedural one, or a glTF file's pose at t = 0 (skins baked).
+    Export {
+        /// A procedural scene's name or a .gltf/.glb file.
+        scene: String,
+        file: PathBuf,
+    },
     /// Bounds, counts, cameras, materials, transforms, views and the suggested radius.
     Info {
         /// A procedural scene's name or a .gltf/.glb file.
@@ -188,8 +192,8 @@ fn main() -> ExitCode {
             out,
         } => commands::montage(&common.into_args(), &techniques, rays, &out),
         Command::Scene {
-            action: SceneAction::Export { name, file },
-        } => commands::scene_export(&name, &file),
+            action: SceneAction::Export { scene, file },
+        } => commands::scene_export(&scene, &file),
         Command::Scene {
             action: SceneAction::Info { scene },
         } => commands::scene_info(&scene),

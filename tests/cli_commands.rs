@@ -112,6 +112,38 @@ fn scene_export_writes_a_glb_the_loader_reads_back() {
 }
 
 #[test]
+fn scene_export_bakes_a_skinned_files_pose_at_time_zero() {
+    // CesiumMan's skin is baked: the export has no skin, does not move, and its triangles are
+    // the walking man's at t = 0 (within f32 rounding of one more matrix product).
+    let out = temp_dir("export-skinned");
+    let source = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/scenes/CesiumMan.glb"
+    );
+    let file = out.join("cesium-man-posed.glb");
+    let (ok, _, err) = aograph(&["scene", "export", source, file.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let original = aograph_scene::load_scene(source).unwrap();
+    let back = aograph_scene::load_scene(&file).unwrap();
+    assert!(back.instances.iter().all(|i| i.skin.is_none()) && back.is_static());
+    let (a, b) = (original.world_triangles(0.0), back.world_triangles(0.0));
+    assert_eq!(a.len(), b.len());
+    let worst = a
+        .iter()
+        .zip(&b)
+        .flat_map(|(p, q)| p.iter().zip(q).map(|(u, v)| u.distance(*v)))
+        .fold(0.0f32, f32::max);
+    assert!(worst < 1e-5, "baked pose off by {worst}");
+    let (_, info, _) = aograph(&["scene", "info", source]);
+    assert!(
+        info.contains(
+            "skins: skin \"Armature\" (19 joints); 1 mesh instance(s) deformed on the GPU"
+        ),
+        "{info}"
+    );
+}
+
+#[test]
 fn scene_info_reports_counts_views_and_the_suggested_radius() {
     let file = concat!(
         env!("CARGO_MANIFEST_DIR"),

@@ -98,9 +98,10 @@ pub fn techniques() -> AppResult<()> {
     Ok(())
 }
 
-/// `aograph scene export NAME FILE`.
-pub fn scene_export(name: &str, file: &std::path::Path) -> AppResult<()> {
-    let scene = aograph_scene::procedural_scene(name)?;
+/// `aograph scene export SCENE FILE`: a procedural scene, or a glTF file's t = 0 pose (skinned
+/// meshes baked in world space, animations dropped: see `aograph_scene::gltf_export`).
+pub fn scene_export(scene: &str, file: &std::path::Path) -> AppResult<()> {
+    let scene = crate::load_scene(&crate::config::SceneSource::parse(scene))?;
     aograph_scene::export_glb(&scene, file)?;
     println!("wrote {}", file.display());
     Ok(())

@@ -1,15 +1,12 @@
 //! glb export round trips, the .gltf buffer variants, and the error for each kind of bad file.
 //! Bad files are made in a temporary directory from a valid export of a procedural scene.
 
+mod common;
+
 use aograph_scene::{PROCEDURAL_SCENE_NAMES, SceneError, export_glb, load_scene, procedural_scene};
+use common::{base64, temp_dir};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-
-fn temp_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("aograph-scene-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// Splits a .glb into its JSON and BIN chunks, checking the container layout on the way.
 fn split_glb(bytes: &[u8]) -> (Value, Vec<u8>) {
@@ -51,27 +48,6 @@ fn write_gltf_with_external_bin(
     let path = dir.join(name);
     std::fs::write(&path, serde_json::to_vec_pretty(&json).unwrap()).unwrap();
     path
-}
-
-fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
 }
 
 #[test]

@@ -2,16 +2,13 @@
 //! a quarter turn), the skinned node's own transform ignored, the errors and warnings of bad
 //! skins, and CesiumMan walking.
 
+mod common;
+
 use aograph_scene::{SceneError, import_gltf, load_scene};
+use common::{base64, temp_dir};
 use glam::{Quat, Vec3};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-
-fn temp_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("aograph-skins-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// A glTF being written: JSON plus one embedded buffer.
 struct GltfWriter {
@@ -78,27 +75,6 @@ impl GltfWriter {
         std::fs::write(&path, serde_json::to_vec_pretty(&self.json).unwrap()).unwrap();
         path
     }
-}
-
-fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
 }
 
 /// What to break in [`skinned_bar`].
