@@ -81,28 +81,39 @@ pub fn reference_surfaces(
     view: &FrameView,
     normals: ReferenceNormals,
 ) -> AppResult<(SurfaceBuffer, Vec<f32>)> {
-    let registry = TechniqueRegistry::with_builtins();
-    let ao = AoConfig {
-        technique: "none".into(),
-        ..AoConfig::default()
-    };
     let outputs = FrameOutputs {
         surfaces: true,
         surface_normals: normals,
         linear_depth: true,
         ..Default::default()
     };
+    let r = gbuffer_frame(gpu, shaders, view, outputs)?;
+    Ok((r.surfaces()?, r.read_linear_depth()?))
+}
+
+/// A renderer with no AO technique (`none`) that has drawn `view` once with `outputs`: the
+/// g-buffer every reference starts its rays from.
+fn gbuffer_frame(
+    gpu: Arc<GpuContext>,
+    shaders: Arc<ShaderLibrary>,
+    view: &FrameView,
+    outputs: FrameOutputs,
+) -> AppResult<Renderer> {
+    let ao = AoConfig {
+        technique: "none".into(),
+        ..AoConfig::default()
+    };
     let mut r = Renderer::new(
         gpu,
         shaders,
-        &registry,
+        &TechniqueRegistry::with_builtins(),
         view.scene.clone(),
         &ao,
         outputs,
         view.extent,
     )?;
     r.render_with_camera(view.time, view.camera)?;
-    Ok((r.surfaces()?, r.read_linear_depth()?))
+    Ok(r)
 }
 
 /// The cache directory: `AOGRAPH_REFERENCE_CACHE`, else `target/reference-cache`.
@@ -155,27 +166,13 @@ pub fn radiance_reference(
     view: &FrameView,
     s: &ReferenceSettings,
 ) -> AppResult<aograph_scene::RadianceImage> {
-    let registry = TechniqueRegistry::with_builtins();
-    let ao = AoConfig {
-        technique: "none".into(),
-        ..AoConfig::default()
-    };
     let outputs = FrameOutputs {
         surfaces: true,
         surface_normals: s.normals,
         albedo: true,
         ..Default::default()
     };
-    let mut r = Renderer::new(
-        gpu,
-        shaders,
-        &registry,
-        view.scene.clone(),
-        &ao,
-        outputs,
-        view.extent,
-    )?;
-    r.render_with_camera(view.time, view.camera)?;
+    let r = gbuffer_frame(gpu, shaders, view, outputs)?;
     let surfaces = r.surfaces()?;
     let albedo: Vec<Vec3> = r
         .read_gbuffer(aograph_frame::GBufferChannel::Albedo)?

@@ -453,9 +453,11 @@ impl Scene {
     /// The linear RGB albedo (material base colour) of every triangle of
     /// [`Scene::world_triangles`], in the same order; a mesh whose material index is out of
     /// range gets the default material's.
-    pub fn world_triangle_albedo(&self, t: f32) -> Vec<Vec3> {
-        self.placed_meshes(t)
-            .flat_map(|(mesh, _)| {
+    /// Materials do not move: `_t` only mirrors [`Scene::world_triangles`]' call, and no pose
+    /// is computed.
+    pub fn world_triangle_albedo(&self, _t: f32) -> Vec<Vec3> {
+        self.instance_meshes()
+            .flat_map(|mesh| {
                 let c = self
                     .materials
                     .get(mesh.material)

@@ -126,4 +126,16 @@ impl SurfaceBuffer {
     pub fn valid_count(&self) -> usize {
         self.valid.iter().filter(|&&v| v).count()
     }
+
+    /// A 1x1 buffer seeing `point` with `normal` (for the tracers' unit tests).
+    #[cfg(test)]
+    pub(crate) fn one_pixel(point: Vec3, normal: Vec3) -> SurfaceBuffer {
+        SurfaceBuffer {
+            width: 1,
+            height: 1,
+            points: vec![point],
+            normals: vec![normal],
+            valid: vec![true],
+        }
+    }
 }

@@ -145,16 +145,6 @@ fn trace_pixel(
 mod tests {
     use super::*;
 
-    fn pixel(point: Vec3, normal: Vec3) -> SurfaceBuffer {
-        SurfaceBuffer {
-            width: 1,
-            height: 1,
-            points: vec![point],
-            normals: vec![normal],
-            valid: vec![true],
-        }
-    }
-
     fn params(radius: f32, rays: u32) -> ReferenceParams {
         ReferenceParams {
             radius,
@@ -188,7 +178,7 @@ mod tests {
         let img = trace_radiance(
             &bvh,
             &bounce,
-            &pixel(Vec3::ZERO, Vec3::Y),
+            &SurfaceBuffer::one_pixel(Vec3::ZERO, Vec3::Y),
             &[rho],
             &constant_sky(c),
             &params(1.0, 64),
@@ -232,7 +222,7 @@ mod tests {
         let img = trace_radiance(
             &bvh,
             &bounce,
-            &pixel(Vec3::ZERO, Vec3::Y),
+            &SurfaceBuffer::one_pixel(Vec3::ZERO, Vec3::Y),
             &[Vec3::ONE],
             &sky,
             &params(1.0, 256),
@@ -262,7 +252,7 @@ mod tests {
             triangles: &[],
             albedo: &[],
         };
-        let mut s = pixel(Vec3::ZERO, Vec3::Y);
+        let mut s = SurfaceBuffer::one_pixel(Vec3::ZERO, Vec3::Y);
         s.valid[0] = false;
         let sky = constant_sky(Vec3::ONE);
         let img = trace_radiance(&bvh, &bounce, &s, &[Vec3::ONE], &sky, &params(1.0, 8)).unwrap();

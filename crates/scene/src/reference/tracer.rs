@@ -179,16 +179,6 @@ pub fn trace_reference_rows(
 mod tests {
     use super::*;
 
-    fn single_pixel(point: Vec3, normal: Vec3) -> SurfaceBuffer {
-        SurfaceBuffer {
-            width: 1,
-            height: 1,
-            points: vec![point],
-            normals: vec![normal],
-            valid: vec![true],
-        }
-    }
-
     #[test]
     fn bands_of_rows_traced_one_by_one_make_exactly_the_whole_image() {
         // A floor under a tilted ceiling: every pixel sees another amount of occlusion.
@@ -242,7 +232,7 @@ mod tests {
     #[test]
     fn bad_parameters_and_sizes_are_errors() {
         let bvh = TriangleBvh::new(&[]);
-        let surfaces = single_pixel(Vec3::ZERO, Vec3::Y);
+        let surfaces = SurfaceBuffer::one_pixel(Vec3::ZERO, Vec3::Y);
         let zero_radius = ReferenceParams {
             radius: 0.0,
             ..Default::default()
@@ -278,7 +268,7 @@ mod tests {
             ],
         ];
         let bvh = TriangleBvh::new(&ceiling);
-        let surfaces = single_pixel(Vec3::ZERO, Vec3::Y);
+        let surfaces = SurfaceBuffer::one_pixel(Vec3::ZERO, Vec3::Y);
         // With cos^2(theta) uniform under cosine weighting, a ray escapes (d = 0.1 / cos > R)
         // with probability 0.01.
         let binary = trace_reference(&bvh, &surfaces, &ReferenceParams::default()).unwrap();
@@ -321,7 +311,7 @@ mod tests {
             ],
         ];
         let bvh = TriangleBvh::new(&floor_and_wall);
-        let surfaces = single_pixel(Vec3::new(-1e-7, 0.0, 0.3), Vec3::Y);
+        let surfaces = SurfaceBuffer::one_pixel(Vec3::new(-1e-7, 0.0, 0.3), Vec3::Y);
         let image = trace_reference(&bvh, &surfaces, &ReferenceParams::default()).unwrap();
         let a = image.accessibility[0];
         assert!((a - 0.5).abs() < 0.02, "{a}");
@@ -330,10 +320,10 @@ mod tests {
     #[test]
     fn non_finite_inputs_count_as_sky() {
         let bvh = TriangleBvh::new(&[]);
-        let surfaces = single_pixel(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y);
+        let surfaces = SurfaceBuffer::one_pixel(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y);
         let image = trace_reference(&bvh, &surfaces, &ReferenceParams::default()).unwrap();
         assert_eq!(image.accessibility, vec![1.0]);
-        let surfaces = single_pixel(Vec3::ZERO, Vec3::ZERO);
+        let surfaces = SurfaceBuffer::one_pixel(Vec3::ZERO, Vec3::ZERO);
         let image = trace_reference(&bvh, &surfaces, &ReferenceParams::default()).unwrap();
         assert_eq!(image.accessibility, vec![1.0]);
     }
