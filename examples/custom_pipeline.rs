@@ -6,79 +6,14 @@
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, images};
-use aograph_ao::ParamSpec;
-use aograph_ao::{
-    AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry, check_param, spec,
-};
-use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{
-    BufferAccess, CompileOptions, Executor, Extent, GpuContext, GraphCompiler, SizeClass,
-    TextureDesc,
+    CompileOptions, Executor, Extent, GpuContext, GraphCompiler, SizeClass, TextureDesc,
 };
-use serde::{Deserialize, Serialize};
 
-/// Depth-buffer unsharp masking (Luft et al. 2006) as a user technique.
-struct UnsharpDepth;
-
-#[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-struct UnsharpParams {
-    strength: f32,
-    radius_px: f32,
-}
-
-impl Default for UnsharpParams {
-    fn default() -> Self {
-        Self {
-            strength: 4.0,
-            radius_px: 6.0,
-        }
-    }
-}
-
-impl AoTechnique for UnsharpDepth {
-    type Params = UnsharpParams;
-    fn name(&self) -> &'static str {
-        "unsharp-depth"
-    }
-    fn description(&self) -> &'static str {
-        "depth-buffer unsharp masking (a user plugin)"
-    }
-    fn param_specs(&self) -> Vec<ParamSpec> {
-        vec![
-            spec(
-                "strength",
-                "0 to 100",
-                "darkening per unit relative depth difference",
-            ),
-            spec("radius_px", "1 to 16", "blur radius in pixels"),
-        ]
-    }
-    fn validate(&self, p: &UnsharpParams) -> AoResult<()> {
-        check_param(self.name(), "strength", p.strength, 0.0, 100.0)?;
-        check_param(self.name(), "radius_px", p.radius_px, 1.0, 16.0)
-    }
-    fn channels(&self, _: &UnsharpParams) -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth])
-    }
-    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &UnsharpParams) -> AoResult<AoOutput> {
-        let depth = ctx.channel(GBufferChannel::LinearDepth)?;
-        let out = ctx.accessibility_texture("unsharp.ao");
-        let mut pass =
-            ctx.builder
-                .compute_pass("unsharp-depth.ao", "examples/unsharp_depth.wgsl", "main");
-        pass.sample("depth", depth)
-            .read_buffer("view", BufferAccess::Uniform, ctx.view);
-        let bytes: Vec<u8> = [p.strength, p.radius_px, 0.0, 0.0]
-            .iter()
-            .flat_map(|f| f.to_le_bytes())
-            .collect();
-        pass.uniform("params", &bytes);
-        let out = pass.write_storage("ao", out);
-        pass.dispatch_over(out);
-        Ok(AoOutput::new(out))
-    }
-}
+#[path = "custom_pipeline/unsharp_depth.rs"]
+mod unsharp_depth;
+use unsharp_depth::UnsharpDepth;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 1. Register the user technique beside the built-ins and pick it by config.
@@ -90,10 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // 2. The user's shaders live outside shaders/: register them inline.
     let shaders = aograph::shader_library();
-    shaders.add_inline(
-        "examples/unsharp_depth.wgsl",
-        include_str!("shaders/unsharp_depth.wgsl"),
-    );
+    unsharp_depth::add_shader(&shaders);
     shaders.add_inline("examples/tint.wgsl", include_str!("shaders/tint.wgsl"));
 
     // 3. Declare the frame (g-buffer + technique), then add a user pass reading its output.

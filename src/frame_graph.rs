@@ -3,9 +3,10 @@
 //! shading pass. Which channels exist is decided here, from the technique's declaration, the
 //! outputs asked for and the scene's traits.
 
+use aograph_frame::ReadsView;
 use std::sync::Arc;
 
-use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
+use aograph_ao::{AoBuildContext, AoConfig, RadianceOutput, TechniqueRegistry};
 use aograph_frame::{
     DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms,
 };
@@ -47,6 +48,8 @@ pub struct FrameGraph {
     pub gbuffer: GBufferTextures,
     pub channels: GBufferChannels,
     pub extra: Vec<(String, TextureHandle)>,
+    /// The technique's radiance outputs, where it computes radiance.
+    pub radiance: Option<RadianceOutput>,
     pub clock: GBufferClock,
     pub temporal: bool,
 }
@@ -80,9 +83,9 @@ pub fn build_frame_graph_with(
     size: Extent,
     gbuffer: &GBufferStates,
 ) -> AppResult<FrameGraph> {
-    let technique = registry.get(&ao.technique)?;
-    let params = ao.params_for(&ao.technique);
-    let mut requested = technique.channels(&params)?;
+    // Parsed and validated once; everything below asks the configured technique.
+    let technique = ao.resolve(registry)?;
+    let mut requested = technique.channels();
     if outputs.shaded {
         requested = requested
             .with(GBufferChannel::Albedo)
@@ -138,7 +141,7 @@ pub fn build_frame_graph_with(
         gbuffer,
     );
     // R in pixels at the view's nearest geometry, for techniques with automatic level counts.
-    let radius_pixels = if technique.needs_radius_pixels(&params)? {
+    let radius_pixels = if technique.needs_radius_pixels() {
         aograph_scene::projected_radius(
             &scene,
             &scene.camera_at(0.0),
@@ -159,11 +162,15 @@ pub fn build_frame_graph_with(
         technique: technique.name(),
         radius_pixels,
     };
-    let out = technique.build(&mut ctx, &params)?;
-    let temporal = technique.is_temporal(&params)?;
+    let out = technique.build(&mut ctx)?;
+    let temporal = technique.is_temporal();
     b.export(out.accessibility);
     for (_, h) in &out.extra {
         b.export(*h);
+    }
+    if let Some(r) = out.radiance {
+        b.export(r.direct);
+        b.export(r.indirect);
     }
     let shaded = if outputs.shaded {
         Some(add_shading(
@@ -200,6 +207,7 @@ pub fn build_frame_graph_with(
         gbuffer,
         channels,
         extra: out.extra,
+        radiance: out.radiance,
         clock,
         temporal,
     })
@@ -228,7 +236,7 @@ fn add_shading(
     p.sample("albedo", albedo)
         .sample("direct_light", direct)
         .sample("ao", ao);
-    p.read_buffer("view", aograph_graph::BufferAccess::Uniform, view);
+    p.read_view(view);
     let a = scene.ambient;
     let bytes: Vec<u8> = [a[0], a[1], a[2], 0.0]
         .iter()

@@ -72,11 +72,8 @@ pub fn radius_reach(
     ) else {
         return Ok(None);
     };
-    let technique = registry.get(&ao.technique)?;
-    let reach_px = technique.reach_pixels(
-        &ao.params_for(&ao.technique),
-        size.height,
-        Some(needed.nearest_px),
-    )?;
+    let reach_px = ao
+        .resolve(registry)?
+        .reach_pixels(size.height, Some(needed.nearest_px));
     Ok(Some(RadiusReach { needed, reach_px }))
 }

@@ -419,6 +419,18 @@ impl Renderer {
         Ok(self.read_channel(h, name)?.to_f32()?)
     }
 
+    /// The technique's radiance outputs (direct, indirect) as RGBA floats, or an error when
+    /// the technique computes no radiance.
+    pub fn read_radiance(&self) -> AppResult<(Vec<f32>, Vec<f32>)> {
+        let r = self.graph.radiance;
+        Ok((
+            self.read_channel(r.map(|r| r.direct), "radiance (direct)")?
+                .to_f32()?,
+            self.read_channel(r.map(|r| r.indirect), "radiance (indirect)")?
+                .to_f32()?,
+        ))
+    }
+
     /// shaded.png's pixels (RGBA8, sRGB-encoded).
     pub fn read_shaded(&self) -> AppResult<Vec<u8>> {
         Ok(self.read_channel(self.graph.shaded, "shaded")?.bytes)

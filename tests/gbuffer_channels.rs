@@ -9,7 +9,7 @@ const SIZE: aograph_graph::Extent = aograph_graph::Extent {
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, build_frame_graph};
-use aograph_ao::ParamSpec;
+use aograph_ao::ParamDesc;
 use aograph_ao::{AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
 use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{CompileOptions, compile};
@@ -24,17 +24,12 @@ struct NoParams {}
 
 impl AoTechnique for DepthOnly {
     type Params = NoParams;
-    fn name(&self) -> &'static str {
-        "depth-only"
-    }
+    const NAME: &'static str = "depth-only";
     fn description(&self) -> &'static str {
         "test technique reading linear depth only"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         Vec::new()
-    }
-    fn validate(&self, _: &NoParams) -> AoResult<()> {
-        Ok(())
     }
     fn channels(&self, _: &NoParams) -> GBufferChannels {
         GBufferChannels::of(&[GBufferChannel::LinearDepth])

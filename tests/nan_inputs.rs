@@ -181,7 +181,12 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
         }
     }
     for (name, params) in variants {
-        let technique = registry.get(&name).unwrap();
+        let technique = registry
+            .get(&name)
+            .unwrap()
+            .clone()
+            .configure(&params)
+            .unwrap();
         let name = if params.is_empty() {
             name
         } else {
@@ -210,7 +215,7 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
             technique: technique.name(),
             radius_pixels: None,
         };
-        let out = technique.build(&mut ctx, &params).expect("builds");
+        let out = technique.build(&mut ctx).expect("builds");
         b.export(out.accessibility);
         out.extra.iter().for_each(|(_, h)| b.export(*h));
         let plan = Arc::new(

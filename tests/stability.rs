@@ -94,20 +94,19 @@ fn variants() -> Vec<Variant> {
     out
 }
 
-/// For every technique with a `levels` parameter, the variant with the most levels its range
-/// allows ("1 to N"): the deepest pyramid, whose levels degenerate soonest at small sizes.
+/// For every technique with a `levels` parameter, the variant with the most levels its
+/// description allows: the deepest pyramid, whose levels degenerate soonest at small sizes.
 fn deepest_pyramids() -> Vec<Variant> {
     let registry = TechniqueRegistry::with_builtins();
     let mut out = Vec::new();
     for name in registry.names() {
         let t = registry.get(&name).expect("listed");
         if let Some(spec) = t.parameters().into_iter().find(|p| p.name == "levels") {
-            let max: u32 = spec
-                .allowed
-                .rsplit(' ')
-                .next()
-                .and_then(|n| n.parse().ok())
-                .unwrap_or_else(|| panic!("{name}: levels allowed {}", spec.allowed));
+            let max = match spec.kind {
+                aograph_ao::ParamKind::WordOrNumber { max, .. }
+                | aograph_ao::ParamKind::Range { max, .. } => max as u32,
+                _ => panic!("{name}: levels allowed {}", spec.allowed()),
+            };
             let params: &'static str = Box::leak(format!("levels = {max}").into_boxed_str());
             out.push(Variant {
                 technique: name,

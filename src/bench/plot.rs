@@ -307,6 +307,9 @@ pub(crate) mod tests {
             scene: scene.into(),
             view: "default".into(),
             technique: technique.into(),
+            baseline: aograph_ao::TechniqueRegistry::with_builtins()
+                .get(technique)
+                .is_ok_and(|t| t.is_baseline()),
             label: label.into(),
             params: Default::default(),
             width: 64,

@@ -414,16 +414,16 @@ fn views_section(s: &mut String, runs: &[RunRecord]) {
 /// from before the reference mean was kept.
 fn none_mae(r: &RunRecord, runs: &[RunRecord]) -> Option<f64> {
     runs.iter()
-        .find(|o| o.technique == "none" && o.scene_view() == r.scene_view())
+        .find(|o| o.baseline && o.scene_view() == r.scene_view())
         .map(|none| none.metrics.mae)
         .or_else(|| r.reference_mean.map(|m| 1.0 - f64::from(m)))
 }
 
 /// Per technique and parameter set over every scene and view: mean and worst.
 fn aggregate_section(s: &mut String, runs: &[RunRecord]) {
-    let mut keys: Vec<(String, String)> = Vec::new();
+    let mut keys: Vec<(String, String, bool)> = Vec::new();
     for r in runs {
-        let k = (r.technique.clone(), r.label.clone());
+        let k = (r.technique.clone(), r.label.clone(), r.baseline);
         if !keys.contains(&k) {
             keys.push(k);
         }
@@ -438,7 +438,7 @@ fn aggregate_section(s: &mut String, runs: &[RunRecord]) {
         s,
         "\n## Over every scene and view\n\nPer technique and parameter set over the {views} scene/view pair(s) it ran on: mean and worst MAE and SSIM, mean AO time, and in how many pairs it beats `none` (accessibility 1) on MAE.\n\n| technique | parameters | pairs | mean MAE | worst MAE | mean SSIM | worst SSIM | mean AO ms | beats none |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
     );
-    for (technique, label) in keys {
+    for (technique, label, baseline) in keys {
         let rows: Vec<&RunRecord> = runs
             .iter()
             .filter(|r| r.technique == technique && r.label == label)
@@ -461,7 +461,7 @@ fn aggregate_section(s: &mut String, runs: &[RunRecord]) {
             num(mean(&|r| r.metrics.ssim), 4),
             num(worst_ssim, 4),
             num(mean(&|r| r.times.total_ms.median), 3),
-            if technique == "none" || baselines.is_empty() {
+            if baseline || baselines.is_empty() {
                 "-".to_string()
             } else {
                 format!("{beats} of {}", baselines.len())

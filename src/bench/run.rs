@@ -18,7 +18,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao::{AoConfig, RadianceEnvironment, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, pass_costs, texture_bytes};
 use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};
@@ -251,6 +251,10 @@ pub struct RunRecord {
     #[serde(default = "default_view")]
     pub view: String,
     pub technique: String,
+    /// The technique is the cost floor the others are compared with (`none`): reports show
+    /// the others' MAE against it.
+    #[serde(default)]
+    pub baseline: bool,
     /// `ParamSet::label`: "directions=8 steps=10" or "defaults".
     pub label: String,
     pub params: BTreeMap<String, toml::Value>,
@@ -317,11 +321,6 @@ pub struct RunOutput {
     pub ao: Vec<f32>,
 }
 
-/// Whether `set` is SSDO under the sky, the run the radiance reference scores.
-pub fn scores_radiance(set: &ParamSet) -> bool {
-    set.technique == "ssdo" && set.params.get("environment").and_then(|v| v.as_str()) == Some("sky")
-}
-
 /// Builds an `[ao]` config for `set` at radius `radius`.
 pub fn ao_config(set: &ParamSet, radius: f32) -> AoConfig {
     let mut c = AoConfig {
@@ -366,14 +365,11 @@ pub fn run_technique(
         extent,
     )?;
     let radius_px = reference.projected.map(|p| p.nearest_px);
-    let reach_px = if set.technique == "none" {
+    let technique = ao.resolve(&ctx.registry)?;
+    let reach_px = if technique.is_baseline() {
         None
     } else {
-        ctx.registry.get(&set.technique)?.reach_pixels(
-            &ao.params_for(&set.technique),
-            s.height,
-            radius_px,
-        )?
+        technique.reach_pixels(s.height, radius_px)
     };
     let mut flicker = FlickerMeter::new();
     let mut last = Vec::new();
@@ -383,7 +379,8 @@ pub fn run_technique(
         Ok(())
     })?;
     check_gpu_errors(ctx, set)?;
-    let radiance = if scores_radiance(set) {
+    // Radiance under the sky is what the radiance reference traces.
+    let radiance = if technique.radiance() == Some(RadianceEnvironment::Sky) {
         let view = FrameView {
             scene: reference.prepared.scene.clone(),
             camera: reference.prepared.scene.camera_at(0.0),
@@ -396,12 +393,8 @@ pub fn run_technique(
             &view,
             &s.reference(reference.prepared.radius),
         )?;
-        radiance_scores(
-            &r.read_extra("ssdo_direct")?,
-            &r.read_extra("ssdo_indirect")?,
-            &truth,
-            &reference.valid,
-        )
+        let (direct, indirect) = r.read_radiance()?;
+        radiance_scores(&direct, &indirect, &truth, &reference.valid)
     } else {
         None
     };
@@ -423,6 +416,7 @@ pub fn run_technique(
         scene: reference.label.clone(),
         view: reference.view.clone(),
         technique: set.technique.clone(),
+        baseline: technique.is_baseline(),
         label: set.label(),
         params: set.params.clone().into_iter().collect(),
         width: extent.width,

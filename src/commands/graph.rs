@@ -40,7 +40,7 @@ pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
                 .join(", ")
         );
         let size = Extent::new(config.width, config.height);
-        if config.ao.technique != "none"
+        if !registry.get(&config.ao.technique)?.is_baseline()
             && let Some(reach) = crate::reach::radius_reach(
                 &registry,
                 &prepared.ao(&config.ao),

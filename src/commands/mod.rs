@@ -91,7 +91,10 @@ pub fn techniques() -> AppResult<()> {
         for p in t.parameters() {
             println!(
                 "    {:<22} default {:<10} allowed {:<24} {}",
-                p.name, p.default, p.allowed, p.doc
+                p.name,
+                p.default_text(),
+                p.allowed(),
+                p.doc
             );
         }
     }

@@ -6,14 +6,14 @@
 //! demos (see `script.rs`).
 //!
 //! Modules: `session` (state and changes, no window), `display` (the picture as a graph pass),
-//! `reference_worker`, `camera_control`, `params` (parameter controls), `panel` (egui),
+//! `reference_worker`, `camera_control`, `panel` (egui; parameter controls from each
+//! technique's descriptions),
 //! `script`, `save` (settings as a config), `app` (the window and frame loop).
 
 mod app;
 mod camera_control;
 mod display;
 mod panel;
-mod params;
 mod reference_worker;
 mod save;
 mod script;

@@ -1,18 +1,17 @@
 //! The viewer's control panel (egui): scene, technique, parameters generated from each
-//! technique's specs, the shared R and the intermediate precision, display mode, camera,
+//! technique's parameter descriptions (`aograph_ao::ParamDesc`: a user technique gets its
+//! controls with no code of its own), the shared R and the intermediate precision, display mode, camera,
 //! per-pass timings as bars with moving averages, texture memory, culled passes, the
 //! reference's progress, and saving. Every change goes through the session, which checks it;
 //! a rejected change shows its message and changes nothing.
 
-use std::collections::HashMap;
 use std::path::PathBuf;
 
-use aograph_ao::IntermediateFormat;
+use aograph_ao::{IntermediateFormat, ParamDesc, ParamKind};
 use aograph_graph::texture_bytes;
 
 use super::camera_control::CameraMode;
 use super::display::DisplayMode;
-use super::params::{ParamKind, param_kind};
 use super::session::Session;
 use crate::config::{RadiusSetting, SceneSource};
 
@@ -24,8 +23,6 @@ pub struct PanelState {
     pub screenshot_path: String,
     /// The last message: (is an error, text).
     pub message: Option<(bool, String)>,
-    /// Text typed into text-field parameters, by "technique.param".
-    text: HashMap<String, String>,
 }
 
 impl PanelState {
@@ -43,14 +40,6 @@ impl PanelState {
             Err(e) => (true, e.to_string()),
         });
     }
-}
-
-/// The value of `v` in a TOML default string ("1.457", "\"high\"", "true"), if it is one.
-fn parse_default(text: &str) -> Option<toml::Value> {
-    format!("v = {text}")
-        .parse::<toml::Table>()
-        .ok()
-        .and_then(|t| t.get("v").cloned())
 }
 
 /// Draws the side panel into the root `ui`; changes go to the session as they are made.
@@ -172,35 +161,26 @@ fn params_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
             };
             let name = technique.name();
             let current = s.settings.ao.params_for(name);
-            for spec in technique.parameters() {
-                let value = current
-                    .get(spec.name)
-                    .cloned()
-                    .or_else(|| parse_default(&spec.default));
-                let kind = param_kind(&spec, || {
-                    let mut t = toml::Table::new();
-                    t.insert(spec.name.into(), toml::Value::Integer(1));
-                    technique.check(&t).is_ok()
-                });
-                let key = format!("{name}.{}", spec.name);
+            for desc in technique.parameters() {
+                let value = current.get(desc.name).or(desc.default.as_ref()).cloned();
                 let changed = ui
                     .horizontal(|ui| {
-                        let out = control(ui, &kind, spec.name, value.as_ref(), &mut p.text, &key);
-                        if current.contains_key(spec.name) && ui.small_button("reset").clicked() {
+                        let out = control(ui, &desc, value.as_ref());
+                        if current.contains_key(desc.name) && ui.small_button("reset").clicked() {
                             return Some(None);
                         }
                         out.map(Some)
                     })
                     .inner;
-                ui.small(spec.doc);
+                ui.small(desc.doc);
                 match changed {
                     Some(Some(v)) => {
-                        let text = format!("{} = {v}", spec.name);
-                        p.report(s.set_param(spec.name, v).map(|_| text));
+                        let text = format!("{} = {v}", desc.name);
+                        p.report(s.set_param(desc.name, v).map(|_| text));
                     }
                     Some(None) => p.report(
-                        s.reset_param(spec.name)
-                            .map(|_| format!("{} reset", spec.name)),
+                        s.reset_param(desc.name)
+                            .map(|_| format!("{} reset", desc.name)),
                     ),
                     None => {}
                 }
@@ -208,16 +188,20 @@ fn params_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
         });
 }
 
-/// One parameter's control; returns the new value when the user changed it.
+/// One parameter's control, from its description (a slider bounded by its range, odd counts
+/// stepping by two, a list of its choices, a checkbox); returns the new value when the user
+/// changed it. `value` is the table's, else the default; `None` for an unset override (shown
+/// as what leaving it out means).
 fn control(
     ui: &mut egui::Ui,
-    kind: &ParamKind,
-    name: &str,
+    desc: &ParamDesc,
     value: Option<&toml::Value>,
-    text: &mut HashMap<String, String>,
-    key: &str,
 ) -> Option<toml::Value> {
-    match kind {
+    let name = desc.name;
+    if value.is_none() {
+        ui.weak(format!("({})", desc.unset.unwrap_or("default")));
+    }
+    match &desc.kind {
         ParamKind::Bool => {
             let mut b = value.and_then(|v| v.as_bool()).unwrap_or(false);
             ui.checkbox(&mut b, name)
@@ -228,76 +212,75 @@ fn control(
             let current = value.and_then(|v| v.as_str()).unwrap_or("").to_string();
             let mut picked = None;
             egui::ComboBox::from_label(name)
-                .selected_text(if current.is_empty() {
-                    "(preset)"
-                } else {
-                    &current
-                })
+                .selected_text(current.as_str())
                 .show_ui(ui, |ui| {
-                    for o in options {
-                        if ui.selectable_label(*o == current, o).clicked() && *o != current {
-                            picked = Some(toml::Value::String(o.clone()));
+                    for o in options.iter() {
+                        if ui.selectable_label(*o == current, *o).clicked() && *o != current {
+                            picked = Some(toml::Value::String(o.to_string()));
                         }
                     }
                 });
             picked
         }
-        ParamKind::Int { min, max, odd } => {
-            if value.is_none() {
-                ui.weak("(preset)");
-            }
-            let mut v = value.and_then(|v| v.as_integer()).unwrap_or(*min);
-            let slider = egui::Slider::new(&mut v, *min..=*max).text(name);
+        ParamKind::Range {
+            min,
+            max,
+            integer: true,
+            odd,
+            ..
+        } => {
+            let (min, max) = (*min as i64, *max as i64);
+            let mut v = value.and_then(|v| v.as_integer()).unwrap_or(min);
+            let slider = egui::Slider::new(&mut v, min..=max).text(name);
             let slider = if *odd { slider.step_by(2.0) } else { slider };
             ui.add(slider)
                 .changed()
                 .then_some(toml::Value::Integer(if *odd { v | 1 } else { v }))
         }
-        ParamKind::Float { min, max } => {
-            if value.is_none() {
-                ui.weak("(preset)");
-            }
+        ParamKind::Range {
+            min,
+            max,
+            above_min,
+            ..
+        } => {
+            // An open lower end: the smallest value a slider offers is just above it.
+            let min = if *above_min {
+                min + (max - min) * 1e-4
+            } else {
+                *min
+            };
             let mut v = value
                 .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
-                .unwrap_or(*min);
-            let log = *min > 0.0 && max / min > 100.0;
+                .unwrap_or(min);
+            let log = min > 0.0 && max / min > 100.0;
             ui.add(
-                egui::Slider::new(&mut v, *min..=*max)
+                egui::Slider::new(&mut v, min..=*max)
                     .logarithmic(log)
                     .text(name),
             )
             .changed()
             .then_some(toml::Value::Float(v))
         }
-        ParamKind::WordOrInt { word, min, max } => {
-            let mut is_word = value.is_some_and(|v| v.as_str() == Some(word));
-            let mut n = value.and_then(|v| v.as_integer()).unwrap_or(*min);
+        ParamKind::WordOrNumber { word, min, max } => {
+            let (min, max) = (*min as i64, *max as i64);
+            let mut is_word = value.is_some_and(|v| v.as_str() == Some(*word));
+            let mut n = value.and_then(|v| v.as_integer()).unwrap_or(min);
             let mut out = None;
-            if ui.checkbox(&mut is_word, word.as_str()).changed() {
+            if ui.checkbox(&mut is_word, *word).changed() {
                 out = Some(if is_word {
-                    toml::Value::String(word.clone())
+                    toml::Value::String(word.to_string())
                 } else {
                     toml::Value::Integer(n)
                 });
             }
             if !is_word
                 && ui
-                    .add(egui::Slider::new(&mut n, *min..=*max).text(name))
+                    .add(egui::Slider::new(&mut n, min..=max).text(name))
                     .changed()
             {
                 out = Some(toml::Value::Integer(n));
             }
             out
-        }
-        ParamKind::Text => {
-            let buffer = text
-                .entry(key.to_string())
-                .or_insert_with(|| value.map(|v| v.to_string()).unwrap_or_default());
-            ui.label(name);
-            let r = ui.text_edit_singleline(buffer);
-            (r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)))
-                .then(|| parse_default(buffer))
-                .flatten()
         }
     }
 }

@@ -90,10 +90,10 @@ pub fn config_text(s: &Session) -> String {
             );
         }
     }
-    let temporal = s
-        .technique()
-        .and_then(|tech| Ok(tech.is_temporal(&set.ao.params_for(&set.ao.technique))?))
-        .unwrap_or(false);
+    let temporal = set
+        .ao
+        .resolve(&s.registry)
+        .is_ok_and(|tech| tech.is_temporal());
     let _ = writeln!(
         t,
         "\n[render]\n# A still frame at scene time 0; a technique with history converges over {}.\nframes = {}\nframe_time = 0.0",

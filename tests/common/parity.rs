@@ -2,6 +2,7 @@
 //! index's parity (0, 1, 0, ...) and passes it through the block, so a test reads exactly
 //! whether a pixel's history was kept (a blend) or dropped (the raw parity).
 
+use aograph_frame::ReadsView;
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
@@ -9,10 +10,10 @@ use aograph_ao::blocks::temporal::{
     TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
 use aograph_ao::{
-    AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, ParamSpec, TechniqueRegistry,
+    AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, ParamDesc, TechniqueRegistry,
 };
 use aograph_frame::GBufferChannels;
-use aograph_graph::{BufferAccess, Extent, SizeClass, TextureDesc, test_gpu};
+use aograph_graph::{Extent, SizeClass, TextureDesc, test_gpu};
 use aograph_scene::Scene;
 
 /// A test technique: accessibility (frame index mod 2) per frame, through the shared temporal
@@ -35,17 +36,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 
 impl AoTechnique for ParityThroughTemporal {
     type Params = NoParams;
-    fn name(&self) -> &'static str {
-        "parity-temporal"
-    }
+    const NAME: &'static str = "parity-temporal";
     fn description(&self) -> &'static str {
         "test: frame parity through blocks::temporal"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         Vec::new()
-    }
-    fn validate(&self, _: &NoParams) -> AoResult<()> {
-        Ok(())
     }
     fn channels(&self, _: &NoParams) -> GBufferChannels {
         temporal_channels()
@@ -61,7 +57,7 @@ impl AoTechnique for ParityThroughTemporal {
         let mut p = ctx
             .builder
             .compute_pass("parity.fill", "test/parity.wgsl", "main");
-        p.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        p.read_view(ctx.view);
         let t = p.write_storage("dst", t);
         p.dispatch_over(t);
         let params = TemporalAccumulation {

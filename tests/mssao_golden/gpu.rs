@@ -29,9 +29,14 @@ impl Mssao {
     pub(crate) fn new(w: usize, h: usize, radius: f32, params: &str) -> Option<Self> {
         let gpu = test_gpu()?;
         let registry = TechniqueRegistry::with_builtins();
-        let technique = registry.get("mssao").expect("mssao is registered");
         let table: toml::Table = params.parse().expect("test params are TOML");
-        let channels = technique.channels(&table).expect("params are valid");
+        let technique = registry
+            .get("mssao")
+            .expect("mssao is registered")
+            .clone()
+            .configure(&table)
+            .expect("params are valid");
+        let channels = technique.channels();
         let mut b = GraphBuilder::new();
         let view = b.import_buffer(
             VIEW_BUFFER,
@@ -51,18 +56,15 @@ impl Mssao {
             gbuffer.set(*c, b.import_texture(c.name(), desc));
         }
         let out = technique
-            .build(
-                &mut AoBuildContext {
-                    builder: &mut b,
-                    gbuffer,
-                    view,
-                    radius,
-                    intermediate_format: wgpu::TextureFormat::R32Float,
-                    technique: "mssao",
-                    radius_pixels: None,
-                },
-                &table,
-            )
+            .build(&mut AoBuildContext {
+                builder: &mut b,
+                gbuffer,
+                view,
+                radius,
+                intermediate_format: wgpu::TextureFormat::R32Float,
+                technique: "mssao",
+                radius_pixels: None,
+            })
             .expect("mssao builds");
         b.export(out.accessibility);
         let mut decl = b.build();

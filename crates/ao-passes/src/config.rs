@@ -5,9 +5,11 @@
 //! keys are rejected with the nearest valid key suggested.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use crate::error::{AoError, AoResult};
 use crate::registry::TechniqueRegistry;
+use crate::technique::ConfiguredTechnique;
 
 /// Default technique when the config names none: MSSAO is on the speed/accuracy Pareto front of
 /// every scene in README's bench (fastest non-trivial technique, lower MAE than ssao, hbao and
@@ -164,5 +166,13 @@ impl AoConfig {
     /// Parameters of `technique` (empty: all defaults).
     pub fn params_for(&self, technique: &str) -> toml::Table {
         self.params.get(technique).cloned().unwrap_or_default()
+    }
+
+    /// The chosen technique with its parameters parsed and validated, once: what a frame graph
+    /// is built from.
+    pub fn resolve(&self, registry: &TechniqueRegistry) -> AoResult<Arc<dyn ConfiguredTechnique>> {
+        let empty = toml::Table::new();
+        let params = self.params.get(&self.technique).unwrap_or(&empty);
+        registry.get(&self.technique)?.clone().configure(params)
     }
 }

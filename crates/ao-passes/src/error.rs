@@ -20,6 +20,9 @@ pub enum AoError {
         allowed: String,
     },
 
+    #[error("invalid parameters for technique `{technique}`: {rule}")]
+    ParameterRule { technique: String, rule: String },
+
     #[error("invalid [ao] config: {0}")]
     Config(String),
 

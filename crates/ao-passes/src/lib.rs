@@ -4,8 +4,10 @@
 
 pub mod blocks;
 mod config;
+pub mod contract;
 mod error;
 mod levels;
+mod param;
 mod registry;
 mod technique;
 pub mod techniques;
@@ -13,7 +15,9 @@ pub mod techniques;
 pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat, nearest, unknown_key};
 pub use error::{AoError, AoResult, check_one_of, check_param};
 pub use levels::Levels;
+pub use param::{ParamDesc, ParamKind};
 pub use registry::TechniqueRegistry;
 pub use technique::{
-    ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, DynAoTechnique, ParamSpec, spec,
+    ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,
+    DynAoTechnique, RadianceEnvironment, RadianceOutput,
 };

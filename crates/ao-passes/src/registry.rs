@@ -21,13 +21,14 @@ impl TechniqueRegistry {
     /// Every built-in technique.
     pub fn with_builtins() -> Self {
         let mut r = Self::empty();
-        techniques::register_builtins(&mut r);
+        for t in techniques::builtins() {
+            r.techniques.insert(t.name(), t);
+        }
         r
     }
     /// Adds (or replaces) a technique under its name.
     pub fn register<T: AoTechnique>(&mut self, technique: T) {
-        self.techniques
-            .insert(AoTechnique::name(&technique), Arc::new(technique));
+        self.techniques.insert(T::NAME, Arc::new(technique));
     }
     pub fn names(&self) -> Vec<String> {
         self.techniques.keys().map(|s| s.to_string()).collect()

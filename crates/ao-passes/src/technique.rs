@@ -1,27 +1,26 @@
 //! The `AoTechnique` plugin interface.
 //!
-//! A technique is a typed parameter struct (serde, `deny_unknown_fields`, defaults from the
-//! paper), a validation with allowed ranges, the g-buffer channels it reads, and a build step
-//! that adds its passes to the graph and returns the accessibility texture (R32Float, full
-//! output size, 1 = unoccluded). [`DynAoTechnique`] is the object-safe face the registry holds;
-//! every typed technique gets it for free.
+//! A technique is a typed parameter struct (serde, defaults from the paper), one
+//! [`ParamDesc`] per parameter (its allowed values and meaning), the g-buffer channels it reads,
+//! and a build step that adds its passes to the graph and returns the accessibility texture
+//! (R32Float, full output size, 1 = unoccluded). [`DynAoTechnique`] is the object-safe face the
+//! registry holds; [`ConfiguredTechnique`] is a technique with its parameters parsed, once.
+//! Every typed technique gets both for free.
+//!
+//! Invariant: a parameter table is parsed and validated once, by [`DynAoTechnique::configure`]
+//! (or [`DynAoTechnique::check`]); everything asked of the configured technique afterwards
+//! reads the typed parameters it holds.
 
 use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures, intermediate_shader};
 use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 use serde::Deserialize;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
+use std::sync::Arc;
 
+use crate::config::unknown_key;
 use crate::error::{AoError, AoResult};
-
-/// One parameter of a technique, for listings, the viewer's controls and error messages.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ParamSpec {
-    pub name: &'static str,
-    pub default: String,
-    pub allowed: String,
-    pub doc: &'static str,
-}
+use crate::param::ParamDesc;
 
 /// Format of every technique's accessibility output.
 pub const ACCESSIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -88,14 +87,34 @@ impl AoBuildContext<'_> {
 pub struct AoOutput {
     /// Accessibility in [0, 1], 1 = unoccluded, full output size.
     pub accessibility: TextureHandle,
-    /// Further named outputs (e.g. SSDO's radiance).
+    /// Radiance, where the technique computes it ([`AoTechnique::outputs_radiance`]).
+    pub radiance: Option<RadianceOutput>,
+    /// Further named outputs for inspection (e.g. gtao's bent normals).
     pub extra: Vec<(String, TextureHandle)>,
+}
+
+/// Linear RGB radiance a technique writes besides accessibility (Rgba16Float or Rgba32Float,
+/// full size): the direct term and one indirect bounce.
+#[derive(Clone, Copy, Debug)]
+pub struct RadianceOutput {
+    pub direct: TextureHandle,
+    pub indirect: TextureHandle,
+}
+
+/// The light a technique's radiance is computed under.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RadianceEnvironment {
+    /// The scene's constant ambient (and its directional light).
+    Ambient,
+    /// The built-in sky (`aograph_scene::SkyEnvironment`), which the radiance reference traces.
+    Sky,
 }
 
 impl AoOutput {
     pub fn new(accessibility: TextureHandle) -> Self {
         Self {
             accessibility,
+            radiance: None,
             extra: Vec::new(),
         }
     }
@@ -103,18 +122,32 @@ impl AoOutput {
 
 /// A technique with a typed parameter struct.
 pub trait AoTechnique: Send + Sync + 'static {
-    type Params: Serialize + DeserializeOwned + Default + Clone + std::fmt::Debug;
-    /// The registry name (`[ao] technique = "..."`).
-    fn name(&self) -> &'static str;
+    type Params: Serialize + DeserializeOwned + Default + Clone + std::fmt::Debug + Send + Sync;
+    /// The registry name (`[ao] technique = "..."`), stated once.
+    const NAME: &'static str;
     fn description(&self) -> &'static str;
-    /// Every parameter with its allowed range and meaning (defaults come from `Params`).
-    fn param_specs(&self) -> Vec<ParamSpec>;
-    fn validate(&self, params: &Self::Params) -> AoResult<()>;
+    /// One description per parameter, in listing order (defaults come from `Params`).
+    fn params(&self) -> Vec<ParamDesc>;
+    /// Rules across parameters, after each value passed its own description (e.g. "n_smooth at
+    /// most n_max"); report them as [`AoError::ParameterRule`].
+    fn validate(&self, _params: &Self::Params) -> AoResult<()> {
+        Ok(())
+    }
     /// The g-buffer channels the technique reads.
     fn channels(&self, params: &Self::Params) -> GBufferChannels;
     /// True when the technique keeps history between frames.
     fn is_temporal(&self, _params: &Self::Params) -> bool {
         false
+    }
+    /// True for the cost floor other techniques are compared with (reports show each
+    /// technique's cost above it).
+    fn is_baseline(&self) -> bool {
+        false
+    }
+    /// The light of [`AoOutput::radiance`] when the build writes it (radiance under the sky
+    /// is scored against the radiance reference); `None` for accessibility only.
+    fn radiance(&self, _params: &Self::Params) -> Option<RadianceEnvironment> {
+        None
     }
     /// True when the build needs [`AoBuildContext::radius_pixels`] (an automatic level count).
     fn needs_radius_pixels(&self, _params: &Self::Params) -> bool {
@@ -135,105 +168,143 @@ pub trait AoTechnique: Send + Sync + 'static {
     fn build(&self, ctx: &mut AoBuildContext<'_>, params: &Self::Params) -> AoResult<AoOutput>;
 }
 
+/// A technique with its parameters parsed and validated: what a frame graph asks of it.
+pub trait ConfiguredTechnique: Send + Sync {
+    fn name(&self) -> &'static str;
+    /// The parameters in effect, defaults included, as a table (for labels and saving).
+    fn params_table(&self) -> toml::Table;
+    fn channels(&self) -> GBufferChannels;
+    fn is_temporal(&self) -> bool;
+    fn is_baseline(&self) -> bool;
+    /// See [`AoTechnique::radiance`].
+    fn radiance(&self) -> Option<RadianceEnvironment>;
+    fn needs_radius_pixels(&self) -> bool;
+    fn reach_pixels(&self, height: u32, radius_pixels: Option<f32>) -> Option<f32>;
+    fn build(&self, ctx: &mut AoBuildContext<'_>) -> AoResult<AoOutput>;
+}
+
 /// The object-safe face of a technique, taking parameters as a TOML table.
 pub trait DynAoTechnique: Send + Sync {
     fn name(&self) -> &'static str;
     fn description(&self) -> &'static str;
-    /// Parameters with defaults filled in from the parameter struct.
-    fn parameters(&self) -> Vec<ParamSpec>;
+    /// Parameter descriptions with their defaults filled in from the parameter struct.
+    fn parameters(&self) -> Vec<ParamDesc>;
+    /// `Params::default()` as a table (unset overrides absent).
+    fn default_params(&self) -> toml::Table;
+    /// See [`AoTechnique::is_baseline`].
+    fn is_baseline(&self) -> bool;
     /// Parses and validates `params` (unknown keys and out-of-range values are errors).
     fn check(&self, params: &toml::Table) -> AoResult<()>;
-    fn channels(&self, params: &toml::Table) -> AoResult<GBufferChannels>;
-    fn is_temporal(&self, params: &toml::Table) -> AoResult<bool>;
-    /// See [`AoTechnique::needs_radius_pixels`].
-    fn needs_radius_pixels(&self, params: &toml::Table) -> AoResult<bool>;
-    /// See [`AoTechnique::reach_pixels`].
-    fn reach_pixels(
-        &self,
-        params: &toml::Table,
-        height: u32,
-        radius_pixels: Option<f32>,
-    ) -> AoResult<Option<f32>>;
-    fn build(&self, ctx: &mut AoBuildContext<'_>, params: &toml::Table) -> AoResult<AoOutput>;
+    /// Parses and validates `params` once, into a technique that holds them.
+    fn configure(self: Arc<Self>, params: &toml::Table) -> AoResult<Arc<dyn ConfiguredTechnique>>;
 }
 
-fn parse<T: AoTechnique>(t: &T, params: &toml::Table) -> AoResult<T::Params> {
-    let p: T::Params = T::Params::deserialize(toml::Value::Table(params.clone())).map_err(|e| {
-        let allowed: Vec<&str> = t.param_specs().iter().map(|s| s.name).collect();
-        AoError::Config(format!(
-            "[ao.{}]: {} (parameters: {})",
-            t.name(),
-            e.to_string().trim(),
-            allowed.join(", ")
-        ))
-    })?;
+/// Parses `table` against `t`'s descriptions: unknown keys (with the nearest suggested), each
+/// value against its description, then the struct and the cross-field rules.
+fn parse<T: AoTechnique>(t: &T, table: &toml::Table) -> AoResult<T::Params> {
+    let descs = t.params();
+    for (key, value) in table {
+        let Some(desc) = descs.iter().find(|d| d.name == key) else {
+            let names: Vec<&str> = descs.iter().map(|d| d.name).collect();
+            let section = format!("ao.{}", T::NAME);
+            return Err(AoError::Config(if names.is_empty() {
+                format!("[{section}] takes no parameters; remove `{key}`")
+            } else {
+                unknown_key(&section, key, &names)
+            }));
+        };
+        desc.check(value)
+            .map_err(|allowed| AoError::InvalidParameter {
+                technique: T::NAME.into(),
+                name: key.clone(),
+                value: match value {
+                    toml::Value::Float(f) => f.to_string(),
+                    v => v.to_string(),
+                },
+                allowed,
+            })?;
+    }
+    let p = T::Params::deserialize(toml::Value::Table(table.clone()))
+        .map_err(|e| AoError::Config(format!("[ao.{}]: {}", T::NAME, e.to_string().trim())))?;
     t.validate(&p)?;
     Ok(p)
 }
 
+/// A technique and its parsed parameters.
+struct Configured<T: AoTechnique> {
+    technique: Arc<T>,
+    params: T::Params,
+}
+
+impl<T: AoTechnique> ConfiguredTechnique for Configured<T> {
+    fn name(&self) -> &'static str {
+        T::NAME
+    }
+    fn params_table(&self) -> toml::Table {
+        match toml::Value::try_from(&self.params) {
+            Ok(toml::Value::Table(t)) => t,
+            _ => toml::Table::new(),
+        }
+    }
+    fn channels(&self) -> GBufferChannels {
+        self.technique.channels(&self.params)
+    }
+    fn is_temporal(&self) -> bool {
+        self.technique.is_temporal(&self.params)
+    }
+    fn is_baseline(&self) -> bool {
+        self.technique.is_baseline()
+    }
+    fn radiance(&self) -> Option<RadianceEnvironment> {
+        self.technique.radiance(&self.params)
+    }
+    fn needs_radius_pixels(&self) -> bool {
+        self.technique.needs_radius_pixels(&self.params)
+    }
+    fn reach_pixels(&self, height: u32, radius_pixels: Option<f32>) -> Option<f32> {
+        self.technique
+            .reach_pixels(&self.params, height, radius_pixels)
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>) -> AoResult<AoOutput> {
+        ctx.technique = T::NAME;
+        self.technique.build(ctx, &self.params)
+    }
+}
+
 impl<T: AoTechnique> DynAoTechnique for T {
     fn name(&self) -> &'static str {
-        AoTechnique::name(self)
+        T::NAME
     }
     fn description(&self) -> &'static str {
         AoTechnique::description(self)
     }
-    fn parameters(&self) -> Vec<ParamSpec> {
-        let defaults = toml::Value::try_from(T::Params::default()).ok();
-        self.param_specs()
+    fn parameters(&self) -> Vec<ParamDesc> {
+        let defaults = self.default_params();
+        self.params()
             .into_iter()
-            .map(|mut s| {
-                if let Some(v) = defaults.as_ref().and_then(|d| d.get(s.name)) {
-                    // Parameters are f32: print the f32, not its widened f64 (0.03, not 0.0299999...).
-                    s.default = match v {
-                        toml::Value::Float(f) => format!("{:?}", *f as f32),
-                        other => other.to_string(),
-                    };
-                }
-                s
+            .map(|mut d| {
+                d.default = defaults.get(d.name).cloned();
+                d
             })
             .collect()
+    }
+    fn default_params(&self) -> toml::Table {
+        match toml::Value::try_from(T::Params::default()) {
+            Ok(toml::Value::Table(t)) => t,
+            _ => toml::Table::new(),
+        }
+    }
+    fn is_baseline(&self) -> bool {
+        AoTechnique::is_baseline(self)
     }
     fn check(&self, params: &toml::Table) -> AoResult<()> {
         parse(self, params).map(|_| ())
     }
-    fn channels(&self, params: &toml::Table) -> AoResult<GBufferChannels> {
-        Ok(AoTechnique::channels(self, &parse(self, params)?))
-    }
-    fn is_temporal(&self, params: &toml::Table) -> AoResult<bool> {
-        Ok(AoTechnique::is_temporal(self, &parse(self, params)?))
-    }
-    fn needs_radius_pixels(&self, params: &toml::Table) -> AoResult<bool> {
-        Ok(AoTechnique::needs_radius_pixels(
-            self,
-            &parse(self, params)?,
-        ))
-    }
-    fn reach_pixels(
-        &self,
-        params: &toml::Table,
-        height: u32,
-        radius_pixels: Option<f32>,
-    ) -> AoResult<Option<f32>> {
-        Ok(AoTechnique::reach_pixels(
-            self,
-            &parse(self, params)?,
-            height,
-            radius_pixels,
-        ))
-    }
-    fn build(&self, ctx: &mut AoBuildContext<'_>, params: &toml::Table) -> AoResult<AoOutput> {
-        let p = parse(self, params)?;
-        AoTechnique::build(self, ctx, &p)
-    }
-}
-
-/// A `ParamSpec` with the default left for [`DynAoTechnique::parameters`] to fill.
-pub fn spec(name: &'static str, allowed: &str, doc: &'static str) -> ParamSpec {
-    ParamSpec {
-        name,
-        default: String::new(),
-        allowed: allowed.to_string(),
-        doc,
+    fn configure(self: Arc<Self>, params: &toml::Table) -> AoResult<Arc<dyn ConfiguredTechnique>> {
+        let params = parse(self.as_ref(), params)?;
+        Ok(Arc::new(Configured {
+            technique: self,
+            params,
+        }))
     }
 }

@@ -5,13 +5,13 @@
 //! former `GraphPlugin` tests: the graph no longer has a plugin system of its own.)
 
 use aograph_ao::{
-    AoBuildContext, AoConfig, AoError, AoOutput, AoResult, AoTechnique, ParamSpec,
-    TechniqueRegistry, check_param, spec,
+    AoBuildContext, AoConfig, AoError, AoOutput, AoResult, AoTechnique, ParamDesc,
+    TechniqueRegistry,
 };
+use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_graph::{
-    BufferAccess, BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, SizeClass, TextureDesc,
-    compile,
+    BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, SizeClass, TextureDesc, compile,
 };
 use serde::{Deserialize, Serialize};
 
@@ -50,20 +50,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 
 impl AoTechnique for DepthContrast {
     type Params = DepthContrastParams;
-    fn name(&self) -> &'static str {
-        "depth-contrast"
-    }
+    const NAME: &'static str = "depth-contrast";
     fn description(&self) -> &'static str {
         "a user technique"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         vec![
-            spec("strength", "0 to 100", "darkening per unit depth"),
-            spec("debug_image", "true or false", "also output a debug image"),
+            ParamDesc::float("strength", 0.0, 100.0).doc("darkening per unit depth"),
+            ParamDesc::flag("debug_image").doc("also output a debug image"),
         ]
-    }
-    fn validate(&self, p: &Self::Params) -> AoResult<()> {
-        check_param(self.name(), "strength", p.strength, 0.0, 100.0)
     }
     fn channels(&self, _: &Self::Params) -> GBufferChannels {
         GBufferChannels::of(&[GBufferChannel::LinearDepth])
@@ -74,8 +69,7 @@ impl AoTechnique for DepthContrast {
         let mut pass = ctx
             .builder
             .compute_pass("contrast.ao", "contrast.wgsl", "main");
-        pass.sample("depth", depth)
-            .read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.sample("depth", depth).read_view(ctx.view);
         let bytes: Vec<u8> = [p.strength, 0.0, 0.0, 0.0]
             .iter()
             .flat_map(|f| f.to_le_bytes())
@@ -114,8 +108,7 @@ fn build_and_compile(
     provided: &[GBufferChannel],
 ) -> AoResult<aograph_graph::CompiledGraph> {
     let registry = registry();
-    let technique = registry.get(&config.technique)?;
-    let params = config.params_for(&config.technique);
+    let technique = config.resolve(&registry)?;
     let mut b = GraphBuilder::new();
     let view = b.import_buffer(
         VIEW_BUFFER,
@@ -140,7 +133,7 @@ fn build_and_compile(
         technique: technique.name(),
         radius_pixels: None,
     };
-    let out = technique.build(&mut ctx, &params)?;
+    let out = technique.build(&mut ctx)?;
     b.export(out.accessibility);
     for (_, h) in &out.extra {
         b.export(*h);
@@ -180,7 +173,7 @@ fn it_is_configured_like_a_builtin_and_builds_its_declared_outputs() {
 fn parameters_default_from_the_struct_when_omitted() {
     let registry = registry();
     let specs = registry.get("depth-contrast").unwrap().parameters();
-    let by_name = |n: &str| specs.iter().find(|s| s.name == n).unwrap().default.clone();
+    let by_name = |n: &str| specs.iter().find(|s| s.name == n).unwrap().default_text();
     assert_eq!(by_name("strength"), "4.0");
     assert_eq!(by_name("debug_image"), "false");
 }
@@ -241,17 +234,12 @@ fn registering_the_same_name_replaces_the_technique() {
     struct Other;
     impl AoTechnique for Other {
         type Params = DepthContrastParams;
-        fn name(&self) -> &'static str {
-            "depth-contrast"
-        }
+        const NAME: &'static str = "depth-contrast";
         fn description(&self) -> &'static str {
             "a replacement"
         }
-        fn param_specs(&self) -> Vec<ParamSpec> {
+        fn params(&self) -> Vec<ParamDesc> {
             Vec::new()
-        }
-        fn validate(&self, _: &Self::Params) -> AoResult<()> {
-            Ok(())
         }
         fn channels(&self, _: &Self::Params) -> GBufferChannels {
             GBufferChannels::none()

@@ -13,4 +13,4 @@ mod view;
 
 pub use channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
 pub use precision::{INTERMEDIATE_ALIAS, intermediate_shader};
-pub use view::{Mat4Cols, VIEW_BUFFER, ViewUniforms};
+pub use view::{Mat4Cols, ReadsView, VIEW_BINDING, VIEW_BUFFER, ViewUniforms};

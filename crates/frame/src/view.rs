@@ -5,6 +5,7 @@
 //! Conventions: right-handed view space, the camera looks down -Z, linear depth = -z_view > 0;
 //! clip depth in wgpu's 0..1 (reversed when `near_far[2] == 1`).
 
+use aograph_graph::{BufferAccess, BufferHandle, PassBuilder};
 use bytemuck::{Pod, Zeroable};
 
 /// Column-major 4x4 matrix as WGSL reads it.
@@ -40,3 +41,19 @@ impl ViewUniforms {
 
 /// Name under which the view block is imported as a buffer into every graph.
 pub const VIEW_BUFFER: &str = "view";
+
+/// The WGSL name every shader gives the block (`var<uniform> view: View`).
+pub const VIEW_BINDING: &str = "view";
+
+/// Binds the frame's `View` block to a pass: the one place its WGSL name is written, so no
+/// technique spells it.
+pub trait ReadsView {
+    /// The pass reads the View block `view` (the frame's imported buffer) as a uniform.
+    fn read_view(&mut self, view: BufferHandle) -> &mut Self;
+}
+
+impl ReadsView for PassBuilder<'_> {
+    fn read_view(&mut self, view: BufferHandle) -> &mut Self {
+        self.read_buffer(VIEW_BINDING, BufferAccess::Uniform, view)
+    }
+}

@@ -82,9 +82,10 @@
 //! - [`TemporalMode::Average`] is TSSAO Eqs. 5-6 with one "sample" per frame: a running mean
 //!   over up to n_max frames, then exponential decay with weight 1 / (n_max + 1).
 
+use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
 use aograph_graph::{
-    BufferAccess, BufferHandle, GraphBuilder, HistoryTexture, SizeClass, TextureDesc, TextureHandle,
+    BufferHandle, GraphBuilder, HistoryTexture, SizeClass, TextureDesc, TextureHandle,
 };
 use bytemuck::{Pod, Zeroable};
 
@@ -293,7 +294,7 @@ pub fn add_reprojection(
         .sample("linear_depth", depth)
         .sample("normals", normals)
         .sample("motion", motion);
-    p.read_buffer("view", BufferAccess::Uniform, view);
+    p.read_view(view);
     p.uniform(
         "params",
         bytemuck::bytes_of(&ReprojectUniform {
@@ -377,7 +378,7 @@ mod tests {
     fn plan(with_motion: bool, params: &TemporalAccumulation) -> Vec<String> {
         let mut b = GraphBuilder::new();
         let view = b.import_buffer(
-            "view",
+            aograph_frame::VIEW_BUFFER,
             BufferDesc {
                 size: std::mem::size_of::<ViewUniforms>() as u64,
             },
@@ -459,7 +460,7 @@ mod tests {
     #[test]
     fn missing_normals_is_an_error_naming_the_channel() {
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer("view", BufferDesc { size: 16 });
+        let view = b.import_buffer(aograph_frame::VIEW_BUFFER, BufferDesc { size: 16 });
         let mut g = GBufferTextures::default();
         g.set(
             GBufferChannel::LinearDepth,

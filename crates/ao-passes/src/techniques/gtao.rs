@@ -61,7 +61,6 @@
 //! per channel from the albedo (spec §7), as `gtao_multibounce`. Neither enters the
 //! comparison with the reference, which reads the accessibility.
 
-use crate::ParamSpec;
 use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
@@ -69,41 +68,13 @@ use serde::{Deserialize, Serialize};
 
 use super::slices::{ExtraOutput, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
-use crate::error::{AoResult, check_param};
-use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::error::AoResult;
+use crate::param::ParamDesc;
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
-/// Largest slice count and step count per side.
-pub const MAX_SLICES: u32 = 32;
-pub const MAX_STEPS: u32 = 32;
+pub use super::slices::{GtaoPreset, MAX_SLICES, MAX_STEPS, SliceCounts};
 
 pub struct Gtao;
-
-/// XeGTAO's quality presets (spec §8).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum GtaoPreset {
-    /// 1 slice x 2 steps per side.
-    Low,
-    /// 2 x 2.
-    Medium,
-    /// 3 x 3, XeGTAO's default.
-    #[default]
-    High,
-    /// 9 x 3.
-    Ultra,
-}
-
-impl GtaoPreset {
-    /// (slices, steps per side).
-    pub fn counts(self) -> (u32, u32) {
-        match self {
-            GtaoPreset::Low => (1, 2),
-            GtaoPreset::Medium => (2, 2),
-            GtaoPreset::High => (3, 3),
-            GtaoPreset::Ultra => (9, 3),
-        }
-    }
-}
 
 /// How the slice sum becomes accessibility (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -118,13 +89,11 @@ pub enum Normalization {
 
 /// `[ao.gtao]` parameters (XeGTAO's names and defaults, spec §3).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct GtaoParams {
-    pub preset: GtaoPreset,
-    /// Overrides the preset's slice count.
-    pub slices: Option<u32>,
-    /// Overrides the preset's steps per side.
-    pub steps: Option<u32>,
+    /// preset, slices, steps (shared with vbao).
+    #[serde(flatten)]
+    pub counts: SliceCounts,
     /// R' = R x this (XeGTAO's auto-tuned 1.457).
     pub radius_multiplier: f32,
     /// Falloff range F, a fraction of R' (0.615).
@@ -153,9 +122,7 @@ pub struct GtaoParams {
 impl Default for GtaoParams {
     fn default() -> Self {
         Self {
-            preset: GtaoPreset::High,
-            slices: None,
-            steps: None,
+            counts: SliceCounts::default(),
             radius_multiplier: 1.457,
             falloff_range: 0.615,
             sample_distribution_power: 2.0,
@@ -175,8 +142,7 @@ impl Default for GtaoParams {
 impl GtaoParams {
     /// (slices, steps per side) in effect: the overrides, else the preset's.
     pub fn counts(&self) -> (u32, u32) {
-        let (s, t) = self.preset.counts();
-        (self.slices.unwrap_or(s), self.steps.unwrap_or(t))
+        self.counts.counts()
     }
 }
 
@@ -194,122 +160,42 @@ struct GtaoUniform {
 
 impl AoTechnique for Gtao {
     type Params = GtaoParams;
-    fn name(&self) -> &'static str {
-        "gtao"
-    }
+    const NAME: &'static str = "gtao";
     fn description(&self) -> &'static str {
         "ground-truth AO (XeGTAO): S slices x T steps, analytic cosine-weighted slice integral, depth MIP prefilter, edge-aware denoiser"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
-        vec![
-            spec(
-                "preset",
-                "\"low\", \"medium\", \"high\" or \"ultra\"",
-                "slices x steps per side: 1x2, 2x2, 3x3, 9x3 (XeGTAO)",
-            ),
-            ParamSpec {
-                default: "the preset's".into(),
-                ..spec(
-                    "slices",
-                    &format!("1 to {MAX_SLICES}"),
-                    "slices S per pixel",
-                )
-            },
-            ParamSpec {
-                default: "the preset's".into(),
-                ..spec(
-                    "steps",
-                    &format!("1 to {MAX_STEPS}"),
-                    "steps T per side of a slice",
-                )
-            },
-            spec(
-                "radius_multiplier",
-                "0.3 to 3",
-                "R' = R x this (XeGTAO's auto-tuned 1.457)",
-            ),
-            spec(
-                "falloff_range",
-                "0.01 to 1",
-                "share of R' over which a sample's weight falls to 0 (XeGTAO: 0.615)",
-            ),
-            spec(
-                "sample_distribution_power",
-                "1 to 3",
-                "step s = ((j + jitter) / T)^p: p > 1 packs taps near the centre",
-            ),
-            spec(
-                "thin_occluder_compensation",
-                "0 to 0.7",
-                "stretches the falloff distance along view z, so thin occluders fade sooner",
-            ),
-            spec(
-                "final_value_power",
-                "0.5 to 5",
-                "accessibility^p after the slice average (XeGTAO's fit: 2.2)",
-            ),
-            spec(
-                "depth_mip_offset",
-                "2 to 6",
-                "a tap at d pixels reads depth MIP log2(d) - this: a speed knob",
-            ),
-            spec(
-                "normal_fudge",
-                "0 to 1",
-                "|n_p| <- mix(|n_p|, 1, this) against over-darkening on slopes (0.05)",
-            ),
-            spec(
-                "normalization",
-                "\"unoccluded\" or \"slice-count\"",
+    fn params(&self) -> Vec<ParamDesc> {
+        let mut d = SliceCounts::params();
+        d.extend([
+            ParamDesc::float("radius_multiplier", 0.3, 3.0)
+                .doc("R' = R x this (XeGTAO's auto-tuned 1.457)"),
+            ParamDesc::float("falloff_range", 0.01, 1.0)
+                .doc("share of R' over which a sample's weight falls to 0 (XeGTAO: 0.615)"),
+            ParamDesc::float("sample_distribution_power", 1.0, 3.0)
+                .doc("step s = ((j + jitter) / T)^p: p > 1 packs taps near the centre"),
+            ParamDesc::float("thin_occluder_compensation", 0.0, 0.7)
+                .doc("stretches the falloff distance along view z, so thin occluders fade sooner"),
+            ParamDesc::float("final_value_power", 0.5, 5.0)
+                .doc("accessibility^p after the slice average (XeGTAO's fit: 2.2)"),
+            ParamDesc::float("depth_mip_offset", 2.0, 6.0)
+                .doc("a tap at d pixels reads depth MIP log2(d) - this: a speed knob"),
+            ParamDesc::float("normal_fudge", 0.0, 1.0)
+                .doc("|n_p| <- mix(|n_p|, 1, this) against over-darkening on slopes (0.05)"),
+            ParamDesc::choice("normalization", &["unoccluded", "slice-count"]).doc(
                 "divide the slice sum by its open-hemisphere value (exact on open surfaces) or by S (XeGTAO)",
             ),
-            spec(
-                "denoise_passes",
-                "0 to 3",
-                "edge-aware 3x3 passes: 1 sharp, 2 medium, 3 soft (0: none)",
-            ),
-            spec(
-                "blur_beta",
-                "0.01 to 10000",
-                "the denoiser's centre weight on its last pass",
-            ),
-            spec(
-                "bent_normals",
-                "true or false",
+            ParamDesc::int("denoise_passes", 0, 3)
+                .doc("edge-aware 3x3 passes: 1 sharp, 2 medium, 3 soft (0: none)"),
+            ParamDesc::float("blur_beta", 0.01, 1e4)
+                .doc("the denoiser's centre weight on its last pass"),
+            ParamDesc::flag("bent_normals").doc(
                 "also output gtao_bent_normals: view-space bent normal xyz, raw accessibility w (XeGTAO Algorithm 2; about +25% on a GPU)",
             ),
-            spec(
-                "multibounce",
-                "true or false",
+            ParamDesc::flag("multibounce").doc(
                 "also output gtao_multibounce: max(A, ((a A + b) A + c) A) per channel from the albedo (GTAO's fit); the reference comparison uses A",
             ),
-        ]
-    }
-    fn validate(&self, p: &GtaoParams) -> AoResult<()> {
-        let (slices, steps) = p.counts();
-        check_param("gtao", "slices", slices, 1, MAX_SLICES)?;
-        check_param("gtao", "steps", steps, 1, MAX_STEPS)?;
-        check_param("gtao", "radius_multiplier", p.radius_multiplier, 0.3, 3.0)?;
-        check_param("gtao", "falloff_range", p.falloff_range, 0.01, 1.0)?;
-        check_param(
-            "gtao",
-            "sample_distribution_power",
-            p.sample_distribution_power,
-            1.0,
-            3.0,
-        )?;
-        check_param(
-            "gtao",
-            "thin_occluder_compensation",
-            p.thin_occluder_compensation,
-            0.0,
-            0.7,
-        )?;
-        check_param("gtao", "final_value_power", p.final_value_power, 0.5, 5.0)?;
-        check_param("gtao", "depth_mip_offset", p.depth_mip_offset, 2.0, 6.0)?;
-        check_param("gtao", "normal_fudge", p.normal_fudge, 0.0, 1.0)?;
-        check_param("gtao", "denoise_passes", p.denoise_passes, 0, 3)?;
-        check_param("gtao", "blur_beta", p.blur_beta, 0.01, 1e4)
+        ]);
+        d
     }
     fn channels(&self, p: &GtaoParams) -> GBufferChannels {
         let mut c = vec![GBufferChannel::LinearDepth, GBufferChannel::Normals];
@@ -385,39 +271,17 @@ impl AoTechnique for Gtao {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{AoError, DynAoTechnique};
-    use aograph_frame::{GBufferTextures, ViewUniforms};
-    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
+    use crate::TechniqueRegistry;
+    use crate::contract::plan_pass_names;
+    use aograph_graph::ShaderLibrary;
 
     fn plan_names(params: &str) -> Vec<String> {
-        let mut b = GraphBuilder::new();
-        let view = b.import_buffer(
-            "view",
-            BufferDesc {
-                size: std::mem::size_of::<ViewUniforms>() as u64,
-            },
-        );
-        let mut g = GBufferTextures::default();
-        for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            g.set(
-                c,
-                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
-            );
-        }
-        let mut ctx = AoBuildContext {
-            builder: &mut b,
-            gbuffer: g,
-            view,
-            radius: 1.0,
-            intermediate_format: wgpu::TextureFormat::R16Float,
-            technique: "gtao",
-            radius_pixels: None,
-        };
-        let out = DynAoTechnique::build(&Gtao, &mut ctx, &params.parse().unwrap()).unwrap();
-        b.export(out.accessibility);
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
-        let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
-        plan.pass_names().into_iter().map(String::from).collect()
+        let gtao = TechniqueRegistry::with_builtins()
+            .get(Gtao::NAME)
+            .unwrap()
+            .clone();
+        plan_pass_names(&gtao, params, &shaders).unwrap()
     }
 
     #[test]
@@ -449,53 +313,5 @@ mod tests {
         }
         assert_eq!(parse("").counts(), (3, 3));
         assert_eq!(parse("preset = \"ultra\"\nsteps = 6").counts(), (9, 6));
-        let e = Gtao
-            .check(&"preset = \"epic\"".parse().unwrap())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("low") && e.contains("ultra"), "{e}");
-    }
-
-    #[test]
-    fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [
-            ("slices", "0", "1 to 32"),
-            ("steps", "33", "1 to 32"),
-            ("radius_multiplier", "0.1", "0.3 to 3"),
-            ("falloff_range", "0", "0.01 to 1"),
-            ("sample_distribution_power", "nan", "1 to 3"),
-            ("thin_occluder_compensation", "0.8", "0 to 0.7"),
-            ("final_value_power", "-1", "0.5 to 5"),
-            ("depth_mip_offset", "7", "2 to 6"),
-            ("normal_fudge", "2", "0 to 1"),
-            ("denoise_passes", "4", "0 to 3"),
-            ("blur_beta", "0", "0.01 to 10000"),
-        ] {
-            let e = Gtao
-                .check(&format!("{key} = {value}").parse().unwrap())
-                .unwrap_err();
-            assert!(
-                matches!(e, AoError::InvalidParameter { .. }),
-                "{key} = {value}: {e}"
-            );
-            let msg = e.to_string();
-            assert!(msg.contains(key) && msg.contains(range), "{msg}");
-        }
-        let e = Gtao
-            .check(&"slice = 3".parse().unwrap())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("slices"), "{e}");
-    }
-
-    #[test]
-    fn every_parameter_has_a_spec_and_default() {
-        let specs = DynAoTechnique::parameters(&Gtao);
-        let defaults = toml::Value::try_from(GtaoParams::default()).unwrap();
-        for key in defaults.as_table().unwrap().keys() {
-            assert!(specs.iter().any(|s| s.name == key), "{key} has no spec");
-        }
-        assert_eq!(specs.len(), 15);
-        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
     }
 }

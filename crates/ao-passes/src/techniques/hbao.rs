@@ -47,15 +47,16 @@
 //!   `[ao] intermediate_format`; their writers are the matching shader variants (`ctx.shader`).
 //!   Without the blur `hbao.raw` is the output and stays R32Float.
 
-use crate::ParamSpec;
+use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels};
-use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
+use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::{GaussianBlur, gaussian_blur_with_intermediate};
-use crate::error::{AoResult, check_param};
-use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::error::AoResult;
+use crate::param::ParamDesc;
+use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
 
 /// Largest D (Table 1a's largest row is D = 64).
 pub const MAX_DIRECTIONS: u32 = 64;
@@ -158,62 +159,29 @@ struct HbaoUniform {
 
 impl AoTechnique for Hbao {
     type Params = HbaoParams;
-    fn name(&self) -> &'static str {
-        "hbao"
-    }
+    const NAME: &'static str = "hbao";
     fn description(&self) -> &'static str {
         "horizon-based AO: D directions x S steps, W = max(0, 1 - r/R), Eq. 5 of Pyramid HBAO, Gaussian blur"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         vec![
-            spec(
-                "preset",
-                "\"pyramid-paper\" or \"bavoil-2008\"",
+            ParamDesc::choice("preset", &["pyramid-paper", "bavoil-2008"]).doc(
                 "pyramid-paper: the Pyramid HBAO paper's HBAO (Eqs. 4-5); bavoil-2008: the original, per-sample attenuation and a 10-degree angle bias",
             ),
-            ParamSpec {
-                default: "the preset's".into(),
-                ..spec(
-                    "attenuation",
-                    "\"horizon\" or \"per-sample\"",
-                    "W at the horizon sample only (Eq. 5) or at every sample that raises the horizon (Bavoil 2008)",
-                )
-            },
-            ParamSpec {
-                default: "the preset's".into(),
-                ..spec(
-                    "angle_bias",
-                    "0 to 60 (degrees)",
-                    "the horizon starts this far above the tangent plane (Bavoil 2008); the sum is renormalised by 1 - sin(bias)",
-                )
-            },
-            spec(
-                "directions",
-                &format!("1 to {MAX_DIRECTIONS}"),
-                "azimuth directions D (paper rows: 8, 16, 32, 64)",
-            ),
-            spec(
-                "steps",
-                &format!("1 to {MAX_STEPS}"),
-                "depth samples S per direction (paper rows: 10, 20, 40, 80)",
-            ),
-            spec(
-                "blur",
-                "true or false",
-                "separable Gaussian, sigma 1.5, 5 taps per axis (paper §3.5)",
-            ),
-            spec(
-                "max_screen_radius",
-                "0.01 to 2",
-                "cap of the projected radius R, as a fraction of the image height",
-            ),
+            ParamDesc::choice("attenuation", &["horizon", "per-sample"])
+                .unset("the preset's")
+                .doc("W at the horizon sample only (Eq. 5) or at every sample that raises the horizon (Bavoil 2008)"),
+            ParamDesc::float("angle_bias", 0.0, 60.0)
+                .unset("the preset's")
+                .doc("degrees: the horizon starts this far above the tangent plane (Bavoil 2008); the sum is renormalised by 1 - sin(bias)"),
+            ParamDesc::int("directions", 1, MAX_DIRECTIONS)
+                .doc("azimuth directions D (paper rows: 8, 16, 32, 64)"),
+            ParamDesc::int("steps", 1, MAX_STEPS)
+                .doc("depth samples S per direction (paper rows: 10, 20, 40, 80)"),
+            ParamDesc::flag("blur").doc("separable Gaussian, sigma 1.5, 5 taps per axis (paper §3.5)"),
+            ParamDesc::float("max_screen_radius", 0.01, 2.0)
+                .doc("cap of the projected radius R, as a fraction of the image height"),
         ]
-    }
-    fn validate(&self, p: &HbaoParams) -> AoResult<()> {
-        check_param("hbao", "directions", p.directions, 1, MAX_DIRECTIONS)?;
-        check_param("hbao", "steps", p.steps, 1, MAX_STEPS)?;
-        check_param("hbao", "max_screen_radius", p.max_screen_radius, 0.01, 2.0)?;
-        check_param("hbao", "angle_bias", p.angle_bias(), 0.0, 60.0)
     }
     fn reach_pixels(&self, p: &HbaoParams, height: u32, _: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
@@ -259,7 +227,7 @@ impl AoTechnique for Hbao {
         pass.sample("depth", depth).sample("normals", normals);
         // The centre's depth and normal, one depth tap per step and direction.
         pass.loads_per_invocation(2.0 + (p.directions * p.steps) as f32);
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);
@@ -284,66 +252,25 @@ impl AoTechnique for Hbao {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{AoError, DynAoTechnique};
-    use aograph_frame::{GBufferTextures, ViewUniforms};
-    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
+    use crate::contract::plan_pass_names;
+    use crate::{DynAoTechnique, TechniqueRegistry};
+    use aograph_graph::ShaderLibrary;
 
-    fn plan_names(params: &HbaoParams) -> Vec<String> {
-        let mut b = GraphBuilder::new();
-        let view = b.import_buffer(
-            "view",
-            BufferDesc {
-                size: std::mem::size_of::<ViewUniforms>() as u64,
-            },
-        );
-        let mut g = GBufferTextures::default();
-        for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            g.set(
-                c,
-                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
-            );
-        }
-        let mut ctx = AoBuildContext {
-            builder: &mut b,
-            gbuffer: g,
-            view,
-            radius: 1.0,
-            intermediate_format: wgpu::TextureFormat::R32Float,
-            technique: "hbao",
-            radius_pixels: None,
-        };
-        let out = AoTechnique::build(&Hbao, &mut ctx, params).unwrap();
-        b.export(out.accessibility);
+    fn plan_names(params: &str) -> Vec<String> {
         let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
-        let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
-        plan.pass_names().into_iter().map(String::from).collect()
+        let hbao = TechniqueRegistry::with_builtins()
+            .get(Hbao::NAME)
+            .unwrap()
+            .clone();
+        plan_pass_names(&hbao, params, &shaders).unwrap()
     }
 
     #[test]
     fn plan_is_ao_then_separable_gaussian() {
-        assert_eq!(
-            plan_names(&HbaoParams::default()),
-            ["hbao.ao", "hbao.blur_x", "hbao.blur_y"]
-        );
-        assert_eq!(
-            plan_names(&HbaoParams {
-                directions: 64,
-                steps: 80,
-                ..Default::default()
-            }),
-            ["hbao.ao", "hbao.blur_x", "hbao.blur_y"]
-        );
-    }
-
-    #[test]
-    fn without_blur_the_plan_is_one_pass() {
-        assert_eq!(
-            plan_names(&HbaoParams {
-                blur: false,
-                ..Default::default()
-            }),
-            ["hbao.ao"]
-        );
+        let blurred = ["hbao.ao", "hbao.blur_x", "hbao.blur_y"];
+        assert_eq!(plan_names(""), blurred);
+        assert_eq!(plan_names("directions = 64\nsteps = 80"), blurred);
+        assert_eq!(plan_names("blur = false"), ["hbao.ao"]);
     }
 
     #[test]
@@ -364,57 +291,6 @@ mod tests {
                 "({d}, {s})"
             );
         }
-    }
-
-    #[test]
-    fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [
-            ("directions", "0", "1 to 64"),
-            ("directions", "65", "1 to 64"),
-            ("steps", "0", "1 to 128"),
-            ("steps", "129", "1 to 128"),
-            ("max_screen_radius", "2.5", "0.01 to 2"),
-            ("max_screen_radius", "nan", "0.01 to 2"),
-        ] {
-            let table: toml::Table = format!("{key} = {value}").parse().unwrap();
-            let e = Hbao.check(&table).unwrap_err();
-            assert!(
-                matches!(e, AoError::InvalidParameter { .. }),
-                "{key} = {value}: {e}"
-            );
-            let msg = e.to_string();
-            assert!(msg.contains(key) && msg.contains(range), "{msg}");
-        }
-    }
-
-    #[test]
-    fn unknown_keys_and_wrong_types_are_rejected() {
-        let e = Hbao
-            .check(&"direction = 8".parse().unwrap())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("direction") && e.contains("directions"), "{e}");
-        assert!(Hbao.check(&"blur = 1".parse().unwrap()).is_err());
-        assert!(Hbao.check(&"directions = -1".parse().unwrap()).is_err());
-    }
-
-    #[test]
-    fn every_parameter_has_a_spec_and_default() {
-        let specs = DynAoTechnique::parameters(&Hbao);
-        let names: Vec<_> = specs.iter().map(|s| s.name).collect();
-        assert_eq!(
-            names,
-            [
-                "preset",
-                "attenuation",
-                "angle_bias",
-                "directions",
-                "steps",
-                "blur",
-                "max_screen_radius"
-            ]
-        );
-        assert!(specs.iter().all(|s| !s.default.is_empty()));
     }
 
     #[test]

@@ -11,16 +11,21 @@ pub mod ssdo;
 pub mod tssao;
 pub mod vbao;
 
-use crate::registry::TechniqueRegistry;
+use std::sync::Arc;
 
-pub(crate) fn register_builtins(r: &mut TechniqueRegistry) {
-    r.register(none::NoAo);
-    r.register(tssao::Tssao);
-    r.register(pyramid_hbao::PyramidHbao);
-    r.register(mssao::Mssao);
-    r.register(ssao::Ssao);
-    r.register(hbao::Hbao);
-    r.register(ssdo::Ssdo);
-    r.register(gtao::Gtao);
-    r.register(vbao::Vbao);
+use crate::technique::DynAoTechnique;
+
+/// Every built-in technique (the registry's `with_builtins`).
+pub(crate) fn builtins() -> Vec<Arc<dyn DynAoTechnique>> {
+    vec![
+        Arc::new(none::NoAo),
+        Arc::new(tssao::Tssao),
+        Arc::new(pyramid_hbao::PyramidHbao),
+        Arc::new(mssao::Mssao),
+        Arc::new(ssao::Ssao),
+        Arc::new(hbao::Hbao),
+        Arc::new(ssdo::Ssdo),
+        Arc::new(gtao::Gtao),
+        Arc::new(vbao::Vbao),
+    ]
 }

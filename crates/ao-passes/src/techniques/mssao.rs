@@ -78,7 +78,6 @@ mod passes;
 #[cfg(test)]
 mod tests;
 
-use crate::ParamSpec;
 use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::TextureHandle;
 use serde::{Deserialize, Serialize};
@@ -86,9 +85,10 @@ use serde::{Deserialize, Serialize};
 use crate::blocks::temporal::{
     DEFAULT_EPSILON, TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
-use crate::error::{AoResult, check_param};
+use crate::error::AoResult;
 use crate::levels::Levels;
-use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::param::ParamDesc;
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
 use passes::{Level, MssaoUniform};
 
@@ -190,78 +190,38 @@ impl MssaoParams {
 
 impl AoTechnique for Mssao {
     type Params = MssaoParams;
-    fn name(&self) -> &'static str {
-        "mssao"
-    }
+    const NAME: &'static str = "mssao";
     fn description(&self) -> &'static str {
         "multi-resolution SSAO: g-buffer pyramid, small kernels per level, bilateral upsampling, max/average combine (Hoang & Low 2012)"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         vec![
-            spec(
-                "levels",
-                &format!("\"auto\" or 1 to {MAX_LEVELS}"),
+            ParamDesc::word_or_int("levels", "auto", 1, MAX_LEVELS).doc(
                 "number of resolutions n, each half the previous (Sec. 4.2); auto: the fewest whose reach r_max 2^(n-1) px covers R in the view",
             ),
-            spec(
-                "d_threshold",
-                "0 to 1000",
+            ParamDesc::float("d_threshold", 0.0, 1000.0).doc(
                 "depth range (scene units) above which downsampling keeps the second-nearest sub-pixel instead of the median (Table 2)",
             ),
-            spec(
-                "r_max",
-                "1 to 8",
-                "kernel radius cap in pixels of each level (Eq. 5)",
-            ),
-            spec(
-                "normal_power",
-                "0 to 64",
-                "t_n, exponent of the normal weight (Eq. 8)",
-            ),
-            spec(
-                "depth_power",
-                "0 to 64",
-                "t_z, exponent of the depth weight 1 / (1 + |dz|) (Eq. 9)",
-            ),
-            spec(
-                "bilateral_blur",
-                "true or false",
-                "weigh the 3x3 blur by Eqs. 8-9 as well (Sec. 4.5)",
-            ),
-            spec(
-                "upsampling",
-                "\"bilateral\", \"bilinear\" or \"nearest\"",
+            ParamDesc::float("r_max", 1.0, 8.0)
+                .doc("kernel radius cap in pixels of each level (Eq. 5)"),
+            ParamDesc::float("normal_power", 0.0, 64.0)
+                .doc("t_n, exponent of the normal weight (Eq. 8)"),
+            ParamDesc::float("depth_power", 0.0, 64.0)
+                .doc("t_z, exponent of the depth weight 1 / (1 + |dz|) (Eq. 9)"),
+            ParamDesc::flag("bilateral_blur")
+                .doc("weigh the 3x3 blur by Eqs. 8-9 as well (Sec. 4.5)"),
+            ParamDesc::choice("upsampling", &["bilateral", "bilinear", "nearest"]).doc(
                 "how a coarse level's tuple reaches the finer one (Sec. 4.5, Fig. 8): bilinear weights times Eqs. 8-9 (the paper's), bilinear alone, or the enclosing coarse texel",
             ),
-            spec(
-                "temporal",
-                "true or false",
+            ParamDesc::flag("temporal").doc(
                 "temporal filter: reprojection, depth test and fixed blend (Eqs. 12-14, Table 5)",
             ),
-            spec(
-                "temporal_k",
-                "0 to 0.99",
-                "k, history weight when the reprojection test passes (Eq. 14)",
-            ),
-            spec(
-                "temporal_epsilon",
-                "0.0001 to 1",
+            ParamDesc::float("temporal_k", 0.0, 0.99)
+                .doc("k, history weight when the reprojection test passes (Eq. 14)"),
+            ParamDesc::float("temporal_epsilon", 0.0001, 1.0).doc(
                 "relative depth tolerance |1 - z / z_prev| of the reprojection test (Eq. 13 in TSSAO Eq. 7's form, the shared block's; the paper's |1 - z_prev / z| differs only within about epsilon^2)",
             ),
         ]
-    }
-    fn validate(&self, p: &MssaoParams) -> AoResult<()> {
-        let t = "mssao";
-        if let Levels::Fixed(n) = p.levels {
-            check_param(t, "levels", n, 1, MAX_LEVELS)?;
-        }
-        check_param(t, "d_threshold", p.d_threshold, 0.0, 1000.0)?;
-        check_param(t, "r_max", p.r_max, 1.0, 8.0)?;
-        check_param(t, "normal_power", p.normal_power, 0.0, 64.0)?;
-        check_param(t, "depth_power", p.depth_power, 0.0, 64.0)?;
-        check_param(t, "temporal_k", p.temporal_k, 0.0, 0.99)?;
-        check_param(t, "temporal_epsilon", p.temporal_epsilon, 0.0001, 1.0)?;
-        Ok(())
     }
     fn channels(&self, p: &MssaoParams) -> GBufferChannels {
         // Sec. 4.1: view-space positions and true face normals (interpolated vertex normals

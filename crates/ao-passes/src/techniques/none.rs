@@ -1,11 +1,11 @@
 //! `none`: accessibility 1 everywhere. The cost floor every technique is compared with: one
 //! full-screen write and nothing else, reading no g-buffer channel.
 
-use crate::ParamSpec;
 use aograph_frame::GBufferChannels;
 use serde::{Deserialize, Serialize};
 
 use crate::error::AoResult;
+use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
 pub struct NoAo;
@@ -17,17 +17,15 @@ pub struct NoParams {}
 
 impl AoTechnique for NoAo {
     type Params = NoParams;
-    fn name(&self) -> &'static str {
-        "none"
-    }
+    const NAME: &'static str = "none";
     fn description(&self) -> &'static str {
         "accessibility 1 everywhere: the cost floor"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         Vec::new()
     }
-    fn validate(&self, _: &NoParams) -> AoResult<()> {
-        Ok(())
+    fn is_baseline(&self) -> bool {
+        true
     }
     fn channels(&self, _: &NoParams) -> GBufferChannels {
         GBufferChannels::none()

@@ -52,17 +52,17 @@
 //! sphere-on-plane, 128x96: MAE 0.045, mean signed error +0.043; a step W(r) = [r < R]
 //! would give MAE 0.027, but that is not the paper's method).
 
-use crate::ParamSpec;
+use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels};
-use aograph_graph::{BufferAccess, SizeClass};
+use aograph_graph::SizeClass;
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::{DepthReduction, GaussianBlur, depth_pyramid, gaussian_blur_with_intermediate};
-use crate::error::{AoError, AoResult, check_param};
+use crate::error::AoResult;
 use crate::levels::Levels;
-use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::param::ParamDesc;
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
-const NAME: &str = "pyramid-hbao";
 /// Pyramid reduction factor K (spec §2.2).
 const K: u32 = 3;
 /// Most levels the AO shader binds (level 0 included).
@@ -143,70 +143,25 @@ impl PyramidHbaoParams {
 
 impl AoTechnique for PyramidHbao {
     type Params = PyramidHbaoParams;
-    fn name(&self) -> &'static str {
-        NAME
-    }
+    const NAME: &'static str = "pyramid-hbao";
     fn description(&self) -> &'static str {
         "HBAO marching a 3x3-average linear-depth pyramid, one level coarser per step group (Astapov et al. 2021)"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         vec![
-            spec(
-                "levels",
-                "\"auto\" or 1 to 5",
+            ParamDesc::word_or_int("levels", "auto", 1, MAX_LEVELS).doc(
                 "pyramid levels L, level 0 included; the reach grows 3x per level; auto: the fewest that reach R in the view",
             ),
-            spec("directions", "1 to 32", "azimuth directions D (paper: 8)"),
-            spec(
-                "step_count",
-                "1 to 16",
-                "reads per direction and pyramid level",
-            ),
-            spec(
-                "initial_step",
-                "0.25 to 16",
-                "initial step s0 in full-resolution pixels (x3 per level)",
-            ),
-            spec(
-                "angle_bias",
-                "0 to 30",
-                "tangent-angle bias in degrees (0 = the paper's estimator)",
-            ),
-            spec(
-                "blur",
-                "true or false",
-                "run the separable Gaussian denoiser",
-            ),
-            spec(
-                "blur_sigma",
-                "0.1 to 8",
-                "Gaussian sigma in pixels (paper: 1.5)",
-            ),
-            spec(
-                "blur_taps",
-                "odd, 1 to 31",
-                "Gaussian taps per axis (paper: 5)",
-            ),
+            ParamDesc::int("directions", 1, 32).doc("azimuth directions D (paper: 8)"),
+            ParamDesc::int("step_count", 1, 16).doc("reads per direction and pyramid level"),
+            ParamDesc::float("initial_step", 0.25, 16.0)
+                .doc("initial step s0 in full-resolution pixels (x3 per level)"),
+            ParamDesc::float("angle_bias", 0.0, 30.0)
+                .doc("tangent-angle bias in degrees (0 = the paper's estimator)"),
+            ParamDesc::flag("blur").doc("run the separable Gaussian denoiser"),
+            ParamDesc::float("blur_sigma", 0.1, 8.0).doc("Gaussian sigma in pixels (paper: 1.5)"),
+            ParamDesc::odd("blur_taps", 1, 31).doc("Gaussian taps per axis (paper: 5)"),
         ]
-    }
-    fn validate(&self, p: &PyramidHbaoParams) -> AoResult<()> {
-        if let Levels::Fixed(n) = p.levels {
-            check_param(NAME, "levels", n, 1, MAX_LEVELS)?;
-        }
-        check_param(NAME, "directions", p.directions, 1, 32)?;
-        check_param(NAME, "step_count", p.step_count, 1, 16)?;
-        check_param(NAME, "initial_step", p.initial_step, 0.25, 16.0)?;
-        check_param(NAME, "angle_bias", p.angle_bias, 0.0, 30.0)?;
-        check_param(NAME, "blur_sigma", p.blur_sigma, 0.1, 8.0)?;
-        if p.blur_taps.is_multiple_of(2) || !(1..=31).contains(&p.blur_taps) {
-            return Err(AoError::InvalidParameter {
-                technique: NAME.into(),
-                name: "blur_taps".into(),
-                value: p.blur_taps.to_string(),
-                allowed: "an odd number from 1 to 31".into(),
-            });
-        }
-        Ok(())
     }
     fn channels(&self, _: &PyramidHbaoParams) -> GBufferChannels {
         GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
@@ -227,7 +182,13 @@ impl AoTechnique for PyramidHbao {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         // 1. Depth pyramid, K = 3, 3x3 mean (§3.3).
-        let pyramid = depth_pyramid(ctx.builder, NAME, depth, DepthReduction::Average3x3, levels)?;
+        let pyramid = depth_pyramid(
+            ctx.builder,
+            Self::NAME,
+            depth,
+            DepthReduction::Average3x3,
+            levels,
+        )?;
         debug_assert_eq!(pyramid.factor(), K);
         // 2. AO at the output resolution (§3.4; no upsampling, §3).
         let target = if p.blur {
@@ -258,7 +219,7 @@ impl AoTechnique for PyramidHbao {
         pass.sample("normals", normals);
         // The centre's depth and normal, step_count taps per direction and level.
         pass.loads_per_invocation(2.0 + (p.directions * p.step_count * levels) as f32);
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         // The march's length and level count are compiled in: the driver unrolls the march and
         // drops the levels the pyramid lacks (shader, `STEP_COUNT`, `LEVELS`).
@@ -277,7 +238,7 @@ impl AoTechnique for PyramidHbao {
         };
         Ok(AoOutput::new(gaussian_blur_with_intermediate(
             ctx.builder,
-            NAME,
+            Self::NAME,
             raw,
             Some(depth),
             &blur,
@@ -288,56 +249,22 @@ impl AoTechnique for PyramidHbao {
 
 #[cfg(test)]
 mod tests {
-    use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
-    use aograph_graph::{
-        BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, TextureDesc, compile,
-    };
+    use aograph_graph::ShaderLibrary;
 
     use super::*;
-    use crate::technique::DynAoTechnique;
+    use crate::TechniqueRegistry;
+    use crate::contract::{compile_plan, plan_pass_names};
 
-    /// Builds the technique with `params` over imported g-buffer channels; the kept pass names.
+    fn shaders() -> ShaderLibrary {
+        ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"))
+    }
+
+    /// The kept pass names of the technique with `params`.
     fn plan(params: &str) -> AoResult<Vec<String>> {
-        let mut b = GraphBuilder::new();
-        let view = b.import_buffer(
-            VIEW_BUFFER,
-            BufferDesc {
-                size: std::mem::size_of::<ViewUniforms>() as u64,
-            },
-        );
-        let mut gbuffer = GBufferTextures::default();
-        for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            gbuffer.set(
-                c,
-                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
-            );
-        }
-        let mut ctx = AoBuildContext {
-            builder: &mut b,
-            gbuffer,
-            view,
-            radius: 1.0,
-            intermediate_format: wgpu::TextureFormat::R32Float,
-            technique: NAME,
-            radius_pixels: None,
-        };
-        let out = DynAoTechnique::build(
-            &PyramidHbao,
-            &mut ctx,
-            &params.parse::<toml::Table>().unwrap(),
-        )?;
-        b.export(out.accessibility);
-        assert_eq!(
-            b.texture_desc(out.accessibility),
-            Some(TextureDesc::new(
-                crate::ACCESSIBILITY_FORMAT,
-                SizeClass::FULL
-            ))
-        );
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
-        let plan = compile(b.build(), &shaders, CompileOptions::default())?;
-        assert!(plan.culled.is_empty(), "{:?}", plan.culled_names());
-        Ok(plan.pass_names().iter().map(|s| s.to_string()).collect())
+        let t = TechniqueRegistry::with_builtins()
+            .get(PyramidHbao::NAME)?
+            .clone();
+        plan_pass_names(&t, params, &shaders())
     }
 
     #[test]
@@ -364,81 +291,14 @@ mod tests {
     }
 
     #[test]
-    fn parameters_out_of_range_name_the_allowed_range() {
-        let cases = [
-            ("levels = 0", "`levels` = 0", "allowed 1 to 5"),
-            ("levels = 6", "`levels` = 6", "allowed 1 to 5"),
-            ("directions = 0", "`directions` = 0", "allowed 1 to 32"),
-            ("step_count = 17", "`step_count` = 17", "allowed 1 to 16"),
-            (
-                "initial_step = 0.1",
-                "`initial_step` = 0.1",
-                "allowed 0.25 to 16",
-            ),
-            ("angle_bias = 45.0", "`angle_bias` = 45", "allowed 0 to 30"),
-            (
-                "blur_taps = 4",
-                "`blur_taps` = 4",
-                "an odd number from 1 to 31",
-            ),
-            ("blur_sigma = 0.0", "`blur_sigma` = 0", "allowed 0.1 to 8"),
-        ];
-        for (toml, what, allowed) in cases {
-            let e = PyramidHbao
-                .check(&toml.parse().unwrap())
-                .unwrap_err()
-                .to_string();
-            assert!(
-                e.contains(what) && e.contains(allowed) && e.contains("pyramid-hbao"),
-                "{toml}: {e}"
-            );
-        }
-        let e = PyramidHbao
-            .check(&"step = 2".parse().unwrap())
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("unknown field `step`") && e.contains("step_count"),
-            "{e}"
-        );
-        assert!(PyramidHbao.check(&toml::Table::new()).is_ok());
-    }
-
-    #[test]
     fn r16float_intermediates_use_the_half_shader_variants() {
-        let mut b = GraphBuilder::new();
-        let view = b.import_buffer(
-            VIEW_BUFFER,
-            BufferDesc {
-                size: std::mem::size_of::<ViewUniforms>() as u64,
-            },
-        );
-        let mut gbuffer = GBufferTextures::default();
-        for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            gbuffer.set(
-                c,
-                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
-            );
-        }
-        let mut ctx = AoBuildContext {
-            builder: &mut b,
-            gbuffer,
-            view,
-            radius: 1.0,
-            intermediate_format: wgpu::TextureFormat::R16Float,
-            technique: NAME,
-            radius_pixels: None,
-        };
-        let out =
-            AoTechnique::build(&PyramidHbao, &mut ctx, &PyramidHbaoParams::default()).unwrap();
-        b.export(out.accessibility);
-        assert_eq!(
-            b.texture_desc(out.accessibility).map(|d| d.format),
-            Some(crate::ACCESSIBILITY_FORMAT),
-            "the output stays R32Float"
-        );
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
-        let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
+        let t = TechniqueRegistry::with_builtins()
+            .get(PyramidHbao::NAME)
+            .unwrap()
+            .clone()
+            .configure(&toml::Table::new())
+            .unwrap();
+        let plan = compile_plan(t.as_ref(), &shaders(), wgpu::TextureFormat::R16Float).unwrap();
         let shader_of = |pass: &str| match &plan
             .decl
             .passes
@@ -465,19 +325,11 @@ mod tests {
     }
 
     #[test]
-    fn reads_depth_and_normals_and_documents_every_parameter() {
+    fn reads_depth_and_normals() {
         let c = AoTechnique::channels(&PyramidHbao, &PyramidHbaoParams::default());
         assert_eq!(
             c.iter().collect::<Vec<_>>(),
             [GBufferChannel::LinearDepth, GBufferChannel::Normals]
         );
-        let specs = PyramidHbao.parameters();
-        let defaults = toml::Value::try_from(PyramidHbaoParams::default()).unwrap();
-        assert_eq!(
-            specs.len(),
-            defaults.as_table().unwrap().len(),
-            "one spec per parameter"
-        );
-        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
     }
 }

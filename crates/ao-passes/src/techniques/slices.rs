@@ -7,14 +7,86 @@
 //! (9) and the extra output's; the returned accessibility is R32Float at full size.
 
 use aograph_frame::GBufferChannel;
-use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
+use aograph_frame::ReadsView;
+use aograph_graph::{SizeClass, TextureDesc};
+use serde::{Deserialize, Serialize};
 
 use crate::blocks::{EdgeDenoise, depth_prefilter, edge_denoise};
 use crate::error::AoResult;
+use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput};
 
 /// Depth MIP levels, level 0 included (XeGTAO: 5).
 pub const DEPTH_MIP_LEVELS: u32 = 5;
+
+/// Largest slice count and step count per side.
+pub const MAX_SLICES: u32 = 32;
+pub const MAX_STEPS: u32 = 32;
+
+/// XeGTAO's quality presets (specs/gtao.md §8).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GtaoPreset {
+    /// 1 slice x 2 steps per side.
+    Low,
+    /// 2 x 2.
+    Medium,
+    /// 3 x 3, XeGTAO's default.
+    #[default]
+    High,
+    /// 9 x 3.
+    Ultra,
+}
+
+impl GtaoPreset {
+    /// The serde names, in order.
+    pub const NAMES: &'static [&'static str] = &["low", "medium", "high", "ultra"];
+    /// (slices, steps per side).
+    pub fn counts(self) -> (u32, u32) {
+        match self {
+            GtaoPreset::Low => (1, 2),
+            GtaoPreset::Medium => (2, 2),
+            GtaoPreset::High => (3, 3),
+            GtaoPreset::Ultra => (9, 3),
+        }
+    }
+}
+
+/// The parameter set the slice techniques share, flattened into each one's table: a preset
+/// and two overrides of its counts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SliceCounts {
+    pub preset: GtaoPreset,
+    /// Overrides the preset's slice count.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slices: Option<u32>,
+    /// Overrides the preset's steps per side.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps: Option<u32>,
+}
+
+impl SliceCounts {
+    /// (slices, steps per side) in effect: the overrides, else the preset's.
+    pub fn counts(&self) -> (u32, u32) {
+        let (s, t) = self.preset.counts();
+        (self.slices.unwrap_or(s), self.steps.unwrap_or(t))
+    }
+    /// The descriptions of `preset`, `slices` and `steps`.
+    pub fn params() -> Vec<ParamDesc> {
+        vec![
+            ParamDesc::choice("preset", GtaoPreset::NAMES).doc(
+                "slices x steps per side: 1x2, 2x2, 3x3, 9x3 (XeGTAO's presets, bevy's levels)",
+            ),
+            ParamDesc::int("slices", 1, MAX_SLICES)
+                .unset("the preset's")
+                .doc("slices S per pixel"),
+            ParamDesc::int("steps", 1, MAX_STEPS)
+                .unset("the preset's")
+                .doc("steps T per side of a slice"),
+        ]
+    }
+}
 
 /// A further storage output of a slice technique's AO pass.
 pub(crate) struct ExtraOutput {
@@ -88,7 +160,7 @@ pub(crate) fn slice_passes(
     let mut pass = ctx
         .builder
         .compute_pass(&format!("{}.ao", s.prefix), &shader, "main");
-    pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+    pass.read_view(ctx.view);
     pass.uniform("params", s.uniform);
     for (l, binding) in ["depth0", "depth1", "depth2", "depth3", "depth4"]
         .iter()
@@ -108,6 +180,7 @@ pub(crate) fn slice_passes(
     if last {
         return Ok(AoOutput {
             accessibility: raw,
+            radiance: None,
             extra: extras,
         });
     }
@@ -122,6 +195,7 @@ pub(crate) fn slice_passes(
     )?;
     Ok(AoOutput {
         accessibility: out,
+        radiance: None,
         extra: extras,
     })
 }

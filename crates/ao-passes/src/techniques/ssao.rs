@@ -34,14 +34,15 @@
 //!   writer is the matching variant of shaders/ao/ssao/ao.wgsl (`ctx.shader`); the blurred
 //!   output is R32Float like every technique's.
 
-use crate::ParamSpec;
+use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels};
-use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
+use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{AoResult, check_param};
-use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::error::AoResult;
+use crate::param::ParamDesc;
+use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
 
 /// Largest sample count (size of the kernel array in the uniform block).
 pub const MAX_SAMPLES: u32 = 64;
@@ -111,35 +112,19 @@ pub fn hemisphere_kernel(n: u32) -> Vec<[f32; 3]> {
 
 impl AoTechnique for Ssao {
     type Params = SsaoParams;
-    fn name(&self) -> &'static str {
-        "ssao"
-    }
+    const NAME: &'static str = "ssao";
     fn description(&self) -> &'static str {
         "classic SSAO: N points in the normal-oriented hemisphere, 4x4 rotation noise, 4x4 box blur"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         vec![
-            spec(
-                "samples",
-                &format!("4 to {MAX_SAMPLES}"),
-                "sample points per pixel",
-            ),
-            spec(
-                "bias",
-                "0 to 0.5",
+            ParamDesc::int("samples", 4, MAX_SAMPLES).doc("sample points per pixel"),
+            ParamDesc::float("bias", 0.0, 0.5).doc(
                 "depth bias as a fraction of R: a sample counts as occluded only this far behind the depth buffer",
             ),
-            spec(
-                "max_screen_radius",
-                "0.01 to 2",
-                "cap of the projected radius R, as a fraction of the image height",
-            ),
+            ParamDesc::float("max_screen_radius", 0.01, 2.0)
+                .doc("cap of the projected radius R, as a fraction of the image height"),
         ]
-    }
-    fn validate(&self, p: &SsaoParams) -> AoResult<()> {
-        check_param("ssao", "samples", p.samples, 4, MAX_SAMPLES)?;
-        check_param("ssao", "bias", p.bias, 0.0, 0.5)?;
-        check_param("ssao", "max_screen_radius", p.max_screen_radius, 0.01, 2.0)
     }
     fn reach_pixels(&self, p: &SsaoParams, height: u32, _: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
@@ -167,7 +152,7 @@ impl AoTechnique for Ssao {
         pass.sample("depth", depth).sample("normals", normals);
         // The centre's depth and normal, one depth tap per sample.
         pass.loads_per_invocation(2.0 + p.samples as f32);
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);
@@ -192,51 +177,23 @@ impl AoTechnique for Ssao {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{AoError, DynAoTechnique};
-    use aograph_frame::{GBufferTextures, ViewUniforms};
-    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
-
-    fn plan_names(params: &SsaoParams) -> Vec<String> {
-        let mut b = GraphBuilder::new();
-        let view = b.import_buffer(
-            "view",
-            BufferDesc {
-                size: std::mem::size_of::<ViewUniforms>() as u64,
-            },
-        );
-        let mut g = GBufferTextures::default();
-        for c in [GBufferChannel::LinearDepth, GBufferChannel::Normals] {
-            g.set(
-                c,
-                b.import_texture(c.name(), TextureDesc::new(c.format(), SizeClass::FULL)),
-            );
-        }
-        let mut ctx = AoBuildContext {
-            builder: &mut b,
-            gbuffer: g,
-            view,
-            radius: 1.0,
-            intermediate_format: wgpu::TextureFormat::R32Float,
-            technique: "ssao",
-            radius_pixels: None,
-        };
-        let out = AoTechnique::build(&Ssao, &mut ctx, params).unwrap();
-        b.export(out.accessibility);
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
-        let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
-        plan.pass_names().into_iter().map(String::from).collect()
-    }
+    use crate::TechniqueRegistry;
+    use crate::contract::plan_pass_names;
+    use aograph_graph::ShaderLibrary;
 
     #[test]
     fn plan_is_ao_then_blur() {
-        assert_eq!(plan_names(&SsaoParams::default()), ["ssao.ao", "ssao.blur"]);
-        assert_eq!(
-            plan_names(&SsaoParams {
-                samples: MAX_SAMPLES,
-                ..Default::default()
-            }),
-            ["ssao.ao", "ssao.blur"]
-        );
+        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let ssao = TechniqueRegistry::with_builtins()
+            .get(Ssao::NAME)
+            .unwrap()
+            .clone();
+        for params in ["", "samples = 64"] {
+            assert_eq!(
+                plan_pass_names(&ssao, params, &shaders).unwrap(),
+                ["ssao.ao", "ssao.blur"]
+            );
+        }
     }
 
     #[test]
@@ -246,51 +203,6 @@ mod tests {
             c.iter().collect::<Vec<_>>(),
             [GBufferChannel::LinearDepth, GBufferChannel::Normals]
         );
-    }
-
-    #[test]
-    fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [
-            ("samples", "3", "4 to 64"),
-            ("samples", "65", "4 to 64"),
-            ("bias", "-0.1", "0 to 0.5"),
-            ("bias", "nan", "0 to 0.5"),
-            ("max_screen_radius", "0", "0.01 to 2"),
-        ] {
-            let table: toml::Table = format!("{key} = {value}").parse().unwrap();
-            let e = Ssao.check(&table).unwrap_err();
-            assert!(
-                matches!(e, AoError::InvalidParameter { .. }),
-                "{key} = {value}: {e}"
-            );
-            let msg = e.to_string();
-            assert!(msg.contains(key) && msg.contains(range), "{msg}");
-        }
-        assert!(
-            Ssao.check(
-                &"samples = 4\nbias = 0.0\nmax_screen_radius = 2.0"
-                    .parse()
-                    .unwrap()
-            )
-            .is_ok()
-        );
-    }
-
-    #[test]
-    fn unknown_keys_are_rejected() {
-        let e = Ssao
-            .check(&"sample = 8".parse().unwrap())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("sample") && e.contains("samples"), "{e}");
-    }
-
-    #[test]
-    fn every_parameter_has_a_spec_and_default() {
-        let specs = DynAoTechnique::parameters(&Ssao);
-        let names: Vec<_> = specs.iter().map(|s| s.name).collect();
-        assert_eq!(names, ["samples", "bias", "max_screen_radius"]);
-        assert!(specs.iter().all(|s| !s.default.is_empty()));
     }
 
     #[test]

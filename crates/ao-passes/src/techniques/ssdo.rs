@@ -71,13 +71,16 @@
 pub mod kernel;
 pub mod lighting;
 
-use crate::ParamSpec;
+use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{BufferAccess, BufferDesc, SizeClass, TextureDesc, TextureHandle};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{AoResult, check_one_of, check_param};
-use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::error::AoResult;
+use crate::param::ParamDesc;
+use crate::technique::{
+    AoBuildContext, AoOutput, AoTechnique, RadianceEnvironment, RadianceOutput,
+};
 pub use kernel::MAX_SAMPLES;
 pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
 
@@ -153,70 +156,42 @@ impl SsdoParams {
 
 impl AoTechnique for Ssdo {
     type Params = SsdoParams;
-    fn name(&self) -> &'static str {
-        "ssdo"
-    }
+    const NAME: &'static str = "ssdo";
     fn description(&self) -> &'static str {
         "screen-space directional occlusion with one indirect bounce; radiance as extra outputs"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         vec![
-            spec(
-                "samples",
-                &format!("4 to {MAX_SAMPLES}"),
-                "N, sample points per pixel (the paper uses 8 and 16)",
-            ),
-            spec(
-                "bounce",
-                "true or false",
+            ParamDesc::int("samples", 4, MAX_SAMPLES)
+                .doc("N, sample points per pixel (the paper uses 8 and 16)"),
+            ParamDesc::flag("bounce").doc(
                 "one indirect bounce from occluding sender patches (off: ssdo_indirect is zero)",
             ),
-            spec(
-                "distance_clamp",
-                "0.0001 to 10000",
+            ParamDesc::float("distance_clamp", 1e-4, 1e4).doc(
                 "lower clamp of the sender distance in the form factor, scene units (the paper: 1)",
             ),
-            spec(
-                "sender_area_scale",
-                "0 to 16",
-                "multiplier on the sender patch area pi R^2 / N: colour-bleeding strength",
-            ),
-            spec(
-                "fade_start",
-                "0 to 1",
-                "blockers fade out between this fraction of R and R",
-            ),
-            spec(
-                "bias",
-                "0 to 0.5",
-                "depth bias of the visibility test as a fraction of R",
-            ),
-            spec(
-                "light_lobe",
-                "1 to 64",
+            ParamDesc::float("sender_area_scale", 0.0, 16.0)
+                .doc("multiplier on the sender patch area pi R^2 / N: colour-bleeding strength"),
+            ParamDesc::float("fade_start", 0.0, 1.0)
+                .doc("blockers fade out between this fraction of R and R"),
+            ParamDesc::float("bias", 0.0, 0.5)
+                .doc("depth bias of the visibility test as a fraction of R"),
+            ParamDesc::float("light_lobe", 1.0, 64.0).doc(
                 "exponent of the per-sample weight of the directional light, max(0, w.l)^k",
             ),
-            spec(
-                "sky_gradient",
-                "0 to 1",
-                "environment = ambient * (1 + g * up): 0 is the scene's constant ambient",
-            ),
-            spec(
-                "environment",
-                "\"ambient\" or \"sky\"",
+            ParamDesc::float("sky_gradient", 0.0, 1.0)
+                .doc("environment = ambient * (1 + g * up): 0 is the scene's constant ambient"),
+            ParamDesc::choice("environment", &ENVIRONMENTS).doc(
                 "L_in: the scene's ambient plus its directional light, or the built-in sky with its sun",
             ),
         ]
     }
-    fn validate(&self, p: &SsdoParams) -> AoResult<()> {
-        check_param("ssdo", "samples", p.samples, 4, MAX_SAMPLES)?;
-        check_param("ssdo", "distance_clamp", p.distance_clamp, 1e-4, 1e4)?;
-        check_param("ssdo", "sender_area_scale", p.sender_area_scale, 0.0, 16.0)?;
-        check_param("ssdo", "fade_start", p.fade_start, 0.0, 1.0)?;
-        check_param("ssdo", "bias", p.bias, 0.0, 0.5)?;
-        check_param("ssdo", "light_lobe", p.light_lobe, 1.0, 64.0)?;
-        check_param("ssdo", "sky_gradient", p.sky_gradient, 0.0, 1.0)?;
-        check_one_of("ssdo", "environment", p.environment.as_str(), &ENVIRONMENTS)
+    fn radiance(&self, p: &SsdoParams) -> Option<RadianceEnvironment> {
+        Some(if p.environment == "sky" {
+            RadianceEnvironment::Sky
+        } else {
+            RadianceEnvironment::Ambient
+        })
     }
     fn channels(&self, _: &SsdoParams) -> GBufferChannels {
         GBufferChannels::of(&[
@@ -257,7 +232,7 @@ impl AoTechnique for Ssdo {
             .sample("normals", normals)
             .sample("albedo", albedo)
             .sample("direct_light", direct_light);
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view)
+        pass.read_view(ctx.view)
             .read_buffer("lighting", BufferAccess::Uniform, lighting);
         pass.uniform("params", params);
         let raw_direct = pass.write_storage("radiance", raw_direct);
@@ -272,7 +247,7 @@ impl AoTechnique for Ssdo {
                 .sample("normals", normals)
                 .sample("albedo", albedo)
                 .sample("radiance", raw_direct);
-            pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+            pass.read_view(ctx.view);
             pass.uniform("params", params);
             let raw = pass.write_storage("indirect", raw);
             pass.dispatch_over(raw);
@@ -314,6 +289,10 @@ impl AoTechnique for Ssdo {
         pass.dispatch_over(ao);
         Ok(AoOutput {
             accessibility: ao,
+            radiance: Some(RadianceOutput {
+                direct: direct_out,
+                indirect: indirect_out,
+            }),
             extra: vec![
                 ("ssdo_direct".into(), direct_out),
                 ("ssdo_indirect".into(), indirect_out),
@@ -325,14 +304,13 @@ impl AoTechnique for Ssdo {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{AoError, DynAoTechnique};
-    use aograph_frame::{GBufferTextures, ViewUniforms};
+    use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
     use aograph_graph::{CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan(params: &SsdoParams) -> (Vec<String>, Vec<String>) {
         let mut b = GraphBuilder::new();
         let view = b.import_buffer(
-            "view",
+            VIEW_BUFFER,
             BufferDesc {
                 size: std::mem::size_of::<ViewUniforms>() as u64,
             },
@@ -350,7 +328,7 @@ mod tests {
             view,
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R32Float,
-            technique: "ssdo",
+            technique: Ssdo::NAME,
             radius_pixels: None,
         };
         let out = AoTechnique::build(&Ssdo, &mut ctx, params).unwrap();
@@ -398,65 +376,6 @@ mod tests {
                 GBufferChannel::DirectLight
             ]
         );
-    }
-
-    #[test]
-    fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [
-            ("samples", "3", "4 to 16"),
-            ("samples", "17", "4 to 16"),
-            ("distance_clamp", "0", "0.0001 to 10000"),
-            ("sender_area_scale", "-1", "0 to 16"),
-            ("fade_start", "1.5", "0 to 1"),
-            ("bias", "nan", "0 to 0.5"),
-            ("light_lobe", "0.5", "1 to 64"),
-            ("sky_gradient", "2", "0 to 1"),
-        ] {
-            let table: toml::Table = format!("{key} = {value}").parse().unwrap();
-            let e = Ssdo.check(&table).unwrap_err();
-            assert!(
-                matches!(e, AoError::InvalidParameter { .. }),
-                "{key} = {value}: {e}"
-            );
-            let msg = e.to_string();
-            assert!(msg.contains(key) && msg.contains(range), "{msg}");
-        }
-        let ok = "samples = 16\nbounce = false\ndistance_clamp = 0.1\nsender_area_scale = 0\nfade_start = 1.0\nbias = 0\nlight_lobe = 64\nsky_gradient = 1";
-        assert!(Ssdo.check(&ok.parse().unwrap()).is_ok());
-    }
-
-    #[test]
-    fn unknown_keys_are_rejected() {
-        let e = Ssdo
-            .check(&"bounces = false".parse().unwrap())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("bounces") && e.contains("bounce"), "{e}");
-        assert!(
-            Ssdo.check(&"bounce = 1".parse().unwrap()).is_err(),
-            "bounce is a boolean"
-        );
-    }
-
-    #[test]
-    fn every_parameter_has_a_spec_and_default() {
-        let specs = DynAoTechnique::parameters(&Ssdo);
-        let names: Vec<_> = specs.iter().map(|s| s.name).collect();
-        assert_eq!(
-            names,
-            [
-                "samples",
-                "bounce",
-                "distance_clamp",
-                "sender_area_scale",
-                "fade_start",
-                "bias",
-                "light_lobe",
-                "sky_gradient",
-                "environment"
-            ]
-        );
-        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
     }
 
     #[test]

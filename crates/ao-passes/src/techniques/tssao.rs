@@ -95,15 +95,16 @@
 //!   n_max clamp bounds it as the paper says, but at small image sizes it is visible (the
 //!   `dynamic` test reports it).
 
-use crate::ParamSpec;
+use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels};
-use aograph_graph::{BufferAccess, SizeClass, TextureDesc};
+use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::blocks::temporal::{add_reprojection, ao_history, check_epsilon};
-use crate::error::{AoError, AoResult, check_one_of, check_param};
-use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::blocks::temporal::{add_reprojection, ao_history};
+use crate::error::{AoError, AoResult};
+use crate::param::ParamDesc;
+use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
 
 /// Largest k1 / k2 (new samples per pixel and frame).
 pub const MAX_SAMPLES: u32 = 64;
@@ -237,120 +238,60 @@ struct FilterUniform {
 
 impl AoTechnique for Tssao {
     type Params = TssaoParams;
-    fn name(&self) -> &'static str {
-        "tssao"
-    }
+    const NAME: &'static str = "tssao";
     fn description(&self) -> &'static str {
         "temporal SSAO: reprojected per-pixel AO buffer, k new Halton samples per frame, invalidation, convergence-aware filter"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
+    fn params(&self) -> Vec<ParamDesc> {
         vec![
-            spec(
-                "k1",
-                &format!("1 to {MAX_SAMPLES}"),
-                "new samples per frame while convergence < c_spatial (paper: 32)",
+            ParamDesc::int("k1", 1, MAX_SAMPLES)
+                .doc("new samples per frame while convergence < c_spatial (paper: 32)"),
+            ParamDesc::int("k2", 1, MAX_SAMPLES)
+                .doc("new samples per frame once converged (paper: 8 to 16)"),
+            ParamDesc::int("n_max", 1, HALTON_LENGTH)
+                .doc("cap of the per-pixel sample count n_t (paper: 500 to 1500)"),
+            ParamDesc::float("c_spatial", 0.0, 1.0)
+                .doc("convergence below which k1 samples are taken (paper: 0.3)"),
+            ParamDesc::float("c_rot", 0.0, 1.0)
+                .doc("convergence from which the per-pixel pattern rotation is off (paper: 0.5)"),
+            ParamDesc::float("c_adaptive", 0.001, 1.0)
+                .doc("convergence from which the spatial filter is off (paper: 0.2)"),
+            ParamDesc::int("n_smooth", 0, HALTON_LENGTH).doc(
+                "n_t is clamped to this (at most n_max) when only the neighbourhood test fails (paper: 32 to 64; 0 = reset)",
             ),
-            spec(
-                "k2",
-                &format!("1 to {MAX_SAMPLES}"),
-                "new samples per frame once converged (paper: 8 to 16)",
-            ),
-            spec(
-                "n_max",
-                &format!("1 to {HALTON_LENGTH}"),
-                "cap of the per-pixel sample count n_t (paper: 500 to 1500)",
-            ),
-            spec(
-                "c_spatial",
-                "0 to 1",
-                "convergence below which k1 samples are taken (paper: 0.3)",
-            ),
-            spec(
-                "c_rot",
-                "0 to 1",
-                "convergence from which the per-pixel pattern rotation is off (paper: 0.5)",
-            ),
-            spec(
-                "c_adaptive",
-                "0.001 to 1",
-                "convergence from which the spatial filter is off (paper: 0.2)",
-            ),
-            spec(
-                "n_smooth",
-                "0 to n_max",
-                "n_t is clamped to this when only the neighbourhood test fails (paper: 32 to 64; 0 = reset)",
-            ),
-            spec(
-                "depth_epsilon",
-                "greater than 0, at most 1",
-                "relative depth tolerance of the disocclusion test, Eq. 7",
-            ),
-            spec(
-                "neighbour_epsilon",
-                "greater than 0, at most 1",
-                "tolerance of the neighbourhood test, Eq. 8, as a fraction of R",
-            ),
-            spec(
-                "filter_width",
-                &format!("odd, 1 to {MAX_FILTER_WIDTH}"),
-                "spatial filter taps per axis (paper: 5)",
-            ),
-            spec(
-                "filter_sigma",
-                "0.01 to 10",
-                "sigma of the filter's world-space Gaussian, as a fraction of R",
-            ),
-            spec(
-                "steps",
-                &format!("1 to {MAX_STEPS}"),
-                "points tested along each sample's segment for the visibility V",
-            ),
-            spec(
-                "falloff",
-                "\"none\" or \"quadratic\"",
-                "distance falloff D of Eq. 2: none (binary) or 1 - (t/R)^2",
-            ),
-            spec(
-                "max_screen_radius",
-                "0.01 to 2",
-                "cap of the projected radius R, as a fraction of the image height",
-            ),
-            spec(
-                "visibility",
-                "\"march\" or \"point\"",
+            ParamDesc::float_above("depth_epsilon", 0.0, 1.0)
+                .doc("relative depth tolerance of the disocclusion test, Eq. 7"),
+            ParamDesc::float_above("neighbour_epsilon", 0.0, 1.0)
+                .doc("tolerance of the neighbourhood test, Eq. 8, as a fraction of R"),
+            ParamDesc::odd("filter_width", 1, MAX_FILTER_WIDTH)
+                .doc("spatial filter taps per axis (paper: 5)"),
+            ParamDesc::float("filter_sigma", 0.01, 10.0)
+                .doc("sigma of the filter's world-space Gaussian, as a fraction of R"),
+            ParamDesc::int("steps", 1, MAX_STEPS)
+                .doc("points tested along each sample's segment for the visibility V"),
+            ParamDesc::choice("falloff", &FALLOFFS)
+                .doc("distance falloff D of Eq. 2: none (binary) or 1 - (t/R)^2"),
+            ParamDesc::float("max_screen_radius", 0.01, 2.0)
+                .doc("cap of the projected radius R, as a fraction of the image height"),
+            ParamDesc::choice("visibility", &VISIBILITY).doc(
                 "V(p, s_i): march (steps points up to R) or point (the paper's single depth test)",
             ),
-            spec(
-                "neighbourhood_test",
-                "true or false",
+            ParamDesc::flag("neighbourhood_test").doc(
                 "the neighbourhood test, Eq. 8 (false: disocclusion test only, the paper's Fig. 8)",
             ),
         ]
     }
     fn validate(&self, p: &TssaoParams) -> AoResult<()> {
-        let t = "tssao";
-        check_param(t, "k1", p.k1, 1, MAX_SAMPLES)?;
-        check_param(t, "k2", p.k2, 1, MAX_SAMPLES)?;
-        check_param(t, "n_max", p.n_max, 1, HALTON_LENGTH)?;
-        check_param(t, "c_spatial", p.c_spatial, 0.0, 1.0)?;
-        check_param(t, "c_rot", p.c_rot, 0.0, 1.0)?;
-        check_param(t, "c_adaptive", p.c_adaptive, 0.001, 1.0)?;
-        check_param(t, "n_smooth", p.n_smooth, 0, p.n_max)?;
-        check_epsilon(t, "depth_epsilon", p.depth_epsilon)?;
-        check_epsilon(t, "neighbour_epsilon", p.neighbour_epsilon)?;
-        if p.filter_width.is_multiple_of(2) || !(1..=MAX_FILTER_WIDTH).contains(&p.filter_width) {
-            return Err(AoError::InvalidParameter {
-                technique: t.into(),
-                name: "filter_width".into(),
-                value: p.filter_width.to_string(),
-                allowed: format!("an odd number from 1 to {MAX_FILTER_WIDTH}"),
+        if p.n_smooth > p.n_max {
+            return Err(AoError::ParameterRule {
+                technique: Self::NAME.into(),
+                rule: format!(
+                    "n_smooth = {} exceeds n_max = {}: allowed 0 to n_max",
+                    p.n_smooth, p.n_max
+                ),
             });
         }
-        check_param(t, "filter_sigma", p.filter_sigma, 0.01, 10.0)?;
-        check_param(t, "steps", p.steps, 1, MAX_STEPS)?;
-        check_one_of(t, "falloff", p.falloff.as_str(), &FALLOFFS)?;
-        check_one_of(t, "visibility", p.visibility.as_str(), &VISIBILITY)?;
-        check_param(t, "max_screen_radius", p.max_screen_radius, 0.01, 2.0)
+        Ok(())
     }
     fn reach_pixels(&self, p: &TssaoParams, height: u32, _: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
@@ -377,10 +318,10 @@ impl AoTechnique for Tssao {
             .unwrap_or(0) as u32;
 
         // The AO buffer and its reprojection (shared temporal block: Eqs. 3 and 7).
-        let history = ao_history(ctx.builder, "tssao");
+        let history = ao_history(ctx.builder, Self::NAME);
         let r = add_reprojection(
             ctx.builder,
-            "tssao",
+            Self::NAME,
             history.previous,
             &ctx.gbuffer,
             ctx.view,
@@ -413,7 +354,7 @@ impl AoTechnique for Tssao {
         pass.sample("depth", depth)
             .sample("normals", normals)
             .sample("motion", r.motion);
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         pass.uniform("halton", bytemuck::cast_slice(&halton_table()));
         let buffer = pass.write_storage("ao_buffer", history.current);
@@ -428,7 +369,7 @@ impl AoTechnique for Tssao {
             .builder
             .compute_pass("tssao.filter", "ao/tssao/filter.wgsl", "main");
         pass.sample("ao_buffer", buffer).sample("depth", depth);
-        pass.read_buffer("view", BufferAccess::Uniform, ctx.view);
+        pass.read_view(ctx.view);
         let filter = FilterUniform {
             size: [(p.filter_width / 2) as i32, 0, 0, 0],
             shape: [
@@ -449,13 +390,13 @@ impl AoTechnique for Tssao {
 mod tests {
     use super::*;
     use crate::DynAoTechnique;
-    use aograph_frame::{GBufferTextures, ViewUniforms};
+    use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
     use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan_names(with_motion: bool) -> Vec<String> {
         let mut b = GraphBuilder::new();
         let view = b.import_buffer(
-            "view",
+            VIEW_BUFFER,
             BufferDesc {
                 size: std::mem::size_of::<ViewUniforms>() as u64,
             },
@@ -477,7 +418,7 @@ mod tests {
             view,
             radius: 1.0,
             intermediate_format: wgpu::TextureFormat::R32Float,
-            technique: "tssao",
+            technique: Tssao::NAME,
             radius_pixels: None,
         };
         let out = AoTechnique::build(&Tssao, &mut ctx, &TssaoParams::default()).unwrap();
@@ -506,7 +447,7 @@ mod tests {
 
     #[test]
     fn is_temporal_and_reads_depth_normals_motion() {
-        assert!(DynAoTechnique::is_temporal(&Tssao, &toml::Table::new()).unwrap());
+        assert!(AoTechnique::is_temporal(&Tssao, &TssaoParams::default()));
         let c = AoTechnique::channels(&Tssao, &TssaoParams::default());
         assert_eq!(
             c.iter().collect::<Vec<_>>(),
@@ -519,60 +460,19 @@ mod tests {
     }
 
     #[test]
-    fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [
-            ("k1", "0", "1 to 64"),
-            ("k2", "65", "1 to 64"),
-            ("n_max", "0", "1 to 2048"),
-            ("n_max", "2049", "1 to 2048"),
-            ("c_spatial", "1.5", "0 to 1"),
-            ("c_rot", "-0.1", "0 to 1"),
-            ("c_adaptive", "0", "0.001 to 1"),
-            ("n_smooth", "501", "0 to 500"),
-            ("depth_epsilon", "0", "greater than 0"),
-            ("neighbour_epsilon", "nan", "greater than 0"),
-            ("filter_width", "4", "odd number from 1 to 9"),
-            ("filter_sigma", "0", "0.01 to 10"),
-            ("steps", "9", "1 to 8"),
-            ("falloff", "\"exp\"", "none, quadratic"),
-            ("max_screen_radius", "3", "0.01 to 2"),
-        ] {
-            let table: toml::Table = format!("{key} = {value}").parse().unwrap();
-            let e = Tssao.check(&table).unwrap_err();
-            assert!(
-                matches!(e, AoError::InvalidParameter { .. }),
-                "{key} = {value}: {e}"
-            );
-            let msg = e.to_string();
-            assert!(msg.contains(key) && msg.contains(range), "{msg}");
-        }
+    fn n_smooth_is_at_most_n_max() {
+        let t = |text: &str| Tssao.check(&text.parse().unwrap());
         assert!(
-            Tssao
-                .check(
-                    &"k1 = 64\nk2 = 16\nn_max = 1500\nn_smooth = 64\nfalloff = \"quadratic\""
-                        .parse()
-                        .unwrap()
-                )
-                .is_ok()
+            t("n_smooth = 500").is_ok(),
+            "n_smooth = n_max (500) is allowed"
         );
-    }
-
-    #[test]
-    fn unknown_keys_are_rejected() {
-        let e = Tssao
-            .check(&"k3 = 8".parse().unwrap())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("k3") && e.contains("k2"), "{e}");
-    }
-
-    #[test]
-    fn every_parameter_has_a_spec_and_default() {
-        let specs = DynAoTechnique::parameters(&Tssao);
-        let names: Vec<_> = specs.iter().map(|s| s.name).collect();
-        let defaults = toml::Value::try_from(TssaoParams::default()).unwrap();
-        assert_eq!(names.len(), defaults.as_table().unwrap().len());
-        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
+        let e = t("n_smooth = 501").unwrap_err();
+        assert!(matches!(e, AoError::ParameterRule { .. }), "{e}");
+        assert!(
+            e.to_string().contains("n_smooth = 501 exceeds n_max = 500"),
+            "{e}"
+        );
+        assert!(t("n_max = 1500\nn_smooth = 1000").is_ok());
     }
 
     #[test]

@@ -34,16 +34,15 @@
 //!   (common/horizon.wgsl), as gtao and hbao; precise acos for θ and γ alike (spec §10).
 //! - Not yet: indirect light and the ambient fallback (V5), which need radiance inputs.
 
-use crate::ParamSpec;
 use aograph_frame::{GBufferChannel, GBufferChannels};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use super::gtao::{GtaoPreset, MAX_SLICES, MAX_STEPS};
-use super::slices::{SlicePasses, slice_passes};
+use super::slices::{SliceCounts, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
-use crate::error::{AoResult, check_param};
-use crate::technique::{AoBuildContext, AoOutput, AoTechnique, spec};
+use crate::error::AoResult;
+use crate::param::ParamDesc;
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
 /// Most sectors per slice: one u32 of bits.
 pub const MAX_SECTORS: u32 = 32;
@@ -76,12 +75,11 @@ pub enum SectorRounding {
 
 /// `[ao.vbao]` parameters.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct VbaoParams {
-    /// Slices x steps per side, as gtao's presets (bevy's levels).
-    pub preset: GtaoPreset,
-    pub slices: Option<u32>,
-    pub steps: Option<u32>,
+    /// Slices x steps per side, as gtao's presets (bevy's levels): preset, slices, steps.
+    #[serde(flatten)]
+    pub counts: SliceCounts,
     /// Sectors N per slice.
     pub sectors: u32,
     /// T = thickness x R.
@@ -104,9 +102,7 @@ pub struct VbaoParams {
 impl Default for VbaoParams {
     fn default() -> Self {
         Self {
-            preset: GtaoPreset::High,
-            slices: None,
-            steps: None,
+            counts: SliceCounts::default(),
             sectors: MAX_SECTORS,
             thickness: 0.5,
             radius_multiplier: 1.0,
@@ -125,8 +121,7 @@ impl Default for VbaoParams {
 impl VbaoParams {
     /// (slices, steps per side) in effect.
     pub fn counts(&self) -> (u32, u32) {
-        let (s, t) = self.preset.counts();
-        (self.slices.unwrap_or(s), self.steps.unwrap_or(t))
+        self.counts.counts()
     }
 }
 
@@ -144,102 +139,36 @@ struct VbaoUniform {
 
 impl AoTechnique for Vbao {
     type Params = VbaoParams;
-    fn name(&self) -> &'static str {
-        "vbao"
-    }
+    const NAME: &'static str = "vbao";
     fn description(&self) -> &'static str {
         "visibility-bitmask AO: GTAO's slices with 32 sectors per slice, samples of constant thickness, uniform or cosine sector weights"
     }
-    fn param_specs(&self) -> Vec<ParamSpec> {
-        vec![
-            spec(
-                "preset",
-                "\"low\", \"medium\", \"high\" or \"ultra\"",
-                "slices x steps per side: 1x2, 2x2, 3x3, 9x3 (bevy's levels)",
-            ),
-            ParamSpec {
-                default: "the preset's".into(),
-                ..spec(
-                    "slices",
-                    &format!("1 to {MAX_SLICES}"),
-                    "slices S per pixel",
-                )
-            },
-            ParamSpec {
-                default: "the preset's".into(),
-                ..spec(
-                    "steps",
-                    &format!("1 to {MAX_STEPS}"),
-                    "steps T per side of a slice",
-                )
-            },
-            spec(
-                "sectors",
-                &format!("1 to {MAX_SECTORS}"),
-                "sectors N per slice (the paper's 32)",
-            ),
-            spec(
-                "thickness",
-                "0.01 to 100",
-                "every sample is a surface this many R thick along the view ray",
-            ),
-            spec("radius_multiplier", "0.3 to 3", "R' = R x this"),
-            spec(
-                "clip_to_radius",
-                "true or false",
+    fn params(&self) -> Vec<ParamDesc> {
+        let mut d = SliceCounts::params();
+        d.extend([
+            ParamDesc::int("sectors", 1, MAX_SECTORS).doc("sectors N per slice (the paper's 32)"),
+            ParamDesc::float("thickness", 0.01, 100.0)
+                .doc("every sample is a surface this many R thick along the view ray"),
+            ParamDesc::float("radius_multiplier", 0.3, 3.0).doc("R' = R x this"),
+            ParamDesc::flag("clip_to_radius").doc(
                 "drop samples farther than R' from the receiver (the reference's hard radius)",
             ),
-            spec(
-                "weighting",
-                "\"uniform\" or \"cosine\"",
+            ParamDesc::choice("weighting", &["uniform", "cosine"]).doc(
                 "a set sector hides 1/N (the blog) or its share of the cosine-weighted hemisphere",
             ),
-            spec(
-                "rounding",
-                "\"centre\" or \"ceil\"",
+            ParamDesc::choice("rounding", &["centre", "ceil"]).doc(
                 "an interval sets the sectors whose centre it holds, or every sector it touches (the blog's code)",
             ),
-            spec(
-                "sample_distribution_power",
-                "1 to 3",
-                "step s = ((j + jitter) / T)^p (XeGTAO)",
-            ),
-            spec(
-                "depth_mip_offset",
-                "2 to 6",
-                "a tap at d pixels reads depth MIP log2(d) - this",
-            ),
-            spec("final_value_power", "0.5 to 5", "accessibility^p"),
-            spec(
-                "denoise_passes",
-                "0 to 3",
-                "edge-aware 3x3 passes (0: none)",
-            ),
-            spec(
-                "blur_beta",
-                "0.01 to 10000",
-                "the denoiser's centre weight on its last pass",
-            ),
-        ]
-    }
-    fn validate(&self, p: &VbaoParams) -> AoResult<()> {
-        let (slices, steps) = p.counts();
-        check_param("vbao", "slices", slices, 1, MAX_SLICES)?;
-        check_param("vbao", "steps", steps, 1, MAX_STEPS)?;
-        check_param("vbao", "sectors", p.sectors, 1, MAX_SECTORS)?;
-        check_param("vbao", "thickness", p.thickness, 0.01, 100.0)?;
-        check_param("vbao", "radius_multiplier", p.radius_multiplier, 0.3, 3.0)?;
-        check_param(
-            "vbao",
-            "sample_distribution_power",
-            p.sample_distribution_power,
-            1.0,
-            3.0,
-        )?;
-        check_param("vbao", "depth_mip_offset", p.depth_mip_offset, 2.0, 6.0)?;
-        check_param("vbao", "final_value_power", p.final_value_power, 0.5, 5.0)?;
-        check_param("vbao", "denoise_passes", p.denoise_passes, 0, 3)?;
-        check_param("vbao", "blur_beta", p.blur_beta, 0.01, 1e4)
+            ParamDesc::float("sample_distribution_power", 1.0, 3.0)
+                .doc("step s = ((j + jitter) / T)^p (XeGTAO)"),
+            ParamDesc::float("depth_mip_offset", 2.0, 6.0)
+                .doc("a tap at d pixels reads depth MIP log2(d) - this"),
+            ParamDesc::float("final_value_power", 0.5, 5.0).doc("accessibility^p"),
+            ParamDesc::int("denoise_passes", 0, 3).doc("edge-aware 3x3 passes (0: none)"),
+            ParamDesc::float("blur_beta", 0.01, 1e4)
+                .doc("the denoiser's centre weight on its last pass"),
+        ]);
+        d
     }
     fn channels(&self, _: &VbaoParams) -> GBufferChannels {
         GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
@@ -284,51 +213,6 @@ impl AoTechnique for Vbao {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{AoError, DynAoTechnique};
-
-    #[test]
-    fn out_of_range_parameters_name_the_range() {
-        for (key, value, range) in [
-            ("sectors", "0", "1 to 32"),
-            ("sectors", "33", "1 to 32"),
-            ("thickness", "0", "0.01 to 100"),
-            ("thickness", "-1", "0.01 to 100"),
-            ("radius_multiplier", "9", "0.3 to 3"),
-            ("slices", "40", "1 to 32"),
-            ("denoise_passes", "5", "0 to 3"),
-        ] {
-            let e = Vbao
-                .check(&format!("{key} = {value}").parse().unwrap())
-                .unwrap_err();
-            assert!(
-                matches!(e, AoError::InvalidParameter { .. }),
-                "{key} = {value}: {e}"
-            );
-            let msg = e.to_string();
-            assert!(msg.contains(key) && msg.contains(range), "{msg}");
-        }
-        for (key, value, names) in [
-            ("weighting", "\"cos\"", ["uniform", "cosine"]),
-            ("rounding", "\"floor\"", ["centre", "ceil"]),
-        ] {
-            let e = Vbao
-                .check(&format!("{key} = {value}").parse().unwrap())
-                .unwrap_err()
-                .to_string();
-            assert!(e.contains(names[0]) && e.contains(names[1]), "{e}");
-        }
-    }
-
-    #[test]
-    fn every_parameter_has_a_spec_and_default() {
-        let specs = DynAoTechnique::parameters(&Vbao);
-        let defaults = toml::Value::try_from(VbaoParams::default()).unwrap();
-        for key in defaults.as_table().unwrap().keys() {
-            assert!(specs.iter().any(|s| s.name == key), "{key} has no spec");
-        }
-        assert_eq!(specs.len(), 14);
-        assert!(specs.iter().all(|s| !s.default.is_empty()), "{specs:?}");
-    }
 
     #[test]
     fn reads_depth_and_normals_and_shares_gtaos_presets() {

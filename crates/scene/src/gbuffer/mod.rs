@@ -7,10 +7,11 @@
 
 mod raster;
 
+use aograph_frame::ReadsView;
 use std::sync::{Arc, Mutex};
 
 use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
-use aograph_graph::{BufferAccess, BufferHandle, GraphBuilder, SizeClass, TextureDesc};
+use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc};
 
 use crate::model::Scene;
 pub use raster::{GBufferRaster, GBufferStates, raster_pipelines_created};
@@ -101,7 +102,7 @@ pub fn add_gbuffer_shared(
     let state = states.state(&scene, channels);
     let raster = GBufferRaster::new(scene, channels, targets.clone(), depth, view, clock, state);
     let mut pass = builder.custom_pass("gbuffer", raster);
-    pass.read_buffer("view", BufferAccess::Uniform, view);
+    pass.read_view(view);
     let depth = pass.depth_attachment(depth);
     for (c, h) in targets {
         out.set(c, pass.color_attachment(h));

@@ -1,7 +1,8 @@
 //! The passes of `mssao`, one function per pass kind, and the uniform block they share
 //! (mirrored by `MssaoParams` in shaders/common/mssao.wgsl).
 
-use aograph_graph::{BufferAccess, SizeClass, TextureDesc, TextureHandle};
+use aograph_frame::ReadsView;
+use aograph_graph::{SizeClass, TextureDesc, TextureHandle};
 use bytemuck::{Pod, Zeroable};
 
 use super::MssaoParams;
@@ -59,7 +60,7 @@ fn common(
     view: aograph_graph::BufferHandle,
     u: &MssaoUniform,
 ) {
-    p.read_buffer("view", BufferAccess::Uniform, view);
+    p.read_view(view);
     p.uniform("params", bytemuck::bytes_of(u));
 }
 
