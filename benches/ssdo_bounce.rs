@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer};
+use aograph::{FrameOutputs, PassOwner, Renderer};
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext};
 use criterion::Criterion;
@@ -41,14 +41,10 @@ fn renderer(gpu: &Arc<GpuContext>, bounce: bool) -> Renderer {
     .expect("the ssdo frame graph builds")
 }
 
-/// The technique's own time of the last frame (every pass but the g-buffer), ms.
+/// The technique's own time of the last frame (the frame graph's owners say which passes), ms.
 fn technique_ms(r: &mut Renderer) -> f64 {
     let t = r.timings().expect("timings");
-    t.passes
-        .iter()
-        .filter(|(name, _)| !name.starts_with("gbuffer"))
-        .map(|(_, ms)| ms)
-        .sum()
+    r.graph.owners.total_ms(&t, PassOwner::Technique)
 }
 
 fn median(mut v: Vec<f64>) -> f64 {

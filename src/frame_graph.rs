@@ -17,6 +17,7 @@ use aograph_scene::gbuffer::{GBufferClock, GBufferStates, add_gbuffer_shared, re
 use aograph_scene::{ReferenceNormals, Scene};
 
 use crate::error::{AppError, AppResult};
+use crate::pass_owner::{PassOwner, PassOwners};
 
 /// Which outputs besides accessibility a run wants.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -50,6 +51,8 @@ pub struct FrameGraph {
     pub extra: Vec<(String, TextureHandle)>,
     /// The technique's radiance outputs, where it computes radiance.
     pub radiance: Option<RadianceOutput>,
+    /// Which part of the frame declared each pass (timings total by owner).
+    pub owners: PassOwners,
     pub clock: GBufferClock,
     pub temporal: bool,
 }
@@ -132,14 +135,10 @@ pub fn build_frame_graph_with(
         },
     );
     let clock = GBufferClock::default();
-    let gbuffer = add_gbuffer_shared(
-        &mut b,
-        scene.clone(),
-        channels,
-        view,
-        clock.clone(),
-        gbuffer,
-    );
+    let mut owners = PassOwners::default();
+    let gbuffer = owners.record(&mut b, PassOwner::GBuffer, |b| {
+        add_gbuffer_shared(b, scene.clone(), channels, view, clock.clone(), gbuffer)
+    });
     // R in pixels at the view's nearest geometry, for techniques with automatic level counts.
     let radius_pixels = if technique.needs_radius_pixels() {
         aograph_scene::projected_radius(
@@ -153,16 +152,17 @@ pub fn build_frame_graph_with(
     } else {
         None
     };
-    let mut ctx = AoBuildContext {
-        builder: &mut b,
-        gbuffer,
-        view,
-        radius: ao.radius,
-        intermediate_format: ao.intermediate_format.wgpu(),
-        technique: technique.name(),
-        radius_pixels,
-    };
-    let out = technique.build(&mut ctx)?;
+    let out = owners.record(&mut b, PassOwner::Technique, |b| {
+        technique.build(&mut AoBuildContext {
+            builder: b,
+            gbuffer,
+            view,
+            radius: ao.radius,
+            intermediate_format: ao.intermediate_format.wgpu(),
+            technique: technique.name(),
+            radius_pixels,
+        })
+    })?;
     let temporal = technique.is_temporal();
     b.export(out.accessibility);
     for (_, h) in &out.extra {
@@ -173,13 +173,9 @@ pub fn build_frame_graph_with(
         b.export(r.indirect);
     }
     let shaded = if outputs.shaded {
-        Some(add_shading(
-            &mut b,
-            &gbuffer,
-            out.accessibility,
-            &scene,
-            view,
-        )?)
+        Some(owners.record(&mut b, PassOwner::Shading, |b| {
+            add_shading(b, &gbuffer, out.accessibility, &scene, view)
+        })?)
     } else {
         None
     };
@@ -208,6 +204,7 @@ pub fn build_frame_graph_with(
         channels,
         extra: out.extra,
         radiance: out.radiance,
+        owners,
         clock,
         temporal,
     })

@@ -10,6 +10,7 @@ pub mod frame_graph;
 pub mod frame_reference;
 pub mod images;
 pub mod metrics;
+pub mod pass_owner;
 pub mod prepared_scene;
 pub mod reach;
 pub mod renderer;
@@ -19,6 +20,7 @@ pub use config::{AppConfig, RadiusSetting, SceneSource};
 pub use error::{AppError, AppResult};
 pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph, build_frame_graph_with};
 pub use frame_reference::{FrameView, ReferenceSettings, frame_reference};
+pub use pass_owner::{PassOwner, PassOwners};
 pub use prepared_scene::PreparedScene;
 pub use renderer::{Renderer, shader_dir, shader_library};
 

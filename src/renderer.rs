@@ -11,9 +11,8 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
-use aograph_frame::{GBufferChannel, VIEW_BUFFER};
+use aograph_frame::{GBufferChannel, LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
     PassTimings, ShaderLibrary, TextureHandle,

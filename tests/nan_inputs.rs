@@ -13,9 +13,9 @@
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::techniques::ssdo::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
 use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
+use aograph_frame::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_graph::{
     BufferDesc, CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, compile,
     test_gpu,

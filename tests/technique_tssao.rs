@@ -11,7 +11,7 @@ mod common;
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, ReferenceSettings, Renderer};
+use aograph::{FrameOutputs, PassOwner, ReferenceSettings, Renderer};
 use aograph_ao::AoConfig;
 use aograph_ao::TechniqueRegistry;
 use aograph_ao::blocks::temporal::TemporalMode;
@@ -81,13 +81,9 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Milliseconds of the AO technique's passes (everything but the g-buffer).
-fn technique_ms(t: &PassTimings) -> f64 {
-    t.passes
-        .iter()
-        .filter(|(n, _)| n != "gbuffer")
-        .map(|(_, ms)| ms)
-        .sum()
+/// Milliseconds of the AO technique's passes (the frame graph's owners say which).
+fn technique_ms(r: &Renderer, t: &PassTimings) -> f64 {
+    r.graph.owners.total_ms(t, PassOwner::Technique)
 }
 
 /// Median per-frame (total, technique-only) milliseconds over `frames` further frames at `time`.
@@ -97,7 +93,7 @@ fn frame_times(r: &mut Renderer, frames: u32, time: f32) -> (f64, f64) {
         r.render(time).unwrap();
         let t = r.timings().unwrap();
         total.push(t.total_ms());
-        tech.push(technique_ms(&t));
+        tech.push(technique_ms(r, &t));
     }
     (median(total), median(tech))
 }

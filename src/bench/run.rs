@@ -35,6 +35,7 @@ use crate::frame_reference::{
 use crate::metrics::{
     FlickerMeter, MetricOptions, Metrics, RadianceScores, compare, radiance_scores,
 };
+use crate::pass_owner::{PassOwner, PassOwners};
 use crate::prepared_scene::PreparedScene;
 use crate::renderer::Renderer;
 
@@ -81,11 +82,6 @@ pub struct BenchContext {
     pub registry: TechniqueRegistry,
     /// The device's peaks, measured at the start of the run, when the run reports a roofline.
     pub peaks: Option<DevicePeaks>,
-}
-
-/// The g-buffer pass (shared by every technique, not counted in a technique's total).
-pub fn is_gbuffer_pass(name: &str) -> bool {
-    name == "gbuffer" || name.starts_with("gbuffer.")
 }
 
 /// "gpu-timestamps" or "cpu-wall".
@@ -186,14 +182,11 @@ pub struct FrameTimeSamples {
 }
 
 impl FrameTimeSamples {
-    /// Adds one measured frame.
-    pub fn push(&mut self, t: &aograph_graph::PassTimings) {
+    /// Adds one measured frame; `owners` says which passes are the technique's.
+    pub fn push(&mut self, t: &aograph_graph::PassTimings, owners: &PassOwners) {
         self.source = t.source.or(self.source);
-        let mut total = 0.0;
+        let total = owners.total_ms(t, PassOwner::Technique);
         for (name, ms) in &t.passes {
-            if !is_gbuffer_pass(name) {
-                total += ms;
-            }
             match self.per_pass.iter_mut().find(|(n, _)| n == name) {
                 Some((_, v)) => v.push(*ms),
                 None => self.per_pass.push((name.clone(), vec![*ms])),
@@ -235,7 +228,7 @@ pub fn time_frames(
         r.render(0.0)?;
         let t = r.timings()?;
         if f >= warmup {
-            samples.push(&t);
+            samples.push(&t, &r.graph.owners);
             measured(r)?;
         }
         tick();

@@ -11,8 +11,13 @@
 //! (or [`DynAoTechnique::check`]); everything asked of the configured technique afterwards
 //! reads the typed parameters it holds.
 
-use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures, intermediate_shader};
-use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
+use aograph_frame::{
+    GBufferChannel, GBufferChannels, GBufferTextures, LIGHTING_BUFFER, LightingUniforms,
+    intermediate_shader,
+};
+use aograph_graph::{
+    BufferDesc, BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle,
+};
 use serde::Deserialize;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -52,6 +57,17 @@ impl AoBuildContext<'_> {
             technique: self.technique.into(),
             channel: c.name().into(),
         })
+    }
+    /// The scene's lighting block (light, ambient, sky: `aograph_frame::LightingUniforms`), a
+    /// frame input the technique declares by asking for it; whoever runs the graph provides it
+    /// under [`aograph_frame::LIGHTING_BUFFER`].
+    pub fn scene_lighting(&mut self) -> BufferHandle {
+        self.builder.import_buffer(
+            LIGHTING_BUFFER,
+            BufferDesc {
+                size: std::mem::size_of::<LightingUniforms>() as u64,
+            },
+        )
     }
     /// A new full-size accessibility texture.
     pub fn accessibility_texture(&mut self, name: &str) -> TextureHandle {

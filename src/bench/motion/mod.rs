@@ -311,7 +311,7 @@ pub fn run_motion_technique(
         let ao = if keep { r.read_ao()? } else { Vec::new() };
         if i >= s.warmup {
             let f = &frames[(i - s.warmup) as usize];
-            times.push(&t);
+            times.push(&t, &r.graph.owners);
             let metrics = compare(
                 &ao,
                 &f.accessibility,

@@ -17,7 +17,8 @@
 //!
 //! Reads positions, normals, albedo and direct light: the only technique that needs colour, so
 //! the g-buffer writes albedo and direct light only when SSDO is in the graph. The scene's light
-//! and ambient come from the imported [`LIGHTING_BUFFER`] block ([`lighting`]), which the app's
+//! and ambient come from the scene's lighting block (`aograph_frame::LightingUniforms`, a frame
+//! input this technique declares with `AoBuildContext::scene_lighting`), which the app's
 //! renderer fills from the scene: techniques stay independent of the scene crate.
 //!
 //! Invariants: accessibility in [0, 1], exactly 1 on sky; radiance finite and >= 0, zero on sky;
@@ -69,11 +70,10 @@
 //!   outputs `ssdo_direct` and `ssdo_indirect` are Rgba16Float either way.
 
 pub mod kernel;
-pub mod lighting;
 
 use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels};
-use aograph_graph::{BufferAccess, BufferDesc, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{BufferAccess, SizeClass, TextureDesc, TextureHandle};
 use serde::{Deserialize, Serialize};
 
 use crate::error::AoResult;
@@ -82,7 +82,6 @@ use crate::technique::{
     AoBuildContext, AoOutput, AoTechnique, RadianceEnvironment, RadianceOutput,
 };
 pub use kernel::MAX_SAMPLES;
-pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
 
 /// Format of the radiance outputs (the intermediates follow `intermediate_format`).
 pub const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -206,12 +205,7 @@ impl AoTechnique for Ssdo {
         let normals = ctx.channel(GBufferChannel::Normals)?;
         let albedo = ctx.channel(GBufferChannel::Albedo)?;
         let direct_light = ctx.channel(GBufferChannel::DirectLight)?;
-        let lighting = ctx.builder.import_buffer(
-            LIGHTING_BUFFER,
-            BufferDesc {
-                size: std::mem::size_of::<LightingUniforms>() as u64,
-            },
-        );
+        let lighting = ctx.scene_lighting();
         let uniform = p.uniform(ctx.radius);
         let params = bytemuck::bytes_of(&uniform);
         let radiance_texture = |ctx: &mut AoBuildContext<'_>, name: &str| {
@@ -305,6 +299,7 @@ impl AoTechnique for Ssdo {
 mod tests {
     use super::*;
     use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
+    use aograph_graph::BufferDesc;
     use aograph_graph::{CompileOptions, GraphBuilder, ShaderLibrary, compile};
 
     fn plan(params: &SsdoParams) -> (Vec<String>, Vec<String>) {

@@ -1,8 +1,11 @@
-//! The scene's lighting as SSDO reads it: a small uniform block imported into the graph under
-//! [`LIGHTING_BUFFER`] and filled by whoever runs the graph (the app's `Renderer` writes it from
-//! the scene's directional light and ambient). This keeps techniques independent of the scene
-//! crate and keeps one source of truth: the g-buffer's `DirectLight` channel and SSDO's sun
-//! visibility use the same light, and SSDO's environment is the same ambient `shaded.png` uses.
+//! The scene's lighting as a frame input: a small uniform block (its directional light, ambient
+//! and built-in sky) that a pass needing light beyond the g-buffer binds as
+//! `var<uniform> lighting: Lighting`, imported into the graph under [`LIGHTING_BUFFER`] by the
+//! technique that reads it and filled by whoever owns the frame (the app's `Renderer` writes it
+//! from the scene). Generic frame data like the `View` block, so the renderer knows no technique
+//! and techniques stay independent of the scene crate; one source of truth: the g-buffer's
+//! `DirectLight` channel and SSDO's sun visibility use the same light, and SSDO's environment is
+//! the same ambient `shaded.png` uses.
 //!
 //! WGSL mirror: `Lighting` in shaders/ao/ssdo/common.wgsl.
 
