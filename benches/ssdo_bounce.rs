@@ -22,7 +22,7 @@ const MAX_BOUNCE_RATIO: f64 = 2.5;
 fn renderer(gpu: &Arc<GpuContext>, bounce: bool) -> Renderer {
     let mut config = AoConfig {
         technique: "ssdo".into(),
-        radius: 1.0,
+        radius: aograph_ao::RadiusSetting::Units(aograph_ao::Radius::UNIT),
         ..AoConfig::default()
     };
     let params: toml::Table = format!("samples = 8\nbounce = {bounce}")

@@ -44,32 +44,8 @@ impl SceneSource {
     }
 }
 
-/// How the shared radius R is chosen.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub enum RadiusSetting {
-    /// A fraction of the scene's size (`aograph_scene::suggested_radius`), the default.
-    #[default]
-    Auto,
-    /// A number of scene units.
-    Units(f32),
-}
-
-impl RadiusSetting {
-    /// `"auto"` or a finite number > 0; `name` is the key or flag in messages.
-    pub fn parse(name: &str, text: &str) -> AppResult<Self> {
-        if text.trim() == "auto" {
-            return Ok(RadiusSetting::Auto);
-        }
-        match text.trim().parse::<f32>() {
-            Ok(r) if r.is_finite() && r > 0.0 => Ok(RadiusSetting::Units(r)),
-            _ => Err(AppError::InvalidArgument {
-                name: name.into(),
-                value: text.into(),
-                allowed: "\"auto\" (a fraction of the scene's size) or a finite number greater than 0 (world units)".into(),
-            }),
-        }
-    }
-}
+/// How R is chosen: `auto` or a number (`[ao] radius`, `--radius`), checked in one place.
+pub use aograph_ao::RadiusSetting;
 
 /// Everything `aograph render` and friends need.
 #[derive(Clone, Debug, PartialEq)]
@@ -77,10 +53,9 @@ pub struct AppConfig {
     pub scene: SceneSource,
     pub width: u32,
     pub height: u32,
+    /// Technique, parameters and how R is chosen (`ao.radius`: `auto` unless the config or
+    /// `--radius` gives a number; the prepared scene holds the number).
     pub ao: AoConfig,
-    /// The shared radius: `auto` unless the config or `--radius` gives a number. `ao.radius`
-    /// holds the number only once a scene is prepared (`AppConfig::prepare_scene`).
-    pub radius: RadiusSetting,
     /// The camera: `[camera]` or `--camera`; `None` = the scene's own.
     pub camera: Option<CameraSpec>,
     /// Named viewpoints (`[[views]]`).
@@ -102,7 +77,6 @@ impl Default for AppConfig {
             width: 1280,
             height: 720,
             ao: AoConfig::default(),
-            radius: RadiusSetting::Auto,
             camera: None,
             views: Vec::new(),
             reference_rays: 256,
@@ -194,20 +168,9 @@ impl AppConfig {
                     }
                 }
                 "ao" => {
-                    let mut ao = table(path, v, "ao")?.clone();
-                    if let Some(r) = ao.get("radius") {
-                        c.radius = match r {
-                            toml::Value::String(s) => RadiusSetting::parse("[ao] radius", s)
-                                .map_err(|e| err(path, e.to_string()))?,
-                            other => RadiusSetting::parse("[ao] radius", &other.to_string())
-                                .map_err(|e| err(path, e.to_string()))?,
-                        };
-                        if matches!(r, toml::Value::String(_)) {
-                            ao.remove("radius");
-                        }
-                    }
+                    let ao = table(path, v, "ao")?;
                     c.ao =
-                        AoConfig::from_table(&ao, registry).map_err(|e| err(path, e.to_string()))?
+                        AoConfig::from_table(ao, registry).map_err(|e| err(path, e.to_string()))?
                 }
                 "camera" => {
                     c.camera = Some(CameraSpec::Inline(

@@ -88,6 +88,9 @@ pub fn build_frame_graph_with(
 ) -> AppResult<FrameGraph> {
     // Parsed and validated once; everything below asks the configured technique.
     let technique = ao.resolve(registry)?;
+    let radius = crate::prepared_scene::resolve_radius(&scene, ao.radius)
+        .0
+        .get();
     let mut requested = technique.channels();
     if outputs.shaded {
         requested = requested
@@ -146,7 +149,7 @@ pub fn build_frame_graph_with(
             &scene.camera_at(0.0),
             size.width,
             size.height,
-            ao.radius,
+            radius,
         )
         .map(|p| p.nearest_px)
     } else {
@@ -157,7 +160,7 @@ pub fn build_frame_graph_with(
             builder: b,
             gbuffer,
             view,
-            radius: ao.radius,
+            radius,
             intermediate_format: ao.intermediate_format.wgpu(),
             technique: technique.name(),
             radius_pixels,

@@ -6,12 +6,12 @@
 
 use std::sync::Arc;
 
-use aograph_ao::AoConfig;
+use aograph_ao::{AoConfig, Radius, RadiusSetting};
 use aograph_scene::Scene;
 use aograph_scene::views::SceneView;
 
 use crate::camera_spec::apply_view;
-use crate::config::{AppConfig, RadiusSetting};
+use crate::config::AppConfig;
 use crate::error::AppResult;
 
 /// A scene, its view and its radius.
@@ -22,7 +22,7 @@ pub struct PreparedScene {
     /// The view's name ("default" when no camera was chosen).
     pub view: String,
     /// The shared radius R in scene units.
-    pub radius: f32,
+    pub radius: Radius,
     /// Where R came from: "set to 2 units" or the automatic rule's derivation.
     pub radius_note: String,
 }
@@ -39,27 +39,31 @@ impl PreparedScene {
         }
     }
 
-    /// `ao` with this scene's radius.
+    /// `ao` with R pinned to this scene's resolved number (so the graph and the reference
+    /// use the same R whatever the setting was).
     pub fn ao(&self, ao: &AoConfig) -> AoConfig {
         AoConfig {
-            radius: self.radius,
+            radius: RadiusSetting::Units(self.radius),
             ..ao.clone()
         }
     }
 
     /// "R = 0.98 (auto: ...)" for output headers.
     pub fn radius_line(&self) -> String {
-        format!("R = {} ({})", short(self.radius), self.radius_note)
+        format!("R = {} ({})", short(self.radius.get()), self.radius_note)
     }
 }
 
 /// R and its derivation for `scene` under `setting`.
-pub fn resolve_radius(scene: &Scene, setting: RadiusSetting) -> (f32, String) {
+pub fn resolve_radius(scene: &Scene, setting: RadiusSetting) -> (Radius, String) {
     match setting {
-        RadiusSetting::Units(r) => (r, format!("set to {} scene units", short(r))),
+        RadiusSetting::Units(r) => (r, format!("set to {} scene units", short(r.get()))),
         RadiusSetting::Auto => {
             let s = aograph_scene::suggested_radius(scene);
-            (s.radius, format!("auto: {}", s.derivation))
+            // The suggestion is a positive diagonal / 9, or 1 for a scene without size; only
+            // an underflow to 0 could fail the check, and one unit is then as good as any.
+            let r = Radius::new("the automatic R", s.radius).unwrap_or(Radius::UNIT);
+            (r, format!("auto: {}", s.derivation))
         }
     }
 }
@@ -85,7 +89,7 @@ impl AppConfig {
                 motion: scene.camera_motion.clone(),
             },
         };
-        Ok(PreparedScene::new(&scene, &view, self.radius))
+        Ok(PreparedScene::new(&scene, &view, self.ao.radius))
     }
 }
 

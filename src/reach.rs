@@ -68,7 +68,9 @@ pub fn radius_reach(
         &scene.camera_at(0.0),
         size.width,
         size.height,
-        ao.radius,
+        crate::prepared_scene::resolve_radius(scene, ao.radius)
+            .0
+            .get(),
     ) else {
         return Ok(None);
     };

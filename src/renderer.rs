@@ -256,10 +256,10 @@ impl Renderer {
     /// The key of the current settings in `built`.
     fn settings_key(&self) -> String {
         format!(
-            "{}|{:?}|{}|{:?}|{}",
+            "{}|{:?}|{:?}|{:?}|{}",
             self.ao.technique,
             self.ao.params,
-            self.ao.radius.to_bits(),
+            self.ao.radius,
             self.ao.intermediate_format,
             self.output
         )

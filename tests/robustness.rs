@@ -60,9 +60,9 @@ fn parse_and_build(
         return "rejected";
     };
     let ao = AoConfig {
-        radius: match config.radius {
-            aograph::RadiusSetting::Units(r) => r,
-            aograph::RadiusSetting::Auto => 1.0,
+        radius: match config.ao.radius {
+            aograph::RadiusSetting::Auto => aograph::RadiusSetting::Units(aograph_ao::Radius::UNIT),
+            units => units,
         },
         ..config.ao.clone()
     };

@@ -214,7 +214,7 @@ fn example_config_parses_with_the_papers_values() {
     let config = aograph::AppConfig::load(path, &registry).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         (config.ao.technique.as_str(), config.ao.radius),
-        ("mssao", 2.0)
+        ("mssao", aograph::RadiusSetting::parse("r", "2").unwrap())
     );
     let table = config.ao.params_for("mssao");
     let specs = registry.get("mssao").unwrap().parameters();

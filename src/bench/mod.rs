@@ -26,7 +26,7 @@ pub mod sweep;
 
 use std::path::Path;
 
-use aograph_ao::AoConfig;
+use aograph_ao::{AoConfig, Radius};
 use aograph_graph::{Extent, GpuContext};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -123,7 +123,7 @@ pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
         warmup: s.warmup,
         radius: match s.radius {
             RadiusSetting::Auto => None,
-            RadiusSetting::Units(r) => Some(r),
+            RadiusSetting::Units(r) => Some(r.get()),
         },
         rays: s.rays,
         mode: format!("{:?}", s.mode).to_lowercase(),
@@ -334,7 +334,7 @@ pub fn run_scaling(
                         ctx.shaders.clone(),
                         &ctx.registry,
                         scene.clone(),
-                        &run::ao_config(set, radius),
+                        &run::ao_config(set, Radius::new("--scaling-radii", radius)?),
                         FrameOutputs::default(),
                         Extent::new(side, side),
                     )?;

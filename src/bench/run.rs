@@ -18,15 +18,15 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, RadianceEnvironment, TechniqueRegistry};
+use aograph_ao::{AoConfig, RadianceEnvironment, Radius, RadiusSetting, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, pass_costs, texture_bytes};
 use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};
 
 use super::roofline::{DevicePeaks, PassRoofline, passes_under};
+pub use super::stats::PassTime;
 use super::stats::Spread;
 use super::sweep::ParamSet;
-use crate::config::RadiusSetting;
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
 use crate::frame_reference::{
@@ -129,7 +129,13 @@ pub fn scene_reference(
     };
     let (surfaces, depth) =
         reference_surfaces(ctx.gpu.clone(), ctx.shaders.clone(), &view, s.normals)?;
-    let image = trace_surfaces(&scene, 0.0, &surfaces, &s.reference(prepared.radius), false)?;
+    let image = trace_surfaces(
+        &scene,
+        0.0,
+        &surfaces,
+        &s.reference(prepared.radius.get()),
+        false,
+    )?;
     let valid: Vec<bool> = depth.iter().map(|d| *d > 0.0).collect();
     let (sum, n) = image
         .accessibility
@@ -139,7 +145,13 @@ pub fn scene_reference(
         .fold((0.0f64, 0usize), |(s, n), (a, _)| {
             (s + f64::from(*a), n + 1)
         });
-    let projected = projected_radius(&scene, &view.camera, s.width, s.height, prepared.radius);
+    let projected = projected_radius(
+        &scene,
+        &view.camera,
+        s.width,
+        s.height,
+        prepared.radius.get(),
+    );
     Ok(SceneReference {
         label: label.to_string(),
         view: prepared.view.clone(),
@@ -151,13 +163,6 @@ pub fn scene_reference(
         mean_accessibility: if n > 0 { (sum / n as f64) as f32 } else { 1.0 },
         projected,
     })
-}
-
-/// Median and spread of one pass's time.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PassTime {
-    pub name: String,
-    pub ms: Spread,
 }
 
 /// Times of N frames.
@@ -315,10 +320,10 @@ pub struct RunOutput {
 }
 
 /// Builds an `[ao]` config for `set` at radius `radius`.
-pub fn ao_config(set: &ParamSet, radius: f32) -> AoConfig {
+pub fn ao_config(set: &ParamSet, radius: Radius) -> AoConfig {
     let mut c = AoConfig {
         technique: set.technique.clone(),
-        radius,
+        radius: RadiusSetting::Units(radius),
         ..AoConfig::default()
     };
     c.params.insert(set.technique.clone(), set.params.clone());
@@ -384,7 +389,7 @@ pub fn run_technique(
             ctx.gpu.clone(),
             ctx.shaders.clone(),
             &view,
-            &s.reference(reference.prepared.radius),
+            &s.reference(reference.prepared.radius.get()),
         )?;
         let (direct, indirect) = r.read_radiance()?;
         radiance_scores(&direct, &indirect, &truth, &reference.valid)
@@ -414,7 +419,7 @@ pub fn run_technique(
         params: set.params.clone().into_iter().collect(),
         width: extent.width,
         height: extent.height,
-        radius: reference.prepared.radius,
+        radius: reference.prepared.radius.get(),
         radius_px,
         reach_px,
         reference_mean: Some(reference.mean_accessibility),

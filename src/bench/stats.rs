@@ -41,6 +41,13 @@ impl Spread {
     }
 }
 
+/// Median and spread of one pass's time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PassTime {
+    pub name: String,
+    pub ms: Spread,
+}
+
 /// A fit of log y = c + sum_k e_k log x_k.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PowerFit {

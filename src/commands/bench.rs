@@ -156,14 +156,7 @@ fn positive(name: &str, v: u32) -> AppResult<u32> {
 }
 
 fn check_radius(name: &str, r: f32) -> AppResult<f32> {
-    if !(r.is_finite() && r > 0.0) {
-        return Err(AppError::InvalidArgument {
-            name: name.into(),
-            value: r.to_string(),
-            allowed: "a finite number greater than 0 (world units)".into(),
-        });
-    }
-    Ok(r)
+    Ok(aograph_ao::Radius::new(name, r)?.get())
 }
 
 /// Validated run settings from the shared flags.
@@ -301,7 +294,7 @@ fn radii(args: &BenchArgs, base: RadiusSetting) -> AppResult<scaling::ScalingRad
             RadiusSetting::Units(r) => scaling::ScalingRadii::Units(
                 scaling::DEFAULT_RADIUS_FACTORS
                     .iter()
-                    .map(|f| f * r)
+                    .map(|f| f * r.get())
                     .collect(),
             ),
             RadiusSetting::Auto => {

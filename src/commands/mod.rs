@@ -22,7 +22,7 @@ pub use montage::montage;
 pub use reference::reference;
 pub use render::{RenderArgs, render};
 pub use scene_info::{scene_info, scene_info_text};
-pub use tune::{DEFAULT_SWEEP, TuneArgs, choose, config_text, tune};
+pub use tune::{DEFAULT_SWEEP, TuneArgs, choose, config_text};
 
 use crate::camera_spec::CameraSpec;
 use crate::config::{AppConfig, RadiusSetting, SceneSource, check_size};
@@ -65,10 +65,7 @@ impl CommonArgs {
             c.height = h;
         }
         if let Some(r) = &self.radius {
-            c.radius = RadiusSetting::parse("--radius", r)?;
-            if let RadiusSetting::Units(r) = c.radius {
-                c.ao.radius = r;
-            }
+            c.ao.radius = RadiusSetting::parse("--radius", r)?;
         }
         if let Some(text) = &self.camera {
             c.camera = Some(CameraSpec::parse(text)?);
@@ -76,6 +73,15 @@ impl CommonArgs {
         c.validate(registry)?;
         Ok(c)
     }
+}
+
+/// `aograph tune`: the most accurate setting within `--budget-ms` (src/commands/tune.rs), or with
+/// `--search` XeGTAO's auto-tune (src/commands/tune_search.rs).
+pub fn tune(args: &TuneArgs) -> AppResult<()> {
+    if args.search {
+        return tune_search::tune_search(args);
+    }
+    tune::tune_budget(args)
 }
 
 /// The GPU, or an error that says how to get one.

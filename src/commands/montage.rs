@@ -60,7 +60,7 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
         &frame_reference(
             &r,
             &ReferenceSettings {
-                radius: prepared.radius,
+                radius: prepared.radius.get(),
                 rays,
                 mode: config.reference_mode,
                 normals: config.reference_normals,

@@ -60,7 +60,7 @@ pub fn reference(
     };
     let (surfaces, depth) = reference_surfaces(gpu()?, shader_library(), &view, normals)?;
     let settings = ReferenceSettings {
-        radius: prepared.radius,
+        radius: prepared.radius.get(),
         rays,
         mode,
         normals,

@@ -115,10 +115,9 @@ pub fn config_text(r: &RunRecord, scene: &SceneSource, device: &str, budget_ms: 
     s
 }
 
-pub fn tune(args: &TuneArgs) -> AppResult<()> {
-    if args.search {
-        return super::tune_search::tune_search(args);
-    }
+/// `aograph tune --budget-ms`: the sweep and the pick (`commands::tune` sends `--search` to
+/// tune_search.rs instead).
+pub fn tune_budget(args: &TuneArgs) -> AppResult<()> {
     let budget_ms = args.budget_ms.unwrap_or(f64::NAN);
     if !(budget_ms.is_finite() && budget_ms > 0.0) {
         return Err(AppError::InvalidArgument {

@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use aograph_ao::{IntermediateFormat, ParamDesc, ParamKind};
+use aograph_ao::{IntermediateFormat, ParamDesc, ParamKind, Radius};
 use aograph_graph::texture_bytes;
 
 use super::camera_control::CameraMode;
@@ -122,7 +122,7 @@ fn params_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
         .default_open(true)
         .show(ui, |ui| {
             // The shared radius R and the intermediate precision.
-            let mut r = s.settings.ao.radius;
+            let mut r = s.radius();
             let speed = r as f64 * 0.01;
             ui.horizontal(|ui| {
                 let drag = ui.add(
@@ -133,7 +133,9 @@ fn params_section(ui: &mut egui::Ui, s: &mut Session, p: &mut PanelState) {
                 );
                 if drag.changed() {
                     p.report(
-                        s.set_radius(RadiusSetting::Units(r))
+                        Radius::new("R", r)
+                            .map_err(Into::into)
+                            .and_then(|r| s.set_radius(RadiusSetting::Units(r)))
                             .map(|_| format!("R = {r}")),
                     );
                 }

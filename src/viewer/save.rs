@@ -8,14 +8,28 @@
 //! radians by an ulp (a change far below one 8-bit level of the picture).
 
 use std::fmt::Write;
+use std::path::Path;
 
 use aograph_scene::Projection;
 
 use super::session::Session;
 use crate::config::SceneSource;
+use crate::error::AppResult;
+
+impl Session {
+    /// The settings as a config `aograph render --config` renders the same picture from.
+    pub fn config_text(&self) -> String {
+        config_text(self)
+    }
+
+    /// Writes [`Session::config_text`] to `path` (atomically).
+    pub fn save_config(&self, path: &Path) -> AppResult<()> {
+        crate::images::write_atomic(path, self.config_text().as_bytes())
+    }
+}
 
 /// The config text (see the module docs).
-pub fn config_text(s: &Session) -> String {
+fn config_text(s: &Session) -> String {
     let mut t = String::new();
     let set = &s.settings;
     let _ = writeln!(
@@ -44,7 +58,7 @@ pub fn config_text(s: &Session) -> String {
         t,
         "\n[ao]\ntechnique = {}\nradius = {}\nintermediate_format = {}",
         toml::Value::from(set.ao.technique.as_str()),
-        float(set.ao.radius),
+        float(s.radius()),
         toml::Value::from(match set.ao.intermediate_format {
             aograph_ao::IntermediateFormat::R16Float => "r16float",
             aograph_ao::IntermediateFormat::R32Float => "r32float",

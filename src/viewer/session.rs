@@ -32,9 +32,10 @@ use crate::renderer::{Renderer, shader_library};
 #[derive(Clone, Debug)]
 pub struct ViewerSettings {
     pub scene: SceneSource,
-    /// Technique, its parameters (every technique's table is kept), R, intermediate format.
+    /// Technique, its parameters (every technique's table is kept), intermediate format, and R
+    /// pinned to the number in effect for this scene.
     pub ao: AoConfig,
-    /// How R was chosen.
+    /// How R was chosen (`auto` or a number), re-resolved when the scene changes.
     pub radius: RadiusSetting,
     pub display: DisplayMode,
     /// Where the split falls, 0..1 of the width.
@@ -117,9 +118,9 @@ impl Session {
     pub fn new(gpu: Arc<GpuContext>, config: &AppConfig, size: Extent) -> AppResult<Self> {
         let registry = TechniqueRegistry::with_builtins();
         let scene = Arc::new(crate::load_scene(&config.scene)?);
-        let (radius, radius_note) = resolve_radius(&scene, config.radius);
+        let (radius, radius_note) = resolve_radius(&scene, config.ao.radius);
         let ao = AoConfig {
-            radius,
+            radius: RadiusSetting::Units(radius),
             ..config.ao.clone()
         };
         let start = match &config.camera {
@@ -161,7 +162,7 @@ impl Session {
             settings: ViewerSettings {
                 scene: config.scene.clone(),
                 ao,
-                radius: config.radius,
+                radius: config.ao.radius,
                 display: DisplayMode::Ao,
                 split: 0.5,
                 error_scale: 0.25,
@@ -245,11 +246,16 @@ impl Session {
         self.apply_ao(ao)
     }
 
+    /// The shared radius R in effect, in scene units (the setting resolved for this scene).
+    pub fn radius(&self) -> f32 {
+        resolve_radius(&self.scene, self.settings.ao.radius).0.get()
+    }
+
     /// Sets the shared radius R (`auto` or scene units).
     pub fn set_radius(&mut self, setting: RadiusSetting) -> AppResult<()> {
         let (radius, note) = resolve_radius(&self.scene, setting);
         let ao = AoConfig {
-            radius,
+            radius: RadiusSetting::Units(radius),
             ..self.settings.ao.clone()
         };
         self.apply_ao(ao)?;
@@ -273,7 +279,7 @@ impl Session {
         let scene = Arc::new(crate::load_scene(&source)?);
         let (radius, note) = resolve_radius(&scene, self.settings.radius);
         let ao = AoConfig {
-            radius,
+            radius: RadiusSetting::Units(radius),
             ..self.settings.ao.clone()
         };
         self.renderer.set_scene(scene.clone(), &ao)?;
@@ -357,7 +363,7 @@ impl Session {
                 time: self.time,
                 width: size.width,
                 height: size.height,
-                radius: self.settings.ao.radius,
+                radius: self.radius(),
             });
         if started {
             self.textures.clear_reference(&self.gpu);
@@ -385,16 +391,6 @@ impl Session {
         let t = &self.textures;
         let rb = aograph_graph::read_texture(&self.gpu.device, &self.gpu.queue, &t.view, 0)?;
         crate::images::write_rgba_png(path, t.size.width, t.size.height, &rb.bytes)
-    }
-
-    /// The settings as a config `aograph render --config` renders the same picture from.
-    pub fn config_text(&self) -> String {
-        super::save::config_text(self)
-    }
-
-    /// Writes [`Session::config_text`] to `path` (atomically).
-    pub fn save_config(&self, path: &Path) -> AppResult<()> {
-        crate::images::write_atomic(path, self.config_text().as_bytes())
     }
 
     /// Moves the camera to view `name` of the scene.

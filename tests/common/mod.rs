@@ -23,7 +23,9 @@ pub struct AoRun {
 pub fn ao_config(technique: &str, radius: f32, params_toml: &str) -> AoConfig {
     let mut c = AoConfig {
         technique: technique.into(),
-        radius,
+        radius: aograph_ao::RadiusSetting::Units(
+            aograph_ao::Radius::new("R", radius).expect("test radii are positive"),
+        ),
         ..AoConfig::default()
     };
     let table: toml::Table = params_toml.parse().expect("test params are valid TOML");

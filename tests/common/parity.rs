@@ -89,7 +89,7 @@ pub fn renderer(mode: TemporalMode, scene: Scene, size: Extent) -> Option<Render
     shaders.add_inline("test/parity.wgsl", PARITY_SHADER);
     let config = AoConfig {
         technique: "parity-temporal".into(),
-        radius: 1.0,
+        radius: aograph_ao::RadiusSetting::Units(aograph_ao::Radius::UNIT),
         ..AoConfig::default()
     };
     let outputs = FrameOutputs {

@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use crate::error::{AoError, AoResult};
+use crate::radius::RadiusSetting;
 use crate::registry::TechniqueRegistry;
 use crate::technique::ConfiguredTechnique;
 
@@ -54,8 +55,8 @@ impl IntermediateFormat {
 #[derive(Clone, Debug, PartialEq)]
 pub struct AoConfig {
     pub technique: String,
-    /// Shared world-space radius R (> 0).
-    pub radius: f32,
+    /// How the shared world-space radius R is chosen (`radius = "auto"` or a number).
+    pub radius: RadiusSetting,
     pub intermediate_format: IntermediateFormat,
     /// `[ao.<technique>]` tables.
     pub params: BTreeMap<String, toml::Table>,
@@ -65,7 +66,7 @@ impl Default for AoConfig {
     fn default() -> Self {
         Self {
             technique: DEFAULT_TECHNIQUE.into(),
-            radius: 1.0,
+            radius: RadiusSetting::Auto,
             intermediate_format: IntermediateFormat::default(),
             params: BTreeMap::new(),
         }
@@ -121,14 +122,7 @@ impl AoConfig {
                         "`technique` must be a string naming a technique".into(),
                     ));
                 }
-                ("radius", v) => {
-                    c.radius = v
-                        .as_float()
-                        .or_else(|| v.as_integer().map(|i| i as f64))
-                        .ok_or_else(|| {
-                            AoError::Config("`radius` must be a number (world units)".into())
-                        })? as f32;
-                }
+                ("radius", v) => c.radius = RadiusSetting::from_toml("[ao] radius", v)?,
                 ("intermediate_format", toml::Value::String(s)) => {
                     c.intermediate_format = IntermediateFormat::parse(s)?
                 }
@@ -146,17 +140,10 @@ impl AoConfig {
         Ok(c)
     }
 
-    /// Checks the technique exists, the radius is usable and every technique table parses.
+    /// Checks the technique exists and every technique table parses (R is checked when it is
+    /// made: [`RadiusSetting`]).
     pub fn validate(&self, registry: &TechniqueRegistry) -> AoResult<()> {
         registry.get(&self.technique)?;
-        if !(self.radius.is_finite() && self.radius > 0.0) {
-            return Err(AoError::InvalidParameter {
-                technique: "ao".into(),
-                name: "radius".into(),
-                value: self.radius.to_string(),
-                allowed: "a finite number greater than 0 (world units)".into(),
-            });
-        }
         for (name, params) in &self.params {
             registry.get(name)?.check(params)?;
         }

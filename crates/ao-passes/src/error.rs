@@ -20,6 +20,13 @@ pub enum AoError {
         allowed: String,
     },
 
+    #[error("invalid {name} = {value}: allowed {allowed}")]
+    InvalidRadius {
+        name: String,
+        value: String,
+        allowed: String,
+    },
+
     #[error("invalid parameters for technique `{technique}`: {rule}")]
     ParameterRule { technique: String, rule: String },
 

@@ -8,6 +8,7 @@ pub mod contract;
 mod error;
 mod levels;
 mod param;
+mod radius;
 mod registry;
 mod technique;
 pub mod techniques;
@@ -16,6 +17,7 @@ pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat, nearest, unkno
 pub use error::{AoError, AoResult, check_one_of, check_param};
 pub use levels::Levels;
 pub use param::{ParamDesc, ParamKind};
+pub use radius::{RADIUS_ALLOWED, Radius, RadiusSetting};
 pub use registry::TechniqueRegistry;
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,

@@ -128,7 +128,7 @@ fn build_and_compile(
         builder: &mut b,
         gbuffer,
         view,
-        radius: config.radius,
+        radius: config.radius.units().unwrap_or(1.0),
         intermediate_format: config.intermediate_format.wgpu(),
         technique: technique.name(),
         radius_pixels: None,

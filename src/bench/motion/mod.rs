@@ -191,7 +191,7 @@ pub fn motion_frames(
     )?;
     let reference = crate::frame_reference::ReferenceSettings {
         rays: m.rays,
-        ..s.reference(prepared.radius)
+        ..s.reference(prepared.radius.get())
     };
     let mut frames = Vec::new();
     let mut prev: Option<(Camera, Vec<f32>)> = None;
@@ -245,7 +245,7 @@ pub fn motion_frames(
                         .collect();
                     let at = super::scaling::median_depth(&moving_depth);
                     let band = if at > 0.0 {
-                        super::scaling::radius_in_pixels(&camera, h, prepared.radius, at)
+                        super::scaling::radius_in_pixels(&camera, h, prepared.radius.get(), at)
                             .ceil()
                             .clamp(1.0, 32.0) as u32
                     } else {
@@ -356,7 +356,7 @@ pub fn run_motion_technique(
         params: set.params.clone().into_iter().collect(),
         width: extent.width,
         height: extent.height,
-        radius: prepared.radius,
+        radius: prepared.radius.get(),
         rays: m.rays,
         fps: m.fps,
         frames: s.frames,
