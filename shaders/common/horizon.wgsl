@@ -1,6 +1,6 @@
 // The elevation of a sample above a receiver's tangent plane, as the horizon-based techniques
 // (hbao, pyramid-hbao) measure it: sin(alpha) = n . V / |V|, less what the g-buffer's storage
-// cannot resolve. Normals are stored as Rgba16Float (crates/graph/src/gbuffer_channels.rs):
+// cannot resolve. Normals are stored as Rgba16Float (crates/frame/src/channels.rs):
 // every component is rounded to 11 significant bits, an error of at most 2^-11 = 4.9e-4 of
 // the unit normal, so a V lying exactly in the tangent plane reads a sin(alpha) of up to that
 // much either way. Without a floor the positive half counts as occlusion: a flat plane reads

@@ -1,4 +1,4 @@
-// The per-frame view block (Rust mirror: aograph_graph::ViewUniforms). Right-handed view space,
+// The per-frame view block (Rust mirror: aograph_frame::ViewUniforms). Right-handed view space,
 // camera looking down -Z, linear depth = -z_view > 0; linear depth 0 marks sky.
 struct View {
     view: mat4x4<f32>,

@@ -1,5 +1,6 @@
 //! The scene model: meshes, materials, instances, light, camera, and the queries the renderer
-//! and the reference ray tracer ask of them.
+//! and the reference ray tracer ask of them (the world-space ones, which pose the instances at a
+//! time, are in pose.rs).
 //!
 //! Invariants the loaders and procedural builders keep (and the queries tolerate when a caller
 //! breaks them): mesh indices form a triangle list (`indices.len() % 3 == 0`) whose entries are
@@ -12,7 +13,6 @@
 use crate::animation::Animation;
 use crate::bounds::Aabb;
 use crate::camera::{Camera, CameraMotion};
-use crate::pose::Pose;
 use crate::skin::{JointWeights, Skin};
 use glam::{Mat4, Vec3};
 
@@ -148,14 +148,6 @@ impl Instance {
         })
     }
 
-    /// Where `mesh` (this instance's) goes at time `t`.
-    pub(crate) fn pose(&self, mesh: &Mesh, t: f32) -> Pose {
-        match self.skin_for(mesh) {
-            Some(skin) => Pose::Skinned(skin.palette(t)),
-            None => Pose::Rigid(self.transform_at(t)),
-        }
-    }
-
     /// Object-to-world transform at time `t` (seconds).
     pub fn transform_at(&self, t: f32) -> Mat4 {
         match &self.animation {
@@ -269,28 +261,6 @@ impl Scene {
         instances.fold(camera, f32::max)
     }
 
-    /// World-space bounds at t = 0.
-    pub fn bounds(&self) -> Aabb {
-        self.bounds_at(0.0)
-    }
-
-    /// World-space bounds at t = 0 of everything but backdrops (see [`Instance::backdrop`]):
-    /// the extent of what the scene is about. Empty when the scene is only backdrops.
-    pub fn content_bounds(&self) -> Aabb {
-        self.instances
-            .iter()
-            .filter(|instance| !instance.backdrop)
-            .filter_map(|instance| {
-                let mesh = self.meshes.get(instance.mesh)?;
-                let pose = match instance.skin_for(mesh) {
-                    Some(skin) => Pose::Skinned(skin.palette(0.0)),
-                    None => Pose::Rigid(instance.transform),
-                };
-                Some(pose.bounds(mesh))
-            })
-            .fold(Aabb::EMPTY, Aabb::union)
-    }
-
     /// Checks the invariants every loader and builder keeps (module docs): at least one
     /// triangle; triangle lists with in-range indices; finite positions; normals absent or one
     /// finite unit normal per position; instances and meshes referring to existing meshes and
@@ -386,15 +356,6 @@ impl Scene {
         }
     }
 
-    /// Every instance whose mesh exists, with that mesh and its pose at time `t`: the walk
-    /// the bounds, counts and world-space triangle lists below share.
-    fn placed_meshes(&self, t: f32) -> impl Iterator<Item = (&Mesh, Pose)> {
-        self.instances.iter().filter_map(move |instance| {
-            let mesh = self.meshes.get(instance.mesh)?;
-            Some((mesh, instance.pose(mesh, t)))
-        })
-    }
-
     /// Every instance whose mesh exists, with that mesh (no pose: for counts).
     fn instance_meshes(&self) -> impl Iterator<Item = &Mesh> {
         self.instances
@@ -402,52 +363,9 @@ impl Scene {
             .filter_map(|instance| self.meshes.get(instance.mesh))
     }
 
-    /// World-space bounds at time `t`.
-    pub fn bounds_at(&self, t: f32) -> Aabb {
-        self.placed_meshes(t)
-            .map(|(mesh, pose)| pose.bounds(mesh))
-            .fold(Aabb::EMPTY, Aabb::union)
-    }
-
     /// Number of triangles over all instances.
     pub fn triangle_count(&self) -> usize {
         self.instance_meshes().map(Mesh::triangle_count).sum()
-    }
-
-    /// Every instance's triangles in world space at time `t` (skins deformed), for the
-    /// reference ray tracer.
-    pub fn world_triangles(&self, t: f32) -> Vec<[Vec3; 3]> {
-        let mut out = Vec::with_capacity(self.triangle_count());
-        for (mesh, pose) in self.placed_meshes(t) {
-            let world = pose.positions(mesh);
-            out.extend(mesh.valid_triangles().map(|tri| tri.map(|i| world[i])));
-        }
-        out
-    }
-
-    /// The mesh of instance `instance` posed at time `t`, in world space (skin deformed,
-    /// transform applied; vertices without a normal get none): a still copy for exporters.
-    /// `None` when the instance or its mesh does not exist.
-    pub fn posed_mesh(&self, instance: usize, t: f32) -> Option<Mesh> {
-        let inst = self.instances.get(instance)?;
-        let mesh = self.meshes.get(inst.mesh)?;
-        let pose = inst.pose(mesh, t);
-        let normals = if mesh.normals.len() == mesh.positions.len() {
-            pose.normals(mesh)
-                .into_iter()
-                .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
-                .collect()
-        } else {
-            Vec::new()
-        };
-        Some(Mesh {
-            name: mesh.name.clone(),
-            positions: pose.positions(mesh),
-            normals,
-            indices: mesh.indices.clone(),
-            material: mesh.material,
-            skin_weights: Vec::new(),
-        })
     }
 
     /// The linear RGB albedo (material base colour) of every triangle of
@@ -467,19 +385,6 @@ impl Scene {
                 std::iter::repeat_n(Vec3::new(c[0], c[1], c[2]), mesh.triangles().count())
             })
             .collect()
-    }
-
-    /// Per-vertex world-space unit normals of [`Scene::world_triangles`] at time `t`, in the
-    /// same order: each vertex normal carried by its instance's normal matrix (the inverse
-    /// transpose, see [`crate::normal_transform`]) and renormalised, the rule the GPU g-buffer's
-    /// vertex shader applies. Vertices without a usable normal get zero.
-    pub fn world_vertex_normals(&self, t: f32) -> Vec<[Vec3; 3]> {
-        let mut out = Vec::with_capacity(self.triangle_count());
-        for (mesh, pose) in self.placed_meshes(t) {
-            let world = pose.normals(mesh);
-            out.extend(mesh.valid_triangles().map(|tri| tri.map(|i| world[i])));
-        }
-        out
     }
 }
 

@@ -1,11 +1,13 @@
 //! Where a placed mesh's vertices go at one time: one matrix for a rigid instance, or a skin's
 //! palette blended per vertex (`crate::skin`). The CPU's world-space geometry (the reference's
-//! triangles, the CPU g-buffer's normals, bounds) goes through here; the GPU g-buffer applies
-//! the same rules in `shaders/scene/gbuffer.wgsl`. Invariant: positions and normals come back
-//! one per mesh vertex, normals unit or zero, never NaN from a degenerate transform.
+//! triangles, the CPU g-buffer's normals, bounds) goes through here: the [`Scene`] queries at a
+//! time `t` live in this module, the model (`crate::model`) knows nothing of poses. The GPU
+//! g-buffer applies the same rules in `shaders/scene/gbuffer.wgsl`. Invariant: positions and
+//! normals come back one per mesh vertex, normals unit or zero, never NaN from a degenerate
+//! transform.
 
 use crate::bounds::Aabb;
-use crate::model::Mesh;
+use crate::model::{Instance, Mesh, Scene};
 use crate::normal_transform::{normal_matrix, transform_normal};
 use glam::{Mat4, Vec3};
 
@@ -79,5 +81,106 @@ impl Pose {
                 )
             }
         }
+    }
+}
+
+impl Instance {
+    /// Where `mesh` (this instance's) goes at time `t`.
+    pub(crate) fn pose(&self, mesh: &Mesh, t: f32) -> Pose {
+        match self.skin_for(mesh) {
+            Some(skin) => Pose::Skinned(skin.palette(t)),
+            None => Pose::Rigid(self.transform_at(t)),
+        }
+    }
+}
+
+/// The scene's posed, world-space queries: every one walks the instances through their
+/// [`Pose`] at a time.
+impl Scene {
+    /// World-space bounds at t = 0.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds_at(0.0)
+    }
+
+    /// World-space bounds at t = 0 of everything but backdrops (see [`Instance::backdrop`]):
+    /// the extent of what the scene is about. Empty when the scene is only backdrops.
+    pub fn content_bounds(&self) -> Aabb {
+        self.instances
+            .iter()
+            .filter(|instance| !instance.backdrop)
+            .filter_map(|instance| {
+                let mesh = self.meshes.get(instance.mesh)?;
+                let pose = match instance.skin_for(mesh) {
+                    Some(skin) => Pose::Skinned(skin.palette(0.0)),
+                    None => Pose::Rigid(instance.transform),
+                };
+                Some(pose.bounds(mesh))
+            })
+            .fold(Aabb::EMPTY, Aabb::union)
+    }
+
+    /// Every instance whose mesh exists, with that mesh and its pose at time `t`: the walk
+    /// the bounds, counts and world-space triangle lists below share.
+    fn placed_meshes(&self, t: f32) -> impl Iterator<Item = (&Mesh, Pose)> {
+        self.instances.iter().filter_map(move |instance| {
+            let mesh = self.meshes.get(instance.mesh)?;
+            Some((mesh, instance.pose(mesh, t)))
+        })
+    }
+
+    /// World-space bounds at time `t`.
+    pub fn bounds_at(&self, t: f32) -> Aabb {
+        self.placed_meshes(t)
+            .map(|(mesh, pose)| pose.bounds(mesh))
+            .fold(Aabb::EMPTY, Aabb::union)
+    }
+
+    /// Every instance's triangles in world space at time `t` (skins deformed), for the
+    /// reference ray tracer.
+    pub fn world_triangles(&self, t: f32) -> Vec<[Vec3; 3]> {
+        let mut out = Vec::with_capacity(self.triangle_count());
+        for (mesh, pose) in self.placed_meshes(t) {
+            let world = pose.positions(mesh);
+            out.extend(mesh.valid_triangles().map(|tri| tri.map(|i| world[i])));
+        }
+        out
+    }
+
+    /// The mesh of instance `instance` posed at time `t`, in world space (skin deformed,
+    /// transform applied; vertices without a normal get none): a still copy for exporters.
+    /// `None` when the instance or its mesh does not exist.
+    pub fn posed_mesh(&self, instance: usize, t: f32) -> Option<Mesh> {
+        let inst = self.instances.get(instance)?;
+        let mesh = self.meshes.get(inst.mesh)?;
+        let pose = inst.pose(mesh, t);
+        let normals = if mesh.normals.len() == mesh.positions.len() {
+            pose.normals(mesh)
+                .into_iter()
+                .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Some(Mesh {
+            name: mesh.name.clone(),
+            positions: pose.positions(mesh),
+            normals,
+            indices: mesh.indices.clone(),
+            material: mesh.material,
+            skin_weights: Vec::new(),
+        })
+    }
+
+    /// Per-vertex world-space unit normals of [`Scene::world_triangles`] at time `t`, in the
+    /// same order: each vertex normal carried by its instance's normal matrix (the inverse
+    /// transpose, see [`crate::normal_transform`]) and renormalised, the rule the GPU g-buffer's
+    /// vertex shader applies. Vertices without a usable normal get zero.
+    pub fn world_vertex_normals(&self, t: f32) -> Vec<[Vec3; 3]> {
+        let mut out = Vec::with_capacity(self.triangle_count());
+        for (mesh, pose) in self.placed_meshes(t) {
+            let world = pose.normals(mesh);
+            out.extend(mesh.valid_triangles().map(|tri| tri.map(|i| world[i])));
+        }
+        out
     }
 }

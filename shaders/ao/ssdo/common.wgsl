@@ -2,7 +2,7 @@
 // SSDO (specs/ssdo.md): the blocks ssdo.direct, ssdo.indirect and ssdo.blur share. Included
 // after common/view.wgsl and common/noise.wgsl; it names nothing from them, so it also
 // validates on its own. Rust mirrors: SsdoUniform (techniques/ssdo/kernel.rs) and
-// LightingUniforms (techniques/ssdo/lighting.rs).
+// LightingUniforms (crates/frame/src/lighting.rs).
 
 struct SsdoParams {
     // r_max, fade start, depth bias (world units), sender patch area A_s = pi r_max^2 / N (E3)
