@@ -100,7 +100,7 @@ fn gbuffer_frame(
     outputs: FrameOutputs,
 ) -> AppResult<Renderer> {
     let ao = AoConfig {
-        technique: "none".into(),
+        technique: aograph_ao::techniques::none::BASELINE.into(),
         ..AoConfig::default()
     };
     let mut r = Renderer::new(

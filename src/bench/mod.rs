@@ -302,7 +302,7 @@ pub fn run_scaling(
             results.radii = radii.clone();
         }
         let probe_config = AoConfig {
-            technique: "none".into(),
+            technique: aograph_ao::techniques::none::BASELINE.into(),
             ..AoConfig::default()
         };
         let mut probe = Renderer::new(

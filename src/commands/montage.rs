@@ -36,7 +36,7 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
             .collect::<Vec<_>>()
     };
     let mut base_ao = prepared.ao(&config.ao);
-    base_ao.technique = "none".into();
+    base_ao.technique = aograph_ao::techniques::none::BASELINE.into();
     let mut r = Renderer::new(
         gpu.clone(),
         shader_library(),

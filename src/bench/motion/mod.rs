@@ -170,7 +170,7 @@ pub fn motion_frames(
     let scene = prepared.scene.clone();
     let instances_move = scene.instances.iter().any(|i| i.is_moving());
     let none = AoConfig {
-        technique: "none".into(),
+        technique: aograph_ao::techniques::none::BASELINE.into(),
         ..AoConfig::default()
     };
     let extent = s.extent();

@@ -10,6 +10,9 @@ use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
 pub struct NoAo;
 
+/// The registry name of the cost floor: what a frame that needs only the g-buffer renders.
+pub const BASELINE: &str = "none";
+
 /// `none` has no parameters.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -17,7 +20,7 @@ pub struct NoParams {}
 
 impl AoTechnique for NoAo {
     type Params = NoParams;
-    const NAME: &'static str = "none";
+    const NAME: &'static str = BASELINE;
     fn description(&self) -> &'static str {
         "accessibility 1 everywhere: the cost floor"
     }
