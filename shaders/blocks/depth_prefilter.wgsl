@@ -9,8 +9,12 @@
 // floor's near row half a row up, in front of the floor: it occluded itself to 0.63.)
 
 struct PrefilterParams {
-    // r = 0.75 R' (view units), F r (> 0), unused, unused
-    shape: vec4<f32>,
+    // r = 0.75 R' (view units).
+    radius: f32,
+    // Falloff range F r (view units, > 0).
+    falloff: f32,
+    pad0: f32,
+    pad1: f32,
 }
 
 @group(0) @binding(0) var src: texture_2d<f32>;
@@ -46,8 +50,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let zi = select(vec4<f32>(0.0), z, inside);
     let z_max = max(max(zi.x, zi.y), max(zi.z, zi.w));
     let sky = any(inside & !(z > vec4<f32>(0.0)));
-    let r = params.shape.x;
-    let falloff = max(params.shape.y, 1e-30);
+    let r = params.radius;
+    let falloff = max(params.falloff, 1e-30);
     let t = weigh(c0, z_max, r, falloff) + weigh(c1, z_max, r, falloff)
         + weigh(c2, z_max, r, falloff) + weigh(c3, z_max, r, falloff);
     let v = select(0.0, t.x / max(t.y, 1e-30), t.y > 0.0 && !sky);

@@ -11,8 +11,12 @@
 // Sky (depth 0) writes 1; sky taps and taps past the border weigh 0, even after the leak.
 
 struct DenoiseParams {
-    // blur beta (centre weight), last pass (1) or not (0), unused, unused
-    shape: vec4<f32>,
+    // Blur beta (centre weight).
+    beta: f32,
+    // 1.0 on the last pass, 0.0 before.
+    last_pass: f32,
+    pad0: f32,
+    pad1: f32,
 }
 
 @group(0) @binding(0) var src: texture_2d<f32>;
@@ -67,14 +71,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let w_tr = DIAGONAL_WEIGHT * (e.z * t.y + e.y * r.z);
     let w_bl = DIAGONAL_WEIGHT * (e.w * b.x + e.x * l.w);
     let w_br = DIAGONAL_WEIGHT * (e.y * r.w + e.w * b.y);
-    let beta = params.shape.x;
+    let beta = params.beta;
     var acc = vec2<f32>(beta * textureLoad(src, p, 0).r, beta);
     acc = acc + tap(p + vec2<i32>(-1, 0), size, e.x) + tap(p + vec2<i32>(1, 0), size, e.y);
     acc = acc + tap(p + vec2<i32>(0, -1), size, e.z) + tap(p + vec2<i32>(0, 1), size, e.w);
     acc = acc + tap(p + vec2<i32>(-1, -1), size, w_tl) + tap(p + vec2<i32>(1, -1), size, w_tr);
     acc = acc + tap(p + vec2<i32>(-1, 1), size, w_bl) + tap(p + vec2<i32>(1, 1), size, w_br);
     var v = acc.x / max(acc.y, 1e-30);
-    if (params.shape.y > 0.5) {
+    if (params.last_pass > 0.5) {
         v = saturate(v);
     }
     textureStore(dst, p, vec4<f32>(v, 0.0, 0.0, 0.0));

@@ -13,14 +13,29 @@
 // clamping, spec §12), to [0, 1] when the AO pass is the output.
 
 struct GtaoParams {
-    // slices S, steps per side T, this pass is the output (1) or a denoiser follows (0),
-    // normalisation (0 slice count, 1 unoccluded)
-    counts: vec4<u32>,
-    // R' = R x radius multiplier (view units), falloff range F, sample distribution power,
-    // thin-occluder compensation
-    shape: vec4<f32>,
-    // final value power, depth MIP sampling offset, projected-normal fudge, unused
-    tail: vec4<f32>,
+    // Slices S.
+    slices: u32,
+    // Steps T per side.
+    steps: u32,
+    // 1: this pass is the output; 0: a denoiser follows.
+    is_output: u32,
+    // Normalisation: 0 slice count, 1 unoccluded.
+    normalization: u32,
+    // R' = R x radius multiplier (view units).
+    effect_radius: f32,
+    // Falloff range F (fraction of R').
+    falloff_range: f32,
+    // Sample distribution power.
+    sample_distribution_power: f32,
+    // Thin-occluder compensation.
+    thin_occluder_compensation: f32,
+    // Final value power.
+    final_value_power: f32,
+    // Depth MIP sampling offset.
+    depth_mip_offset: f32,
+    // Projected-normal fudge.
+    normal_fudge: f32,
+    pad0: f32,
 }
 
 @group(0) @binding(1) var<uniform> params: GtaoParams;
@@ -40,22 +55,22 @@ fn estimate(p: vec2<i32>) -> Estimate {
     var e: Estimate;
     e.a = 1.0;
     e.bent = vec3<f32>(0.0, 0.0, 1.0);
-    let effect_radius = params.shape.x;
+    let effect_radius = params.effect_radius;
     let c = centre_of(p, effect_radius);
     if (!c.valid) {
         let rc = load_receiver(depth0, normals, p, view);
         e.bent = select(e.bent, rc.n, rc.valid);
         return e; // sky, no normal, or R' covers no neighbour
     }
-    let slices = clamp(params.counts.x, 1u, 32u);
-    let steps = clamp(params.counts.y, 1u, 32u);
+    let slices = clamp(params.slices, 1u, 32u);
+    let steps = clamp(params.steps, 1u, 32u);
     // Falloff (spec §3): w = saturate((R' - d) / (F R')) = saturate(d mul + add).
-    let falloff_range = max(params.shape.y, 1e-4) * effect_radius;
-    let falloff_from = effect_radius * (1.0 - max(params.shape.y, 1e-4));
+    let falloff_range = max(params.falloff_range, 1e-4) * effect_radius;
+    let falloff_from = effect_radius * (1.0 - max(params.falloff_range, 1e-4));
     let falloff_mul = -1.0 / falloff_range;
     let falloff_add = falloff_from / falloff_range + 1.0;
-    let thin = params.shape.w;
-    let fudge = params.tail.z;
+    let thin = params.thin_occluder_compensation;
+    let fudge = params.normal_fudge;
 
     var occluded = 0.0;
     var open = 0.0;
@@ -65,7 +80,8 @@ fn estimate(p: vec2<i32>) -> Estimate {
         var c_pos = s.low_pos;
         var c_neg = s.low_neg;
         for (var j = 0u; j < steps; j = j + 1u) {
-            let st = step_of(c, s, k, j, steps, params.shape.z, params.tail.y);
+            let st = step_of(
+                c, s, k, j, steps, params.sample_distribution_power, params.depth_mip_offset);
             for (var side = 0u; side < 2u; side = side + 1u) {
                 let smp = sample_of(c, st, side);
                 if (!smp.valid) {
@@ -106,11 +122,11 @@ fn estimate(p: vec2<i32>) -> Estimate {
     }
     // G6: 1 - hidden / open ("unoccluded"), or (open - hidden) / S (XeGTAO).
     var a = select((open - occluded) / f32(slices), 1.0 - occluded / max(open, 1e-6),
-        params.counts.w == 1u);
+        params.normalization == 1u);
     // XeGTAO's small-radius fade (added before its division by S).
     a = a + 0.5 * saturate((10.0 - c.r_px) / 100.0) / f32(slices);
-    a = max(VISIBILITY_FLOOR, pow(max(a, 0.0), params.tail.x));
-    e.a = select(clamp(a, 0.0, 1.5), saturate(a), params.counts.z == 1u);
+    a = max(VISIBILITY_FLOOR, pow(max(a, 0.0), params.final_value_power));
+    e.a = select(clamp(a, 0.0, 1.5), saturate(a), params.is_output == 1u);
     let l = length(bent);
     e.bent = select(c.n, bent / l, l > 1e-12);
     return e;

@@ -16,10 +16,20 @@
 //   horizon starting at the angle bias above the tangent plane, divided by 1 - sin(bias).
 
 struct HbaoParams {
-    // D directions, S steps, attenuation (0 at the horizon, 1 per sample), unused
-    counts: vec4<u32>,
-    // R (world units), max screen radius (fraction of height), sin(angle bias), unused
-    shape: vec4<f32>,
+    // Directions D.
+    directions: u32,
+    // Steps S per direction.
+    steps: u32,
+    // Attenuation: 0 at the horizon, 1 per sample.
+    per_sample: u32,
+    pad0: u32,
+    // R (world units).
+    radius: f32,
+    // Cap of the projected radius (fraction of the image height).
+    max_screen_radius: f32,
+    // sin(angle bias).
+    sin_bias: f32,
+    pad1: f32,
 }
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -44,13 +54,13 @@ fn accessibility(p: vec2<i32>) -> f32 {
 
     // R_screen (§3.1): R projected to pixels, capped (R shrinks to match).
     let ppu = pixels_per_unit(z, view);
-    let r_px = min(params.shape.x * ppu, params.shape.y * view.viewport.y);
+    let r_px = min(params.radius * ppu, params.max_screen_radius * view.viewport.y);
     if (!(r_px >= 1.0)) {
         return 1.0; // no neighbour within R
     }
     let r = r_px / ppu;
-    let dirs = clamp(params.counts.x, 1u, 64u);
-    let steps = clamp(params.counts.y, 1u, 128u);
+    let dirs = clamp(params.directions, 1u, 64u);
+    let steps = clamp(params.steps, 1u, 128u);
     let step_px = (r_px - 1.0) / f32(steps);
     // Per-pixel random rotation of the directions and start offset of the march.
     let rotation = hash_pixel(vec2<u32>(p), 0x9e3779b9u);
@@ -58,8 +68,8 @@ fn accessibility(p: vec2<i32>) -> f32 {
     let centre = vec2<f32>(p) + 0.5;
     let eps = 1e-4 * z;
 
-    let per_sample = params.counts.z == 1u;
-    let sin_bias = clamp(params.shape.z, 0.0, 0.99);
+    let per_sample = params.per_sample == 1u;
+    let sin_bias = clamp(params.sin_bias, 0.0, 0.99);
     var sum = 0.0;
     for (var d = 0u; d < dirs; d = d + 1u) {
         let theta = 6.2831853 * (f32(d) + rotation) / f32(dirs);

@@ -10,10 +10,18 @@
 // Choices (module docs of techniques/ssao.rs): tangent-plane-relative depth test, radius cap.
 
 struct SsaoParams {
-    // samples N, unused x3
-    counts: vec4<u32>,
-    // R (world units), bias (fraction of R), max screen radius (fraction of height), unused
-    shape: vec4<f32>,
+    // Sample count N.
+    samples: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+    // R (world units).
+    radius: f32,
+    // Depth bias (fraction of R).
+    bias: f32,
+    // Cap of the projected radius (fraction of the image height).
+    max_screen_radius: f32,
+    pad3: f32,
     // Tangent-space offsets in units of R (z >= 0 along the normal).
     kernel: array<vec4<f32>, 64>,
 }
@@ -53,12 +61,12 @@ fn accessibility(p: vec2<i32>) -> f32 {
 
     // Projected radius, capped (R shrinks to match); under one pixel there is nothing to test.
     let ppu = pixels_per_unit(z, view);
-    let r_px = min(params.shape.x * ppu, params.shape.z * view.viewport.y);
+    let r_px = min(params.radius * ppu, params.max_screen_radius * view.viewport.y);
     if (!(r_px >= 1.0)) {
         return 1.0;
     }
     let r = r_px / ppu;
-    let bias = params.shape.y * r;
+    let bias = params.bias * r;
 
     // Rotation k of the 4x4 tile (Bayer order): every 4x4 window holds all 16 once.
     let angle = 6.2831853 * f32(interleave_4x4(vec2<u32>(p))) / 16.0;
@@ -71,7 +79,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
     t = normalize(t);
     let b = cross(n, t);
 
-    let count = clamp(params.counts.x, 1u, 64u);
+    let count = clamp(params.samples, 1u, 64u);
     var occlusion = 0.0;
     for (var i = 0u; i < count; i = i + 1u) {
         let k = params.kernel[i].xyz;

@@ -24,8 +24,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(ssdo_indirect, px, vec4<f32>(0.0, 0.0, 0.0, 1.0));
         return;
     }
-    let with_bounce = params.counts.y != 0u;
-    let b = ssdo_blur(positions, normals, radiance, bounce, px, vec2<i32>(0, 1), with_bounce, params.light.w);
+    let with_bounce = params.bounce != 0u;
+    let b = ssdo_blur(positions, normals, radiance, bounce, px, vec2<i32>(0, 1), with_bounce, params.blur_plane_tolerance);
     var a = clamp(b.direct.a, 0.0, 1.0);
     a = select(1.0, a, is_finite_f32(a));
     textureStore(ao, px, vec4<f32>(a, 0.0, 0.0, 0.0));

@@ -5,12 +5,29 @@
 // LightingUniforms (crates/frame/src/lighting.rs).
 
 struct SsdoParams {
-    // r_max, fade start, depth bias (world units), sender patch area A_s = pi r_max^2 / N (E3)
-    shape: vec4<f32>,
-    // distance clamp of E2 (scene units), light lobe exponent, sky gradient, blur plane tolerance
-    light: vec4<f32>,
-    // N, bounce (0/1), environment (0 ambient, 1 sky), unused
-    counts: vec4<u32>,
+    // r_max (world units).
+    r_max: f32,
+    // Fade start (world units).
+    fade_start: f32,
+    // Depth bias (world units).
+    bias: f32,
+    // Sender patch area A_s = pi r_max^2 / N (E3, world units^2).
+    sender_area: f32,
+    // Distance clamp of E2 (scene units).
+    distance_clamp: f32,
+    // Light lobe exponent.
+    light_lobe: f32,
+    // Sky gradient.
+    sky_gradient: f32,
+    // Blur plane tolerance (world units).
+    blur_plane_tolerance: f32,
+    // Sample count N.
+    sample_count: u32,
+    // Bounce: 0 or 1.
+    bounce: u32,
+    // Environment: 0 ambient, 1 sky.
+    sky: u32,
+    pad0: u32,
     // 16 interleaved sets of up to 16 samples, [set * 16 + i] = (lambda_i omega_i in units of
     // r_max in the frame (t, b, n), cos theta_i)
     samples: array<vec4<f32>, 256>,

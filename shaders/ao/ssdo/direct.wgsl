@@ -42,17 +42,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = pw.xyz;
-    let r = params.shape.x;
+    let r = params.r_max;
     let frame = ssdo_frame(n);
     let set_index = interleave_4x4(id.xy);
     let ortho = view.near_far.w > 0.5;
     let to_light = ssdo_normalize((view.view * vec4<f32>(-lighting.light_direction.xyz, 0.0)).xyz);
     let up = (view.view * vec4<f32>(0.0, 1.0, 0.0, 0.0)).xyz;
-    let gradient = params.light.z;
-    let lobe = params.light.y;
+    let gradient = params.sky_gradient;
+    let lobe = params.light_lobe;
     // environment = "sky": L_in(omega) is the sky's, in world space, and the sun is in the sky
     // (its lobe), so the g-buffer's unshadowed directional light is not added.
-    let sky = params.counts.z == 1u;
+    let sky = params.sky == 1u;
     let to_world = mat3x3<f32>(view.inv_view[0].xyz, view.inv_view[1].xyz, view.inv_view[2].xyz);
 
     var sum_cos = 0.0;
@@ -60,12 +60,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var env = vec3<f32>(0.0);
     var sun_weight = 0.0;
     var sun_visible = 0.0;
-    let count = min(params.counts.x, 16u);
+    let count = min(params.sample_count, 16u);
     for (var i = 0u; i < count; i = i + 1u) {
         let k = params.samples[set_index * 16u + i];
         let offset = frame * k.xyz;
         let w = ssdo_normalize(offset);
-        let tap = ssdo_tap(positions, p, n, p + offset * r, view.proj, ortho, r, params.shape.y, params.shape.z);
+        let tap = ssdo_tap(positions, p, n, p + offset * r, view.proj, ortho, r, params.fade_start, params.bias);
         let v = 1.0 - tap.occlusion;
         let cos_t = k.w;
         // E1: (rho / pi) L_in V cos dw, with dw normalised per set (module docs).

@@ -31,17 +31,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = pw.xyz;
-    let r = params.shape.x;
-    let clamp_d = params.light.x;
+    let r = params.r_max;
+    let clamp_d = params.distance_clamp;
     let frame = ssdo_frame(n);
     let set_index = interleave_4x4(id.xy);
     let ortho = view.near_far.w > 0.5;
 
     var gathered = vec3<f32>(0.0);
-    let count = min(params.counts.x, 16u);
+    let count = min(params.sample_count, 16u);
     for (var i = 0u; i < count; i = i + 1u) {
         let k = params.samples[set_index * 16u + i];
-        let tap = ssdo_tap(positions, p, n, p + (frame * k.xyz) * r, view.proj, ortho, r, params.shape.y, params.shape.z);
+        let tap = ssdo_tap(positions, p, n, p + (frame * k.xyz) * r, view.proj, ortho, r, params.fade_start, params.bias);
         if (tap.occlusion > 0.0) {
             let t = tap.surface - p;
             let d = length(t);
@@ -57,6 +57,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     let rho = textureLoad(albedo, px, 0).rgb;
-    let l_ind = rho * (params.shape.w / 3.14159265) * gathered;
+    let l_ind = rho * (params.sender_area / 3.14159265) * gathered;
     textureStore(indirect, px, vec4<f32>(ssdo_clean(l_ind), 1.0));
 }

@@ -10,10 +10,18 @@
 // pixel is passed through unchanged.
 
 struct FilterParams {
-    // half width h = (F - 1) / 2, unused x3
-    size: vec4<i32>,
-    // sigma (world units), c_adaptive, n_max, unused
-    shape: vec4<f32>,
+    // Half width h = (F - 1) / 2.
+    half_width: i32,
+    pad0: i32,
+    pad1: i32,
+    pad2: i32,
+    // Gaussian sigma (world units).
+    sigma: f32,
+    // Convergence from which the filter is off (c_adaptive).
+    c_adaptive: f32,
+    // Cap of the sample count n_t (n_max).
+    n_max: f32,
+    pad3: f32,
 }
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -33,18 +41,18 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(dst, p, vec4<f32>(1.0, 0.0, 0.0, 0.0)); // sky
         return;
     }
-    let n_max = max(params.shape.z, 1.0);
+    let n_max = max(params.n_max, 1.0);
     let centre = textureLoad(ao_buffer, p, 0);
     let a_p = select(1.0, clamp(centre.x, 0.0, 1.0), centre.x == centre.x);
-    let c_adaptive = max(params.shape.y, 1e-6);
+    let c_adaptive = max(params.c_adaptive, 1e-6);
     let s = max(c_adaptive - clamp(centre.y, 0.0, n_max) / n_max, 0.0) / c_adaptive; // Eq. 10
-    let h = clamp(params.size.x, 0, 4);
+    let h = clamp(params.half_width, 0, 4);
     if (!(s > 0.0) || h == 0) {
         textureStore(dst, p, vec4<f32>(a_p, 0.0, 0.0, 0.0));
         return;
     }
     let o = view_position(pixel_uv(p, view), z, view);
-    let inv_sigma = 1.0 / max(params.shape.x, 1e-6);
+    let inv_sigma = 1.0 / max(params.sigma, 1e-6);
     let reach = s * f32(h) + 0.5;
     var sum = 0.0;
     var wsum = 0.0;

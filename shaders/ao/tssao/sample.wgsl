@@ -9,14 +9,36 @@
 // ao_buffer = (accessibility, n_t, Halton index, depth; negative depth = moving surface)
 
 struct TssaoParams {
-    // k1, k2, steps per sample, visibility (0 march, 1 point)
-    counts: vec4<u32>,
-    // n_smooth, falloff (0 none, 1 quadratic), Halton length, unused
-    modes: vec4<u32>,
-    // c_spatial, c_rot, n_max, R (world units)
-    thresholds: vec4<f32>,
-    // Eq. 7 epsilon (relative), Eq. 8 epsilon (world units), max screen radius (fraction of height), unused
-    tolerances: vec4<f32>,
+    // Samples per frame k1 (unconverged).
+    k1: u32,
+    // Samples per frame k2 (converged).
+    k2: u32,
+    // Steps per sample.
+    steps: u32,
+    // Visibility: 0 march, 1 point.
+    visibility: u32,
+    // n_t clamp on a smooth invalidation (n_smooth).
+    n_smooth: u32,
+    // Falloff: 0 none, 1 quadratic.
+    falloff: u32,
+    // Halton sequence length L.
+    halton_length: u32,
+    pad0: u32,
+    // Convergence below which k1 samples are taken (c_spatial).
+    c_spatial: f32,
+    // Convergence from which the pattern rotation is off (c_rot).
+    c_rot: f32,
+    // Cap of the sample count n_t (n_max).
+    n_max: f32,
+    // R (world units).
+    radius: f32,
+    // Eq. 7 epsilon (relative).
+    depth_epsilon: f32,
+    // Eq. 8 epsilon (world units).
+    neighbour_epsilon: f32,
+    // Cap of the projected radius (fraction of the image height).
+    max_screen_radius: f32,
+    pad1: f32,
 }
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -29,7 +51,7 @@ struct TssaoParams {
 @group(0) @binding(7) var ao_buffer: texture_storage_2d<rgba32float, write>;
 // Halton points 1..L (bases 2, 3, 5) mapped to the sample pattern, precomputed: xyz = the
 // cosine-distributed direction in tangent space (z along the normal), w = the third
-// coordinate (the step jitter). L = params.modes.z.
+// coordinate (the step jitter). L = params.halton_length.
 @group(0) @binding(8) var<uniform> halton: array<vec4<f32>, 2048>;
 
 // Linear depth of a view-space point in the previous camera (camera-only reprojection; the
@@ -64,8 +86,8 @@ fn visibility(o: vec3<f32>, c0: vec4<f32>, w: vec3<f32>, r: f32, u: f32, size: v
     var out: Visibility;
     out.occlusion = 0.0;
     out.has_texel = false;
-    let point = params.counts.w == 1u;
-    let steps = select(clamp(params.counts.z, 1u, 8u), 1u, point);
+    let point = params.visibility == 1u;
+    let steps = select(clamp(params.steps, 1u, 8u), 1u, point);
     // Clip coordinates are affine along the segment: c0 = proj * o, plus t times this.
     let cd = view.proj * vec4<f32>(w, 0.0);
     for (var j = 0u; j < steps; j = j + 1u) {
@@ -93,9 +115,9 @@ fn visibility(o: vec3<f32>, c0: vec4<f32>, w: vec3<f32>, r: f32, u: f32, size: v
             // The depth buffer lies in front of the point; it blocks only if that surface is
             // within 2R of p (the paper's distance rejection, §4).
             let s = view_position(pixel_uv(texel, view), zs, view);
-            if (length(s - o) < 2.0 * params.thresholds.w) {
+            if (length(s - o) < 2.0 * params.radius) {
                 let tr = t / max(r, 1e-30);
-                out.occlusion = select(1.0, max(1.0 - tr * tr, 0.0), params.modes.y == 1u);
+                out.occlusion = select(1.0, max(1.0 - tr * tr, 0.0), params.falloff == 1u);
                 return out;
             }
         }
@@ -139,10 +161,10 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
     let n = nw.xyz / nl;
 
     // Reprojected state; invalid history (Eq. 7, off screen, cut, resize) restarts at n_t = 0.
-    let n_max = max(params.thresholds.z, 1.0);
+    let n_max = max(params.n_max, 1.0);
     var nt = select(0.0, min(rp.y, n_max), valid);
     let a_prev = rp.x;
-    let len = params.modes.z;
+    let len = params.halton_length;
     var index = u32(clamp(rp.z, 0.0, f32(len - 1u)));
     if (!valid && rp.z == 0.0) {
         // No history here at all (first frame, cut, resize, off screen): the pixel's own
@@ -151,18 +173,18 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
     }
     let conv = nt / n_max;
     // §3.6.2: k1 samples until converged enough, then k2.
-    let k1 = clamp(params.counts.x, 1u, 64u);
-    var k = clamp(select(params.counts.y, params.counts.x, conv < params.thresholds.x), 1u, 64u);
+    let k1 = clamp(params.k1, 1u, 64u);
+    var k = clamp(select(params.k2, params.k1, conv < params.c_spatial), 1u, 64u);
     // §3.6.4: per-pixel pattern rotation only while conv < c_rot.
     // The rotation turns the pattern about the normal by a per-pixel angle and shifts the
     // step jitter by a per-pixel offset (a Cranley-Patterson rotation of coordinates 2, 3).
-    let rotate = conv < params.thresholds.y;
+    let rotate = conv < params.c_rot;
     let angle = select(0.0, 6.2831853 * hash_pixel(vec2<u32>(p), 1u), rotate);
     let jitter = select(0.0, hash_pixel(vec2<u32>(p), 2u), rotate);
 
     let o = view_position(pixel_uv(p, view), z, view);
     let ppu = pixels_per_unit(z, view);
-    let r_px = min(params.thresholds.w * ppu, params.tolerances.z * view.viewport.y);
+    let r_px = min(params.radius * ppu, params.max_screen_radius * view.viewport.y);
     let r = r_px / max(ppu, 1e-30);
     // Start 1.5 pixel footprints above the surface (self-occlusion on grazing planes).
     let start = o + n * (1.5 / max(ppu, 1e-30));
@@ -201,9 +223,9 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
             let zs = textureLoad(depth, v.texel, 0).x;
             let s = view_position(pixel_uv(v.texel, view), zs, view);
             let d = s - o;
-            if (dot(d, n) > 0.0 && length(d) < 2.0 * params.thresholds.w) {
+            if (dot(d, n) > 0.0 && length(d) < 2.0 * params.radius) {
                 let s_old = prev_position(v.texel, s);
-                if (abs(length(d) - length(s_old - p_old)) >= params.tolerances.y) {
+                if (abs(length(d) - length(s_old - p_old)) >= params.neighbour_epsilon) {
                     changed = true;
                 }
                 // The previous occupant of s_i's position: moving geometry at another depth
@@ -214,7 +236,7 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
                     let h = textureLoad(previous, clamp(vec2<i32>(floor(prev_uv * vec2<f32>(hs))), vec2<i32>(0), hs - 1), 0);
                     let zm = textureLoad(motion, v.texel, 0).z;
                     let d_prev = select(prev_depth(s), zm, zm > 0.0);
-                    if (h.w < 0.0 && abs(1.0 - d_prev / -h.w) >= params.tolerances.x) {
+                    if (h.w < 0.0 && abs(1.0 - d_prev / -h.w) >= params.depth_epsilon) {
                         changed = true;
                     }
                 }
@@ -230,7 +252,7 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
 
     // §3.6.1: a neighbourhood change clamps n_t (smooth invalidation) or resets it.
     if (valid && changed) {
-        nt = min(nt, f32(params.modes.x));
+        nt = min(nt, f32(params.n_smooth));
     }
     let kf = f32(k);
     var a_new = (nt * a_prev + kf * a_frame) / (nt + kf); // Eq. 5

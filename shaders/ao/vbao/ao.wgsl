@@ -16,13 +16,29 @@
 // are dropped when `clip` is on (spec §9, the reference's hard radius).
 
 struct VbaoParams {
-    // slices S, steps per side T, unused, sectors N
-    counts: vec4<u32>,
-    // R' (view units), thickness T (view units), sample distribution power, depth MIP offset
-    shape: vec4<f32>,
-    // final power, cosine weighting (1) or uniform (0), centre rounding (1) or ceil (0),
-    // clip taps to R' (1) or not (0)
-    tail: vec4<f32>,
+    // Slices S.
+    slices: u32,
+    // Steps T per side.
+    steps: u32,
+    pad0: u32,
+    // Sectors N.
+    sectors: u32,
+    // R' (view units).
+    effect_radius: f32,
+    // Thickness T (view units).
+    thickness: f32,
+    // Sample distribution power.
+    sample_distribution_power: f32,
+    // Depth MIP sampling offset.
+    depth_mip_offset: f32,
+    // Final value power.
+    final_value_power: f32,
+    // Weighting: 1.0 cosine, 0.0 uniform.
+    cosine_weighting: f32,
+    // Sector rounding: 1.0 centre, 0.0 ceil.
+    centre_rounding: f32,
+    // 1.0: taps farther than R' are dropped.
+    clip_to_radius: f32,
 }
 
 @group(0) @binding(1) var<uniform> params: VbaoParams;
@@ -70,18 +86,18 @@ fn sector_weight(k: u32, n: u32, s: Slice) -> f32 {
 }
 
 fn accessibility(p: vec2<i32>) -> f32 {
-    let effect_radius = params.shape.x;
+    let effect_radius = params.effect_radius;
     let c = centre_of(p, effect_radius);
     if (!c.valid) {
         return 1.0; // sky, no normal, or R' covers no neighbour
     }
-    let slices = clamp(params.counts.x, 1u, 32u);
-    let steps = clamp(params.counts.y, 1u, 32u);
-    let n = clamp(params.counts.w, 1u, 32u);
-    let thickness = params.shape.y;
-    let cosine = params.tail.y > 0.5;
-    let centres = params.tail.z > 0.5;
-    let clip = params.tail.w > 0.5;
+    let slices = clamp(params.slices, 1u, 32u);
+    let steps = clamp(params.steps, 1u, 32u);
+    let n = clamp(params.sectors, 1u, 32u);
+    let thickness = params.thickness;
+    let cosine = params.cosine_weighting > 0.5;
+    let centres = params.centre_rounding > 0.5;
+    let clip = params.clip_to_radius > 0.5;
 
     var set_bits = 0u;   // uniform: Σ popcount
     var hidden = 0.0;    // cosine: Σ ‖n_p‖ Σ_set w_k
@@ -90,7 +106,8 @@ fn accessibility(p: vec2<i32>) -> f32 {
         let s = slice_of(c, k, slices);
         var bits = 0u;
         for (var j = 0u; j < steps; j = j + 1u) {
-            let st = step_of(c, s, k, j, steps, params.shape.z, params.shape.w);
+            let st = step_of(
+                c, s, k, j, steps, params.sample_distribution_power, params.depth_mip_offset);
             for (var side = 0u; side < 2u; side = side + 1u) {
                 let smp = sample_of(c, st, side);
                 if (!smp.valid || (clip && smp.dist > effect_radius)) {
@@ -132,7 +149,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
     }
     var a = select(1.0 - f32(set_bits) / f32(n * slices), 1.0 - hidden / max(open, 1e-6),
         cosine);
-    a = max(VISIBILITY_FLOOR, pow(max(a, 0.0), params.tail.x));
+    a = max(VISIBILITY_FLOOR, pow(max(a, 0.0), params.final_value_power));
     return saturate(a);
 }
 

@@ -36,8 +36,12 @@ pub const PREFILTER_RADIUS_SCALE: f32 = 0.75;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct PrefilterUniform {
-    /// r = 0.75 R', F r, unused, unused
-    shape: [f32; 4],
+    /// r = 0.75 R' (view units).
+    radius: f32,
+    /// Falloff range F r (view units, > 0).
+    falloff: f32,
+    _pad0: f32,
+    _pad1: f32,
 }
 
 /// Adds the passes building levels 1..`levels` - 1 of the prefiltered pyramid over `depth`
@@ -81,7 +85,10 @@ pub fn depth_prefilter(
     }
     let r = PREFILTER_RADIUS_SCALE * effect_radius;
     let uniform = PrefilterUniform {
-        shape: [r, falloff_range * r, 0.0, 0.0],
+        radius: r,
+        falloff: falloff_range * r,
+        _pad0: 0.0,
+        _pad1: 0.0,
     };
     let mut pyramid = DepthPyramid {
         levels: vec![depth],

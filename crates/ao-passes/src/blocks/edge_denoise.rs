@@ -48,8 +48,12 @@ impl Default for EdgeDenoise {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct DenoiseUniform {
-    /// blur beta, last pass (1) or not (0), unused, unused
-    shape: [f32; 4],
+    /// Blur beta (centre weight).
+    beta: f32,
+    /// 1.0 on the last pass, 0.0 before.
+    last_pass: f32,
+    _pad0: f32,
+    _pad1: f32,
 }
 
 /// Adds the denoise passes over `ao` (raw accessibility), guided by `edges` (Rgba8Unorm,
@@ -95,7 +99,10 @@ pub fn edge_denoise(
             params.blur_beta / 5.0
         };
         let uniform = DenoiseUniform {
-            shape: [beta, last as u32 as f32, 0.0, 0.0],
+            beta,
+            last_pass: last as u32 as f32,
+            _pad0: 0.0,
+            _pad1: 0.0,
         };
         let mut p = b.compute_pass(&name, &shader, "main");
         p.sample("src", src)

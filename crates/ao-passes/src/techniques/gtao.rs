@@ -150,12 +150,29 @@ impl GtaoParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct GtaoUniform {
-    /// S, T, this pass is the output, normalisation (0 slice count, 1 unoccluded)
-    counts: [u32; 4],
-    /// R', F, sample distribution power, thin-occluder compensation
-    shape: [f32; 4],
-    /// final value power, depth MIP offset, normal fudge, unused
-    tail: [f32; 4],
+    /// Slices S.
+    slices: u32,
+    /// Steps T per side.
+    steps: u32,
+    /// 1: this pass is the output; 0: a denoiser follows.
+    is_output: u32,
+    /// Normalisation: 0 slice count, 1 unoccluded.
+    normalization: u32,
+    /// R' = R x radius multiplier (view units).
+    effect_radius: f32,
+    /// Falloff range F (fraction of R').
+    falloff_range: f32,
+    /// Sample distribution power.
+    sample_distribution_power: f32,
+    /// Thin-occluder compensation.
+    thin_occluder_compensation: f32,
+    /// Final value power.
+    final_value_power: f32,
+    /// Depth MIP sampling offset.
+    depth_mip_offset: f32,
+    /// Projected-normal fudge.
+    normal_fudge: f32,
+    _pad0: f32,
 }
 
 impl AoTechnique for Gtao {
@@ -210,19 +227,18 @@ impl AoTechnique for Gtao {
 
         let (slices, steps) = p.counts();
         let uniform = GtaoUniform {
-            counts: [
-                slices,
-                steps,
-                (p.denoise_passes == 0) as u32,
-                (p.normalization == Normalization::Unoccluded) as u32,
-            ],
-            shape: [
-                effect_radius,
-                p.falloff_range,
-                p.sample_distribution_power,
-                p.thin_occluder_compensation,
-            ],
-            tail: [p.final_value_power, p.depth_mip_offset, p.normal_fudge, 0.0],
+            slices,
+            steps,
+            is_output: (p.denoise_passes == 0) as u32,
+            normalization: (p.normalization == Normalization::Unoccluded) as u32,
+            effect_radius,
+            falloff_range: p.falloff_range,
+            sample_distribution_power: p.sample_distribution_power,
+            thin_occluder_compensation: p.thin_occluder_compensation,
+            final_value_power: p.final_value_power,
+            depth_mip_offset: p.depth_mip_offset,
+            normal_fudge: p.normal_fudge,
+            _pad0: 0.0,
         };
         let mut out = slice_passes(
             ctx,

@@ -151,10 +151,20 @@ impl Default for HbaoParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct HbaoUniform {
-    /// D, S, attenuation (0 horizon, 1 per sample), unused
-    counts: [u32; 4],
-    /// R (world units), max screen radius (fraction of height), sin(angle bias), unused
-    shape: [f32; 4],
+    /// Directions D.
+    directions: u32,
+    /// Steps S per direction.
+    steps: u32,
+    /// Attenuation: 0 at the horizon, 1 per sample.
+    per_sample: u32,
+    _pad0: u32,
+    /// R (world units).
+    radius: f32,
+    /// Cap of the projected radius (fraction of the image height).
+    max_screen_radius: f32,
+    /// sin(angle bias).
+    sin_bias: f32,
+    _pad1: f32,
 }
 
 impl AoTechnique for Hbao {
@@ -210,18 +220,14 @@ impl AoTechnique for Hbao {
             )
         };
         let uniform = HbaoUniform {
-            counts: [
-                p.directions,
-                p.steps,
-                (p.attenuation() == Attenuation::PerSample) as u32,
-                0,
-            ],
-            shape: [
-                ctx.radius,
-                p.max_screen_radius,
-                p.angle_bias().to_radians().sin(),
-                0.0,
-            ],
+            directions: p.directions,
+            steps: p.steps,
+            per_sample: (p.attenuation() == Attenuation::PerSample) as u32,
+            _pad0: 0,
+            radius: ctx.radius,
+            max_screen_radius: p.max_screen_radius,
+            sin_bias: p.angle_bias().to_radians().sin(),
+            _pad1: 0.0,
         };
         let mut pass = ctx.builder.compute_pass("hbao.ao", &shader, "main");
         pass.sample("depth", depth).sample("normals", normals);

@@ -75,10 +75,18 @@ impl Default for SsaoParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct SsaoUniform {
-    /// samples, unused x3
-    counts: [u32; 4],
-    /// R (world units), bias (fraction of R), max screen radius (fraction of height), unused
-    shape: [f32; 4],
+    /// Sample count N.
+    samples: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    /// R (world units).
+    radius: f32,
+    /// Depth bias (fraction of R).
+    bias: f32,
+    /// Cap of the projected radius (fraction of the image height).
+    max_screen_radius: f32,
+    _pad3: f32,
     /// Tangent-space sample offsets (z along the normal), in units of R.
     kernel: [[f32; 4]; MAX_SAMPLES as usize],
 }
@@ -137,8 +145,14 @@ impl AoTechnique for Ssao {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         let mut uniform = SsaoUniform {
-            counts: [p.samples, 0, 0, 0],
-            shape: [ctx.radius, p.bias, p.max_screen_radius, 0.0],
+            samples: p.samples,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
+            radius: ctx.radius,
+            bias: p.bias,
+            max_screen_radius: p.max_screen_radius,
+            _pad3: 0.0,
             kernel: [[0.0; 4]; MAX_SAMPLES as usize],
         };
         for (k, s) in uniform.kernel.iter_mut().zip(hemisphere_kernel(p.samples)) {

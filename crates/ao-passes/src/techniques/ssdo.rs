@@ -140,14 +140,18 @@ impl SsdoParams {
         let n = self.samples.clamp(1, MAX_SAMPLES);
         let area = self.sender_area_scale * std::f32::consts::PI * radius * radius / n as f32; // E3
         kernel::SsdoUniform {
-            shape: [radius, self.fade_start * radius, self.bias * radius, area],
-            light: [
-                self.distance_clamp,
-                self.light_lobe,
-                self.sky_gradient,
-                BLUR_PLANE_TOLERANCE * radius,
-            ],
-            counts: [n, self.bounce as u32, (self.environment == "sky") as u32, 0],
+            r_max: radius,
+            fade_start: self.fade_start * radius,
+            bias: self.bias * radius,
+            sender_area: area,
+            distance_clamp: self.distance_clamp,
+            light_lobe: self.light_lobe,
+            sky_gradient: self.sky_gradient,
+            blur_plane_tolerance: BLUR_PLANE_TOLERANCE * radius,
+            sample_count: n,
+            bounce: self.bounce as u32,
+            sky: (self.environment == "sky") as u32,
+            _pad0: 0,
             samples: kernel::sample_table(n),
         }
     }
@@ -377,10 +381,10 @@ mod tests {
     fn uniform_carries_the_sender_area_and_the_sets() {
         let u = SsdoParams::default().uniform(2.0);
         assert!(
-            (u.shape[3] - std::f32::consts::PI * 4.0 / 8.0).abs() < 1e-6,
+            (u.sender_area - std::f32::consts::PI * 4.0 / 8.0).abs() < 1e-6,
             "A_s = pi r^2 / N"
         );
-        assert_eq!(u.counts, [8, 1, 0, 0]);
+        assert_eq!((u.sample_count, u.bounce, u.sky, u._pad0), (8, 1, 0, 0));
         assert!(u.samples[16 * 15 + 7] != [0.0; 4] && u.samples[16 * 15 + 8] == [0.0; 4]);
         assert_eq!(
             std::mem::size_of::<kernel::SsdoUniform>(),

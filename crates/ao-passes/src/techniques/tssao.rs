@@ -216,24 +216,54 @@ const FALLOFFS: [&str; 2] = ["none", "quadratic"];
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct SampleUniform {
-    /// k1, k2, steps, visibility (0 march, 1 point)
-    counts: [u32; 4],
-    /// n_smooth, falloff (0 none, 1 quadratic), Halton length, unused
-    modes: [u32; 4],
-    /// c_spatial, c_rot, n_max, R (world units)
-    thresholds: [f32; 4],
-    /// Eq. 7 epsilon, Eq. 8 epsilon (world units), max screen radius (fraction of height), unused
-    tolerances: [f32; 4],
+    /// Samples per frame k1 (unconverged).
+    k1: u32,
+    /// Samples per frame k2 (converged).
+    k2: u32,
+    /// Steps per sample.
+    steps: u32,
+    /// Visibility: 0 march, 1 point.
+    visibility: u32,
+    /// n_t clamp on a smooth invalidation (n_smooth).
+    n_smooth: u32,
+    /// Falloff: 0 none, 1 quadratic.
+    falloff: u32,
+    /// Halton sequence length L.
+    halton_length: u32,
+    _pad0: u32,
+    /// Convergence below which k1 samples are taken (c_spatial).
+    c_spatial: f32,
+    /// Convergence from which the pattern rotation is off (c_rot).
+    c_rot: f32,
+    /// Cap of the sample count n_t (n_max).
+    n_max: f32,
+    /// R (world units).
+    radius: f32,
+    /// Eq. 7 epsilon (relative).
+    depth_epsilon: f32,
+    /// Eq. 8 epsilon (world units).
+    neighbour_epsilon: f32,
+    /// Cap of the projected radius (fraction of the image height).
+    max_screen_radius: f32,
+    _pad1: f32,
 }
 
 /// The `params` uniform of shaders/ao/tssao/filter.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct FilterUniform {
-    /// Half width h = (F - 1) / 2, unused x3.
-    size: [i32; 4],
-    /// sigma (world units), c_adaptive, n_max, unused
-    shape: [f32; 4],
+    /// Half width h = (F - 1) / 2.
+    half_width: i32,
+    _pad0: i32,
+    _pad1: i32,
+    _pad2: i32,
+    /// Gaussian sigma (world units).
+    sigma: f32,
+    /// Convergence from which the filter is off (c_adaptive).
+    c_adaptive: f32,
+    /// Cap of the sample count n_t (n_max).
+    n_max: f32,
+    _pad3: f32,
 }
 
 impl AoTechnique for Tssao {
@@ -330,15 +360,22 @@ impl AoTechnique for Tssao {
 
         // k new samples, Eq. 8, Eqs. 5-6: writes the AO buffer.
         let uniform = SampleUniform {
-            counts: [p.k1, p.k2, p.steps, visibility],
-            modes: [p.n_smooth, falloff, HALTON_LENGTH, 0],
-            thresholds: [p.c_spatial, p.c_rot, p.n_max as f32, ctx.radius],
-            tolerances: [
-                p.depth_epsilon,
-                p.neighbour_epsilon * ctx.radius,
-                p.max_screen_radius,
-                0.0,
-            ],
+            k1: p.k1,
+            k2: p.k2,
+            steps: p.steps,
+            visibility,
+            n_smooth: p.n_smooth,
+            falloff,
+            halton_length: HALTON_LENGTH,
+            _pad0: 0,
+            c_spatial: p.c_spatial,
+            c_rot: p.c_rot,
+            n_max: p.n_max as f32,
+            radius: ctx.radius,
+            depth_epsilon: p.depth_epsilon,
+            neighbour_epsilon: p.neighbour_epsilon * ctx.radius,
+            max_screen_radius: p.max_screen_radius,
+            _pad1: 0.0,
         };
         // Without Eq. 8 (or without motion, where it always holds) the test is compiled out.
         let entry = if r.has_motion && p.neighbourhood_test {
@@ -371,13 +408,14 @@ impl AoTechnique for Tssao {
         pass.sample("ao_buffer", buffer).sample("depth", depth);
         pass.read_view(ctx.view);
         let filter = FilterUniform {
-            size: [(p.filter_width / 2) as i32, 0, 0, 0],
-            shape: [
-                p.filter_sigma * ctx.radius,
-                p.c_adaptive,
-                p.n_max as f32,
-                0.0,
-            ],
+            half_width: (p.filter_width / 2) as i32,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
+            sigma: p.filter_sigma * ctx.radius,
+            c_adaptive: p.c_adaptive,
+            n_max: p.n_max as f32,
+            _pad3: 0.0,
         };
         pass.uniform("params", bytemuck::bytes_of(&filter));
         let out = pass.write_storage("dst", out);

@@ -129,12 +129,29 @@ impl VbaoParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct VbaoUniform {
-    /// S, T, unused, N
-    counts: [u32; 4],
-    /// R', T (view units), sample distribution power, depth MIP offset
-    shape: [f32; 4],
-    /// final power, cosine (1) or uniform (0), centre rounding (1) or ceil (0), clip (1)
-    tail: [f32; 4],
+    /// Slices S.
+    slices: u32,
+    /// Steps T per side.
+    steps: u32,
+    _pad0: u32,
+    /// Sectors N.
+    sectors: u32,
+    /// R' (view units).
+    effect_radius: f32,
+    /// Thickness T (view units).
+    thickness: f32,
+    /// Sample distribution power.
+    sample_distribution_power: f32,
+    /// Depth MIP sampling offset.
+    depth_mip_offset: f32,
+    /// Final value power.
+    final_value_power: f32,
+    /// Weighting: 1.0 cosine, 0.0 uniform.
+    cosine_weighting: f32,
+    /// Sector rounding: 1.0 centre, 0.0 ceil.
+    centre_rounding: f32,
+    /// 1.0: taps farther than R' are dropped.
+    clip_to_radius: f32,
 }
 
 impl AoTechnique for Vbao {
@@ -177,19 +194,18 @@ impl AoTechnique for Vbao {
         let effect_radius = ctx.radius * p.radius_multiplier;
         let (slices, steps) = p.counts();
         let uniform = VbaoUniform {
-            counts: [slices, steps, 0, p.sectors],
-            shape: [
-                effect_radius,
-                p.thickness * ctx.radius,
-                p.sample_distribution_power,
-                p.depth_mip_offset,
-            ],
-            tail: [
-                p.final_value_power,
-                (p.weighting == SectorWeighting::Cosine) as u32 as f32,
-                (p.rounding == SectorRounding::Centre) as u32 as f32,
-                p.clip_to_radius as u32 as f32,
-            ],
+            slices,
+            steps,
+            _pad0: 0,
+            sectors: p.sectors,
+            effect_radius,
+            thickness: p.thickness * ctx.radius,
+            sample_distribution_power: p.sample_distribution_power,
+            depth_mip_offset: p.depth_mip_offset,
+            final_value_power: p.final_value_power,
+            cosine_weighting: (p.weighting == SectorWeighting::Cosine) as u32 as f32,
+            centre_rounding: (p.rounding == SectorRounding::Centre) as u32 as f32,
+            clip_to_radius: p.clip_to_radius as u32 as f32,
         };
         slice_passes(
             ctx,

@@ -27,13 +27,29 @@ pub const MAX_SAMPLES: u32 = 16;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct SsdoUniform {
-    /// r_max, fade start, depth bias (world units), sender patch area A_s (world units^2).
-    pub shape: [f32; 4],
-    /// Distance clamp of the form factor (scene units), light lobe exponent, sky gradient,
-    /// blur plane tolerance (world units).
-    pub light: [f32; 4],
-    /// N, bounce (0/1), unused x2.
-    pub counts: [u32; 4],
+    /// r_max (world units).
+    pub r_max: f32,
+    /// Fade start (world units).
+    pub fade_start: f32,
+    /// Depth bias (world units).
+    pub bias: f32,
+    /// Sender patch area A_s (world units^2).
+    pub sender_area: f32,
+    /// Distance clamp of the form factor (scene units).
+    pub distance_clamp: f32,
+    /// Light lobe exponent.
+    pub light_lobe: f32,
+    /// Sky gradient.
+    pub sky_gradient: f32,
+    /// Blur plane tolerance (world units).
+    pub blur_plane_tolerance: f32,
+    /// Sample count N.
+    pub sample_count: u32,
+    /// Bounce: 0 or 1.
+    pub bounce: u32,
+    /// Environment: 0 ambient, 1 sky.
+    pub sky: u32,
+    pub _pad0: u32,
     /// `[set * 16 + i]` = (x, y, z, cos theta): offset in units of r_max in the frame (t, b, n).
     pub samples: [[f32; 4]; SETS * MAX_SAMPLES as usize],
 }
