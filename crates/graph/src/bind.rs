@@ -1,11 +1,12 @@
 //! Binding a plan's resources for one frame: physical textures from the pool (the same ones
 //! as last time where they are free, so cached bind groups stay valid), imports, histories
-//! and buffers; then the bind groups of every kept pass, rebuilt only when a bound texture
-//! changed.
+//! and buffers; then the bind groups of every kept pass, from the binding slots compile
+//! resolved, rebuilt only when a bound texture changed.
 //!
 //! Invariant: after `bind_resources`, `state.textures[r]` (`state.frame_buffers[r]`) holds
 //! the texture (buffer) of every resource the plan uses this frame, and nothing else.
 
+use crate::binding_slots::{BindingSlot, BindingSource};
 use crate::compile::CompiledGraph;
 use crate::declaration::{ResourceKind, ResourceOrigin};
 use crate::error::{GraphError, GraphResult};
@@ -15,7 +16,6 @@ use crate::imports::ImportTable;
 use crate::plan_state::PlanState;
 use crate::pool::{PoolKey, TexturePool};
 use crate::resource::Extent;
-use crate::shader::ShaderBindingKind;
 
 /// The executor's shared resources a frame binds from.
 pub(crate) struct BindSources<'a> {
@@ -113,36 +113,29 @@ pub(crate) fn bind_resources(
     Ok(())
 }
 
-/// Builds (or reuses) the bind groups of every kept pass for this frame's textures.
+/// Builds (or reuses) the bind groups of every kept pass for this frame's textures, walking
+/// the plan's binding slots (resolved at compile: no name is compared here). In steady state,
+/// when every pass gets the textures of its last frame back, nothing is allocated.
 pub(crate) fn bind_groups(
     state: &mut PlanState,
     plan: &CompiledGraph,
     gpu: &GpuContext,
-    samplers: &Samplers,
     scratch: &mut Vec<u64>,
 ) -> GraphResult<()> {
     let decl = &plan.decl;
     for p in &plan.order {
-        let (Some(pipeline), Some(info)) = (&state.pipelines[p.0], &plan.shaders[p.0]) else {
+        let Some(pipeline) = &state.pipelines[p.0] else {
             continue;
         };
         let pass = &decl.passes[p.0];
+        let slots = &plan.binding_slots[p.0];
         scratch.clear();
-        for b in &info.bindings {
-            let serial = match b.kind {
-                ShaderBindingKind::SampledTexture { .. }
-                | ShaderBindingKind::StorageTexture { .. } => pass
-                    .textures
-                    .iter()
-                    .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
-                    .and_then(|u| {
-                        state.textures[u.resource()]
-                            .as_ref()
-                            .map(|t| t.serial * 64 + u.mip.unwrap_or(63) as u64)
-                    })
-                    .unwrap_or(0),
-                _ => 0,
-            };
+        for slot in slots {
+            let serial = slot
+                .source
+                .texture_resource()
+                .and_then(|r| state.textures[r].as_ref())
+                .map_or(0, |t| t.serial);
             scratch.push(serial);
         }
         if state.bind_groups[p.0]
@@ -154,58 +147,10 @@ pub(crate) fn bind_groups(
         let mut groups = Vec::new();
         for (g, layout) in pipeline.groups() {
             let mut entries = Vec::new();
-            for b in info.bindings.iter().filter(|b| b.group == *g) {
-                let missing = || GraphError::MissingResource {
-                    resource: b.name.clone(),
-                    message: format!("pass `{}` has nothing bound to it this frame", pass.name),
-                };
-                let resource = match &b.kind {
-                    ShaderBindingKind::Sampler { linear } => {
-                        wgpu::BindingResource::Sampler(if *linear {
-                            &samplers.linear
-                        } else {
-                            &samplers.nearest
-                        })
-                    }
-                    ShaderBindingKind::SampledTexture { .. }
-                    | ShaderBindingKind::StorageTexture { .. } => {
-                        let u = pass
-                            .textures
-                            .iter()
-                            .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
-                            .ok_or_else(missing)?;
-                        let t = state.textures[u.resource()].as_ref().ok_or_else(missing)?;
-                        let storage = matches!(b.kind, ShaderBindingKind::StorageTexture { .. });
-                        wgpu::BindingResource::TextureView(t.view_of(if storage {
-                            u.mip.or(Some(0))
-                        } else {
-                            u.mip
-                        }))
-                    }
-                    ShaderBindingKind::Uniform { .. } | ShaderBindingKind::StorageBuffer { .. } => {
-                        if let Some(h) = pass
-                            .uniforms
-                            .iter()
-                            .find(|h| decl.uniforms[h.0].binding == b.name)
-                        {
-                            state.uniforms[h.0].as_entire_binding()
-                        } else {
-                            let u = pass
-                                .buffers
-                                .iter()
-                                .find(|u| u.binding.as_deref() == Some(b.name.as_str()))
-                                .ok_or_else(missing)?;
-                            let h = u.read.or(u.written).ok_or_else(missing)?;
-                            state.frame_buffers[h.id as usize]
-                                .as_ref()
-                                .ok_or_else(missing)?
-                                .as_entire_binding()
-                        }
-                    }
-                };
+            for slot in slots.iter().filter(|s| s.group == *g) {
                 entries.push(wgpu::BindGroupEntry {
-                    binding: b.binding,
-                    resource,
+                    binding: slot.binding,
+                    resource: slot_resource(state, plan, p.index(), slot)?,
                 });
             }
             groups.push((
@@ -222,29 +167,41 @@ pub(crate) fn bind_groups(
     Ok(())
 }
 
-/// The two clamp samplers shader `sampler` globals get (see `ShaderBindingKind::Sampler`).
-pub(crate) struct Samplers {
-    pub linear: wgpu::Sampler,
-    pub nearest: wgpu::Sampler,
-}
-
-impl Samplers {
-    pub fn new(device: &wgpu::Device) -> Self {
-        let sampler = |filter| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("aograph sampler"),
-                mag_filter: filter,
-                min_filter: filter,
-                address_mode_u: wgpu::AddressMode::ClampToEdge,
-                address_mode_v: wgpu::AddressMode::ClampToEdge,
-                ..Default::default()
-            })
-        };
-        Self {
-            linear: sampler(wgpu::FilterMode::Linear),
-            nearest: sampler(wgpu::FilterMode::Nearest),
+/// What `slot` of pass `p` binds this frame.
+fn slot_resource<'s>(
+    state: &'s PlanState,
+    plan: &CompiledGraph,
+    p: usize,
+    slot: &BindingSlot,
+) -> GraphResult<wgpu::BindingResource<'s>> {
+    let missing = |resource: usize| GraphError::MissingResource {
+        resource: plan.decl.resources[resource].name.clone(),
+        message: format!(
+            "pass `{}` binds it at @group({}) @binding({}) but nothing is bound to it this frame",
+            plan.decl.passes[p].name, slot.group, slot.binding
+        ),
+    };
+    let texture = |resource: usize| {
+        state.textures[resource]
+            .as_ref()
+            .ok_or_else(|| missing(resource))
+    };
+    Ok(match slot.source {
+        BindingSource::SampledTexture { resource, mip, .. } => {
+            wgpu::BindingResource::TextureView(texture(resource)?.view_of(mip))
         }
-    }
+        BindingSource::StorageTexture { resource, mip, .. } => {
+            wgpu::BindingResource::TextureView(texture(resource)?.view_of(Some(mip)))
+        }
+        BindingSource::Uniform(h) => state.uniforms[h.0].as_entire_binding(),
+        BindingSource::Buffer { resource, .. } => state.frame_buffers[resource]
+            .as_ref()
+            .ok_or_else(|| missing(resource))?
+            .as_entire_binding(),
+        BindingSource::Sampler { sampler } => {
+            wgpu::BindingResource::Sampler(&state.samplers[sampler])
+        }
+    })
 }
 
 /// Zeroes a texture: with `clear_texture` where the device has it, else by uploading zeros

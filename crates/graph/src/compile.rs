@@ -13,10 +13,12 @@ use std::sync::Arc;
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::{Dfs, Reversed};
 
+use crate::binding_slots::BindingSlot;
 use crate::declaration::*;
 use crate::error::{GraphError, GraphResult};
 use crate::lifetime::{Lifetime, PhysicalTexture, plan_lifetimes};
 use crate::resource::TextureAccess;
+use crate::sampler::SamplerDesc;
 use crate::shader::{ShaderLibrary, ShaderModuleInfo};
 use crate::shader_check::check_pass_shader;
 
@@ -69,6 +71,11 @@ pub struct CompiledGraph {
     pub usage: Vec<wgpu::TextureUsages>,
     /// Per pass: the reflected shader, for compute and full-screen passes.
     pub shaders: Vec<Option<Arc<ShaderModuleInfo>>>,
+    /// Per pass: where each binding of its shader takes its resource from, resolved here
+    /// (`binding_slots.rs`); empty for passes without a shader and culled passes.
+    pub binding_slots: Vec<Vec<BindingSlot>>,
+    /// The distinct samplers the kept passes bind, indexed by `BindingSource::Sampler`.
+    pub samplers: Vec<SamplerDesc>,
 }
 
 impl CompiledGraph {
@@ -87,6 +94,8 @@ impl CompiledGraph {
             slot_of: self.slot_of.clone(),
             usage: self.usage.clone(),
             shaders: self.shaders.clone(),
+            binding_slots: self.binding_slots.clone(),
+            samplers: self.samplers.clone(),
         }
     }
     /// Identifies the plan for the executor: structure and compile options. Plans with equal
@@ -298,8 +307,13 @@ fn compile_hashed(
         .collect();
 
     let mut pass_shaders = vec![None; decl.passes.len()];
+    let mut binding_slots = vec![Vec::new(); decl.passes.len()];
+    let mut samplers = Vec::new();
     for &p in &order {
-        pass_shaders[p.0] = check_pass_shader(&decl, p, shaders)?;
+        if let Some(checked) = check_pass_shader(&decl, p, shaders, &mut samplers)? {
+            pass_shaders[p.0] = Some(checked.info);
+            binding_slots[p.0] = checked.slots;
+        }
     }
     let plan = plan_lifetimes(&decl, &order, options.reuse);
     edges.sort();
@@ -315,6 +329,8 @@ fn compile_hashed(
         slot_of: plan.slot_of,
         usage: plan.usage,
         shaders: pass_shaders,
+        binding_slots,
+        samplers,
         decl: Arc::new(decl),
     })
 }

@@ -3,10 +3,15 @@
 //! A custom pass still declares every read and write through the builder, so ordering, culling
 //! and reuse treat it like any other pass; at execution it is handed the physical textures of
 //! exactly the resources it declared.
+//!
+//! Invariant: a [`PassContext`] hands out only the textures and buffers of the pass's own
+//! uses; it sees the uses (`uses.rs`), not the declaration, so this module depends on no part
+//! of the graph that depends on it.
 
-use crate::declaration::PassDecl;
 use crate::error::{GraphError, GraphResult};
 use crate::resource::{BufferHandle, Extent, TextureHandle};
+use crate::shader::ShaderLibrary;
+use crate::uses::{BufferUse, TextureUse};
 
 /// A physical texture bound to a resource for this frame. Cloning is cheap (reference counts).
 #[derive(Clone, Debug)]
@@ -69,23 +74,26 @@ pub struct PassContext<'a> {
     pub encoder: &'a mut wgpu::CommandEncoder,
     /// The graph's output size this frame.
     pub output: Extent,
-    pub(crate) pass: &'a PassDecl,
+    /// The pass's name and uses (what it may ask for).
+    pub(crate) pass_name: &'a str,
+    pub(crate) texture_uses: &'a [TextureUse],
+    pub(crate) buffer_uses: &'a [BufferUse],
+    /// Per resource: what is bound this frame.
     pub(crate) textures: &'a [Option<BoundTexture>],
     pub(crate) buffers: &'a [Option<wgpu::Buffer>],
-    pub(crate) shaders: &'a crate::shader::ShaderLibrary,
+    pub(crate) shaders: &'a ShaderLibrary,
     pub(crate) features: wgpu::Features,
 }
 
 impl PassContext<'_> {
     fn bound(&self, handle: TextureHandle) -> GraphResult<&BoundTexture> {
         let declared = self
-            .pass
-            .textures
+            .texture_uses
             .iter()
             .any(|u| u.resource() == handle.resource_index());
         let missing = |message: &str| GraphError::MissingResource {
             resource: format!("{handle:?}"),
-            message: format!("{message} (pass `{}`)", self.pass.name),
+            message: format!("{message} (pass `{}`)", self.pass_name),
         };
         if !declared {
             return Err(missing("the pass did not declare this texture"));
@@ -106,13 +114,12 @@ impl PassContext<'_> {
     /// A buffer this pass declared (e.g. the imported view block).
     pub fn buffer(&self, handle: BufferHandle) -> GraphResult<&wgpu::Buffer> {
         let declared = self
-            .pass
-            .buffers
+            .buffer_uses
             .iter()
             .any(|u| u.read.or(u.written).is_some_and(|h| h.id == handle.id));
         let missing = |message: &str| GraphError::MissingResource {
             resource: format!("{handle:?}"),
-            message: format!("{message} (pass `{}`)", self.pass.name),
+            message: format!("{message} (pass `{}`)", self.pass_name),
         };
         if !declared {
             return Err(missing("the pass did not declare this buffer"));
@@ -124,7 +131,7 @@ impl PassContext<'_> {
     }
     /// The shader library of the executor (custom passes load their WGSL through it, so it is
     /// validated and its includes expanded like every other shader).
-    pub fn shaders(&self) -> &crate::shader::ShaderLibrary {
+    pub fn shaders(&self) -> &ShaderLibrary {
         self.shaders
     }
     /// Features of the device (e.g. whether 32-bit floats are filterable).

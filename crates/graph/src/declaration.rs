@@ -9,12 +9,10 @@
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
-use crate::attachment::AttachmentOps;
 use crate::custom::CustomPass;
 use crate::error::GraphError;
-use crate::resource::{
-    BufferAccess, BufferDesc, BufferHandle, SizeClass, TextureAccess, TextureDesc, TextureHandle,
-};
+use crate::resource::{BufferDesc, SizeClass, TextureAccess, TextureDesc};
+pub use crate::uses::{BufferUse, SamplerUse, TextureUse};
 
 /// Index of a pass in its declaration (declaration order).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -86,40 +84,6 @@ impl ResourceDecl {
             ResourceOrigin::Imported | ResourceOrigin::HistoryPrevious { .. }
         )
     }
-}
-
-/// One use of a texture by a pass. A write that keeps part of the old contents (read-write
-/// storage, a single mip of a mipped texture, an attachment that loads) also reads the previous
-/// version, so `read` and `written` are both set.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct TextureUse {
-    /// The WGSL global this use binds to (`None` for attachments and copies).
-    pub binding: Option<String>,
-    pub access: TextureAccess,
-    pub read: Option<TextureHandle>,
-    pub written: Option<TextureHandle>,
-    /// A single mip level, or all levels when `None`.
-    pub mip: Option<u32>,
-    /// For colour and depth attachments: how the pass starts, blends and tests.
-    pub attachment: Option<AttachmentOps>,
-}
-
-impl TextureUse {
-    pub fn resource(&self) -> usize {
-        self.read
-            .or(self.written)
-            .map(|h| h.id as usize)
-            .unwrap_or(0)
-    }
-}
-
-/// One use of a buffer by a pass.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct BufferUse {
-    pub binding: Option<String>,
-    pub access: BufferAccess,
-    pub read: Option<BufferHandle>,
-    pub written: Option<BufferHandle>,
 }
 
 /// A uniform block owned by a pass: bound to `binding`, contents set per frame.
@@ -210,6 +174,9 @@ pub struct PassDecl {
     /// Values of the shader's pipeline-overridable constants (`override NAME` in WGSL), sorted
     /// by name: fixed when the pipeline is built, so each distinct set is its own pipeline.
     pub constants: Vec<PipelineConstant>,
+    /// The samplers bound to the shader's `sampler` globals, sorted by binding name
+    /// (`PassBuilder::sampler`).
+    pub samplers: Vec<SamplerUse>,
 }
 
 /// A value for one `override` declaration of a pass's shader (WGSL's pipeline-overridable
@@ -263,8 +230,9 @@ pub struct GraphDecl {
 
 impl GraphDecl {
     /// Hash of the declaration's structure: resources, passes, uses, shaders, pipeline
-    /// constants, attachment operations, and each uniform block's owner, binding and size, but not its contents. A
-    /// changed parameter value therefore hits the compile cache and the executor's pipelines;
+    /// constants, samplers, attachment operations, and each uniform block's owner, binding and
+    /// size, but not its contents. A changed parameter value therefore hits the compile cache
+    /// and the executor's pipelines;
     /// the executor writes the new declaration's contents into the plan's uniform buffers
     /// (see `Executor`), and per-frame data goes through `Executor::write_uniform`.
     pub fn structure_hash(&self) -> u64 {
@@ -279,6 +247,7 @@ impl GraphDecl {
                 &p.uniforms,
                 p.side_effect,
                 &p.constants,
+                &p.samplers,
             )
                 .hash(&mut h);
         }

@@ -68,6 +68,13 @@ pub enum GraphError {
     #[error("pass `{pass}`: {message}")]
     InvalidPass { pass: String, message: String },
 
+    #[error("pass `{pass}`, sampler `{binding}`: {message}")]
+    Sampler {
+        pass: String,
+        binding: String,
+        message: String,
+    },
+
     #[error("invalid parameter `{name}` = {value} for `{owner}`: allowed {allowed}")]
     InvalidParameter {
         owner: String,

@@ -15,7 +15,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::bind::{BindSources, Samplers, bind_groups, bind_resources};
+use crate::bind::{BindSources, bind_groups, bind_resources};
 use crate::compile::CompiledGraph;
 use crate::declaration::{ResourceOrigin, UniformHandle};
 use crate::error::{GraphError, GraphResult};
@@ -28,6 +28,7 @@ use crate::pool::{PoolKey, TexturePool};
 use crate::readback::{TextureReadback, read_texture};
 use crate::record::{RecordContext, record_pass};
 use crate::resource::{Extent, TextureHandle};
+use crate::sampler::SamplerCache;
 use crate::shader::ShaderLibrary;
 use crate::timing::{FrameId, PassTimings, TimestampRing, TimingMode, TimingSource};
 
@@ -40,7 +41,8 @@ pub struct Executor {
     imports: ImportTable,
     pipelines: PipelineCache,
     plans: PlanStates,
-    samplers: Samplers,
+    /// One sampler per distinct `SamplerDesc` any plan has bound.
+    samplers: SamplerCache,
     timing: TimingMode,
     ring: TimestampRing,
     /// CPU-wall milliseconds of the frame being recorded.
@@ -62,7 +64,6 @@ impl Executor {
     /// An executor timing passes with GPU timestamps where the device has them, and not at
     /// all otherwise (see [`Executor::set_timing`]).
     pub fn new(gpu: Arc<GpuContext>) -> Self {
-        let samplers = Samplers::new(&gpu.device);
         let ring = TimestampRing::new(&gpu.queue, TimestampRing::DEFAULT_PENDING_FRAMES);
         let timing = if gpu.has_timestamps() {
             TimingMode::GpuTimestamps
@@ -77,7 +78,7 @@ impl Executor {
             imports: ImportTable::default(),
             pipelines: PipelineCache::default(),
             plans: PlanStates::default(),
-            samplers,
+            samplers: SamplerCache::default(),
             timing,
             ring,
             pass_ms: Vec::new(),
@@ -184,6 +185,13 @@ impl Executor {
     pub fn pipeline_count(&self) -> usize {
         self.pipelines.len()
     }
+    /// Samplers the executor has created: one per distinct [`SamplerDesc`] its plans bind,
+    /// however many plans and frames bind it.
+    ///
+    /// [`SamplerDesc`]: crate::SamplerDesc
+    pub fn sampler_count(&self) -> usize {
+        self.samplers.len()
+    }
     /// Plans whose state the executor holds now.
     pub fn plan_count(&self) -> usize {
         self.plans.len()
@@ -226,7 +234,7 @@ impl Executor {
     fn ensure_state(&mut self, plan: &CompiledGraph) -> GraphResult<&mut PlanState> {
         let key = plan.key();
         if self.plans.get(key).is_none() {
-            let state = PlanState::new(&self.gpu, &mut self.pipelines, plan)?;
+            let state = PlanState::new(&self.gpu, &mut self.pipelines, &mut self.samplers, plan)?;
             self.plans.insert(key, state, &mut self.pool);
         }
         let state = self
@@ -266,7 +274,6 @@ impl Executor {
             history,
             imports,
             plans,
-            samplers,
             timing,
             ring,
             pass_ms,
@@ -285,7 +292,7 @@ impl Executor {
             frame: frame.0,
         };
         bind_resources(state, plan, output, &mut sources, &mut encoder)?;
-        bind_groups(state, plan, gpu, samplers, scratch)?;
+        bind_groups(state, plan, gpu, scratch)?;
 
         let n = plan.order.len() as u32;
         let slot = match timing {

@@ -1,8 +1,9 @@
 //! Pipelines and bind group layouts built from reflected shaders, and the executor's cache of
 //! them, shared by every plan.
 //!
-//! Layout entries come from the naga reflection of the shader plus the bound resource's format
-//! (whether a float texture is filterable on this device); nothing is written by hand. All
+//! Layout entries come from the naga reflection of the shader plus what the pass binds (found
+//! through its binding slots): the texture's format (whether a float texture is filterable on
+//! this device) and the declared sampler (whether it filters); nothing is written by hand. All
 //! bindings are visible to every stage the pass uses. A pipeline is identified by its
 //! [`PipelineKey`]: the shader's expanded source (by hash), its entry points, the layout
 //! entries, the values of its pipeline-overridable constants, and for full-screen passes the colour targets (format, blend) and depth state. Two
@@ -12,8 +13,10 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use crate::attachment::AttachmentOps;
+use crate::binding_slots::{BindingSlot, BindingSource};
 use crate::declaration::{GraphDecl, PassDecl, PassKind, PipelineConstant};
-use crate::shader::{ShaderBindingKind, ShaderModuleInfo};
+use crate::sampler::SamplerDesc;
+use crate::shader::{ShaderModuleInfo, binding_type};
 
 /// A pass's pipeline and its layouts, one per bind group index in use.
 pub(crate) enum PassPipeline {
@@ -34,70 +37,6 @@ impl PassPipeline {
             PassPipeline::Compute { groups, .. } | PassPipeline::Render { groups, .. } => groups,
         }
     }
-}
-
-pub(crate) fn binding_type(
-    kind: &ShaderBindingKind,
-    format: Option<wgpu::TextureFormat>,
-    features: wgpu::Features,
-) -> wgpu::BindingType {
-    match kind {
-        ShaderBindingKind::SampledTexture { depth, scalar } => {
-            let sample_type = match (depth, scalar) {
-                (true, _) => wgpu::TextureSampleType::Depth,
-                (false, naga::ScalarKind::Uint) => wgpu::TextureSampleType::Uint,
-                (false, naga::ScalarKind::Sint) => wgpu::TextureSampleType::Sint,
-                (false, _) => {
-                    let filterable = format.is_some_and(|f| {
-                        !f.is_depth_stencil_format()
-                            && f.sample_type(None, Some(features))
-                                == Some(wgpu::TextureSampleType::Float { filterable: true })
-                    });
-                    wgpu::TextureSampleType::Float { filterable }
-                }
-            };
-            wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            }
-        }
-        ShaderBindingKind::StorageTexture { format, access } => wgpu::BindingType::StorageTexture {
-            access: *access,
-            format: *format,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-        ShaderBindingKind::Sampler { linear } => wgpu::BindingType::Sampler(if *linear {
-            wgpu::SamplerBindingType::Filtering
-        } else {
-            wgpu::SamplerBindingType::NonFiltering
-        }),
-        ShaderBindingKind::Uniform { size } => wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: wgpu::BufferSize::new(*size),
-        },
-        ShaderBindingKind::StorageBuffer { read_only, .. } => wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage {
-                read_only: *read_only,
-            },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-    }
-}
-
-/// The format of the texture a pass binds to shader global `name`, if any.
-pub(crate) fn bound_format(
-    decl: &GraphDecl,
-    pass: &PassDecl,
-    name: &str,
-) -> Option<wgpu::TextureFormat> {
-    pass.textures
-        .iter()
-        .find(|u| u.binding.as_deref() == Some(name))
-        .and_then(|u| decl.resources[u.resource()].texture_desc())
-        .map(|d| d.format)
 }
 
 /// What identifies a pipeline (see the module docs).
@@ -129,20 +68,32 @@ struct DepthKey {
     write: bool,
 }
 
-/// The key of `pass`'s pipeline, `None` for passes without one (copies, custom passes).
+/// The key of `pass`'s pipeline, `None` for passes without one (copies, custom passes);
+/// `slots` are the pass's binding slots and `samplers` the plan's samplers they index.
 pub(crate) fn pipeline_key(
     features: wgpu::Features,
     decl: &GraphDecl,
     pass: &PassDecl,
     info: &ShaderModuleInfo,
+    slots: &[BindingSlot],
+    samplers: &[SamplerDesc],
 ) -> Option<PipelineKey> {
     let visibility = match pass.kind {
         PassKind::Compute { .. } => wgpu::ShaderStages::COMPUTE,
         _ => wgpu::ShaderStages::VERTEX_FRAGMENT,
     };
     let mut by_group: BTreeMap<u32, Vec<wgpu::BindGroupLayoutEntry>> = BTreeMap::new();
-    for b in &info.bindings {
-        let ty = binding_type(&b.kind, bound_format(decl, pass, &b.name), features);
+    for (b, slot) in info.bindings.iter().zip(slots) {
+        let format = slot
+            .source
+            .texture_resource()
+            .and_then(|r| decl.resources[r].texture_desc())
+            .map(|d| d.format);
+        let sampler = match slot.source {
+            BindingSource::Sampler { sampler } => samplers.get(sampler).copied(),
+            _ => None,
+        };
+        let ty = binding_type(&b.kind, format, sampler, features);
         by_group
             .entry(b.group)
             .or_default()

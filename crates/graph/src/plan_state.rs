@@ -1,5 +1,5 @@
-//! Per-plan GPU state in the executor: pipelines (shared through the pipeline cache), uniform
-//! and transient buffers, cached bind groups, and the physical textures a plan holds between
+//! Per-plan GPU state in the executor: pipelines (shared through the pipeline cache), samplers
+//! (shared through the sampler cache), uniform and transient buffers, cached bind groups, and the physical textures a plan holds between
 //! its frames. Many plans live side by side, keyed by [`PlanKey`], so switching between
 //! techniques rebuilds nothing.
 //!
@@ -23,6 +23,7 @@ use crate::error::{GraphError, GraphResult};
 use crate::gpu::GpuContext;
 use crate::pipeline::{PassPipeline, PipelineCache, pipeline_key};
 use crate::pool::{PooledTexture, TexturePool};
+use crate::sampler::SamplerCache;
 
 /// A pass's bind groups and the texture serials (and mips) they were made for: reused while
 /// the same physical textures come back.
@@ -36,6 +37,8 @@ pub(crate) struct PlanState {
     pub pipelines: Vec<Option<Arc<PassPipeline>>>,
     /// Per uniform block.
     pub uniforms: Vec<wgpu::Buffer>,
+    /// Per entry of `CompiledGraph::samplers`: its sampler, from the executor's cache.
+    pub samplers: Vec<wgpu::Sampler>,
     /// Per resource: the graph-owned buffer of a used transient buffer.
     pub buffers: Vec<Option<wgpu::Buffer>>,
     /// Per pass.
@@ -57,10 +60,11 @@ pub(crate) struct PlanState {
 
 impl PlanState {
     /// Creates the state of `plan`: checks its formats on this device, takes its pipelines
-    /// from the cache (creating what is missing) and makes its buffers.
+    /// and samplers from the caches (creating what is missing) and makes its buffers.
     pub fn new(
         gpu: &GpuContext,
         pipelines: &mut PipelineCache,
+        samplers: &mut SamplerCache,
         plan: &CompiledGraph,
     ) -> GraphResult<Self> {
         let device = &gpu.device;
@@ -89,9 +93,15 @@ impl PlanState {
             .enumerate()
             .map(|(i, pass)| {
                 let info = plan.shaders[i].as_ref()?;
-                let key = pipeline_key(gpu.features, decl, pass, info)?;
+                let slots = &plan.binding_slots[i];
+                let key = pipeline_key(gpu.features, decl, pass, info, slots, &plan.samplers)?;
                 Some(pipelines.get(device, &key, info, &pass.name))
             })
+            .collect();
+        let samplers = plan
+            .samplers
+            .iter()
+            .map(|d| samplers.get(device, *d))
             .collect();
         let uniforms = decl
             .uniforms
@@ -148,6 +158,7 @@ impl PlanState {
             decl: decl.clone(),
             pipelines,
             uniforms,
+            samplers,
             buffers,
             bind_groups: (0..decl.passes.len()).map(|_| None).collect(),
             slots: (0..plan.physical.len()).map(|_| None).collect(),

@@ -15,6 +15,7 @@ use crate::pipeline::PassPipeline;
 use crate::plan_state::PlanState;
 use crate::resource::{Extent, TextureAccess};
 use crate::shader::ShaderLibrary;
+use crate::uses::TextureUse;
 
 /// What recording a pass needs besides the plan's state.
 pub(crate) struct RecordContext<'a> {
@@ -38,7 +39,7 @@ pub(crate) fn record_pass(
         .as_ref()
         .map(|(_, g)| g.as_slice())
         .unwrap_or(&[]);
-    let view_of = |u: &crate::TextureUse| {
+    let view_of = |u: &TextureUse| {
         state.textures[u.resource()]
             .as_ref()
             .map(|t| t.view_of(u.mip.or(Some(0))))
@@ -200,7 +201,9 @@ pub(crate) fn record_pass(
                 queue: &ctx.gpu.queue,
                 encoder,
                 output: ctx.output,
-                pass,
+                pass_name: &pass.name,
+                texture_uses: &pass.textures,
+                buffer_uses: &pass.buffers,
                 textures: &state.textures,
                 buffers: &state.frame_buffers,
                 shaders: ctx.shaders,

@@ -1,21 +1,37 @@
-//! Edge checks between a pass's declared uses and its shader's reflected bindings.
+//! Edge checks between a pass's declared uses and its shader's reflected bindings, and the
+//! binding slots they resolve to (`binding_slots.rs`).
 //!
-//! Every shader binding must be supplied by a use of the right kind (samplers are supplied by
-//! the graph), every named use must exist in the shader, and storage texture formats must equal
-//! the resource's format: a mismatch is a compile error naming the pass and the resource.
+//! Every shader binding must be supplied by a use of the right kind (a sampler by a
+//! `PassBuilder::sampler` declaration), every named use and declared sampler must exist in
+//! the shader, and storage texture formats must equal the resource's format: a mismatch is a
+//! compile error naming the pass and the resource. Invariant: this is the one place where WGSL
+//! names are matched to uses; what it matched is handed on as indices.
 
 use std::sync::Arc;
 
+use crate::binding_slots::{BindingSlot, BindingSource};
 use crate::declaration::{GraphDecl, PassDecl, PassId, PassKind};
 use crate::error::{GraphError, GraphResult};
 use crate::resource::{BufferAccess, TextureAccess};
+use crate::sampler::SamplerDesc;
 use crate::shader::{ShaderBindingKind, ShaderLibrary, ShaderModuleInfo};
 
+/// A checked pass's shader and the slot of each of its bindings (in the order of
+/// `ShaderModuleInfo::bindings`).
+pub(crate) struct CheckedShader {
+    pub info: Arc<ShaderModuleInfo>,
+    pub slots: Vec<BindingSlot>,
+}
+
+/// Checks pass `p` against its shader and resolves its bindings; `None` for passes without a
+/// shader. Sampler descriptions are interned into `samplers` (the plan's distinct samplers),
+/// which the slots index.
 pub(crate) fn check_pass_shader(
     decl: &GraphDecl,
     p: PassId,
     shaders: &ShaderLibrary,
-) -> GraphResult<Option<Arc<ShaderModuleInfo>>> {
+    samplers: &mut Vec<SamplerDesc>,
+) -> GraphResult<Option<CheckedShader>> {
     let pass = &decl.passes[p.0];
     let invalid = |message: String| GraphError::InvalidPass {
         pass: pass.name.clone(),
@@ -43,7 +59,19 @@ pub(crate) fn check_pass_shader(
                 (fragment.as_str(), naga::ShaderStage::Fragment),
             ],
         ),
-        PassKind::Copy | PassKind::Custom(_) => return Ok(None),
+        PassKind::Copy | PassKind::Custom(_) => {
+            if let Some(s) = pass.samplers.first() {
+                return Err(GraphError::Sampler {
+                    pass: pass.name.clone(),
+                    binding: s.binding.clone(),
+                    message: "declared with `PassBuilder::sampler`, but only compute and \
+                              full-screen passes bind samplers (a custom pass makes its own); \
+                              remove the declaration"
+                        .into(),
+                });
+            }
+            return Ok(None);
+        }
     };
     let info = shaders.load(shader)?;
     for (name, stage) in entries {
@@ -62,8 +90,14 @@ pub(crate) fn check_pass_shader(
             }
         }
     }
+    let mut slots = Vec::with_capacity(info.bindings.len());
     for b in &info.bindings {
-        check_binding_supplied(decl, pass, &info, &b.name, &b.kind)?;
+        let source = check_binding_supplied(decl, pass, &info, &b.name, &b.kind, samplers)?;
+        slots.push(BindingSlot {
+            group: b.group,
+            binding: b.binding,
+            source,
+        });
     }
     // Pipeline constants: each set one is declared; each declared one without a default is set.
     let declared: Vec<&str> = info.overrides.iter().map(|o| o.name.as_str()).collect();
@@ -110,16 +144,43 @@ pub(crate) fn check_pass_shader(
             )));
         }
     }
-    Ok(Some(info))
+    for s in &pass.samplers {
+        let is_sampler = |b: &&crate::shader::ShaderBinding| b.kind == ShaderBindingKind::Sampler;
+        if info.binding(&s.binding).filter(is_sampler).is_none() {
+            let have: Vec<_> = info
+                .bindings
+                .iter()
+                .filter(is_sampler)
+                .map(|b| b.name.as_str())
+                .collect();
+            return Err(GraphError::Sampler {
+                pass: pass.name.clone(),
+                binding: s.binding.clone(),
+                message: format!(
+                    "declared with `PassBuilder::sampler`, but shader `{shader}` has no sampler \
+                     binding of that name (its samplers: {}); rename or remove the declaration",
+                    if have.is_empty() {
+                        "none".to_string()
+                    } else {
+                        have.join(", ")
+                    }
+                ),
+            });
+        }
+    }
+    Ok(Some(CheckedShader { info, slots }))
 }
 
+/// Checks that `pass` supplies shader binding `name` of `kind` and says where from: the first
+/// use naming it, a uniform block before a buffer.
 fn check_binding_supplied(
     decl: &GraphDecl,
     pass: &PassDecl,
     info: &ShaderModuleInfo,
     name: &str,
     kind: &ShaderBindingKind,
-) -> GraphResult<()> {
+    samplers: &mut Vec<SamplerDesc>,
+) -> GraphResult<BindingSource> {
     let invalid = |message: String| GraphError::InvalidPass {
         pass: pass.name.clone(),
         message,
@@ -127,16 +188,35 @@ fn check_binding_supplied(
     let tex = pass
         .textures
         .iter()
-        .find(|u| u.binding.as_deref() == Some(name));
-    let buf = pass
+        .enumerate()
+        .find(|(_, u)| u.binding.as_deref() == Some(name));
+    let buf_index = pass
         .buffers
         .iter()
-        .find(|u| u.binding.as_deref() == Some(name));
-    let uni = pass
+        .position(|u| u.binding.as_deref() == Some(name));
+    let buf = buf_index.map(|i| &pass.buffers[i]);
+    let uni_handle = pass
         .uniforms
         .iter()
-        .map(|u| &decl.uniforms[u.0])
-        .find(|u| u.binding == name);
+        .copied()
+        .find(|u| decl.uniforms[u.0].binding == name);
+    let uni = uni_handle.map(|u| &decl.uniforms[u.0]);
+    // What a buffer binding binds: a uniform block of that name, else the buffer use.
+    let buffer_source = || match (uni_handle, buf_index) {
+        (Some(h), _) => Ok(BindingSource::Uniform(h)),
+        (None, Some(i)) => {
+            let u = &pass.buffers[i];
+            let h = u
+                .read
+                .or(u.written)
+                .ok_or_else(|| invalid(format!("buffer use `{name}` names no buffer version")))?;
+            Ok(BindingSource::Buffer {
+                buffer_use: i,
+                resource: h.id as usize,
+            })
+        }
+        (None, None) => Err(invalid(format!("nothing supplies `{name}`"))),
+    };
     let missing = || {
         invalid(format!(
             "shader `{}` binds `{name}` ({kind:?}) but the pass supplies nothing for it",
@@ -144,17 +224,46 @@ fn check_binding_supplied(
         ))
     };
     match kind {
-        ShaderBindingKind::Sampler { .. } => Ok(()),
+        ShaderBindingKind::Sampler => {
+            let Some(s) = pass.samplers.iter().find(|s| s.binding == name) else {
+                return Err(GraphError::Sampler {
+                    pass: pass.name.clone(),
+                    binding: name.into(),
+                    message: format!(
+                        "shader `{}` binds this sampler but the pass declares none; call \
+                         `PassBuilder::sampler(\"{name}\", SamplerDesc {{ filter, address }})`, \
+                         e.g. with `SamplerDesc::LINEAR_CLAMP`",
+                        info.name
+                    ),
+                });
+            };
+            let sampler = match samplers.iter().position(|d| *d == s.desc) {
+                Some(i) => i,
+                None => {
+                    samplers.push(s.desc);
+                    samplers.len() - 1
+                }
+            };
+            Ok(BindingSource::Sampler { sampler })
+        }
         ShaderBindingKind::SampledTexture { .. } => match tex {
-            Some(u) if u.access == TextureAccess::Sampled => Ok(()),
-            Some(u) => Err(invalid(format!(
+            Some((i, u)) if u.access == TextureAccess::Sampled => {
+                Ok(BindingSource::SampledTexture {
+                    texture_use: i,
+                    resource: u.resource(),
+                    mip: u.mip,
+                })
+            }
+            Some((_, u)) => Err(invalid(format!(
                 "`{name}` is a sampled texture in the shader but the pass declares {:?}",
                 u.access
             ))),
             None => Err(missing()),
         },
         ShaderBindingKind::StorageTexture { format, access } => {
-            let Some(u) = tex else { return Err(missing()) };
+            let Some((i, u)) = tex else {
+                return Err(missing());
+            };
             let res = &decl.resources[u.resource()];
             let ok_access = match access {
                 wgpu::StorageTextureAccess::WriteOnly => u.access == TextureAccess::StorageWrite,
@@ -168,7 +277,11 @@ fn check_binding_supplied(
                 )));
             }
             match res.texture_desc() {
-                Some(d) if d.format == *format => Ok(()),
+                Some(d) if d.format == *format => Ok(BindingSource::StorageTexture {
+                    texture_use: i,
+                    resource: u.resource(),
+                    mip: u.mip.unwrap_or(0),
+                }),
                 Some(d) => Err(GraphError::FormatMismatch {
                     pass: pass.name.clone(),
                     resource: res.name.clone(),
@@ -189,15 +302,15 @@ fn check_binding_supplied(
                         u.initial.len()
                     )));
                 }
-                return Ok(());
+                return buffer_source();
             }
             match buf {
-                Some(b) if b.access == BufferAccess::Uniform => Ok(()),
+                Some(b) if b.access == BufferAccess::Uniform => buffer_source(),
                 _ => Err(missing()),
             }
         }
         ShaderBindingKind::StorageBuffer { read_only, .. } => match buf {
-            Some(b) if *read_only != b.access.writes() => Ok(()),
+            Some(b) if *read_only != b.access.writes() => buffer_source(),
             Some(b) => Err(invalid(format!(
                 "`{name}` read_only={read_only} in the shader but the pass declares {:?}",
                 b.access

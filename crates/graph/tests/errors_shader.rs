@@ -47,6 +47,7 @@ fn filter_graph(
     let dst = b.create_texture("filtered", out_desc);
     let out = {
         let mut p = b.compute_pass("filter", "filter.wgsl", "main");
+        p.sampler("linear_clamp", SamplerDesc::LINEAR_CLAMP);
         f(&mut p, src, dst)
     };
     b.export(out);
@@ -334,5 +335,111 @@ fn missing_shader_file_fails_compile() {
     b.export(t1);
     assert!(
         matches!(compile_result(b), Err(GraphError::ShaderFile { file, .. }) if file == "ghost.wgsl")
+    );
+}
+
+#[test]
+fn shader_sampler_without_a_declaration_names_the_pass_binding_and_call() {
+    let mut b = GraphBuilder::new();
+    let src = b.import_texture("input", r32());
+    let dst = b.create_texture("filtered", r32());
+    let out = {
+        let mut p = b.compute_pass("filter", "filter.wgsl", "main");
+        p.sample("src", src);
+        p.uniform("params", &params());
+        let out = p.write_storage("dst", dst);
+        p.dispatch_over(out);
+        out
+    };
+    b.export(out);
+    let e = compile_result(b).unwrap_err();
+    match &e {
+        GraphError::Sampler {
+            pass,
+            binding,
+            message,
+        } => {
+            assert_eq!(
+                (pass.as_str(), binding.as_str()),
+                ("filter", "linear_clamp")
+            );
+            assert!(
+                message.contains("filter.wgsl")
+                    && message.contains("PassBuilder::sampler(\"linear_clamp\""),
+                "{message}"
+            );
+        }
+        other => panic!("expected a Sampler error, got {other:?}"),
+    }
+    assert!(
+        e.to_string()
+            .starts_with("pass `filter`, sampler `linear_clamp`:"),
+        "{e}"
+    );
+}
+
+#[test]
+fn sampler_declaration_naming_no_sampler_binding_is_an_error() {
+    for name in ["linear_clmap", "src"] {
+        let b = filter_graph(r32(), |p, src, dst| {
+            p.sample("src", src);
+            p.uniform("params", &params());
+            p.sampler(name, SamplerDesc::NEAREST_CLAMP);
+            let out = p.write_storage("dst", dst);
+            p.dispatch_over(out);
+            out
+        });
+        match compile_result(b) {
+            Err(GraphError::Sampler {
+                pass,
+                binding,
+                message,
+            }) => {
+                assert_eq!((pass.as_str(), binding.as_str()), ("filter", name));
+                assert!(
+                    message.contains("no sampler binding") && message.contains("linear_clamp"),
+                    "{message}"
+                );
+            }
+            other => panic!("{name}: expected a Sampler error, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn sampler_declared_on_a_pass_without_a_shader_is_an_error() {
+    let mut b = GraphBuilder::new();
+    let t = b.create_texture("img", r32());
+    let t = {
+        let mut p = b.custom_pass("draw", NoopPass);
+        p.sampler("s", SamplerDesc::LINEAR_CLAMP);
+        p.write_storage("dst", t)
+    };
+    b.export(t);
+    assert!(
+        matches!(compile_result(b), Err(GraphError::Sampler { pass, binding, .. }) if pass == "draw" && binding == "s")
+    );
+}
+
+#[test]
+fn a_declared_sampler_decides_the_layout_filtering() {
+    // Filtering follows the declaration, not the WGSL name: `linear_clamp` declared nearest.
+    let b = filter_graph(r32(), |p, src, dst| {
+        p.sample("src", src);
+        p.uniform("params", &params());
+        p.sampler("linear_clamp", SamplerDesc::NEAREST_CLAMP);
+        let out = p.write_storage("dst", dst);
+        p.dispatch_over(out);
+        out
+    });
+    let plan = compile_result(b).expect("compiles");
+    assert_eq!(plan.samplers, vec![SamplerDesc::NEAREST_CLAMP]);
+    assert_eq!(
+        SamplerDesc::NEAREST_CLAMP.binding_type(),
+        wgpu::SamplerBindingType::NonFiltering
+    );
+    assert_eq!(
+        SamplerDesc::LINEAR_CLAMP.binding_type(),
+        wgpu::SamplerBindingType::Filtering
     );
 }

@@ -81,8 +81,8 @@ fn reflects_every_binding_with_group_binding_and_kind() {
             },
         ),
         b("params", 0, 2, K::Uniform { size: 32 }),
-        b("linear_clamp", 0, 3, K::Sampler { linear: true }),
-        b("nearest_clamp", 0, 4, K::Sampler { linear: false }),
+        b("linear_clamp", 0, 3, K::Sampler),
+        b("nearest_clamp", 0, 4, K::Sampler),
         b(
             "weights",
             1,

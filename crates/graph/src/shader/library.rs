@@ -1,0 +1,117 @@
+//! [`ShaderLibrary`]: loads WGSL files from a shader root (and inline sources registered by
+//! name), expands their includes, applies a variant suffix, and caches the validated modules.
+//!
+//! Invariant: the cache holds, per name (variant suffix included), the module as validated
+//! from the current sources; registering an inline source drops its cached module.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use super::include::expand;
+use super::reflect::{ShaderModuleInfo, parse_and_reflect};
+use super::variant::{half_precision_variants, halve_aliases, parse_variant};
+use crate::error::{GraphError, GraphResult};
+
+/// Loads shaders from a root directory (and inline sources registered by name), caching the
+/// validated modules.
+pub struct ShaderLibrary {
+    root: Option<PathBuf>,
+    inline: Mutex<HashMap<String, String>>,
+    cache: Mutex<HashMap<String, Arc<ShaderModuleInfo>>>,
+}
+
+impl ShaderLibrary {
+    /// Shaders are read from files under `root`.
+    pub fn new(root: impl Into<PathBuf>) -> Self {
+        Self {
+            root: Some(root.into()),
+            inline: Mutex::default(),
+            cache: Mutex::default(),
+        }
+    }
+    /// No files; inline sources only (GPU-free tests).
+    pub fn inline_only() -> Self {
+        Self {
+            root: None,
+            inline: Mutex::default(),
+            cache: Mutex::default(),
+        }
+    }
+    pub fn root(&self) -> Option<&Path> {
+        self.root.as_deref()
+    }
+    /// Registers `source` under `name`; it shadows a file of the same name.
+    pub fn add_inline(&self, name: &str, source: &str) {
+        lock(&self.inline).insert(name.to_string(), source.to_string());
+        lock(&self.cache).remove(name);
+    }
+
+    fn read(&self, name: &str) -> GraphResult<String> {
+        if let Some(s) = lock(&self.inline).get(name) {
+            return Ok(s.clone());
+        }
+        let Some(root) = &self.root else {
+            return Err(GraphError::ShaderFile {
+                file: name.into(),
+                message: "no inline shader of that name and no shader directory".into(),
+            });
+        };
+        let path = root.join(name);
+        std::fs::read_to_string(&path).map_err(|e| GraphError::ShaderFile {
+            file: path.display().to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Every `.wgsl` file under the root, relative paths, sorted.
+    pub fn files(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(root) = &self.root {
+            collect_wgsl(root, root, &mut out);
+        }
+        out.sort();
+        out
+    }
+
+    /// The validated module `name` (a file name, optionally with a variant suffix: see
+    /// `variant.rs`), from the cache or parsed now.
+    pub fn load(&self, name: &str) -> GraphResult<Arc<ShaderModuleInfo>> {
+        if let Some(m) = lock(&self.cache).get(name) {
+            return Ok(m.clone());
+        }
+        let (file, halved) = parse_variant(name)?;
+        let (source, segments) = expand(file, &|n| self.read(n))?;
+        let source = halve_aliases(name, file, source, &halved)?;
+        let info = Arc::new(parse_and_reflect(name, source, &segments)?);
+        lock(&self.cache).insert(name.to_string(), info.clone());
+        Ok(info)
+    }
+
+    /// The variant names file `name` supports besides itself: `name?Alias=f16` for each alias
+    /// it declares at a 32-bit float storage format (see `variant.rs`).
+    pub fn variants(&self, name: &str) -> GraphResult<Vec<String>> {
+        let (source, _) = expand(name, &|n| self.read(n))?;
+        Ok(half_precision_variants(name, &source))
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+fn collect_wgsl(root: &Path, dir: &Path, out: &mut Vec<String>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            collect_wgsl(root, &p, out);
+        } else if p.extension().is_some_and(|x| x == "wgsl") {
+            if let Ok(rel) = p.strip_prefix(root) {
+                out.push(rel.to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+}

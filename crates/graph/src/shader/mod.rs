@@ -1,0 +1,19 @@
+//! WGSL shaders: loading from the shader root ([`ShaderLibrary`], `library.rs`), `#include`
+//! expansion (`include.rs`), storage-precision variants (`variant.rs`), and naga validation
+//! and reflection of bindings, entry points and constants (`reflect.rs`).
+//!
+//! Invariant: every [`ShaderModuleInfo`] the library hands out was validated by naga, its
+//! bindings were reflected from the naga module (never written by hand), and an error in it
+//! names the file and line it comes from, through any includes.
+
+mod include;
+mod library;
+mod reflect;
+mod variant;
+
+pub use library::ShaderLibrary;
+pub(crate) use reflect::binding_type;
+pub use reflect::{
+    ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderModuleInfo, ShaderOverride,
+};
+pub use variant::storage_precision_variant;

@@ -1,0 +1,145 @@
+//! Storage-precision variants: a shader name may carry a variant suffix, `file.wgsl?Alias=f16`.
+//!
+//! For a file that declares a storage texture type once, on a line of its own, as written at
+//! 32-bit float precision,
+//!
+//! ```text
+//! alias Alias = texture_storage_2d<r32float, write>;
+//! ```
+//!
+//! and uses `Alias` for the globals it writes, `?Alias=f16` rewrites the format on that line
+//! only to the 16-bit float format with the same channels (r32float -> r16float, rg32float ->
+//! rg16float, rgba32float -> rgba16float); `?Alias=f32` is the file as written. Several pairs
+//! join with `&`. [`storage_precision_variant`] builds the name; `ShaderLibrary::variants`
+//! lists the variants a file has (the naga test validates each). The graph gives the alias no
+//! meaning: a crate above it chooses which alias follows which setting.
+//!
+//! Invariant: a variant changes nothing in the file but the format on its alias lines, line
+//! numbers included; naming an alias the file does not declare (at a 32-bit float format) is
+//! an error, since the suffix would silently do nothing.
+
+use crate::error::{GraphError, GraphResult};
+
+/// The name of `file`'s variant whose storage alias `alias` is at 16-bit float precision
+/// (`half`) or as written: `file?alias=f16` or `file` itself.
+pub fn storage_precision_variant(file: &str, alias: &str, half: bool) -> String {
+    if half {
+        format!("{file}?{alias}=f16")
+    } else {
+        file.to_string()
+    }
+}
+
+/// The file name and the aliases to halve, from `file?A=f16&B=f32`.
+pub(super) fn parse_variant(name: &str) -> GraphResult<(&str, Vec<&str>)> {
+    let Some((file, suffix)) = name.split_once('?') else {
+        return Ok((name, Vec::new()));
+    };
+    let mut halved = Vec::new();
+    for pair in suffix.split('&') {
+        match pair.split_once('=') {
+            Some((alias, "f16")) if is_identifier(alias) => halved.push(alias),
+            Some((alias, "f32")) if is_identifier(alias) => {}
+            _ => {
+                return Err(GraphError::ShaderFile {
+                    file: name.into(),
+                    message: format!(
+                        "unknown shader variant `{pair}`; a variant is `Alias=f16` or \
+                         `Alias=f32`, naming a storage alias the file declares (pairs joined \
+                         with `&`)"
+                    ),
+                });
+            }
+        }
+    }
+    Ok((file, halved))
+}
+
+/// `source` (of `file`, loaded as variant `name`) with every alias of `halved` at 16-bit
+/// precision; an alias the file does not declare at a 32-bit float format is an error.
+pub(super) fn halve_aliases(
+    name: &str,
+    file: &str,
+    mut source: String,
+    halved: &[&str],
+) -> GraphResult<String> {
+    for alias in halved {
+        source = half_storage(&source, alias).ok_or_else(|| GraphError::Shader {
+            file: file.into(),
+            line: 1,
+            message: format!(
+                "variant `{name}`: the file has no line `alias {alias} = \
+                 texture_storage_2d<r32float, write>;` (or rg32float, rgba32float) to rewrite"
+            ),
+        })?;
+    }
+    Ok(source)
+}
+
+/// The names of the half-precision variants of `file`, whose expanded source is `source`: one
+/// per alias it declares at a 32-bit float storage format.
+pub(super) fn half_precision_variants(file: &str, source: &str) -> Vec<String> {
+    storage_aliases(source)
+        .into_iter()
+        .filter(|alias| half_storage(source, alias).is_some())
+        .map(|alias| storage_precision_variant(file, alias, true))
+        .collect()
+}
+
+fn is_identifier(s: &str) -> bool {
+    s.chars()
+        .next()
+        .is_some_and(|c| c.is_alphabetic() || c == '_')
+        && s.chars().all(|c| c.is_alphanumeric() || c == '_')
+}
+
+/// The alias named on a line `alias NAME = texture_storage_2d<...>;`, if `line` is one.
+fn storage_alias(line: &str) -> Option<&str> {
+    let rest = line.trim_start().strip_prefix("alias")?;
+    if !rest.starts_with(char::is_whitespace) {
+        return None;
+    }
+    let (name, ty) = rest.split_once('=')?;
+    ty.trim_start()
+        .starts_with("texture_storage_2d<")
+        .then_some(name.trim())
+}
+
+/// Every storage alias `source` declares.
+fn storage_aliases(source: &str) -> Vec<&str> {
+    let mut out: Vec<&str> = source.lines().filter_map(storage_alias).collect();
+    out.dedup();
+    out
+}
+
+/// `source` with the format of its `alias ALIAS = texture_storage_2d<F, A>;` line(s) halved
+/// (r32float -> r16float etc.); `None` when no such line names a 32-bit float format. Other
+/// lines are untouched.
+fn half_storage(source: &str, alias: &str) -> Option<String> {
+    let mut out = String::with_capacity(source.len());
+    let mut found = false;
+    for line in source.split_inclusive('\n') {
+        match (
+            storage_alias(line) == Some(alias),
+            line.find("texture_storage_2d<"),
+        ) {
+            (true, Some(open)) => {
+                let start = open + "texture_storage_2d<".len();
+                let len = line[start..].find(',')?;
+                let format = line[start..start + len].trim();
+                let half = match format {
+                    "r32float" => "r16float",
+                    "rg32float" => "rg16float",
+                    "rgba32float" => "rgba16float",
+                    _ => return None,
+                };
+                out.push_str(&line[..start]);
+                out.push_str(half);
+                out.push_str(&line[start + len..]);
+                found = true;
+            }
+            _ => out.push_str(line),
+        }
+    }
+    found.then_some(out)
+}
