@@ -70,7 +70,9 @@ pub(crate) fn bind_resources(
             ResourceKind::Texture(d) => *d,
             ResourceKind::Buffer(_) => {
                 state.frame_buffers[r] = match res.origin {
-                    ResourceOrigin::Imported => Some(src.imports.buffer(res)?.clone()),
+                    ResourceOrigin::Imported => {
+                        Some(src.imports.buffer(plan.key(), r as u32, res)?.clone())
+                    }
                     _ => state.buffers[r].clone(),
                 };
                 continue;
@@ -86,7 +88,7 @@ pub(crate) fn bind_resources(
             }
             ResourceOrigin::Imported => src
                 .imports
-                .texture(res, &desc, extent, plan.usage[r])?
+                .texture(plan.key(), r as u32, res, &desc, extent, plan.usage[r])?
                 .clone(),
             ResourceOrigin::HistoryPrevious { history }
             | ResourceOrigin::HistoryCurrent { history } => {

@@ -27,7 +27,7 @@ use crate::plan_state::{PlanState, PlanStates};
 use crate::pool::{PoolKey, TexturePool};
 use crate::readback::{TextureReadback, read_texture};
 use crate::record::{RecordContext, record_pass};
-use crate::resource::{Extent, TextureHandle};
+use crate::resource::{BufferHandle, Extent, TextureHandle};
 use crate::sampler::SamplerCache;
 use crate::shader::ShaderLibrary;
 use crate::timing::{FrameId, PassTimings, TimestampRing, TimingMode, TimingSource};
@@ -129,9 +129,36 @@ impl Executor {
         let serial = self.pool.next_serial();
         self.imports.set_texture(name, texture, serial);
     }
-    /// Provides the buffer behind imported buffer `name`.
+    /// Provides the buffer behind imported buffer `name` (for every plan importing it).
     pub fn import_buffer(&mut self, name: &str, buffer: wgpu::Buffer) {
         self.imports.set_buffer(name, buffer);
+    }
+    /// Provides the texture behind `plan`'s import `handle`, for that plan only: two plans may
+    /// bind different textures to imports of the same name. It takes precedence over a
+    /// texture imported by name. An error when `handle` is no imported texture of `plan`.
+    pub fn bind_import_texture(
+        &mut self,
+        plan: &CompiledGraph,
+        handle: TextureHandle,
+        texture: wgpu::Texture,
+    ) -> GraphResult<()> {
+        let r = imported_resource(plan, handle.id, true)?;
+        let serial = self.pool.next_serial();
+        self.imports
+            .set_plan_texture(plan.key(), r, texture, serial);
+        Ok(())
+    }
+    /// Provides the buffer behind `plan`'s import `handle`, for that plan only (see
+    /// [`Executor::bind_import_texture`]).
+    pub fn bind_import_buffer(
+        &mut self,
+        plan: &CompiledGraph,
+        handle: BufferHandle,
+        buffer: wgpu::Buffer,
+    ) -> GraphResult<()> {
+        let r = imported_resource(plan, handle.id, false)?;
+        self.imports.set_plan_buffer(plan.key(), r, buffer);
+        Ok(())
     }
     /// Invalidates every history: the next frame reads zeros with `valid == false` (a cut).
     pub fn reset_history(&mut self) {
@@ -468,4 +495,28 @@ impl Executor {
             })?;
         read_texture(&self.gpu.device, &self.gpu.queue, &t.texture, mip)
     }
+}
+
+/// Resource `id` of `plan` when it is an imported texture (`texture`) or buffer, else an error
+/// naming what it is.
+fn imported_resource(plan: &CompiledGraph, id: u32, texture: bool) -> GraphResult<u32> {
+    let kind = if texture { "texture" } else { "buffer" };
+    let res = plan
+        .decl
+        .resources
+        .get(id as usize)
+        .ok_or_else(|| GraphError::MissingResource {
+            resource: format!("#{id}"),
+            message: "no resource of this plan: pass a handle its builder returned".into(),
+        })?;
+    let is_texture = res.texture_desc().is_some();
+    if !matches!(res.origin, ResourceOrigin::Imported) || is_texture != texture {
+        return Err(GraphError::MissingResource {
+            resource: res.name.clone(),
+            message: format!(
+                "not an imported {kind} of this plan: bind only handles from `import_{kind}`"
+            ),
+        });
+    }
+    Ok(id)
 }

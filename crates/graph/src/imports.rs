@@ -1,23 +1,30 @@
-//! Imported resources: textures and buffers the caller provides by name, checked against what
-//! the plan declares before anything is recorded.
+//! Imported resources: textures and buffers the caller provides, checked against what the plan
+//! declares before anything is recorded. Two ways to provide one: for one plan by the handle its
+//! builder returned (`Executor::bind_import_texture`), so two plans may bind different textures
+//! to imports of the same name; or by name for every plan (`Executor::import_texture`). A
+//! plan's own binding wins.
 //!
 //! Invariant: an imported texture bound to a frame has the declared format and size, and every
 //! usage the plan needs of it (a target created without `RENDER_ATTACHMENT`, say, is an error
 //! naming the missing flag, not a validation error at submit). Names are unique per plan
-//! (compile rejects duplicates), so one name binds one texture.
+//! (compile rejects duplicates), so one name binds one texture within a plan.
 
 use std::collections::HashMap;
 
+use crate::compile::PlanKey;
 use crate::custom::BoundTexture;
 use crate::declaration::ResourceDecl;
 use crate::error::{GraphError, GraphResult};
 use crate::resource::{Extent, TextureDesc};
 
-/// Textures and buffers provided for imported resources, by name.
+/// Textures and buffers provided for imported resources: by name for every plan, and by
+/// (plan, resource index) for one plan.
 #[derive(Default)]
 pub(crate) struct ImportTable {
     textures: HashMap<String, BoundTexture>,
     buffers: HashMap<String, wgpu::Buffer>,
+    plan_textures: HashMap<(PlanKey, u32), BoundTexture>,
+    plan_buffers: HashMap<(PlanKey, u32), wgpu::Buffer>,
 }
 
 impl ImportTable {
@@ -28,21 +35,41 @@ impl ImportTable {
     pub fn set_buffer(&mut self, name: &str, buffer: wgpu::Buffer) {
         self.buffers.insert(name.to_string(), buffer);
     }
+    /// `texture` behind resource `resource` of the plan `plan` only.
+    pub fn set_plan_texture(
+        &mut self,
+        plan: PlanKey,
+        resource: u32,
+        texture: wgpu::Texture,
+        serial: u64,
+    ) {
+        self.plan_textures
+            .insert((plan, resource), BoundTexture::new(texture, serial));
+    }
+    /// `buffer` behind resource `resource` of the plan `plan` only.
+    pub fn set_plan_buffer(&mut self, plan: PlanKey, resource: u32, buffer: wgpu::Buffer) {
+        self.plan_buffers.insert((plan, resource), buffer);
+    }
     /// The texture for `res`, checked against its descriptor at `extent` and the `usage` the
     /// plan needs.
     pub fn texture(
         &self,
+        plan: PlanKey,
+        resource: u32,
         res: &ResourceDecl,
         desc: &TextureDesc,
         extent: Extent,
         usage: wgpu::TextureUsages,
     ) -> GraphResult<&BoundTexture> {
         let t = self
-            .textures
-            .get(&res.name)
+            .plan_textures
+            .get(&(plan, resource))
+            .or_else(|| self.textures.get(&res.name))
             .ok_or_else(|| GraphError::MissingResource {
                 resource: res.name.clone(),
-                message: "imported texture not provided; call Executor::import_texture".into(),
+                message: "imported texture not provided; call Executor::bind_import_texture \
+                          (this plan) or Executor::import_texture (every plan)"
+                    .into(),
             })?;
         if t.texture.format() != desc.format {
             return Err(GraphError::FormatMismatch {
@@ -70,13 +97,21 @@ impl ImportTable {
         }
         Ok(t)
     }
-    /// The buffer for imported buffer `res`.
-    pub fn buffer(&self, res: &ResourceDecl) -> GraphResult<&wgpu::Buffer> {
-        self.buffers
-            .get(&res.name)
+    /// The buffer for imported buffer `res`, resource `resource` of plan `plan`.
+    pub fn buffer(
+        &self,
+        plan: PlanKey,
+        resource: u32,
+        res: &ResourceDecl,
+    ) -> GraphResult<&wgpu::Buffer> {
+        self.plan_buffers
+            .get(&(plan, resource))
+            .or_else(|| self.buffers.get(&res.name))
             .ok_or_else(|| GraphError::MissingResource {
                 resource: res.name.clone(),
-                message: "imported buffer not provided; call Executor::import_buffer".into(),
+                message: "imported buffer not provided; call Executor::bind_import_buffer (this \
+                          plan) or Executor::import_buffer (every plan)"
+                    .into(),
             })
     }
 }
