@@ -44,7 +44,7 @@ fn clip_depth(c: vec4<f32>) -> f32 {
 // is affine in depth, with d = a for a perspective camera and (0, 0, -1) for an orthographic one.
 fn plane_depth(uv: vec2<f32>, o: vec3<f32>, n: vec3<f32>) -> f32 {
     let a = view_position(uv, 1.0, view);
-    let d = select(a, vec3<f32>(0.0, 0.0, -1.0), view.near_far.w > 0.5);
+    let d = select(a, vec3<f32>(0.0, 0.0, -1.0), view.orthographic > 0.5);
     let den = dot(n, d);
     if (!(abs(den) > 1e-4 * length(d))) {
         return -1.0;
@@ -77,7 +77,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (params.has_motion != 0u) {
         let m = textureLoad(motion, p, 0);
         prev_uv = uv + m.xy;
-        moving = length((prev_uv - uv_cam) * view.viewport.xy) > params.moving_pixels
+        moving = length((prev_uv - uv_cam) * view.size) > params.moving_pixels
             || (m.z > 0.0 && abs(1.0 - m.z / max(d_new, 1e-30)) > 0.25 * params.epsilon);
         if (m.z > 0.0) {
             d_new = m.z;
@@ -85,9 +85,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let flag_moving = select(0.0, 2.0, moving);
 
-    let in_front = d_new > 0.0 && d_new < 1e30 && (view.near_far.w > 0.5 || c.w > 0.0);
+    let in_front = d_new > 0.0 && d_new < 1e30 && (view.orthographic > 0.5 || c.w > 0.0);
     let on_screen = all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv <= vec2<f32>(1.0));
-    if (view.frame.y == 0u || !in_front || !on_screen) {
+    if (view.history_valid == 0u || !in_front || !on_screen) {
         // No history, behind the previous camera, or off screen last frame: invalid.
         textureStore(reprojected, p, vec4<f32>(1.0, 0.0, 0.0, flag_moving));
         return;

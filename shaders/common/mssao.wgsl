@@ -53,7 +53,7 @@ struct MssaoGrid {
 }
 
 fn mssao_grid(view: View, level: u32) -> MssaoGrid {
-    return MssaoGrid(pixel_to_view(view, view.viewport.zw), f32(1u << level), view.viewport.xy);
+    return MssaoGrid(pixel_to_view(view, view.inv_size), f32(1u << level), view.size);
 }
 
 // The centre, in full-resolution pixels, of the pixels texel c covers: [c 2^l, (c + 1) 2^l)

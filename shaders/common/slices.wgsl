@@ -76,7 +76,7 @@ fn depth_tap(level: u32, px: vec2<i32>) -> Tap {
     let centre = 0.5 * (lo + min(lo + scale, full)); // a partial edge block's own centre
     var t: Tap;
     t.z = z;
-    t.p = view_position(centre * view.viewport.zw, z, view);
+    t.p = view_position(centre * view.inv_size, z, view);
     return t;
 }
 

@@ -7,21 +7,39 @@ struct View {
     inv_view: mat4x4<f32>,
     prev_view_proj: mat4x4<f32>,
     view_to_prev_clip: mat4x4<f32>,
-    // width, height, 1/width, 1/height
-    viewport: vec4<f32>,
-    // near, far (0 = infinite), reversed_z, orthographic
-    near_far: vec4<f32>,
-    // frame index, history valid, camera cut, unused
-    frame: vec4<u32>,
-    // time, dt, unused, unused
-    time: vec4<f32>,
+    // Output width, height in pixels.
+    size: vec2<f32>,
+    // 1/width, 1/height (one pixel in UV).
+    inv_size: vec2<f32>,
+    // Near plane distance (view-space units).
+    near: f32,
+    // Far plane distance (view-space units); 0 = infinite.
+    far: f32,
+    // Reversed-Z depth, 0/1 (1: near maps to clip depth 1).
+    reversed_z: f32,
+    // Orthographic projection, 0/1 (0: perspective).
+    orthographic: f32,
+    // Frame index (counts rendered frames, wrapping).
+    frame_index: u32,
+    // History valid, 0/1 (1: the previous frame's history may be read).
+    history_valid: u32,
+    // Camera cut, 0/1 (1: the camera jumped this frame).
+    camera_cut: u32,
+    // Unused; the four scalars above fill one 16-byte row.
+    pad0: u32,
+    // Scene time in seconds.
+    time: f32,
+    // Frame time dt in seconds.
+    dt: f32,
+    pad1: f32,
+    pad2: f32,
 }
 
 // Linear depth of a clip-space point (the current projection's: the previous frame's is the
 // same): w for a perspective camera; from z for an orthographic one (clip.z = proj[2][2]
 // z_view + proj[3][2], w = 1).
 fn clip_linear_depth(c: vec4<f32>, view: View) -> f32 {
-    if (view.near_far.w > 0.5) {
+    if (view.orthographic > 0.5) {
         let a = view.proj[2][2];
         return select(0.0, -(c.z - view.proj[3][2]) / a, abs(a) > 1e-30);
     }
@@ -30,7 +48,7 @@ fn clip_linear_depth(c: vec4<f32>, view: View) -> f32 {
 
 // Pixel centre of integer pixel `p` in UV (0..1, y down).
 fn pixel_uv(p: vec2<i32>, view: View) -> vec2<f32> {
-    return (vec2<f32>(p) + 0.5) * view.viewport.zw;
+    return (vec2<f32>(p) + 0.5) * view.inv_size;
 }
 
 // View-space position of the surface at `uv` with linear depth `z` (> 0), from the projection's
@@ -42,7 +60,7 @@ fn pixel_uv(p: vec2<i32>, view: View) -> vec2<f32> {
 fn view_position(uv: vec2<f32>, z: f32, view: View) -> vec3<f32> {
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     let scale = vec2<f32>(view.proj[0][0], view.proj[1][1]);
-    if (view.near_far.w > 0.5) {
+    if (view.orthographic > 0.5) {
         let offset = vec2<f32>(view.proj[3][0], view.proj[3][1]);
         return vec3<f32>((ndc - offset) / scale, -z);
     }
@@ -59,8 +77,8 @@ fn project_uv(p: vec3<f32>, view: View) -> vec2<f32> {
 
 // Pixels covered by a view-space length `r` at linear depth `z` (along the image's y axis).
 fn pixels_per_unit(z: f32, view: View) -> f32 {
-    let scale = view.proj[1][1] * 0.5 * view.viewport.y;
-    if (view.near_far.w > 0.5) {
+    let scale = view.proj[1][1] * 0.5 * view.size.y;
+    if (view.orthographic > 0.5) {
         return scale;
     }
     return scale / max(z, 1e-30);
@@ -80,7 +98,7 @@ fn pixel_to_view(view: View, inv_size: vec2<f32>) -> PixelToView {
     let s = vec2<f32>(view.proj[0][0], view.proj[1][1]);
     var m: PixelToView;
     m.scale = vec2<f32>(2.0, -2.0) * inv_size / s;
-    if (view.near_far.w > 0.5) {
+    if (view.orthographic > 0.5) {
         let offset = vec2<f32>(view.proj[3][0], view.proj[3][1]);
         m.offset = (vec2<f32>(-1.0, 1.0) - offset) / s;
         m.perspective = 0.0;

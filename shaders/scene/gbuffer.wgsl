@@ -12,9 +12,12 @@ struct Instance {
     // the rule the CPU g-buffer uses too). Exact under non-uniform scale, shear and mirroring.
     normal_model: mat3x3<f32>,
     color: vec4<f32>,
-    // A skinned instance's first entry in `palette` (x) and its joint count (y); the model
-    // matrices are then unused (glTF ignores a skinned node's transform).
-    skin: vec4<u32>,
+    // A skinned instance's first entry in `palette` and its joint count (both 0 when rigid);
+    // the model matrices are then unused (glTF ignores a skinned node's transform).
+    palette_first: u32,
+    joint_count: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 // One joint's skinning matrix, world(t) * inverse_bind, now and at the previous frame
@@ -25,9 +28,12 @@ struct JointPalette {
 }
 
 struct Light {
-    // World-space direction the light travels (unit), and its colour times intensity.
-    direction: vec4<f32>,
-    color: vec4<f32>,
+    // World-space direction the light travels (unit).
+    direction: vec3<f32>,
+    pad0: f32,
+    // Linear RGB colour times intensity.
+    color: vec3<f32>,
+    pad1: f32,
 }
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -95,8 +101,8 @@ fn vs_skinned(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>,
     for (var k = 0u; k < 4u; k += 1u) {
         // The importer keeps joints below the skin's count; one past it is skipped, as the CPU
         // skips it, and min() keeps every read inside the buffer.
-        let w = select(weights[k], 0.0, joints[k] >= inst.skin.y);
-        let j = palette[min(inst.skin.x + joints[k], last)];
+        let w = select(weights[k], 0.0, joints[k] >= inst.joint_count);
+        let j = palette[min(inst.palette_first + joints[k], last)];
         model += j.current * w;
         prev_model += j.previous * w;
     }
@@ -122,7 +128,7 @@ fn clip_to_uv(c: vec4<f32>) -> vec2<f32> {
 
 // The direction from the surface towards the eye (view space).
 fn to_eye(view_pos: vec3<f32>) -> vec3<f32> {
-    return select(normalize(-view_pos), vec3<f32>(0.0, 0.0, 1.0), view.near_far.w > 0.5);
+    return select(normalize(-view_pos), vec3<f32>(0.0, 0.0, 1.0), view.orthographic > 0.5);
 }
 
 // The triangle's geometric normal from the position derivatives, turned to face the eye
@@ -141,8 +147,8 @@ fn shade(in: VsOut, n: vec3<f32>) -> GBuffer {
     g.normal_oct = normal_oct_encode(n);
     g.position = vec4<f32>(in.view_pos, 1.0);
     g.albedo = vec4<f32>(in.color.rgb, 1.0);
-    let ndl = max(dot(wn, -light.direction.xyz), 0.0);
-    g.direct_light = vec4<f32>(in.color.rgb * light.color.rgb * ndl, 1.0);
+    let ndl = max(dot(wn, -light.direction), 0.0);
+    g.direct_light = vec4<f32>(in.color.rgb * light.color * ndl, 1.0);
     g.motion = vec4<f32>(
         clip_to_uv(in.prev_clip) - clip_to_uv(in.cur_clip),
         max(clip_linear_depth(in.prev_clip, view), 0.0),

@@ -30,7 +30,7 @@ const PARITY_SHADER: &str = "#include \"common/view.wgsl\"
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(dst);
     if (id.x >= size.x || id.y >= size.y) { return; }
-    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(f32(view.frame.x & 1u), 0.0, 0.0, 0.0));
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(f32(view.frame_index & 1u), 0.0, 0.0, 0.0));
 }
 ";
 

@@ -33,8 +33,8 @@ pub(crate) struct Grid {
 impl Grid {
     pub(crate) fn new(u: &ViewUniforms, level: u32) -> Self {
         let s = [u.proj[0][0], u.proj[1][1]];
-        let inv = [u.viewport[2], u.viewport[3]];
-        let perspective = u.near_far[3] <= 0.5;
+        let inv = u.inv_size;
+        let perspective = u.orthographic <= 0.5;
         let shift = if perspective {
             [u.proj[2][0], u.proj[2][1]]
         } else {
@@ -45,7 +45,7 @@ impl Grid {
             offset: [(-1.0 + shift[0]) / s[0], (1.0 + shift[1]) / s[1]],
             perspective,
             texel: (1u32 << level) as f32,
-            full: [u.viewport[0], u.viewport[1]],
+            full: u.size,
         }
     }
     /// `mssao_texel_centre`: the centre of the full-resolution pixels texel (x, y) covers.

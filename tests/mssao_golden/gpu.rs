@@ -266,7 +266,7 @@ impl Mssao {
             bilateral_blur: p.bilateral_blur,
             upsampling: p.upsampling,
             proj11: self.uniforms.proj[1][1],
-            height: self.uniforms.viewport[1],
+            height: self.uniforms.size[1],
         }
     }
 }

@@ -44,7 +44,7 @@ struct Params { strength: f32, pad0: f32, pad1: f32, pad2: f32 }
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let d = textureLoad(depth, vec2<i32>(id.xy), 0).r;
-    textureStore(ao, vec2<i32>(id.xy), vec4<f32>(clamp(1.0 - d * params.strength * view.viewport.z, 0.0, 1.0)));
+    textureStore(ao, vec2<i32>(id.xy), vec4<f32>(clamp(1.0 - d * params.strength * view.inv_size.x, 0.0, 1.0)));
 }
 "#;
 

@@ -14,25 +14,44 @@ use bytemuck::{Pod, Zeroable};
 /// Name under which the lighting block is imported (`Executor::import_buffer`).
 pub const LIGHTING_BUFFER: &str = "lighting";
 
-/// The lighting block. 16-byte aligned fields only, so the Rust and WGSL layouts agree.
+/// The lighting block. Each `[f32; 3]` and the scalar after it fill one 16-byte row (a WGSL
+/// `vec3<f32>` is 16-byte aligned with a 12-byte size), so the Rust and WGSL layouts agree.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct LightingUniforms {
-    /// World-space unit direction the directional light travels (xyz), unused w.
-    pub light_direction: [f32; 4],
-    /// Linear RGB colour times intensity, unused w.
-    pub light_color: [f32; 4],
-    /// Linear RGB ambient (the constant environment radiance), unused w.
-    pub ambient: [f32; 4],
+    /// World-space unit direction the directional light travels.
+    pub light_direction: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pub pad0: f32,
+    /// Linear RGB colour times intensity.
+    pub light_color: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pub pad1: f32,
+    /// Linear RGB ambient (the constant environment radiance).
+    pub ambient: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pub pad2: f32,
     /// The sky environment (`environment = "sky"`; `aograph_scene::SkyEnvironment`, mirrored
-    /// by `sky_radiance` in common.wgsl): zenith, horizon and ground radiance (rgb, unused w),
-    pub sky_zenith: [f32; 4],
-    pub sky_horizon: [f32; 4],
-    pub sky_ground: [f32; 4],
-    /// the unit direction towards the sun (xyz) and the lobe exponent k (w),
-    pub sun_direction: [f32; 4],
-    /// and the irradiance the sun lobe puts on a surface facing it (rgb, unused w).
-    pub sun_irradiance: [f32; 4],
+    /// by `sky_radiance` in common.wgsl): zenith radiance (linear RGB),
+    pub sky_zenith: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pub pad3: f32,
+    /// horizon radiance (linear RGB),
+    pub sky_horizon: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pub pad4: f32,
+    /// ground radiance (linear RGB),
+    pub sky_ground: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pub pad5: f32,
+    /// the world-space unit direction towards the sun,
+    pub sun_direction: [f32; 3],
+    /// the sun lobe's exponent k (>= 1),
+    pub sun_exponent: f32,
+    /// and the irradiance the sun lobe puts on a surface facing it (linear RGB).
+    pub sun_irradiance: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pub pad6: f32,
 }
 
 /// The sky of [`LightingUniforms::with_sky`]: world space, +Y up, linear RGB.
@@ -60,9 +79,9 @@ impl LightingUniforms {
         let [r, g, b] = clean(color);
         let [ar, ag, ab] = clean(ambient);
         Self {
-            light_direction: [d.x, d.y, d.z, 0.0],
-            light_color: [r, g, b, 0.0],
-            ambient: [ar, ag, ab, 0.0],
+            light_direction: [d.x, d.y, d.z],
+            light_color: [r, g, b],
+            ambient: [ar, ag, ab],
             ..Self::zeroed()
         }
     }
@@ -70,10 +89,7 @@ impl LightingUniforms {
     /// This block with `sky` as its sky environment (non-finite or negative colours become 0,
     /// a degenerate sun direction points up, a non-finite exponent is 1).
     pub fn with_sky(self, sky: SkyColours) -> Self {
-        let clean = |c: [f32; 3]| {
-            let [r, g, b] = c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
-            [r, g, b, 0.0]
-        };
+        let clean = |c: [f32; 3]| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
         let d = glam::Vec3::from(sky.sun_direction);
         let d = if d.is_finite() {
             d.try_normalize().unwrap_or(glam::Vec3::Y)
@@ -89,7 +105,8 @@ impl LightingUniforms {
             sky_zenith: clean(sky.zenith),
             sky_horizon: clean(sky.horizon),
             sky_ground: clean(sky.ground),
-            sun_direction: [d.x, d.y, d.z, k],
+            sun_direction: [d.x, d.y, d.z],
+            sun_exponent: k,
             sun_irradiance: clean(sky.sun_irradiance),
             ..self
         }
@@ -106,11 +123,11 @@ mod tests {
     #[test]
     fn new_normalises_and_cleans() {
         let l = LightingUniforms::new([0.0, -2.0, 0.0], [1.0, f32::NAN, -1.0], [0.25, 0.27, 0.3]);
-        assert_eq!(l.light_direction, [0.0, -1.0, 0.0, 0.0]);
-        assert_eq!(l.light_color, [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(l.light_direction, [0.0, -1.0, 0.0]);
+        assert_eq!(l.light_color, [1.0, 0.0, 0.0]);
         assert_eq!(
             LightingUniforms::new([0.0; 3], [0.0; 3], [0.0; 3]).light_direction,
-            [0.0, -1.0, 0.0, 0.0]
+            [0.0, -1.0, 0.0]
         );
         assert_eq!(std::mem::size_of::<LightingUniforms>(), 128);
     }

@@ -3,7 +3,7 @@
 //! rendering data, so the block lives here, shared by the g-buffer and every technique.
 //!
 //! Conventions: right-handed view space, the camera looks down -Z, linear depth = -z_view > 0;
-//! clip depth in wgpu's 0..1 (reversed when `near_far[2] == 1`).
+//! clip depth in wgpu's 0..1 (reversed when `reversed_z == 1`).
 
 use aograph_graph::{BufferAccess, BufferHandle, PassBuilder};
 use bytemuck::{Pod, Zeroable};
@@ -11,7 +11,8 @@ use bytemuck::{Pod, Zeroable};
 /// Column-major 4x4 matrix as WGSL reads it.
 pub type Mat4Cols = [[f32; 4]; 4];
 
-/// The `View` uniform block. 16-byte aligned fields only, so the Rust and WGSL layouts agree.
+/// The `View` uniform block. Matrices, then scalars and `[f32; 2]`s packed four (or two) to a
+/// 16-byte row, so the Rust and WGSL layouts agree with no implicit padding.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ViewUniforms {
@@ -23,15 +24,38 @@ pub struct ViewUniforms {
     pub prev_view_proj: Mat4Cols,
     /// This frame's view space to the previous frame's clip space (static-scene reprojection).
     pub view_to_prev_clip: Mat4Cols,
-    /// width, height, 1/width, 1/height in pixels.
-    pub viewport: [f32; 4],
-    /// near, far (0 = infinite), reversed_z (0/1), orthographic (0/1).
-    pub near_far: [f32; 4],
-    /// frame index, history valid (0/1), camera cut (0/1), unused.
-    pub frame: [u32; 4],
-    /// time in seconds, frame time dt, unused, unused.
-    pub time: [f32; 4],
+    /// Output width, height in pixels.
+    pub size: [f32; 2],
+    /// 1/width, 1/height (one pixel in UV).
+    pub inv_size: [f32; 2],
+    /// Near plane distance (view-space units).
+    pub near: f32,
+    /// Far plane distance (view-space units); 0 = infinite.
+    pub far: f32,
+    /// Reversed-Z depth, 0/1 (1: near maps to clip depth 1).
+    pub reversed_z: f32,
+    /// Orthographic projection, 0/1 (0: perspective).
+    pub orthographic: f32,
+    /// Frame index (counts rendered frames, wrapping).
+    pub frame_index: u32,
+    /// History valid, 0/1 (1: the previous frame's history may be read).
+    pub history_valid: u32,
+    /// Camera cut, 0/1 (1: the camera jumped this frame).
+    pub camera_cut: u32,
+    /// Unused; pads the row to 16 bytes.
+    pub pad0: u32,
+    /// Scene time in seconds.
+    pub time: f32,
+    /// Frame time dt in seconds (time minus the previous frame's).
+    pub dt: f32,
+    /// Unused; pads the row to 16 bytes.
+    pub pad1: f32,
+    /// Unused; pads the row to 16 bytes.
+    pub pad2: f32,
 }
+
+// Six matrices, then four 16-byte rows; any change here must be mirrored in view.wgsl.
+const _: () = assert!(std::mem::size_of::<ViewUniforms>() == 6 * 64 + 4 * 16);
 
 impl ViewUniforms {
     pub fn bytes(&self) -> &[u8] {

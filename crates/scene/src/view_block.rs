@@ -45,24 +45,22 @@ pub fn view_uniforms(f: &ViewFrame) -> ViewUniforms {
         inv_view: inv(view).to_cols_array_2d(),
         prev_view_proj: prev_vp.to_cols_array_2d(),
         view_to_prev_clip: (prev_vp * inv(view)).to_cols_array_2d(),
-        viewport: [
-            f.output.width as f32,
-            f.output.height as f32,
+        size: [f.output.width as f32, f.output.height as f32],
+        inv_size: [
             1.0 / f.output.width.max(1) as f32,
             1.0 / f.output.height.max(1) as f32,
         ],
-        near_far: [
-            f.camera.near(),
-            if far.is_finite() { far } else { 0.0 },
-            reversed as u32 as f32,
-            ortho as u32 as f32,
-        ],
-        frame: [
-            f.frame_index,
-            f.history_valid as u32,
-            f.camera_cut as u32,
-            0,
-        ],
-        time: [f.time, f.dt, 0.0, 0.0],
+        near: f.camera.near(),
+        far: if far.is_finite() { far } else { 0.0 },
+        reversed_z: reversed as u32 as f32,
+        orthographic: ortho as u32 as f32,
+        frame_index: f.frame_index,
+        history_valid: f.history_valid as u32,
+        camera_cut: f.camera_cut as u32,
+        pad0: 0,
+        time: f.time,
+        dt: f.dt,
+        pad1: 0.0,
+        pad2: 0.0,
     }
 }

@@ -54,7 +54,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
 
     // R_screen (§3.1): R projected to pixels, capped (R shrinks to match).
     let ppu = pixels_per_unit(z, view);
-    let r_px = min(params.radius * ppu, params.max_screen_radius * view.viewport.y);
+    let r_px = min(params.radius * ppu, params.max_screen_radius * view.size.y);
     if (!(r_px >= 1.0)) {
         return 1.0; // no neighbour within R
     }

@@ -61,7 +61,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
 
     // Projected radius, capped (R shrinks to match); under one pixel there is nothing to test.
     let ppu = pixels_per_unit(z, view);
-    let r_px = min(params.radius * ppu, params.max_screen_radius * view.viewport.y);
+    let r_px = min(params.radius * ppu, params.max_screen_radius * view.size.y);
     if (!(r_px >= 1.0)) {
         return 1.0;
     }
@@ -85,7 +85,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
         let k = params.kernel[i].xyz;
         let s = o + (t * k.x + b * k.y + n * k.z) * r;
         let zs = -s.z;
-        if (view.near_far.w < 0.5 && !(zs > 1e-6)) {
+        if (view.orthographic < 0.5 && !(zs > 1e-6)) {
             continue; // behind the camera
         }
         let us = project_uv(s, view);

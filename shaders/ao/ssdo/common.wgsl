@@ -35,31 +35,40 @@ struct SsdoParams {
 
 struct Lighting {
     // World-space unit direction the directional light travels.
-    light_direction: vec4<f32>,
+    light_direction: vec3<f32>,
+    pad0: f32,
     // Colour times intensity (linear RGB).
-    light_color: vec4<f32>,
+    light_color: vec3<f32>,
+    pad1: f32,
     // Ambient: the constant environment radiance (linear RGB).
-    ambient: vec4<f32>,
-    // The sky (environment = "sky"): zenith, horizon, ground radiance; direction towards the
-    // sun and lobe exponent k (w); the sun lobe's irradiance on a surface facing it.
-    sky_zenith: vec4<f32>,
-    sky_horizon: vec4<f32>,
-    sky_ground: vec4<f32>,
-    sun_direction: vec4<f32>,
-    sun_irradiance: vec4<f32>,
+    ambient: vec3<f32>,
+    pad2: f32,
+    // The sky (environment = "sky"): zenith, horizon, ground radiance (linear RGB); the
+    // world-space unit direction towards the sun and the sun lobe's exponent k; the sun lobe's
+    // irradiance on a surface facing it (linear RGB).
+    sky_zenith: vec3<f32>,
+    pad3: f32,
+    sky_horizon: vec3<f32>,
+    pad4: f32,
+    sky_ground: vec3<f32>,
+    pad5: f32,
+    sun_direction: vec3<f32>,
+    sun_exponent: f32,
+    sun_irradiance: vec3<f32>,
+    pad6: f32,
 }
 
 // Radiance of the sky arriving from world direction `w` (unit): zenith to horizon by sqrt(y),
 // horizon to ground over y in [-0.25, 0], plus the sun lobe E (k + 1) / (2 pi) max(0, w.s)^k.
 // CPU mirror: aograph_scene::SkyEnvironment::radiance.
 fn sky_radiance(sky: Lighting, w: vec3<f32>) -> vec3<f32> {
-    var c = mix(sky.sky_horizon.rgb, sky.sky_ground.rgb, min(-w.y / 0.25, 1.0));
+    var c = mix(sky.sky_horizon, sky.sky_ground, min(-w.y / 0.25, 1.0));
     if (w.y >= 0.0) {
-        c = mix(sky.sky_horizon.rgb, sky.sky_zenith.rgb, sqrt(w.y));
+        c = mix(sky.sky_horizon, sky.sky_zenith, sqrt(w.y));
     }
-    let k = sky.sun_direction.w;
-    let lobe = pow(max(dot(w, sky.sun_direction.xyz), 0.0), k) * (k + 1.0) / 6.28318531;
-    return c + sky.sun_irradiance.rgb * lobe;
+    let k = sky.sun_exponent;
+    let lobe = pow(max(dot(w, sky.sun_direction), 0.0), k) * (k + 1.0) / 6.28318531;
+    return c + sky.sun_irradiance * lobe;
 }
 
 // One classified sample point.

@@ -35,7 +35,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let rho = textureLoad(albedo, px, 0).rgb;
     // rho * E_sun * max(0, n.l), unshadowed (the g-buffer's DirectLight).
     let sun = textureLoad(direct_light, px, 0).rgb;
-    let ambient = lighting.ambient.rgb;
+    let ambient = lighting.ambient;
     let n = ssdo_normalize(textureLoad(normals, px, 0).xyz);
     if (!(dot(n, n) > 0.5)) {
         textureStore(radiance, px, vec4<f32>(ssdo_clean(rho * ambient + sun), 1.0));
@@ -45,8 +45,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = params.r_max;
     let frame = ssdo_frame(n);
     let set_index = interleave_4x4(id.xy);
-    let ortho = view.near_far.w > 0.5;
-    let to_light = ssdo_normalize((view.view * vec4<f32>(-lighting.light_direction.xyz, 0.0)).xyz);
+    let ortho = view.orthographic > 0.5;
+    let to_light = ssdo_normalize((view.view * vec4<f32>(-lighting.light_direction, 0.0)).xyz);
     let up = (view.view * vec4<f32>(0.0, 1.0, 0.0, 0.0)).xyz;
     let gradient = params.sky_gradient;
     let lobe = params.light_lobe;

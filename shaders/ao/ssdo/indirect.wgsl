@@ -35,7 +35,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let clamp_d = params.distance_clamp;
     let frame = ssdo_frame(n);
     let set_index = interleave_4x4(id.xy);
-    let ortho = view.near_far.w > 0.5;
+    let ortho = view.orthographic > 0.5;
 
     var gathered = vec3<f32>(0.0);
     let count = min(params.sample_count, 16u);

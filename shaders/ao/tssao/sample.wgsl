@@ -96,7 +96,7 @@ fn visibility(o: vec3<f32>, c0: vec4<f32>, w: vec3<f32>, r: f32, u: f32, size: v
         let t = select(r * (f32(j) + 1.0 - u) / f32(steps), r, j + 1u == steps && !point);
         let zq = -(o.z + w.z * t);
         let c = c0 + cd * t;
-        if (view.near_far.w < 0.5 && !(zq > 1e-6 && c.w > 1e-6)) {
+        if (view.orthographic < 0.5 && !(zq > 1e-6 && c.w > 1e-6)) {
             break; // behind the camera: unoccluding
         }
         let ndc = c.xy / c.w;
@@ -184,7 +184,7 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
 
     let o = view_position(pixel_uv(p, view), z, view);
     let ppu = pixels_per_unit(z, view);
-    let r_px = min(params.radius * ppu, params.max_screen_radius * view.viewport.y);
+    let r_px = min(params.radius * ppu, params.max_screen_radius * view.size.y);
     let r = r_px / max(ppu, 1e-30);
     // Start 1.5 pixel footprints above the surface (self-occlusion on grazing planes).
     let start = o + n * (1.5 / max(ppu, 1e-30));
@@ -231,7 +231,7 @@ fn sample_pixel(id: vec2<u32>, dynamic: bool) {
                 // The previous occupant of s_i's position: moving geometry at another depth
                 // there last frame means the neighbourhood changed (module docs).
                 let prev_uv = pixel_uv(v.texel, view) + textureLoad(motion, v.texel, 0).xy;
-                if (all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv < vec2<f32>(1.0)) && view.frame.y != 0u) {
+                if (all(prev_uv >= vec2<f32>(0.0)) && all(prev_uv < vec2<f32>(1.0)) && view.history_valid != 0u) {
                     let hs = vec2<i32>(textureDimensions(previous));
                     let h = textureLoad(previous, clamp(vec2<i32>(floor(prev_uv * vec2<f32>(hs))), vec2<i32>(0), hs - 1), 0);
                     let zm = textureLoad(motion, v.texel, 0).z;

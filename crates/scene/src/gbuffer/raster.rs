@@ -31,8 +31,14 @@ struct InstanceGpu {
     /// WGSL `mat3x3<f32>`: three columns padded to 16 bytes each.
     normal_model: [[f32; 4]; 3],
     color: [f32; 4],
-    /// First palette entry and joint count of a skinned instance.
-    skin: [u32; 4],
+    /// A skinned instance's first entry in the joint palette (0 when rigid).
+    palette_first: u32,
+    /// A skinned instance's joint count (0 when rigid).
+    joint_count: u32,
+    /// Unused; pads the row to 16 bytes.
+    pad0: u32,
+    /// Unused; pads the row to 16 bytes.
+    pad1: u32,
 }
 
 /// One joint's skinning matrix now and at the previous frame (WGSL `JointPalette`).
@@ -59,8 +65,14 @@ fn padded_mat3(m: glam::Mat3) -> [[f32; 4]; 3] {
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct LightGpu {
-    direction: [f32; 4],
-    color: [f32; 4],
+    /// World-space direction the light travels (unit).
+    direction: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pad0: f32,
+    /// Linear RGB colour times intensity.
+    color: [f32; 3],
+    /// Unused; pads the row to 16 bytes.
+    pad1: f32,
 }
 
 struct MeshGpu {
@@ -236,13 +248,14 @@ impl GBufferRaster {
         let l = &self.scene.light;
         let dir = l.direction.try_normalize().unwrap_or(glam::Vec3::NEG_Y);
         let light = LightGpu {
-            direction: [dir.x, dir.y, dir.z, 0.0],
+            direction: [dir.x, dir.y, dir.z],
+            pad0: 0.0,
             color: [
                 l.color[0] * l.intensity,
                 l.color[1] * l.intensity,
                 l.color[2] * l.intensity,
-                0.0,
             ],
+            pad1: 0.0,
         };
         let light = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("gbuffer light"),
@@ -445,7 +458,7 @@ impl CustomPass for GBufferRaster {
                 .map(|m| m.base_color)
                 .unwrap_or([0.8, 0.8, 0.8, 1.0]);
             let model = inst.transform_at(frame.time);
-            let mut skin = [0; 4];
+            let (mut palette_first, mut joint_count) = (0, 0);
             if let (Some(first), Some(s)) = (offset, &inst.skin) {
                 let (now, before) = (s.palette(frame.time), s.palette(frame.prev_time));
                 state
@@ -454,14 +467,17 @@ impl CustomPass for GBufferRaster {
                         current: c.to_cols_array_2d(),
                         previous: p.to_cols_array_2d(),
                     }));
-                skin = [*first, now.len() as u32, 0, 0];
+                (palette_first, joint_count) = (*first, now.len() as u32);
             }
             state.staging.push(InstanceGpu {
                 model: model.to_cols_array_2d(),
                 prev_model: inst.transform_at(frame.prev_time).to_cols_array_2d(),
                 normal_model: padded_mat3(normal_matrix(model)),
                 color,
-                skin,
+                palette_first,
+                joint_count,
+                pad0: 0,
+                pad1: 0,
             });
         }
         if !state.staging.is_empty() {
