@@ -9,14 +9,14 @@
 //! entries, the values of its pipeline-overridable constants, and for full-screen passes the colour targets (format, blend) and depth state. Two
 //! plans, or two passes of one plan, with equal keys share one pipeline.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use crate::attachment::AttachmentOps;
 use crate::binding_slots::{BindingSlot, BindingSource};
 use crate::declaration::{GraphDecl, PassDecl, PassKind, PipelineConstant};
 use crate::sampler::SamplerDesc;
-use crate::shader::{ShaderModuleInfo, binding_type};
+use crate::shader::{ShaderModuleInfo, binding_type, grouped_entries};
 
 /// A pass's pipeline and its layouts, one per bind group index in use.
 pub(crate) enum PassPipeline {
@@ -82,28 +82,25 @@ pub(crate) fn pipeline_key(
         PassKind::Compute { .. } => wgpu::ShaderStages::COMPUTE,
         _ => wgpu::ShaderStages::VERTEX_FRAGMENT,
     };
-    let mut by_group: BTreeMap<u32, Vec<wgpu::BindGroupLayoutEntry>> = BTreeMap::new();
-    for (b, slot) in info.bindings.iter().zip(slots) {
-        let format = slot
-            .source
-            .texture_resource()
-            .and_then(|r| decl.resources[r].texture_desc())
-            .map(|d| d.format);
-        let sampler = match slot.source {
-            BindingSource::Sampler { sampler } => samplers.get(sampler).copied(),
-            _ => None,
-        };
-        let ty = binding_type(&b.kind, format, sampler, features);
-        by_group
-            .entry(b.group)
-            .or_default()
-            .push(wgpu::BindGroupLayoutEntry {
-                binding: b.binding,
-                visibility,
-                ty,
-                count: None,
-            });
-    }
+    let groups = grouped_entries(
+        visibility,
+        info.bindings.iter().zip(slots).map(|(b, slot)| {
+            let format = slot
+                .source
+                .texture_resource()
+                .and_then(|r| decl.resources[r].texture_desc())
+                .map(|d| d.format);
+            let sampler = match slot.source {
+                BindingSource::Sampler { sampler } => samplers.get(sampler).copied(),
+                _ => None,
+            };
+            (
+                b.group,
+                b.binding,
+                binding_type(&b.kind, format, sampler, features),
+            )
+        }),
+    );
     let stage = match &pass.kind {
         PassKind::Compute { entry, .. } => StageKey::Compute {
             entry: entry.clone(),
@@ -143,7 +140,7 @@ pub(crate) fn pipeline_key(
     Some(PipelineKey {
         source: info.source_hash,
         stage,
-        groups: by_group.into_iter().collect(),
+        groups,
         constants: pass.constants.clone(),
     })
 }

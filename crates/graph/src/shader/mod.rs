@@ -12,8 +12,8 @@ mod reflect;
 mod variant;
 
 pub use library::ShaderLibrary;
-pub(crate) use reflect::binding_type;
 pub use reflect::{
     ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderModuleInfo, ShaderOverride,
 };
+pub(crate) use reflect::{binding_type, grouped_entries};
 pub use variant::storage_precision_variant;

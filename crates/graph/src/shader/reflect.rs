@@ -99,22 +99,36 @@ impl ShaderModuleInfo {
         format_of: impl Fn(&str) -> Option<wgpu::TextureFormat>,
         sampler_of: impl Fn(&str) -> Option<SamplerDesc>,
     ) -> Vec<(u32, Vec<wgpu::BindGroupLayoutEntry>)> {
-        let mut groups: std::collections::BTreeMap<u32, Vec<wgpu::BindGroupLayoutEntry>> =
-            Default::default();
-        for b in &self.bindings {
-            let ty = binding_type(&b.kind, format_of(&b.name), sampler_of(&b.name), features);
-            groups
-                .entry(b.group)
-                .or_default()
-                .push(wgpu::BindGroupLayoutEntry {
-                    binding: b.binding,
-                    visibility,
-                    ty,
-                    count: None,
-                });
-        }
-        groups.into_iter().collect()
+        grouped_entries(
+            visibility,
+            self.bindings.iter().map(|b| {
+                let ty = binding_type(&b.kind, format_of(&b.name), sampler_of(&b.name), features);
+                (b.group, b.binding, ty)
+            }),
+        )
     }
+}
+
+/// Layout entries by bind group (ascending), each group's in the order given: `entries` are
+/// (group, binding, type).
+pub(crate) fn grouped_entries(
+    visibility: wgpu::ShaderStages,
+    entries: impl IntoIterator<Item = (u32, u32, wgpu::BindingType)>,
+) -> Vec<(u32, Vec<wgpu::BindGroupLayoutEntry>)> {
+    let mut groups: std::collections::BTreeMap<u32, Vec<wgpu::BindGroupLayoutEntry>> =
+        Default::default();
+    for (group, binding, ty) in entries {
+        groups
+            .entry(group)
+            .or_default()
+            .push(wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility,
+                ty,
+                count: None,
+            });
+    }
+    groups.into_iter().collect()
 }
 
 /// The layout entry type of a binding of `kind`: `format` is the texture bound to it (whether
