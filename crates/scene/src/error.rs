@@ -66,6 +66,36 @@ pub enum SceneError {
     #[error("unknown procedural scene \"{name}\"; known scenes: {known}")]
     UnknownScene { name: String, known: String },
 
+    /// A GPU operation (a pipeline, a dispatch, a readback) failed.
+    #[error("GPU error while {what}: {message}")]
+    Gpu { what: &'static str, message: String },
+
+    /// The scene's BVH does not fit one of the device's storage-buffer limits.
+    #[error(
+        "the scene's BVH does not fit this device: its {buffer} buffer is {size} bytes (the whole \
+         BVH {total} bytes), over the device's limit of {limit} bytes ({limit_name}); trace fewer \
+         or decimated meshes, or use a device with larger limits"
+    )]
+    BvhTooLarge {
+        buffer: &'static str,
+        size: u64,
+        total: u64,
+        limit: u64,
+        limit_name: &'static str,
+    },
+
+    /// A BVH level deeper than the GPU traversal's fixed stack.
+    #[error(
+        "the scene's {level}-level BVH is {depth} nodes deep, over the GPU traversal stack of \
+         {limit}: the geometry is too degenerate to trace (split the mesh or remove stacked \
+         duplicate triangles)"
+    )]
+    BvhTooDeep {
+        level: &'static str,
+        depth: u32,
+        limit: u32,
+    },
+
     /// A numeric parameter outside its allowed range.
     #[error("invalid parameter {name} = {value}: must be {allowed}")]
     InvalidParameter {

@@ -21,6 +21,7 @@ pub mod primitives;
 pub mod procedural;
 pub mod projected_radius;
 pub mod radius;
+pub mod ray_tracing;
 pub mod reference;
 pub mod scene_builder;
 pub mod skin;

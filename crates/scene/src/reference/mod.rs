@@ -20,6 +20,7 @@ pub(crate) mod sampling;
 mod tracer;
 
 pub use brute_force::BruteForceTracer;
+pub(crate) use bvh::is_traceable;
 pub use bvh::{RayHitRecord, TriangleBvh};
 pub use cache::{CacheKey, ReferenceCache};
 pub use cpu_gbuffer::{CpuGBuffer, primary_hits, surface_normals};
@@ -29,6 +30,7 @@ pub use output::{
 pub use progress::ProgressMode;
 pub use radiance::{BounceSurfaces, RadianceImage, trace_radiance};
 pub use sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
+pub(crate) use tracer::check_inputs;
 pub use tracer::{offset_epsilon, trace_reference, trace_reference_rows};
 
 use glam::Vec3;

@@ -1,0 +1,125 @@
+//! Buffers in and out of the device for the ray tracer's own compute passes (the ray batch and
+//! the GPU reference, which run outside a frame graph): storage and uniform buffers from Pod
+//! slices, a readback that waits for the queue, and a compute pipeline from a library shader
+//! with its includes expanded. GPU failures come back as [`SceneError::Gpu`], never a panic.
+
+use aograph_graph::{GpuContext, ShaderLibrary};
+use bytemuck::Pod;
+use wgpu::util::DeviceExt;
+
+use crate::error::SceneError;
+
+/// A buffer holding `items` (at least one element's worth of zeros when empty: wgpu has no
+/// zero-size bindings).
+pub(crate) fn buffer_of<T: Pod>(
+    gpu: &GpuContext,
+    label: &str,
+    items: &[T],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let bytes: &[u8] = bytemuck::cast_slice(items);
+    let padding = vec![0u8; std::mem::size_of::<T>().max(16)];
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: if bytes.is_empty() { &padding } else { bytes },
+            usage,
+        })
+}
+
+/// A compute pipeline for `entry` of library shader `file`.
+pub(crate) fn compute_pipeline(
+    gpu: &GpuContext,
+    shaders: &ShaderLibrary,
+    file: &str,
+) -> Result<wgpu::ComputePipeline, SceneError> {
+    let module = shaders.load(file).map_err(|e| SceneError::Gpu {
+        what: "loading a ray tracing shader",
+        message: e.to_string(),
+    })?;
+    let module = gpu
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(file),
+            source: wgpu::ShaderSource::Wgsl(module.source.as_str().into()),
+        });
+    Ok(gpu
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(file),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        }))
+}
+
+/// A bind group of `pipeline`'s group 0 with `(binding, buffer)` entries.
+pub(crate) fn bind_group(
+    gpu: &GpuContext,
+    pipeline: &wgpu::ComputePipeline,
+    entries: &[(u32, &wgpu::Buffer)],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = entries
+        .iter()
+        .map(|(binding, buffer)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
+/// Workgroups of 64 invocations covering `count`, as (x, y) within the 65535 limit per
+/// dimension, and the invocations per row.
+pub(crate) fn dispatch_grid(count: u32) -> (u32, u32, u32) {
+    let groups = count.div_ceil(64).max(1);
+    let x = groups.min(65535);
+    let y = groups.div_ceil(x);
+    (x, y, x * 64)
+}
+
+/// Copies `buffer` (`size` bytes) back to the CPU, waiting for the queue.
+pub(crate) fn read_back(
+    gpu: &GpuContext,
+    buffer: &wgpu::Buffer,
+    size: u64,
+) -> Result<Vec<u8>, SceneError> {
+    let gpu_error = |message: String| SceneError::Gpu {
+        what: "reading ray tracing results back",
+        message,
+    };
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("ray tracing readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+    gpu.queue.submit([enc.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| gpu_error(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| gpu_error(e.to_string()))?
+        .map_err(|e| gpu_error(e.to_string()))?;
+    let bytes = staging
+        .slice(..)
+        .get_mapped_range()
+        .map_err(|e| gpu_error(e.to_string()))?
+        .to_vec();
+    staging.unmap();
+    Ok(bytes)
+}

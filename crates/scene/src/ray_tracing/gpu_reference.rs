@@ -1,0 +1,153 @@
+//! The AO reference traced on the GPU (shaders/raytrace/reference.wgsl): the CPU reference's
+//! rays (same Sobol points, scramble, hemisphere, origin offset and occlusion rule) and its
+//! estimator, against a [`GpuSceneBvh`] instead of the CPU BVH. Rows are traced in bands of
+//! at most [`RAYS_PER_DISPATCH`] rays, so no single dispatch runs long enough to trip a
+//! driver's watchdog. Same inputs and errors as `reference::trace_reference`.
+//!
+//! Invariant: sky and unusable pixels are exactly (1, 0), as on the CPU; every other pixel's
+//! estimate is the CPU's up to float rounding (its rays are the same rays), so the two agree
+//! within their standard errors (tests/gpu_ray_tracer.rs).
+
+use std::sync::Arc;
+
+use aograph_graph::{GpuContext, ShaderLibrary};
+use bytemuck::{Pod, Zeroable};
+
+use super::gpu_bvh::GpuSceneBvh;
+use super::gpu_io::{bind_group, buffer_of, compute_pipeline, read_back};
+use crate::error::SceneError;
+use crate::reference::{
+    ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer, check_inputs,
+};
+
+/// Most rays one dispatch traces (a band of rows).
+pub const RAYS_PER_DISPATCH: u64 = 1 << 22;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ReferenceUniform {
+    width: u32,
+    height: u32,
+    rays: u32,
+    mode: u32,
+    radius: f32,
+    row_start: u32,
+    rows: u32,
+    pad: u32,
+}
+
+/// The GPU reference pipeline.
+pub struct GpuReferenceTracer {
+    gpu: Arc<GpuContext>,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl GpuReferenceTracer {
+    pub fn new(
+        gpu: Arc<GpuContext>,
+        shaders: &ShaderLibrary,
+    ) -> Result<GpuReferenceTracer, SceneError> {
+        let pipeline = compute_pipeline(&gpu, shaders, "raytrace/reference.wgsl")?;
+        Ok(GpuReferenceTracer { gpu, pipeline })
+    }
+
+    /// Traces the reference of every pixel of `surfaces` against `bvh`.
+    pub fn trace(
+        &self,
+        bvh: &GpuSceneBvh,
+        surfaces: &SurfaceBuffer,
+        params: &ReferenceParams,
+    ) -> Result<ReferenceImage, SceneError> {
+        check_inputs(surfaces, params)?;
+        let gpu = &self.gpu;
+        let (width, height) = (surfaces.width, surfaces.height);
+        let pixels = surfaces.pixel_count();
+        if pixels == 0 {
+            return Ok(ReferenceImage {
+                width,
+                height,
+                accessibility: Vec::new(),
+                std_error: Vec::new(),
+            });
+        }
+        let points: Vec<[f32; 4]> = (0..pixels)
+            .map(|i| {
+                let p = surfaces.points[i];
+                [p.x, p.y, p.z, if surfaces.valid[i] { 1.0 } else { 0.0 }]
+            })
+            .collect();
+        let normals: Vec<[f32; 4]> = surfaces
+            .normals
+            .iter()
+            .map(|n| [n.x, n.y, n.z, 0.0])
+            .collect();
+        let storage = wgpu::BufferUsages::STORAGE;
+        let point_buffer = buffer_of(gpu, "reference points", &points, storage);
+        let normal_buffer = buffer_of(gpu, "reference normals", &normals, storage);
+        let result_size = (pixels * 8) as u64;
+        let result = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("reference result"),
+            size: result_size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let rays_per_row = u64::from(width) * u64::from(params.rays_per_pixel);
+        let band = (RAYS_PER_DISPATCH / rays_per_row.max(1)).clamp(1, u64::from(height)) as u32;
+        let mut row_start = 0;
+        while row_start < height {
+            let rows = band.min(height - row_start);
+            let uniform = ReferenceUniform {
+                width,
+                height,
+                rays: params.rays_per_pixel,
+                mode: match params.mode {
+                    ReferenceMode::Binary => 0,
+                    ReferenceMode::Obscurance => 1,
+                },
+                radius: params.radius,
+                row_start,
+                rows,
+                pad: 0,
+            };
+            let uniform = buffer_of(
+                gpu,
+                "reference params",
+                &[uniform],
+                wgpu::BufferUsages::UNIFORM,
+            );
+            let group = bind_group(
+                gpu,
+                &self.pipeline,
+                &[
+                    (0, &uniform),
+                    (1, &point_buffer),
+                    (2, &normal_buffer),
+                    (3, &result),
+                    (12, &bvh.nodes),
+                    (13, &bvh.instances),
+                    (14, &bvh.triangles),
+                ],
+            );
+            let mut enc = gpu
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.dispatch_workgroups(width.div_ceil(8), rows.div_ceil(8), 1);
+            }
+            gpu.queue.submit([enc.finish()]);
+            row_start += rows;
+        }
+        let bytes = read_back(gpu, &result, result_size)?;
+        let values: &[[f32; 2]] = bytemuck::cast_slice(&bytes);
+        let (accessibility, std_error) = values.iter().map(|v| (v[0], v[1])).unzip();
+        Ok(ReferenceImage {
+            width,
+            height,
+            accessibility,
+            std_error,
+        })
+    }
+}
