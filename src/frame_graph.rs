@@ -6,7 +6,7 @@
 use aograph_frame::ReadsView;
 use std::sync::Arc;
 
-use aograph_ao::{AoBuildContext, AoConfig, RadianceOutput, TechniqueRegistry};
+use aograph_ao::{AoBuildContext, AoConfig, DeclaredInputs, RadianceOutput, TechniqueRegistry};
 use aograph_frame::{
     DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms,
 };
@@ -55,6 +55,9 @@ pub struct FrameGraph {
     pub owners: PassOwners,
     pub clock: GBufferClock,
     pub temporal: bool,
+    /// Frame inputs the technique declared (the scene BVH, for ray-traced AO): the renderer
+    /// builds and binds exactly these.
+    pub declared: DeclaredInputs,
 }
 
 /// Declares the whole frame for `scene` (seen from its camera at t = 0) at `size` with the
@@ -155,8 +158,8 @@ pub fn build_frame_graph_with(
     } else {
         None
     };
-    let out = owners.record(&mut b, PassOwner::Technique, |b| {
-        technique.build(&mut AoBuildContext {
+    let (out, declared) = owners.record(&mut b, PassOwner::Technique, |b| {
+        let mut ctx = AoBuildContext {
             builder: b,
             gbuffer,
             view,
@@ -164,7 +167,10 @@ pub fn build_frame_graph_with(
             intermediate_format: ao.intermediate_format.wgpu(),
             technique: technique.name(),
             radius_pixels,
-        })
+            declared: DeclaredInputs::default(),
+        };
+        let out = technique.build(&mut ctx)?;
+        Ok::<_, aograph_ao::AoError>((out, ctx.declared))
     })?;
     let temporal = technique.is_temporal();
     b.export(out.accessibility);
@@ -210,6 +216,7 @@ pub fn build_frame_graph_with(
         owners,
         clock,
         temporal,
+        declared,
     })
 }
 

@@ -12,12 +12,16 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
-use aograph_frame::{GBufferChannel, LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
+use aograph_frame::{
+    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, GBufferChannel, LIGHTING_BUFFER,
+    LightingUniforms, SkyColours, VIEW_BUFFER,
+};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
     PassTimings, ShaderLibrary, TextureHandle,
 };
 use aograph_scene::gbuffer::{GBufferFrame, GBufferStates};
+use aograph_scene::ray_tracing::GpuSceneBvh;
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Scene, SurfaceBuffer};
 use glam::{Mat4, Vec3};
@@ -136,6 +140,9 @@ pub struct Renderer {
     view_buffer: wgpu::Buffer,
     /// The lighting block (SSDO's light, ambient and sky), rewritten with the scene.
     lighting_buffer: wgpu::Buffer,
+    /// The scene's BVH on the device, built the first time a graph declares it (rtao) and
+    /// moved to each frame's time; `None` while no graph has asked for it.
+    scene_bvh: Option<GpuSceneBvh>,
     frame_index: u32,
     prev: Option<(f32, Camera)>,
     cut: bool,
@@ -222,6 +229,7 @@ impl Renderer {
             gbuffer,
             view_buffer,
             lighting_buffer,
+            scene_bvh: None,
             frame_index: 0,
             prev: None,
             cut: false,
@@ -323,11 +331,37 @@ impl Renderer {
             return Err(e);
         }
         self.built.clear();
+        self.scene_bvh = None;
         self.gpu
             .queue
             .write_buffer(&self.lighting_buffer, 0, lighting_of(&self.scene).bytes());
         self.cut();
         Ok(())
+    }
+
+    /// Builds the scene's BVH on first use (binding its buffers for every plan) and moves it
+    /// to `time`: nothing to do for what does not move.
+    fn update_scene_bvh(&mut self, time: f32) -> AppResult<()> {
+        match &mut self.scene_bvh {
+            Some(bvh) => {
+                bvh.update(&self.scene, time)?;
+            }
+            None => {
+                let bvh = GpuSceneBvh::new(self.gpu.clone(), &self.scene, time)?;
+                self.exec.import_buffer(BVH_NODES_BUFFER, bvh.nodes.clone());
+                self.exec
+                    .import_buffer(BVH_INSTANCES_BUFFER, bvh.instances.clone());
+                self.exec
+                    .import_buffer(BVH_TRIANGLES_BUFFER, bvh.triangles.clone());
+                self.scene_bvh = Some(bvh);
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene's BVH, once a graph that traces rays has rendered a frame.
+    pub fn scene_bvh(&self) -> Option<&GpuSceneBvh> {
+        self.scene_bvh.as_ref()
     }
 
     /// Marks a camera cut: the next frame starts with no history.
@@ -381,6 +415,9 @@ impl Renderer {
             prev_time,
             reversed_z: Some(reversed_z),
         });
+        if self.graph.declared.scene_bvh.is_some() {
+            self.update_scene_bvh(time)?;
+        }
         self.exec.execute(&self.plan, self.output)?;
         self.prev = Some((time, camera));
         self.cut = false;

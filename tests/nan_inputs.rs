@@ -214,6 +214,7 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
             intermediate_format: wgpu::TextureFormat::R16Float,
             technique: technique.name(),
             radius_pixels: None,
+            declared: Default::default(),
         };
         let out = technique.build(&mut ctx).expect("builds");
         b.export(out.accessibility);

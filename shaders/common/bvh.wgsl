@@ -168,7 +168,25 @@ const BVH_MISS_INDEX: u32 = 0xffffffffu;
 
 // The world-space ray `o + t d`, t in [t_min, t_max], against the whole scene: the closest hit
 // (or, with `any_hit`, the first found).
-fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any_hit: bool) -> BvhHit {
+// As the CPU tracer (reference/bvh.rs `TriangleBvh::ray`), the ray starts `lead` behind its
+// origin and t is shifted by it: a surface through the origin itself (a point on a crease,
+// offset along one face's normal, lies on the other face's plane) is then a crossing at
+// t = lead that both tracers round alike (hit or not by the last bit, half the time each),
+// instead of a t = 0 tie the GPU would always count and the CPU only half the time.
+fn bvh_trace(o_in: vec3<f32>, d: vec3<f32>, t_min_in: f32, t_max_in: f32, any_hit: bool) -> BvhHit {
+    let a = abs(o_in);
+    let lead = 2e-4 + 1e-6 * max(a.x, max(a.y, a.z)) + max(-t_min_in, 0.0);
+    let o = o_in - d * lead;
+    let t_min = t_min_in + lead;
+    let t_max = t_max_in + lead;
+    var result = bvh_trace_from(o, d, t_min, t_max, any_hit);
+    if (result.triangle != BVH_MISS_INDEX) {
+        result.t -= lead;
+    }
+    return result;
+}
+
+fn bvh_trace_from(o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any_hit: bool) -> BvhHit {
     // t_max bounds the search; `triangle` stays BVH_MISS_INDEX until something is hit.
     var hit = BvhHit(min(t_max, BVH_MISS), 0u, BVH_MISS_INDEX);
     let inv_d = bvh_safe_inverse(d);

@@ -64,6 +64,7 @@ impl Mssao {
                 intermediate_format: wgpu::TextureFormat::R32Float,
                 technique: "mssao",
                 radius_pixels: None,
+                declared: Default::default(),
             })
             .expect("mssao builds");
         b.export(out.accessibility);

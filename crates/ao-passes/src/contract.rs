@@ -52,6 +52,7 @@ pub fn compile_plan(
         intermediate_format,
         technique: technique.name(),
         radius_pixels: None,
+        declared: Default::default(),
     };
     let out = technique.build(&mut ctx)?;
     b.export(out.accessibility);

@@ -21,5 +21,5 @@ pub use radius::{RADIUS_ALLOWED, Radius, RadiusSetting};
 pub use registry::TechniqueRegistry;
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,
-    DynAoTechnique, RadianceEnvironment, RadianceOutput,
+    DeclaredInputs, DynAoTechnique, RadianceEnvironment, RadianceOutput,
 };

@@ -12,8 +12,8 @@
 //! reads the typed parameters it holds.
 
 use aograph_frame::{
-    GBufferChannel, GBufferChannels, GBufferTextures, LIGHTING_BUFFER, LightingUniforms,
-    intermediate_shader,
+    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, GBufferChannel, GBufferChannels,
+    GBufferTextures, LIGHTING_BUFFER, LightingUniforms, SceneBvhInputs, intermediate_shader,
 };
 use aograph_graph::{
     BufferDesc, BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle,
@@ -48,6 +48,16 @@ pub struct AoBuildContext<'a> {
     /// is built for a known view (for `levels = "auto"`; see [`crate::Levels`]). Filled in
     /// only for techniques whose [`DynAoTechnique::needs_radius_pixels`] says so.
     pub radius_pixels: Option<f32>,
+    /// Frame inputs the build declared beyond the view block (filled in by the build: whoever
+    /// runs the graph provides what is declared here, and nothing else is built).
+    pub declared: DeclaredInputs,
+}
+
+/// The optional frame inputs a technique's build declared.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DeclaredInputs {
+    /// The scene's ray-tracing BVH ([`AoBuildContext::scene_bvh`]).
+    pub scene_bvh: Option<SceneBvhInputs>,
 }
 
 impl AoBuildContext<'_> {
@@ -68,6 +78,23 @@ impl AoBuildContext<'_> {
                 size: std::mem::size_of::<LightingUniforms>() as u64,
             },
         )
+    }
+    /// The scene's two-level BVH (shaders/common/bvh.wgsl), a frame input the technique
+    /// declares by asking for it: the graph imports its three buffers once, and whoever runs
+    /// the graph builds and binds it only then (`DeclaredInputs::scene_bvh`).
+    pub fn scene_bvh(&mut self) -> SceneBvhInputs {
+        if let Some(bvh) = self.declared.scene_bvh {
+            return bvh;
+        }
+        // Sizes are the device's business (the BVH is checked against its limits when built).
+        let desc = BufferDesc { size: 32 };
+        let bvh = SceneBvhInputs {
+            nodes: self.builder.import_buffer(BVH_NODES_BUFFER, desc),
+            instances: self.builder.import_buffer(BVH_INSTANCES_BUFFER, desc),
+            triangles: self.builder.import_buffer(BVH_TRIANGLES_BUFFER, desc),
+        };
+        self.declared.scene_bvh = Some(bvh);
+        bvh
     }
     /// A new full-size accessibility texture.
     pub fn accessibility_texture(&mut self, name: &str) -> TextureHandle {

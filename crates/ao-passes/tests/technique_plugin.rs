@@ -132,6 +132,7 @@ fn build_and_compile(
         intermediate_format: config.intermediate_format.wgpu(),
         technique: technique.name(),
         radius_pixels: None,
+        declared: Default::default(),
     };
     let out = technique.build(&mut ctx)?;
     b.export(out.accessibility);

@@ -5,6 +5,7 @@ pub mod hbao;
 pub mod mssao;
 pub mod none;
 pub mod pyramid_hbao;
+pub mod rtao;
 pub(crate) mod slices;
 pub mod ssao;
 pub mod ssdo;
@@ -27,5 +28,6 @@ pub(crate) fn builtins() -> Vec<Arc<dyn DynAoTechnique>> {
         Arc::new(ssdo::Ssdo),
         Arc::new(gtao::Gtao),
         Arc::new(vbao::Vbao),
+        Arc::new(rtao::Rtao),
     ]
 }

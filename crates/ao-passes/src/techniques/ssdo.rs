@@ -329,6 +329,7 @@ mod tests {
             intermediate_format: wgpu::TextureFormat::R32Float,
             technique: Ssdo::NAME,
             radius_pixels: None,
+            declared: Default::default(),
         };
         let out = AoTechnique::build(&Ssdo, &mut ctx, params).unwrap();
         b.export(out.accessibility);

@@ -458,6 +458,7 @@ mod tests {
             intermediate_format: wgpu::TextureFormat::R32Float,
             technique: Tssao::NAME,
             radius_pixels: None,
+            declared: Default::default(),
         };
         let out = AoTechnique::build(&Tssao, &mut ctx, &TssaoParams::default()).unwrap();
         b.export(out.accessibility);
