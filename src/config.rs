@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use aograph_ao::{AoConfig, TechniqueRegistry, unknown_key};
-use aograph_scene::{ReferenceMode, ReferenceNormals};
+use aograph_scene::{ReferenceMode, ReferenceNormals, ReferenceTracer};
 
 /// The scene rendered when none is given.
 pub const DEFAULT_SCENE: &str = "columns";
@@ -64,6 +64,8 @@ pub struct AppConfig {
     pub reference_mode: ReferenceMode,
     /// The normal that orients the reference's hemisphere (geometric unless set).
     pub reference_normals: ReferenceNormals,
+    /// CPU or GPU reference tracer (auto unless set).
+    pub reference_tracer: ReferenceTracer,
     /// Frames to render (temporal techniques converge over frames).
     pub frames: u32,
     /// Seconds of scene time per frame (0 = a still frame).
@@ -82,6 +84,7 @@ impl Default for AppConfig {
             reference_rays: 256,
             reference_mode: ReferenceMode::Binary,
             reference_normals: ReferenceNormals::Geometric,
+            reference_tracer: ReferenceTracer::Auto,
             frames: 1,
             frame_time: 1.0 / 30.0,
         }
@@ -99,7 +102,7 @@ const TOP_KEYS: &[&str] = &[
 ];
 const SCENE_KEYS: &[&str] = &["name", "file"];
 const OUTPUT_KEYS: &[&str] = &["width", "height"];
-const REFERENCE_KEYS: &[&str] = &["rays", "mode", "normals"];
+const REFERENCE_KEYS: &[&str] = &["rays", "mode", "normals", "tracer"];
 const RENDER_KEYS: &[&str] = &["frames", "frame_time"];
 
 /// Largest output side accepted (wgpu's default 2D texture limit).
@@ -216,6 +219,11 @@ impl AppConfig {
                             "normals" => {
                                 c.reference_normals =
                                     ReferenceNormals::parse(rv.as_str().unwrap_or(""))
+                                        .map_err(|m| err(path, m))?
+                            }
+                            "tracer" => {
+                                c.reference_tracer =
+                                    ReferenceTracer::parse(rv.as_str().unwrap_or(""))
                                         .map_err(|m| err(path, m))?
                             }
                             _ => {

@@ -17,10 +17,11 @@ use std::sync::Arc;
 
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary};
+use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     CacheKey, Camera, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals,
-    ReferenceParams, Scene, SurfaceBuffer, TriangleBvh,
+    ReferenceParams, ReferenceTracer, Scene, SurfaceBuffer, TriangleBvh,
 };
 use glam::Vec3;
 
@@ -38,6 +39,8 @@ pub struct ReferenceSettings {
     pub mode: ReferenceMode,
     /// Which normal orients each pixel's hemisphere.
     pub normals: ReferenceNormals,
+    /// CPU or GPU tracer (`[reference] tracer`; auto: the GPU on hardware).
+    pub tracer: ReferenceTracer,
 }
 
 impl ReferenceSettings {
@@ -48,6 +51,7 @@ impl ReferenceSettings {
             rays,
             mode: ReferenceMode::Binary,
             normals: ReferenceNormals::Geometric,
+            tracer: ReferenceTracer::Auto,
         }
     }
 }
@@ -129,8 +133,10 @@ pub fn cache_dir() -> PathBuf {
 }
 
 /// Traces the reference of `surfaces` against `scene` at `time` (from the disk cache when the
-/// same surfaces, geometry and settings were traced before).
+/// same surfaces, geometry, settings and tracer were traced before), with the tracer
+/// `s.tracer` resolves to on `gpu`.
 pub fn trace_surfaces(
+    gpu: &Arc<GpuContext>,
     scene: &Scene,
     time: f32,
     surfaces: &SurfaceBuffer,
@@ -149,10 +155,18 @@ pub fn trace_surfaces(
         },
     };
     let key = CacheKey::new(&tris, surfaces, &params);
-    Ok(ReferenceCache::new(cache_dir()).get_or_trace(key, || {
-        let bvh = TriangleBvh::new(&tris);
-        aograph_scene::trace_reference(&bvh, surfaces, &params)
-    })?)
+    let cache = ReferenceCache::new(cache_dir());
+    Ok(match s.tracer.resolve(gpu.is_software()) {
+        ReferenceTracer::Gpu => cache.get_or_trace(key.gpu_traced(), || {
+            let bvh = GpuSceneBvh::new(gpu.clone(), scene, time)?;
+            GpuReferenceTracer::new(gpu.clone(), &crate::renderer::shader_library())?
+                .trace(&bvh, surfaces, &params)
+        })?,
+        _ => cache.get_or_trace(key, || {
+            let bvh = TriangleBvh::new(&tris);
+            aograph_scene::trace_reference(&bvh, surfaces, &params)
+        })?,
+    })
 }
 
 /// The radiance reference of `view` (issue 19): the scene's built-in sky
@@ -215,5 +229,5 @@ pub fn frame_reference(
 ) -> AppResult<ReferenceImage> {
     let view = FrameView::of(r);
     let (surfaces, _) = reference_surfaces(r.gpu.clone(), r.shaders.clone(), &view, s.normals)?;
-    trace_surfaces(&view.scene, view.time, &surfaces, s, progress)
+    trace_surfaces(&r.gpu, &view.scene, view.time, &surfaces, s, progress)
 }

@@ -32,6 +32,7 @@ fn settings(side: u32, frames: u32, warmup: u32, rays: u32) -> BenchSettings {
         rays,
         mode: ReferenceMode::Binary,
         normals: ReferenceNormals::Geometric,
+        tracer: aograph_scene::ReferenceTracer::Auto,
         metrics: MetricOptions::default(),
     }
 }

@@ -56,6 +56,8 @@ pub struct BenchSettings {
     pub mode: ReferenceMode,
     /// Reference hemisphere: geometric (face) or shading (interpolated) normals.
     pub normals: ReferenceNormals,
+    /// Reference tracer: auto (the GPU on hardware), cpu or gpu.
+    pub tracer: aograph_scene::ReferenceTracer,
     pub metrics: MetricOptions,
 }
 
@@ -71,6 +73,7 @@ impl BenchSettings {
             rays: self.rays,
             mode: self.mode,
             normals: self.normals,
+            tracer: self.tracer,
         }
     }
 }
@@ -130,6 +133,7 @@ pub fn scene_reference(
     let (surfaces, depth) =
         reference_surfaces(ctx.gpu.clone(), ctx.shaders.clone(), &view, s.normals)?;
     let image = trace_surfaces(
+        &ctx.gpu,
         &scene,
         0.0,
         &surfaces,

@@ -122,6 +122,10 @@ pub struct RunFlags {
     /// The normal that orients the reference's hemisphere: geometric or shading.
     #[arg(long, default_value = "geometric")]
     pub normals: String,
+    /// Reference tracer: auto (the GPU on a hardware device, the CPU on a software one), cpu
+    /// or gpu.
+    #[arg(long, default_value = "auto")]
+    pub tracer: String,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -139,6 +143,7 @@ impl RunFlags {
             self.rays,
             &self.mode,
             &self.normals,
+            &self.tracer,
             edge_band,
         )
     }
@@ -170,8 +175,15 @@ fn settings(
     rays: u32,
     mode: &str,
     normals: &str,
+    tracer: &str,
     edge_band: u32,
 ) -> AppResult<BenchSettings> {
+    let tracer =
+        aograph_scene::ReferenceTracer::parse(tracer).map_err(|e| AppError::InvalidArgument {
+            name: "--tracer".into(),
+            value: tracer.into(),
+            allowed: e,
+        })?;
     let normals =
         aograph_scene::ReferenceNormals::parse(normals).map_err(|e| AppError::InvalidArgument {
             name: "--normals".into(),
@@ -198,6 +210,7 @@ fn settings(
         rays: positive("--rays", rays)?,
         mode,
         normals,
+        tracer,
         metrics: MetricOptions {
             edge_band,
             ..MetricOptions::default()

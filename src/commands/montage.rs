@@ -64,6 +64,7 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
                 rays,
                 mode: config.reference_mode,
                 normals: config.reference_normals,
+                tracer: config.reference_tracer,
             },
             true,
         )?

@@ -64,9 +64,11 @@ pub fn reference(
         rays,
         mode,
         normals,
+        tracer: config.reference_tracer,
     };
+    let gpu = gpu()?;
     let started = std::time::Instant::now();
-    let image = trace_surfaces(&view.scene, view.time, &surfaces, &settings, true)?;
+    let image = trace_surfaces(&gpu, &view.scene, view.time, &surfaces, &settings, true)?;
     let secs = started.elapsed().as_secs_f64();
     image.write_png(out.join("reference.png"))?;
     image.write_raw(out.join("reference.f32"))?;

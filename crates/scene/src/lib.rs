@@ -42,8 +42,9 @@ pub use projected_radius::{ProjectedRadius, projected_radius};
 pub use radius::{SuggestedRadius, suggested_radius};
 pub use reference::{
     BounceSurfaces, BruteForceTracer, CacheKey, CpuGBuffer, RadianceImage, ReferenceCache,
-    ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams, SurfaceBuffer, TriangleBvh,
-    primary_hits, trace_radiance, trace_reference, trace_reference_rows,
+    ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams, ReferenceTracer,
+    SurfaceBuffer, TriangleBvh, primary_hits, trace_radiance, trace_reference,
+    trace_reference_rows,
 };
 pub use scene_builder::SceneBuilder;
 pub use skin::{Joint, JointWeights, Skin};

@@ -224,7 +224,7 @@ pub fn motion_frames(
         let depth = r.read_linear_depth()?;
         if i >= s.warmup {
             let surfaces = r.surfaces()?;
-            let image = trace_surfaces(&scene, time, &surfaces, &reference, false)?;
+            let image = trace_surfaces(&r.gpu, &scene, time, &surfaces, &reference, false)?;
             let motion = if instances_move {
                 Some(r.read_gbuffer(GBufferChannel::Motion)?.to_f32()?)
             } else {

@@ -117,6 +117,29 @@ impl CacheKey {
     }
 }
 
+impl CacheKey {
+    /// The key of the same reference traced by the GPU tracer: [`CacheKey::new`]'s, the
+    /// tracer's name and its shaders' sources (a CPU-traced entry is never taken for a GPU one,
+    /// nor one from older shaders).
+    pub fn gpu_traced(self) -> CacheKey {
+        let mut h = Fnv1a128::new();
+        h.bytes(&self.0.to_le_bytes());
+        h.bytes(b"gpu");
+        for source in GPU_TRACER_SOURCES {
+            h.u32(source.len() as u32);
+            h.bytes(source.as_bytes());
+        }
+        CacheKey(h.0)
+    }
+}
+
+/// The GPU tracer's shaders, hashed into its keys.
+const GPU_TRACER_SOURCES: &[&str] = &[
+    include_str!("../../../../shaders/common/bvh.wgsl"),
+    include_str!("../../../../shaders/common/ao_rays.wgsl"),
+    include_str!("../../../../shaders/raytrace/reference.wgsl"),
+];
+
 /// A directory of cached reference images.
 impl CacheKey {
     /// The key of a radiance reference: everything [`CacheKey::new`] covers, plus the
@@ -350,6 +373,21 @@ mod tests {
             ..params
         };
         assert_eq!(base, CacheKey::new(&tris, &surfaces(), &quiet));
+    }
+
+    #[test]
+    fn the_key_names_the_tracer_and_auto_is_the_cpu_only_on_a_software_device() {
+        use crate::reference::ReferenceTracer;
+        let tris = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]];
+        let base = CacheKey::new(&tris, &surfaces(), &ReferenceParams::default());
+        assert_ne!(base, base.gpu_traced());
+        assert_eq!(base.gpu_traced(), base.gpu_traced());
+        assert_eq!(ReferenceTracer::Auto.resolve(true), ReferenceTracer::Cpu);
+        assert_eq!(ReferenceTracer::Auto.resolve(false), ReferenceTracer::Gpu);
+        assert_eq!(ReferenceTracer::Cpu.resolve(false), ReferenceTracer::Cpu);
+        assert_eq!(ReferenceTracer::Gpu.resolve(true), ReferenceTracer::Gpu);
+        let e = ReferenceTracer::parse("embree").unwrap_err();
+        assert!(e.contains("auto, cpu, gpu"), "{e}");
     }
 
     #[test]

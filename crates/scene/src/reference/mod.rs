@@ -82,6 +82,51 @@ impl ReferenceNormals {
     }
 }
 
+/// Which tracer traces the reference: the CPU's BVH (rayon over cores) or the GPU ray tracer
+/// (`crate::ray_tracing`), the same rays either way. `Auto` is the GPU on a hardware device and
+/// the CPU on a software one (lavapipe runs compute on the same cores, slower than the CPU
+/// tracer's SIMD BVH).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReferenceTracer {
+    #[default]
+    Auto,
+    Cpu,
+    Gpu,
+}
+
+impl ReferenceTracer {
+    /// The config spelling: "auto", "cpu" or "gpu".
+    pub fn name(self) -> &'static str {
+        match self {
+            ReferenceTracer::Auto => "auto",
+            ReferenceTracer::Cpu => "cpu",
+            ReferenceTracer::Gpu => "gpu",
+        }
+    }
+
+    /// Parses the config spelling, naming the allowed values on error.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "auto" => Ok(ReferenceTracer::Auto),
+            "cpu" => Ok(ReferenceTracer::Cpu),
+            "gpu" => Ok(ReferenceTracer::Gpu),
+            _ => Err(format!(
+                "reference tracer `{s}` is not known (allowed: auto, cpu, gpu)"
+            )),
+        }
+    }
+
+    /// `Auto` made concrete for a device (`software`: `GpuContext::is_software`).
+    pub fn resolve(self, software: bool) -> ReferenceTracer {
+        match self {
+            ReferenceTracer::Auto if software => ReferenceTracer::Cpu,
+            ReferenceTracer::Auto => ReferenceTracer::Gpu,
+            t => t,
+        }
+    }
+}
+
 /// Parameters of a reference run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
