@@ -4,7 +4,12 @@
 //! reports rays per second (criterion's "elements/s"; only rays from valid, non-sky pixels are
 //! counted). Change the tile with AOGRAPH_BENCH_SIZE (pixels per side) and AOGRAPH_BENCH_RAYS.
 //! A full 512x512 x 256 run is the ignored test `columns_full_resolution_throughput`.
+//! The same tile is traced by the GPU reference (`ray_tracing::GpuReferenceTracer`, suffix
+//! `_gpu`) when a device exists, so CPU and GPU rays per second come from one run; then the
+//! GPU BVH's build and per-frame update (a static scene: nothing; `dynamic`: the top level;
+//! CesiumMan: the skinned bottom level's refit and the top level).
 
+use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh, SceneBvh};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     ReferenceMode, ReferenceParams, TriangleBvh, primary_hits, procedural_scene, trace_reference,
@@ -48,10 +53,45 @@ fn reference_throughput(c: &mut Criterion) {
     group.bench_function(format!("columns_{size}x{size}x{rays}_obscurance"), |b| {
         b.iter(|| trace_reference(black_box(&bvh), black_box(&surfaces), &obscurance))
     });
+    if let Some(gpu) = aograph_graph::test_gpu() {
+        let shaders = aograph_graph::ShaderLibrary::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shaders"
+        ));
+        let tracer = GpuReferenceTracer::new(gpu.clone(), &shaders).expect("pipeline");
+        let gpu_bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).expect("BVH fits");
+        for (mode, p) in [("binary", params), ("obscurance", obscurance)] {
+            group.bench_function(format!("columns_{size}x{size}x{rays}_{mode}_gpu"), |b| {
+                b.iter(|| tracer.trace(&gpu_bvh, black_box(&surfaces), &p))
+            });
+        }
+    }
     group.finish();
     c.bench_function("bvh_build_columns", |b| {
         b.iter(|| TriangleBvh::new(black_box(&triangles)))
     });
+    c.bench_function("gpu_bvh_build_columns", |b| {
+        b.iter(|| SceneBvh::build(black_box(&scene), 0.0))
+    });
+    let dynamic = procedural_scene("dynamic").expect("built-in scene");
+    let man = aograph_scene::load_scene(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/scenes/CesiumMan.glb"
+    ));
+    let mut moving = vec![("dynamic", dynamic)];
+    if let Ok(man) = man {
+        moving.push(("cesium_man", man));
+    }
+    for (name, s) in moving {
+        let (mut bvh, _) = SceneBvh::build(&s, 0.0).expect("builds");
+        let mut t = 0.0f32;
+        c.bench_function(&format!("gpu_bvh_update_{name}"), |b| {
+            b.iter(|| {
+                t += 1.0 / 60.0;
+                bvh.update(black_box(&s), t).expect("updates")
+            })
+        });
+    }
 }
 
 criterion_group!(benches, reference_throughput);

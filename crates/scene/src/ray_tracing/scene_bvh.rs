@@ -429,3 +429,97 @@ fn check_depth(level: &'static str, depth: u32, limit: u32) -> Result<(), SceneE
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::model::{Instance, Mesh};
+    use crate::scene_builder::SceneBuilder;
+
+    fn quad() -> Mesh {
+        Mesh {
+            name: "quad".into(),
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            normals: Vec::new(),
+            indices: vec![0, 1, 2, 0, 2, 3],
+            material: 0,
+            skin_weights: Vec::new(),
+        }
+    }
+
+    fn scene(transforms: &[Mat4]) -> Scene {
+        let mut b = SceneBuilder::new();
+        let m = b.mesh(quad());
+        for t in transforms {
+            b.place(m, *t);
+        }
+        b.build(Camera::perspective(
+            Vec3::Z * 5.0,
+            Vec3::ZERO,
+            1.0,
+            0.1,
+            100.0,
+        ))
+    }
+
+    #[test]
+    fn an_empty_scene_is_one_inverted_top_node_and_no_instances() {
+        let (bvh, work) = SceneBvh::build(&scene(&[]), 0.0).unwrap();
+        assert_eq!(bvh.nodes, vec![FlatNode::EMPTY]);
+        assert!(bvh.instances.is_empty() && bvh.triangles.is_empty());
+        assert_eq!((work.blas_builds, work.tlas_builds), (0, 1));
+    }
+
+    #[test]
+    fn rigid_instances_share_their_mesh_bottom_level_and_carry_its_inverse_transform() {
+        let a = Mat4::from_translation(Vec3::new(3.0, 0.0, 0.0));
+        let b = Mat4::from_scale(Vec3::new(2.0, -1.0, 0.5));
+        let (bvh, work) = SceneBvh::build(&scene(&[a, b]), 0.0).unwrap();
+        assert_eq!(work.blas_builds, 1);
+        assert_eq!(bvh.triangles.len(), 2, "two triangles, once");
+        assert_eq!(bvh.tlas_len(), 3);
+        assert_eq!(bvh.instances[0].blas_root, bvh.instances[1].blas_root);
+        // The rows map world points back to object space.
+        let rows = bvh.instances[1].world_to_object;
+        let world = Vec3::new(2.0, -1.0, 0.5);
+        let object: Vec<f32> = rows
+            .iter()
+            .map(|r| r[0] * world.x + r[1] * world.y + r[2] * world.z + r[3])
+            .collect();
+        assert_eq!(object, [1.0, 1.0, 1.0]);
+        // Every TLAS leaf addresses one placed instance, each once.
+        let mut leaves: Vec<u32> = bvh.nodes[..3]
+            .iter()
+            .filter(|n| n.count > 0)
+            .map(|n| n.first)
+            .collect();
+        leaves.sort();
+        assert_eq!(leaves, [0, 1]);
+    }
+
+    #[test]
+    fn singular_and_missing_instances_are_left_out_or_never_hit() {
+        let mut s = scene(&[Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0)), Mat4::IDENTITY]);
+        s.instances.push(Instance::fixed(9, Mat4::IDENTITY));
+        let (bvh, _) = SceneBvh::build(&s, 0.0).unwrap();
+        assert_eq!(
+            bvh.instances.len(),
+            2,
+            "the instance of a missing mesh is left out"
+        );
+        assert_eq!(bvh.instances[0].world_to_object, [[0.0; 4]; 3]);
+    }
+
+    #[test]
+    fn a_tree_deeper_than_the_traversal_stack_is_an_error_naming_both_depths() {
+        let e = check_depth("bottom", 65, BLAS_STACK)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("bottom-level BVH is 65 nodes deep") && e.contains("stack of 64"),
+            "{e}"
+        );
+        assert!(check_depth("top", TLAS_STACK, TLAS_STACK).is_ok());
+    }
+}
