@@ -5,8 +5,12 @@
 # one results folder: <out>/<width>x<height>/{report.md,results.csv,results.json,pareto.*}
 # and <out>/device.txt.
 #
+# Then rtao converged: 1, 2, 4 and 8 rays a frame accumulated over 64 frames
+# (<out>/<size>-rtao-converged), and the GPU against the CPU reference tracer in rays per
+# second (<out>/ray-throughput.txt, criterion's reference bench).
+#
 #   bash scripts/bench-gpu.sh [OUT]            # default OUT: bench-gpu
-#   SIZES="96x64" FRAMES=1 WARMUP=0 RAYS=4 SCENES=columns PROFILE=debug \
+#   SIZES="96x64" FRAMES=1 WARMUP=0 RAYS=4 SCENES=columns PROFILE=debug RTAO_FRAMES=1 \
 #       bash scripts/bench-gpu.sh out      # a smoke run (CI: the debug build it already has)
 #
 # On lavapipe (no GPU) the times are CPU times; on a GPU, AOGRAPH_TIMING=gpu is the default
@@ -20,6 +24,7 @@ warmup=${WARMUP:-2}
 rays=${RAYS:-256}
 scenes=${SCENES:-columns,sphere-on-plane,corner}
 profile=${PROFILE:-release}
+rtao_frames=${RTAO_FRAMES:-62}
 bash scripts/ensure-vulkan.sh
 if [ "$profile" = release ]; then
     cargo build --release --locked --quiet
@@ -40,5 +45,13 @@ for size in $sizes; do
         --width "$w" --height "$h" --frames "$frames" --warmup "$warmup" --rays "$rays" \
         --quiet --out "$out/$size"
     grep -m1 "^Device:" "$out/$size/report.md" >> "$out/device.txt"
+    "./target/$profile/aograph" bench \
+        --scenes "$scenes" --techniques rtao --sweep configs/sweeps/presets.toml \
+        --width "$w" --height "$h" --frames "$rtao_frames" --warmup 2 --rays "$rays" \
+        --quiet --out "$out/$size-rtao-converged"
 done
+if [ "$profile" = release ]; then
+    cargo bench --locked -p aograph-scene --bench reference -- reference/ 2>&1 \
+        | grep -E "^reference|thrpt" > "$out/ray-throughput.txt" || true
+fi
 echo "bench-gpu: wrote $out/ ($(echo $sizes | wc -w) sizes)"

@@ -14,13 +14,16 @@ use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
+use aograph_frame::{
+    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, LIGHTING_BUFFER, LightingUniforms,
+};
 use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
-use aograph_frame::{LIGHTING_BUFFER, LightingUniforms};
 use aograph_graph::{
     BufferDesc, CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, compile,
     test_gpu,
 };
 use aograph_scene::ReferenceNormals;
+use aograph_scene::ray_tracing::GpuSceneBvh;
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 
 const SIZE: Extent = Extent {
@@ -217,6 +220,7 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
             declared: Default::default(),
         };
         let out = technique.build(&mut ctx).expect("builds");
+        let declared = ctx.declared;
         b.export(out.accessibility);
         out.extra.iter().for_each(|(_, h)| b.export(*h));
         let plan = Arc::new(
@@ -246,6 +250,14 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
             scene.ambient,
         );
         exec.import_buffer(LIGHTING_BUFFER, buffer("lighting", lighting.bytes()));
+        // A technique that declared the scene's BVH (rtao) gets the scene's, as the renderer
+        // would give it: the rays start from the poisoned points and normals.
+        if declared.scene_bvh.is_some() {
+            let bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).expect("the BVH fits");
+            exec.import_buffer(BVH_NODES_BUFFER, bvh.nodes.clone());
+            exec.import_buffer(BVH_INSTANCES_BUFFER, bvh.instances.clone());
+            exec.import_buffer(BVH_TRIANGLES_BUFFER, bvh.triangles.clone());
+        }
         for (c, bytes) in &data {
             let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(c.name()),

@@ -47,6 +47,15 @@ const TOL_SCALE: f32 = 0.01;
 /// 1e5 units from the origin: measured at most 0.0012 (points rebuilt from linear depth lose
 /// a few bits against the origin's).
 const TOL_OFFSET: f32 = 0.004;
+/// The same for a technique that traces the real geometry (rtao): measured 0.0042. Its rays
+/// leave the surface by the reference's offset, 1e-4 R + 4e-6 |p| (reference/tracer.rs), which
+/// at 1e5 units is 0.57 units instead of 0.0001: contact occlusion closer than that is lost,
+/// by the reference as much as by rtao (the offset is the reference's rule, not rtao's).
+const TOL_OFFSET_TRACED: f32 = 0.012;
+/// Share of an unoccluded view's pixels a technique tracing the real geometry may find
+/// occluded: crease pixels whose point lies within R of the other face even at R = 1e-4
+/// (box-on-plane at 32x32: pixel 815, 0.848 in both rtao and the reference).
+const TRACED_CREASE_SHARE: f32 = 0.01;
 /// Depth24Plus against Depth32Float: measured exactly 0. Techniques read linear depth and
 /// positions from colour targets; the depth format only decides visibility ties.
 const TOL_DEPTH24: f32 = 1e-4;
@@ -135,6 +144,9 @@ enum Expect {
     /// Valid, some geometry in view, and every non-sky pixel >= 0.98 (an unoccluded plane, or
     /// a radius too small for anything to occlude).
     Flat,
+    /// `Flat` for a technique that traces the real geometry: up to [`TRACED_CREASE_SHARE`] of
+    /// the pixels may lie within R of geometry a depth buffer does not resolve (creases).
+    FlatBesideCreases,
     /// Valid and no geometry at all: every pixel exactly 1.
     Sky,
 }
@@ -185,10 +197,10 @@ fn check_frame(ao: &[f32], depth: &[f32], expect: Expect) -> Result<(), String> 
             ));
         }
         Expect::Sky => {}
-        Expect::Flat if geometry == 0 => {
+        Expect::Flat | Expect::FlatBesideCreases if geometry == 0 => {
             return Err("no pixel sees the plane: the case is vacuous".into());
         }
-        Expect::Flat => {
+        Expect::Flat | Expect::FlatBesideCreases => {
             let (i, min) = ao
                 .iter()
                 .zip(depth)
@@ -196,12 +208,17 @@ fn check_frame(ao: &[f32], depth: &[f32], expect: Expect) -> Result<(), String> 
                 .filter(|(_, (_, d))| **d > 0.0)
                 .map(|(i, (a, _))| (i, *a))
                 .fold((0, 1.0f32), |m, x| if x.1 < m.1 { x } else { m });
-            if min < 0.98 {
-                let dark = ao
-                    .iter()
-                    .zip(depth)
-                    .filter(|(a, d)| **d > 0.0 && **a < 0.98)
-                    .count();
+            let dark = ao
+                .iter()
+                .zip(depth)
+                .filter(|(a, d)| **d > 0.0 && **a < 0.98)
+                .count();
+            let allowed = if expect == Expect::FlatBesideCreases {
+                (geometry as f32 * TRACED_CREASE_SHARE) as usize
+            } else {
+                0
+            };
+            if min < 0.98 && dark > allowed {
                 return Err(format!(
                     "unoccluded plane: darkest pixel {i} = {min} (depth {}), {dark} of {geometry} pixels below 0.98",
                     depth[i]
@@ -440,8 +457,10 @@ impl<'a> Rig<'a> {
             self.variant.label(),
             self.scene_name
         );
+        let traces = r.graph.declared.scene_bvh.is_some();
         let expect = match expect {
             Expect::Occluded if !occludes(&self.variant.technique) => Expect::Valid,
+            Expect::Flat if traces => Expect::FlatBesideCreases,
             e => e,
         };
         let time = &mut self.time;
@@ -503,6 +522,13 @@ impl<'a> Rig<'a> {
             Ok(())
         });
         out
+    }
+
+    /// True when the variant's graph traces the real geometry (it declared the scene BVH).
+    fn traces_geometry(&self) -> bool {
+        self.renderer
+            .as_ref()
+            .is_some_and(|r| r.graph.declared.scene_bvh.is_some())
     }
 
     fn cut(&mut self) {
@@ -1115,7 +1141,11 @@ fn scene_scale_offset_and_radius() {
             format!("{}: scene moved to (1e5, 0, 1e5)", v.label()),
             frame.as_deref(),
             baseline.as_deref(),
-            TOL_OFFSET,
+            if rig.traces_geometry() {
+                TOL_OFFSET_TRACED
+            } else {
+                TOL_OFFSET
+            },
         );
         rig.case(
             &mut report,

@@ -292,7 +292,13 @@ fn static_scene_builds_once_moving_instances_rebuild_only_the_top_level_skins_re
     let mut bvh = GpuSceneBvh::new(gpu.clone(), &dynamic, 0.0).unwrap();
     let mut rng = Rng(3);
     for t in [0.3, 0.9] {
+        let before = bvh.bytes_uploaded;
         let w = bvh.update(&dynamic, t).unwrap();
+        eprintln!(
+            "dynamic at t = {t}: {w:?}, {} bytes uploaded of {}",
+            bvh.bytes_uploaded - before,
+            bvh.bvh.sizes().total()
+        );
         assert_eq!(
             (
                 w.tlas_builds,
@@ -316,7 +322,13 @@ fn static_scene_builds_once_moving_instances_rebuild_only_the_top_level_skins_re
     let skinned = man.instances.iter().filter(|i| i.skin.is_some()).count() as u32;
     assert!(skinned >= 1);
     for t in [0.4, 1.1] {
+        let before = bvh.bytes_uploaded;
         let w = bvh.update(&man, t).unwrap();
+        eprintln!(
+            "man at t = {t}: {w:?}, {} bytes uploaded of {}",
+            bvh.bytes_uploaded - before,
+            bvh.bvh.sizes().total()
+        );
         assert_eq!(
             (w.tlas_builds, w.blas_builds, w.blas_refits),
             (1, 0, skinned)
