@@ -158,3 +158,75 @@ fn only_rtao_builds_the_bvh_and_a_static_scene_builds_it_once() {
     assert_eq!(bvh.work.tlas_builds, 1, "columns is static: built once");
     assert_eq!(bvh.work.blas_refits, 0);
 }
+
+#[test]
+fn where_rays_hit_moving_geometry_the_history_is_held_to_moving_frames() {
+    // moving_frames = 1: wherever a ray hit a moving object this frame the accumulated value
+    // must be exactly this frame's own estimate, the no-temporal run's (same frame index, so
+    // the same rays); elsewhere the history is kept. A static scene marks nothing.
+    let render = |name: &str, params: &str, frames: u32| {
+        let scene = aograph_scene::procedural_scene(name).unwrap();
+        let radius = aograph_scene::suggested_radius(&scene).radius;
+        let gpu = aograph_graph::test_gpu()?;
+        let registry = aograph_ao::TechniqueRegistry::with_builtins();
+        let outputs = aograph::FrameOutputs {
+            linear_depth: true,
+            ..Default::default()
+        };
+        let mut r = aograph::Renderer::new(
+            gpu,
+            aograph::shader_library(),
+            &registry,
+            std::sync::Arc::new(scene),
+            &common::ao_config("rtao", radius, params),
+            outputs,
+            Extent::new(47, 35),
+        )
+        .unwrap();
+        for f in 0..frames {
+            r.render(f as f32 / 30.0).unwrap();
+        }
+        Some(r)
+    };
+    let Some(held) = render(
+        "dynamic",
+        "rays = 8\ntemporal = true\nmoving_frames = 1\ndenoise_passes = 0",
+        6,
+    ) else {
+        return;
+    };
+    let changed = held.read_extra("rtao_changed").unwrap();
+    let a = held.read_ao().unwrap();
+    let marked: Vec<usize> = (0..a.len()).filter(|&i| changed[i * 4] > 0.5).collect();
+    assert!(
+        marked.len() > 20,
+        "dynamic's moving objects shadow {} pixels",
+        marked.len()
+    );
+    let raw = render(
+        "dynamic",
+        "rays = 8\ntemporal = false\ndenoise_passes = 0",
+        6,
+    )
+    .unwrap();
+    let c = raw.read_ao().unwrap();
+    for &i in &marked {
+        assert_eq!(
+            a[i], c[i],
+            "pixel {i}: held to one frame, the frame's own estimate"
+        );
+    }
+    let kept = (0..a.len())
+        .filter(|&i| changed[i * 4] <= 0.5 && a[i] != c[i])
+        .count();
+    assert!(
+        kept > 100,
+        "elsewhere the history is kept ({kept} pixels differ from one frame)"
+    );
+    let columns = render("columns", "rays = 1", 3).unwrap();
+    let changed = columns.read_extra("rtao_changed").unwrap();
+    assert!(
+        changed.iter().all(|&v| v == 0.0),
+        "a static scene marks no pixel"
+    );
+}

@@ -5,6 +5,9 @@
 //   A = (n_t A_prev + A) / (n_t + 1), n_t+1 = min(n_t + 1, n_max);
 // mode 1 (FixedBlend): MSSAO Eq. 14, A = k A_prev + (1 - k) A where the history is valid
 //   (k = 0 where it is not, Table 5).
+// With a change mask (changed_n_max > 0, mode 0 only): where `changed` marks the pixel or its
+//   surface moves, n_t is capped at changed_n_max - 1 before the blend (ChangeMask in
+//   temporal.rs).
 // Layouts: crates/ao-passes/src/blocks/temporal.rs.
 
 struct AccumulateParams {
@@ -12,7 +15,8 @@ struct AccumulateParams {
     n_max: f32,
     // Weight of the previous value in mode 1.
     k: f32,
-    _pad: f32,
+    // Cap of n_t at changed pixels; 0: no mask (then `changed` is not read).
+    changed_n_max: f32,
 }
 
 @group(0) @binding(0) var<uniform> params: AccumulateParams;
@@ -21,6 +25,7 @@ struct AccumulateParams {
 @group(0) @binding(3) var linear_depth: texture_2d<f32>;
 @group(0) @binding(4) var history: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(5) var accumulated: texture_storage_2d<r32float, write>;
+@group(0) @binding(6) var changed: texture_2d<f32>;
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -42,7 +47,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var out = a;
     var n = 1.0;
     if (params.mode == 0u) {
-        let nt = select(0.0, r.y, valid);
+        var nt = select(0.0, r.y, valid);
+        if (params.changed_n_max > 0.0 && (moving || textureLoad(changed, p, 0).x > 0.5)) {
+            nt = min(nt, params.changed_n_max - 1.0);
+        }
         out = (nt * r.x + a) / (nt + 1.0); // Eq. 5, k = 1
         n = min(nt + 1.0, params.n_max); // Eq. 6
     } else if (valid) {

@@ -78,21 +78,28 @@ fn rays_offset_epsilon(p: vec3<f32>, radius: f32) -> f32 {
     return 1e-4 * radius + 4e-6 * max(a.x, max(a.y, a.z));
 }
 
-// Occlusion of ray `index` of pixel `pixel` from surface point p with unit normal n:
-// mode 0 binary, 1 obscurance.
-fn rays_occlusion(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radius: f32,
-                  mode: u32) -> f32 {
+// Occlusion of ray `index` of a pixel (scrambled by `scramble`) from surface point p with
+// unit normal n, mode 0 binary, 1 obscurance; and 1 in y when the occluder moves.
+fn rays_sample(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radius: f32,
+               mode: u32) -> vec2<f32> {
     let origin = p + n * rays_offset_epsilon(p, radius);
     let d = rays_to_world(n, rays_cosine_hemisphere(rays_sobol_2d(index, scramble)));
     let hit = bvh_trace(origin, d, 0.0, radius, mode == 0u);
     if (hit.triangle == BVH_MISS_INDEX) {
-        return 0.0;
+        return vec2<f32>(0.0);
     }
+    let moving = f32(bvh_instances[hit.instance].moving);
     if (mode == 0u) {
-        return 1.0;
+        return vec2<f32>(1.0, moving);
     }
     let x = hit.t / radius;
-    return 1.0 - min(1.0, x * x);
+    return vec2<f32>(1.0 - min(1.0, x * x), moving);
+}
+
+// The occlusion of `rays_sample` alone.
+fn rays_occlusion(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radius: f32,
+                  mode: u32) -> f32 {
+    return rays_sample(p, n, scramble, index, radius, mode).x;
 }
 
 // True for a finite value (not NaN or +-inf).

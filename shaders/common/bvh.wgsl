@@ -26,7 +26,8 @@ struct BvhInstance {
     row2: vec4<f32>,
     blas_root: u32,
     instance: u32,
-    pad0: u32,
+    // 1 when the instance moves (animated or skinned).
+    moving: u32,
     pad1: u32,
 }
 

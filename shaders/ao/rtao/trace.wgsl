@@ -4,8 +4,10 @@
 // rtao.trace: N of the reference's rays per pixel (common/ao_rays.wgsl) against the scene's
 // BVH, from the g-buffer's point and normal taken to world space; frame f traces rays
 // [f N, (f + 1) N) of the pixel's sequence (params.sequence = 1), so frames accumulated by the
-// temporal block continue one low-discrepancy sequence; writes 1 - mean occlusion and the
-// depth-edge weights for blocks/edge_denoise.wgsl.
+// temporal block continue one low-discrepancy sequence; writes 1 - mean occlusion, the
+// depth-edge weights for blocks/edge_denoise.wgsl, and in `changed` 1 where a ray hit moving
+// geometry (the temporal block then keeps a short history there: blocks/temporal.rs
+// ChangeMask).
 
 struct RtaoParams {
     rays: u32,
@@ -28,6 +30,7 @@ struct RtaoParams {
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var ao: IntermediateStorage;
 @group(0) @binding(9) var edges: texture_storage_2d<rgba8unorm, write>;
+@group(0) @binding(10) var changed: texture_storage_2d<rgba8unorm, write>;
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -40,6 +43,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let normal = textureLoad(normals, p, 0).xyz;
     var e = vec4<f32>(0.0);
     var accessibility = 1.0;
+    var moving_hit = 0.0;
     let world_p = (view.inv_view * vec4<f32>(position.xyz, 1.0)).xyz;
     let world_n = (view.inv_view * vec4<f32>(normal, 0.0)).xyz;
     let len = length(world_n);
@@ -52,10 +56,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let first = select(0u, view.frame_index * params.rays, params.sequence == 1u);
         var sum = 0.0;
         for (var i = 0u; i < params.rays; i++) {
-            sum += rays_occlusion(world_p, n, scramble, first + i, params.radius, params.mode);
+            let s = rays_sample(world_p, n, scramble, first + i, params.radius, params.mode);
+            sum += s.x;
+            moving_hit = max(moving_hit, s.y);
         }
         accessibility = clamp(1.0 - sum / f32(params.rays), 0.0, 1.0);
     }
     textureStore(ao, p, vec4<f32>(accessibility, 0.0, 0.0, 0.0));
     textureStore(edges, p, e);
+    textureStore(changed, p, vec4<f32>(moving_hit, 0.0, 0.0, 0.0));
 }

@@ -230,7 +230,20 @@ struct AccumulateUniform {
     mode: u32,
     n_max: f32,
     k: f32,
-    _pad: f32,
+    /// Cap of n_t where the pixel changed ([`ChangeMask`]); 0 = no mask.
+    changed_n_max: f32,
+}
+
+/// Where this frame's value may differ from the history for reasons reprojection cannot see
+/// (the technique knows: rtao's rays hit moving geometry), for [`add_temporal_with_changes`]:
+/// a full-size texture whose `.r > 0.5` marks such pixels, and the cap of n_t there (and at
+/// pixels whose own surface moves). The ray-traced counterpart of TSSAO's Eq. 8: a shadow
+/// cast by a moving object is averaged over `n_max` frames at most, so it neither lags nor
+/// trails for long (after the mark clears n_t grows by one a frame again).
+#[derive(Clone, Copy, Debug)]
+pub struct ChangeMask {
+    pub mask: TextureHandle,
+    pub n_max: u32,
 }
 
 /// Declares the history (AO buffer) `<prefix>.history`: Rgba32Float, full size.
@@ -325,7 +338,24 @@ pub fn add_temporal(
     view: BufferHandle,
     params: &TemporalAccumulation,
 ) -> AoResult<TemporalOutputs> {
+    add_temporal_with_changes(builder, prefix, current, None, gbuffer, view, params)
+}
+
+/// [`add_temporal`] with a [`ChangeMask`]: n_t capped at `changes.n_max` where the mask is
+/// set or the pixel's own surface moves (Average mode; FixedBlend ignores it).
+pub fn add_temporal_with_changes(
+    builder: &mut GraphBuilder,
+    prefix: &str,
+    current: TextureHandle,
+    changes: Option<ChangeMask>,
+    gbuffer: &GBufferTextures,
+    view: BufferHandle,
+    params: &TemporalAccumulation,
+) -> AoResult<TemporalOutputs> {
     params.validate(prefix)?;
+    if let Some(c) = changes {
+        check_param(prefix, "changed_n_max", c.n_max, 1, MAX_N_MAX)?;
+    }
     let depth = channel(gbuffer, prefix, GBufferChannel::LinearDepth)?;
     let history = ao_history(builder, prefix);
     let r = add_reprojection(
@@ -344,7 +374,7 @@ pub fn add_temporal(
         mode,
         n_max: params.n_max as f32,
         k,
-        _pad: 0.0,
+        changed_n_max: changes.map_or(0.0, |c| c.n_max as f32),
     };
     let name = format!("{prefix}.accumulate");
     let out = builder.create_texture(
@@ -354,7 +384,9 @@ pub fn add_temporal(
     let mut p = builder.compute_pass(&name, "blocks/temporal_accumulate.wgsl", "main");
     p.sample("current", current)
         .sample("reprojected", r.reprojected)
-        .sample("linear_depth", depth);
+        .sample("linear_depth", depth)
+        // Without a mask the shader never reads `changed` (changed_n_max = 0).
+        .sample("changed", changes.map_or(current, |c| c.mask));
     p.uniform("params", bytemuck::bytes_of(&uniform));
     let written = p.write_storage("history", history.current);
     let accumulated = p.write_storage("accumulated", out);

@@ -13,7 +13,11 @@
 //!    depth-edge weights for the denoiser.
 //! 2. `rtao.temporal.*` (`blocks::temporal::add_temporal`, [`TemporalMode::Average`]): a running
 //!    mean over up to `temporal_frames` frames, reprojected through the g-buffer's motion,
-//!    reset where the disocclusion test fails. `temporal = false` skips it.
+//!    reset where the disocclusion test fails, and held to `moving_frames` frames where a ray
+//!    hit moving geometry or the pixel's own surface moves (`blocks::temporal::ChangeMask`,
+//!    the ray-traced counterpart of TSSAO's Eq. 8: AO cast by a walking character changes
+//!    every frame, and a 64-frame mean would lag it; on CesiumMan walking the mean over 64
+//!    frames read MAE 0.0384, over 4 frames 0.0275, at 2 rays). `temporal = false` skips it.
 //! 3. `rtao.denoise1..N` (`blocks::edge_denoise`): XeGTAO's edge-aware 3x3 filter, N =
 //!    `denoise_passes` (0 skips it).
 //!
@@ -22,6 +26,9 @@
 //! reference); 1 ray per frame accumulated over 64 still frames matches a 64-ray reference.
 //! `rays` goes to 256 so one frame can match the 256-ray reference exactly; real-time use is
 //! 1 to 8 with temporal accumulation.
+//!
+//! Extra output `rtao_changed` (Rgba8Unorm, r = 1 where a ray hit moving geometry this frame)
+//! unless the trace pass is the last.
 //!
 //! Invariant: the output is accessibility in [0, 1], exactly 1 on sky, never NaN; the BVH is a
 //! frame input this technique declares ([`AoBuildContext::scene_bvh`]): a graph without rtao
@@ -34,7 +41,8 @@ use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::temporal::{
-    DEFAULT_EPSILON, TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
+    ChangeMask, DEFAULT_EPSILON, TemporalAccumulation, TemporalMode, add_temporal_with_changes,
+    temporal_channels,
 };
 use crate::blocks::{EdgeDenoise, edge_denoise};
 use crate::error::AoResult;
@@ -58,6 +66,8 @@ pub struct RtaoParams {
     pub temporal: bool,
     /// Cap of the running mean's frame count (TSSAO Eq. 6's n_max).
     pub temporal_frames: u32,
+    /// The cap where a ray hit moving geometry or the surface itself moves.
+    pub moving_frames: u32,
     /// Edge-aware denoise passes after accumulation (0 to 3).
     pub denoise_passes: u32,
     /// "per-frame": each frame continues the pixel's ray sequence; "fixed": the same rays
@@ -73,6 +83,7 @@ impl Default for RtaoParams {
             rays: 2,
             temporal: true,
             temporal_frames: 64,
+            moving_frames: 4,
             denoise_passes: 1,
             sequence: "per-frame".into(),
             mode: "binary".into(),
@@ -109,6 +120,9 @@ impl AoTechnique for Rtao {
             ParamDesc::flag("temporal").doc("accumulate frames (a running mean, reprojected)"),
             ParamDesc::int("temporal_frames", 1, MAX_TEMPORAL_FRAMES)
                 .doc("most frames the running mean holds"),
+            ParamDesc::int("moving_frames", 1, MAX_TEMPORAL_FRAMES).doc(
+                "most frames the mean holds where a ray hit moving geometry or the surface moves",
+            ),
             ParamDesc::int("denoise_passes", 0, 3)
                 .doc("edge-aware 3x3 denoise passes after accumulation (0: none)"),
             ParamDesc::choice("sequence", SEQUENCES)
@@ -155,6 +169,10 @@ impl AoTechnique for Rtao {
             "rtao.edges",
             aograph_graph::TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
         );
+        let changed = ctx.builder.create_texture(
+            "rtao.changed",
+            aograph_graph::TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
+        );
         let shader = if last {
             "ao/rtao/trace.wgsl".to_string()
         } else {
@@ -174,6 +192,7 @@ impl AoTechnique for Rtao {
         pass.loads_per_invocation(7.0);
         let raw = pass.write_storage("ao", raw);
         let edges = pass.write_storage("edges", edges);
+        let changed = pass.write_storage("changed", changed);
         pass.dispatch_over(raw);
         if last {
             return Ok(AoOutput::new(raw));
@@ -182,10 +201,14 @@ impl AoTechnique for Rtao {
         // Pass 2: the running mean over frames.
         let mut out = raw;
         if p.temporal {
-            let t = add_temporal(
+            let t = add_temporal_with_changes(
                 ctx.builder,
                 "rtao.temporal",
                 raw,
+                Some(ChangeMask {
+                    mask: changed,
+                    n_max: p.moving_frames.min(p.temporal_frames),
+                }),
                 &ctx.gbuffer,
                 ctx.view,
                 &TemporalAccumulation {
@@ -212,7 +235,11 @@ impl AoTechnique for Rtao {
                 ctx.intermediate_format,
             )?;
         }
-        Ok(AoOutput::new(out))
+        let mut output = AoOutput::new(out);
+        // Where this frame's rays hit moving geometry (r = 1): the pixels whose history is
+        // held to `moving_frames`, for inspection.
+        output.extra.push(("rtao_changed".into(), changed));
+        Ok(output)
     }
 }
 

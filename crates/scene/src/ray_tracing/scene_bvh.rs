@@ -46,14 +46,17 @@ pub struct GpuTriangle {
 }
 
 /// One placed instance (shaders/common/bvh.wgsl `BvhInstance`): the world-to-object matrix's
-/// three rows (object = rows x (world, 1)), its BLAS root and its scene instance index.
+/// three rows (object = rows x (world, 1)), its BLAS root, its scene instance index, and 1 in
+/// `moving` when it moves (animated or skinned), for techniques that must know what a ray hit
+/// may change from frame to frame.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct GpuInstance {
     pub world_to_object: [[f32; 4]; 3],
     pub blas_root: u32,
     pub instance: u32,
-    pub _pad: [u32; 2],
+    pub moving: u32,
+    pub _pad: u32,
 }
 
 /// What builds and updates did: the figures a test and the bench count.
@@ -285,6 +288,10 @@ impl SceneBvh {
     fn place(&mut self, scene: &Scene, k: usize, t: f32) {
         let p = &self.placed[k];
         let b = &self.blas[p.blas];
+        let moving = matches!(
+            p.placement,
+            Placement::Rigid { moving: true } | Placement::Skinned { moving: true }
+        );
         let (rows, world_box) = match p.placement {
             Placement::Skinned { .. } => (
                 world_to_object(&Mat4::IDENTITY).expect("identity is invertible"),
@@ -303,7 +310,8 @@ impl SceneBvh {
             world_to_object: rows,
             blas_root: b.node_offset as u32,
             instance: p.instance as u32,
-            _pad: [0; 2],
+            moving: moving as u32,
+            _pad: 0,
         };
         self.placed[k].world_box = world_box;
     }
