@@ -17,7 +17,8 @@ use std::sync::Arc;
 
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary};
-use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh};
+use aograph_scene::SceneError;
+use aograph_scene::ray_tracing::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuSceneBvh};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     CacheKey, Camera, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals,
@@ -156,17 +157,30 @@ pub fn trace_surfaces(
     };
     let key = CacheKey::new(&tris, surfaces, &params);
     let cache = ReferenceCache::new(cache_dir());
-    Ok(match s.tracer.resolve(gpu.is_software()) {
-        ReferenceTracer::Gpu => cache.get_or_trace(key.gpu_traced(), || {
+    let auto = s.tracer == ReferenceTracer::Auto;
+    let gpu_takes_it = !auto || s.rays <= GPU_MAX_RAYS_PER_PIXEL;
+    if s.tracer.resolve(gpu.is_software()) == ReferenceTracer::Gpu && gpu_takes_it {
+        let traced = cache.get_or_trace(key.gpu_traced(), || {
             let bvh = GpuSceneBvh::new(gpu.clone(), scene, time)?;
             GpuReferenceTracer::new(gpu.clone(), &crate::renderer::shader_library())?
                 .trace(&bvh, surfaces, &params)
-        })?,
-        _ => cache.get_or_trace(key, || {
-            let bvh = TriangleBvh::new(&tris);
-            aograph_scene::trace_reference(&bvh, surfaces, &params)
-        })?,
-    })
+        });
+        match traced {
+            Ok(image) => return Ok(image),
+            // `auto` falls back to the CPU where the scene or image is over the device's
+            // limits; an explicit "gpu" reports it.
+            Err(
+                SceneError::BvhTooLarge { .. }
+                | SceneError::BvhTooDeep { .. }
+                | SceneError::OverDeviceLimit { .. },
+            ) if auto => {}
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(cache.get_or_trace(key, || {
+        let bvh = TriangleBvh::new(&tris);
+        aograph_scene::trace_reference(&bvh, surfaces, &params)
+    })?)
 }
 
 /// The radiance reference of `view` (issue 19): the scene's built-in sky

@@ -44,7 +44,7 @@ struct BvhTriangle {
 @group(0) @binding(13) var<storage, read> bvh_instances: array<BvhInstance>;
 @group(0) @binding(14) var<storage, read> bvh_triangles: array<BvhTriangle>;
 
-const TLAS_STACK: u32 = 32u;
+const TLAS_STACK: u32 = 64u;
 const BLAS_STACK: u32 = 64u;
 // No hit (t of a miss).
 const BVH_MISS: f32 = 3.0e38;

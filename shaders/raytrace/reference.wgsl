@@ -39,7 +39,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         result[pixel] = vec2<f32>(1.0, 0.0);
         return;
     }
-    let n = raw_n / len;
+    // glam's try_normalize: times the reciprocal length.
+    let n = raw_n * (1.0 / len);
     let scramble = rays_pixel_scramble(pixel);
     var sum = 0.0;
     var sum_squares = 0.0;

@@ -5,6 +5,10 @@
 //! image would get), the picture refined band by band. A new job (the
 //! camera moved, the size, radius or scene changed) cancels the one running between bands.
 //!
+//! With a GPU tracer (`[reference] tracer` resolving to "gpu": a hardware device), the bands
+//! are traced by `ray_tracing::GpuReferenceTracer` against the scene's GPU BVH instead, the
+//! same rays.
+//!
 //! Invariant: the published image belongs to the newest job (`generation`); a band of an
 //! older job is never published. Rays run on a thread pool of their own, one thread fewer than
 //! the machine has (at least one), so the render loop keeps a core.
@@ -12,10 +16,19 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 
+use aograph_graph::{GpuContext, ShaderLibrary};
+use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh};
 use aograph_scene::{
-    Camera, CpuGBuffer, ReferenceNormals, ReferenceParams, Scene, TriangleBvh,
-    reference::ProgressMode,
+    Camera, CpuGBuffer, ReferenceImage, ReferenceNormals, ReferenceParams, Scene, SceneError,
+    SurfaceBuffer, TriangleBvh, reference::ProgressMode,
 };
+
+/// The device the reference is traced on, when it is the GPU.
+#[derive(Clone)]
+pub struct GpuReferenceDevice {
+    pub gpu: Arc<GpuContext>,
+    pub shaders: Arc<ShaderLibrary>,
+}
 
 /// Rays per pixel of each refinement pass.
 pub const PASSES: [u32; 3] = [8, 64, 256];
@@ -63,6 +76,7 @@ pub struct ReferenceState {
 }
 
 struct Shared {
+    device: Option<GpuReferenceDevice>,
     job: Mutex<Option<(u64, ReferenceJob)>>,
     wake: Condvar,
     generation: AtomicU64,
@@ -78,8 +92,10 @@ pub struct ReferenceWorker {
 }
 
 impl ReferenceWorker {
-    pub fn start() -> Self {
+    /// Starts the worker: tracing on `device` when given, else on the CPU.
+    pub fn start(device: Option<GpuReferenceDevice>) -> Self {
         let shared = Arc::new(Shared {
+            device,
             job: Mutex::new(None),
             wake: Condvar::new(),
             generation: AtomicU64::new(0),
@@ -175,7 +191,15 @@ fn trace_job(shared: &Shared, generation: u64, job: &ReferenceJob, current: &dyn
         return;
     }
     let surfaces = gbuffer.surfaces(ReferenceNormals::Geometric);
-    let bvh = TriangleBvh::new(&job.scene.world_triangles(job.time));
+    let tracer = match BandTracer::new(shared.device.as_ref(), job) {
+        Ok(t) => t,
+        Err(e) => {
+            if let Ok(mut st) = shared.state.lock() {
+                st.error = Some(e.to_string());
+            }
+            return;
+        }
+    };
     let total: u64 = PASSES.iter().map(|&r| r as u64).sum::<u64>() * job.height as u64;
     let mut done: u64 = 0;
     for &rays in &PASSES {
@@ -191,8 +215,7 @@ fn trace_job(shared: &Shared, generation: u64, job: &ReferenceJob, current: &dyn
                 return;
             }
             let rows = BAND_ROWS.min(job.height - y0);
-            let traced =
-                aograph_scene::trace_reference_rows(&bvh, &surfaces, &params, y0..y0 + rows);
+            let traced = tracer.trace_rows(&surfaces, &params, y0..y0 + rows);
             let Ok(mut st) = shared.state.lock() else {
                 return;
             };
@@ -219,6 +242,44 @@ fn trace_job(shared: &Shared, generation: u64, job: &ReferenceJob, current: &dyn
             if st.generation == generation {
                 st.rays_complete = rays;
             }
+        }
+    }
+}
+
+/// The CPU BVH or the GPU tracer and its BVH, for one job.
+enum BandTracer {
+    Cpu(TriangleBvh),
+    Gpu(GpuReferenceTracer, GpuSceneBvh),
+}
+
+impl BandTracer {
+    fn new(device: Option<&GpuReferenceDevice>, job: &ReferenceJob) -> Result<Self, SceneError> {
+        let cpu = || BandTracer::Cpu(TriangleBvh::new(&job.scene.world_triangles(job.time)));
+        let Some(d) = device else {
+            return Ok(cpu());
+        };
+        match GpuSceneBvh::new(d.gpu.clone(), &job.scene, job.time) {
+            Ok(bvh) => Ok(BandTracer::Gpu(
+                GpuReferenceTracer::new(d.gpu.clone(), &d.shaders)?,
+                bvh,
+            )),
+            // A scene over the device's limits is traced on the CPU instead.
+            Err(SceneError::BvhTooLarge { .. } | SceneError::BvhTooDeep { .. }) => Ok(cpu()),
+            Err(e) => Err(e),
+        }
+    }
+
+    fn trace_rows(
+        &self,
+        surfaces: &SurfaceBuffer,
+        params: &ReferenceParams,
+        rows: std::ops::Range<u32>,
+    ) -> Result<ReferenceImage, SceneError> {
+        match self {
+            BandTracer::Cpu(bvh) => {
+                aograph_scene::trace_reference_rows(bvh, surfaces, params, rows)
+            }
+            BandTracer::Gpu(tracer, bvh) => tracer.trace_rows(bvh, surfaces, params, rows),
         }
     }
 }

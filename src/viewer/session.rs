@@ -20,7 +20,7 @@ use super::display::{
     DISPLAY_PASS, DISPLAY_UNIFORM, DisplayMode, DisplayTextures, REFERENCE_TEXTURE, VIEW_TEXTURE,
     display_extension, display_uniform,
 };
-use super::reference_worker::{ReferenceJob, ReferenceWorker};
+use super::reference_worker::{GpuReferenceDevice, ReferenceJob, ReferenceWorker};
 use crate::camera_spec::CameraSpec;
 use crate::config::{AppConfig, RadiusSetting, SceneSource};
 use crate::error::{AppError, AppResult};
@@ -153,6 +153,14 @@ impl Session {
             .exec
             .import_texture(REFERENCE_TEXTURE, textures.reference.clone());
         let views = scene_views(&scene, config);
+        // The progressive reference on the GPU where `[reference] tracer` says so (auto: a
+        // hardware device), on the CPU's other cores otherwise.
+        let reference_device = (config.reference_tracer.resolve(gpu.is_software())
+            == aograph_scene::ReferenceTracer::Gpu)
+            .then(|| GpuReferenceDevice {
+                gpu: gpu.clone(),
+                shaders: renderer.shaders.clone(),
+            });
         let stats = FrameStats {
             cpu_times: gpu.is_software(),
             ..Default::default()
@@ -174,7 +182,7 @@ impl Session {
             scene,
             views,
             textures,
-            reference: ReferenceWorker::start(),
+            reference: ReferenceWorker::start(reference_device),
             stats,
             radius_note,
             time: 0.0,

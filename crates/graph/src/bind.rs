@@ -1,7 +1,7 @@
 //! Binding a plan's resources for one frame: physical textures from the pool (the same ones
 //! as last time where they are free, so cached bind groups stay valid), imports, histories
 //! and buffers; then the bind groups of every kept pass, from the binding slots compile
-//! resolved, rebuilt only when a bound texture changed.
+//! resolved, rebuilt only when a bound texture or buffer changed.
 //!
 //! Invariant: after `bind_resources`, `state.textures[r]` (`state.frame_buffers[r]`) holds
 //! the texture (buffer) of every resource the plan uses this frame, and nothing else.
@@ -133,12 +133,19 @@ pub(crate) fn bind_groups(
         let slots = &plan.binding_slots[p.0];
         scratch.clear();
         for slot in slots {
-            let serial = slot
-                .source
-                .texture_resource()
-                .and_then(|r| state.textures[r].as_ref())
-                .map_or(0, |t| t.serial);
-            scratch.push(serial);
+            let key = match slot.source {
+                // A buffer slot keys on the buffer's identity: an imported buffer may be
+                // replaced between frames (a new scene's BVH under the same name).
+                BindingSource::Buffer { resource, .. } => state.frame_buffers[resource]
+                    .as_ref()
+                    .map_or(0, buffer_identity),
+                _ => slot
+                    .source
+                    .texture_resource()
+                    .and_then(|r| state.textures[r].as_ref())
+                    .map_or(0, |t| t.serial),
+            };
+            scratch.push(key);
         }
         if state.bind_groups[p.0]
             .as_ref()
@@ -167,6 +174,15 @@ pub(crate) fn bind_groups(
         state.bind_groups[p.0] = Some((scratch.clone(), groups));
     }
     Ok(())
+}
+
+/// A hash of `buffer`'s identity (wgpu orders and hashes buffers by their id); no allocation.
+fn buffer_identity(buffer: &wgpu::Buffer) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    buffer.hash(&mut h);
+    // Never 0, which stands for "nothing bound".
+    h.finish() | 1
 }
 
 /// What `slot` of pass `p` binds this frame.

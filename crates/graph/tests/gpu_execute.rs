@@ -391,3 +391,52 @@ fn supports_reports_format_usages() {
         gpu.supports(wgpu::TextureFormat::R16Float, storage)
     );
 }
+
+/// Copies `value[0]` of an imported storage buffer into every texel.
+const FILL_FROM_BUFFER: &str = "
+@group(0) @binding(0) var<storage, read> value: array<f32>;
+@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(dst);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(value[0], 0.0, 0.0, 0.0));
+}
+";
+
+#[test]
+fn an_imported_buffer_replaced_between_frames_is_bound_the_next_frame() {
+    // The bind group cache must key on the buffer too: the renderer replaces the scene BVH's
+    // buffers under the same import names when the scene changes.
+    let Some(gpu) = test_gpu() else { return };
+    let lib = shaders();
+    lib.add_inline("fill_from_buffer.wgsl", FILL_FROM_BUFFER);
+    let mut b = GraphBuilder::new();
+    let input = b.import_buffer("value", BufferDesc { size: 4 });
+    let out = b.create_texture("out", TextureDesc::new(R32Float, SizeClass::FULL));
+    let mut p = b.compute_pass("fill", "fill_from_buffer.wgsl", "main");
+    p.read_buffer("value", BufferAccess::StorageRead, input);
+    let out = p.write_storage("dst", out);
+    p.dispatch_over(out);
+    b.export(out);
+    let plan = Arc::new(compile(b.build(), &lib, CompileOptions::default()).unwrap());
+    let mut exec = Executor::with_shaders(gpu.clone(), Arc::new(lib));
+    let buffer = |v: f32| {
+        use wgpu::util::DeviceExt;
+        gpu.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents: &v.to_le_bytes(),
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+    };
+    let size = Extent::new(9, 5);
+    for v in [1.5f32, 2.5, 2.5, -4.0] {
+        exec.import_buffer("value", buffer(v));
+        exec.execute(&plan, size).unwrap();
+        assert!(
+            all_equal(&exec, &plan, out, v),
+            "frame with buffer holding {v}"
+        );
+    }
+}

@@ -84,6 +84,18 @@ pub enum SceneError {
         limit_name: &'static str,
     },
 
+    /// A GPU tracer's input or output buffer over the device's storage-buffer limit.
+    #[error(
+        "the GPU tracer's {what} need {size} bytes, over this device's storage-buffer limit of \
+         {limit} bytes: trace a smaller image or batch, or use the CPU tracer \
+         ([reference] tracer = \"cpu\")"
+    )]
+    OverDeviceLimit {
+        what: &'static str,
+        size: u64,
+        limit: u64,
+    },
+
     /// A BVH level deeper than the GPU traversal's fixed stack.
     #[error(
         "the scene's {level}-level BVH is {depth} nodes deep, over the GPU traversal stack of \

@@ -419,3 +419,56 @@ fn gpu_reference_matches_the_cpu_reference_within_four_standard_errors() {
         }
     }
 }
+
+#[test]
+fn gpu_reference_bands_traced_one_by_one_make_exactly_the_whole_image() {
+    let Some(gpu) = aograph_graph::test_gpu() else {
+        return;
+    };
+    let tracer = GpuReferenceTracer::new(gpu.clone(), &shaders()).unwrap();
+    let scene = procedural_scene("columns").unwrap();
+    let surfaces = CpuGBuffer::trace(&scene, &scene.camera_at(0.0), 29, 17, 0.0)
+        .surfaces(ReferenceNormals::Geometric);
+    let params = ReferenceParams {
+        radius: aograph_scene::suggested_radius(&scene).radius,
+        rays_per_pixel: 16,
+        mode: ReferenceMode::Binary,
+        progress: ProgressMode::Never,
+    };
+    let bvh = GpuSceneBvh::new(gpu, &scene, 0.0).unwrap();
+    let whole = tracer.trace(&bvh, &surfaces, &params).unwrap();
+    let mut bands = Vec::new();
+    for y in (0..17).step_by(5) {
+        let band = tracer
+            .trace_rows(&bvh, &surfaces, &params, y..y + 5)
+            .unwrap();
+        assert_eq!(band.height, 5.min(17 - y));
+        bands.extend(band.accessibility);
+    }
+    assert_eq!(bands, whole.accessibility);
+}
+
+#[test]
+fn the_gpu_reference_refuses_more_rays_than_its_f32_sums_hold_naming_the_limit() {
+    let Some(gpu) = aograph_graph::test_gpu() else {
+        return;
+    };
+    let tracer = GpuReferenceTracer::new(gpu.clone(), &shaders()).unwrap();
+    let scene = procedural_scene("plane").unwrap();
+    let surfaces = CpuGBuffer::trace(&scene, &scene.camera_at(0.0), 4, 3, 0.0)
+        .surfaces(ReferenceNormals::Geometric);
+    let bvh = GpuSceneBvh::new(gpu, &scene, 0.0).unwrap();
+    let params = ReferenceParams {
+        rays_per_pixel: aograph_scene::ray_tracing::GPU_MAX_RAYS_PER_PIXEL + 1,
+        progress: ProgressMode::Never,
+        ..ReferenceParams::default()
+    };
+    let e = tracer
+        .trace(&bvh, &surfaces, &params)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("rays_per_pixel = 4097") && e.contains("1 to 4096"),
+        "{e}"
+    );
+}

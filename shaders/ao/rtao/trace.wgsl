@@ -50,7 +50,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (position.w > 0.5 && rays_finite3(world_p) && rays_finite3(world_n) && len > 0.0
         && len < 3.0e38) {
         e = depth_edges(depth, p);
-        let n = world_n / len;
+        let n = world_n * (1.0 / len);
         let pixel = id.y * size.x + id.x;
         let scramble = rays_pixel_scramble(pixel);
         let first = select(0u, view.frame_index * params.rays, params.sequence == 1u);

@@ -43,7 +43,7 @@ pub(crate) fn compute_pipeline(
             label: Some(file),
             source: wgpu::ShaderSource::Wgsl(module.source.as_str().into()),
         });
-    Ok(gpu
+    let pipeline = gpu
         .device
         .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(file),
@@ -52,7 +52,9 @@ pub(crate) fn compute_pipeline(
             entry_point: Some("main"),
             compilation_options: Default::default(),
             cache: None,
-        }))
+        });
+    check_gpu_errors(gpu, "creating a ray tracing pipeline")?;
+    Ok(pipeline)
 }
 
 /// A bind group of `pipeline`'s group 0 with `(binding, buffer)` entries.
@@ -84,7 +86,41 @@ pub(crate) fn dispatch_grid(count: u32) -> (u32, u32, u32) {
     (x, y, x * 64)
 }
 
-/// Copies `buffer` (`size` bytes) back to the CPU, waiting for the queue.
+/// The device's largest storage binding (and buffer), in bytes.
+pub(crate) fn storage_limit(gpu: &GpuContext) -> u64 {
+    let l = gpu.device.limits();
+    l.max_storage_buffer_binding_size.min(l.max_buffer_size)
+}
+
+/// Refuses a `size`-byte storage buffer over the device's limit, naming `what` it holds.
+pub(crate) fn check_storage(
+    gpu: &GpuContext,
+    what: &'static str,
+    size: u64,
+) -> Result<(), SceneError> {
+    let limit = storage_limit(gpu);
+    if size > limit {
+        return Err(SceneError::OverDeviceLimit { what, size, limit });
+    }
+    Ok(())
+}
+
+/// The device errors raised since the last check (wgpu reports them to the context's sink,
+/// not to the call), as one [`SceneError::Gpu`].
+pub(crate) fn check_gpu_errors(gpu: &GpuContext, what: &'static str) -> Result<(), SceneError> {
+    let errors = gpu.take_errors();
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(SceneError::Gpu {
+            what,
+            message: errors.join("; "),
+        })
+    }
+}
+
+/// Copies `buffer` (`size` bytes) back to the CPU, waiting for the queue; a device error
+/// raised by the work before it (an invalid dispatch, say) is an error, never zeros.
 pub(crate) fn read_back(
     gpu: &GpuContext,
     buffer: &wgpu::Buffer,
@@ -112,6 +148,7 @@ pub(crate) fn read_back(
     gpu.device
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| gpu_error(e.to_string()))?;
+    check_gpu_errors(gpu, "tracing rays")?;
     rx.recv()
         .map_err(|e| gpu_error(e.to_string()))?
         .map_err(|e| gpu_error(e.to_string()))?;

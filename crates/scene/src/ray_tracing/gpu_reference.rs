@@ -14,7 +14,7 @@ use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::{Pod, Zeroable};
 
 use super::gpu_bvh::GpuSceneBvh;
-use super::gpu_io::{bind_group, buffer_of, compute_pipeline, read_back};
+use super::gpu_io::{bind_group, buffer_of, check_storage, compute_pipeline, read_back};
 use crate::error::SceneError;
 use crate::reference::{
     ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer, check_inputs,
@@ -22,6 +22,9 @@ use crate::reference::{
 
 /// Most rays one dispatch traces (a band of rows).
 pub const RAYS_PER_DISPATCH: u64 = 1 << 22;
+/// Most rays per pixel the GPU tracer takes: its per-pixel sums are f32 (exact to 2^24), and
+/// one row at this count stays a short dispatch. More is the CPU tracer's job.
+pub const GPU_MAX_RAYS_PER_PIXEL: u32 = 4096;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -58,14 +61,36 @@ impl GpuReferenceTracer {
         surfaces: &SurfaceBuffer,
         params: &ReferenceParams,
     ) -> Result<ReferenceImage, SceneError> {
+        self.trace_rows(bvh, surfaces, params, 0..surfaces.height)
+    }
+
+    /// Traces rows `rows` of `surfaces` only (a band of a progressive trace, as
+    /// `reference::trace_reference_rows`): each pixel's rays are the ones [`Self::trace`]
+    /// gives it, so bands make exactly the whole image. The result is `rows.len()` rows tall.
+    pub fn trace_rows(
+        &self,
+        bvh: &GpuSceneBvh,
+        surfaces: &SurfaceBuffer,
+        params: &ReferenceParams,
+        rows: std::ops::Range<u32>,
+    ) -> Result<ReferenceImage, SceneError> {
         check_inputs(surfaces, params)?;
+        if params.rays_per_pixel > GPU_MAX_RAYS_PER_PIXEL {
+            return Err(SceneError::InvalidParameter {
+                name: "rays_per_pixel",
+                value: params.rays_per_pixel.to_string(),
+                allowed: "1 to 4096 on the GPU tracer (use the CPU tracer for more)",
+            });
+        }
         let gpu = &self.gpu;
         let (width, height) = (surfaces.width, surfaces.height);
+        check_storage(gpu, "surface points", surfaces.pixel_count() as u64 * 16)?;
+        let rows = rows.start.min(height)..rows.end.min(height);
         let pixels = surfaces.pixel_count();
-        if pixels == 0 {
+        if pixels == 0 || rows.is_empty() {
             return Ok(ReferenceImage {
                 width,
-                height,
+                height: rows.end - rows.start,
                 accessibility: Vec::new(),
                 std_error: Vec::new(),
             });
@@ -93,9 +118,9 @@ impl GpuReferenceTracer {
         });
         let rays_per_row = u64::from(width) * u64::from(params.rays_per_pixel);
         let band = (RAYS_PER_DISPATCH / rays_per_row.max(1)).clamp(1, u64::from(height)) as u32;
-        let mut row_start = 0;
-        while row_start < height {
-            let rows = band.min(height - row_start);
+        let mut row_start = rows.start;
+        while row_start < rows.end {
+            let band_rows = band.min(rows.end - row_start);
             let uniform = ReferenceUniform {
                 width,
                 height,
@@ -106,7 +131,7 @@ impl GpuReferenceTracer {
                 },
                 radius: params.radius,
                 row_start,
-                rows,
+                rows: band_rows,
                 pad: 0,
             };
             let uniform = buffer_of(
@@ -135,17 +160,18 @@ impl GpuReferenceTracer {
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &group, &[]);
-                pass.dispatch_workgroups(width.div_ceil(8), rows.div_ceil(8), 1);
+                pass.dispatch_workgroups(width.div_ceil(8), band_rows.div_ceil(8), 1);
             }
             gpu.queue.submit([enc.finish()]);
-            row_start += rows;
+            row_start += band_rows;
         }
         let bytes = read_back(gpu, &result, result_size)?;
         let values: &[[f32; 2]] = bytemuck::cast_slice(&bytes);
-        let (accessibility, std_error) = values.iter().map(|v| (v[0], v[1])).unzip();
+        let band = (rows.start * width) as usize..(rows.end * width) as usize;
+        let (accessibility, std_error) = values[band].iter().map(|v| (v[0], v[1])).unzip();
         Ok(ReferenceImage {
             width,
-            height,
+            height: rows.end - rows.start,
             accessibility,
             std_error,
         })

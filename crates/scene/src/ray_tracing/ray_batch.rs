@@ -8,7 +8,9 @@ use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::{Pod, Zeroable};
 
 use super::gpu_bvh::GpuSceneBvh;
-use super::gpu_io::{bind_group, buffer_of, compute_pipeline, dispatch_grid, read_back};
+use super::gpu_io::{
+    bind_group, buffer_of, check_storage, compute_pipeline, dispatch_grid, read_back,
+};
 use crate::error::SceneError;
 
 /// One ray: `origin + t direction`, t in [t_min, t_max] (direction unit length for distances in
@@ -74,6 +76,7 @@ impl GpuRayBatch {
             value: rays.len().to_string(),
             allowed: "at most 2^32 - 1 rays per batch",
         })?;
+        check_storage(&self.gpu, "rays", rays.len() as u64 * 32)?;
         let (x, y, row) = dispatch_grid(count);
         let params = TraceParams {
             count,

@@ -29,7 +29,7 @@ use crate::reference::is_traceable;
 
 /// Depth limits of the traversal stacks in shaders/common/bvh.wgsl (`TLAS_STACK`,
 /// `BLAS_STACK`): a tree deeper than these is a build error, never a truncated traversal.
-pub const TLAS_STACK: u32 = 32;
+pub const TLAS_STACK: u32 = 64;
 pub const BLAS_STACK: u32 = 64;
 
 /// One triangle (shaders/common/bvh.wgsl `BvhTriangle`); `primitive` is its index among the
@@ -338,7 +338,9 @@ impl SceneBvh {
         if t == self.time {
             return Ok(update);
         }
-        self.time = t;
+        // Until this update succeeds the CPU arrays are ahead of the GPU: a failed update
+        // leaves no time recorded, so the next call redoes the work instead of skipping it.
+        self.time = f32::NAN;
         let mut moved = false;
         for k in 0..self.placed.len() {
             match self.placed[k].placement {
@@ -360,6 +362,7 @@ impl SceneBvh {
             update.nodes.push(0..self.tlas_len);
             update.instances = Some(0..self.instances.len());
         }
+        self.time = t;
         Ok(update)
     }
 
