@@ -108,12 +108,49 @@ fn bvh_safe_inverse(d: vec3<f32>) -> vec3<f32> {
     return 1.0 / select(d, s * 1e-20, tiny);
 }
 
+// Both levels' traversal stack (TLAS_STACK = BLAS_STACK).
+alias BvhStack = array<u32, BLAS_STACK>;
+
+// At inner node with children `l`, `l + 1`: the child to enter next (the nearer one the ray
+// reaches within t_max), pushing the farther when both are reached; BVH_MISS_INDEX if none.
+fn bvh_descend(l: u32, o: vec3<f32>, inv_d: vec3<f32>, t_min: f32, t_max: f32,
+               stack: ptr<function, BvhStack>, sp: ptr<function, u32>) -> u32 {
+    let tl = bvh_box_entry(bvh_nodes[l], o, inv_d, t_min, t_max);
+    let tr = bvh_box_entry(bvh_nodes[l + 1u], o, inv_d, t_min, t_max);
+    if (tl != BVH_MISS && tr != BVH_MISS) {
+        let near_left = tl <= tr;
+        (*stack)[*sp] = select(l, l + 1u, near_left);
+        *sp += 1u;
+        return select(l + 1u, l, near_left);
+    } else if (tl != BVH_MISS) {
+        return l;
+    } else if (tr != BVH_MISS) {
+        return l + 1u;
+    }
+    return BVH_MISS_INDEX;
+}
+
+// `next`, or when it is BVH_MISS_INDEX the first popped node still within reach (t_max may
+// have shrunk since it was pushed); BVH_MISS_INDEX when the stack runs out.
+fn bvh_pop(next: u32, o: vec3<f32>, inv_d: vec3<f32>, t_min: f32, t_max: f32,
+           stack: ptr<function, BvhStack>, sp: ptr<function, u32>) -> u32 {
+    var n = next;
+    while (n == BVH_MISS_INDEX && *sp > 0u) {
+        *sp -= 1u;
+        let candidate = (*stack)[*sp];
+        if (bvh_box_entry(bvh_nodes[candidate], o, inv_d, t_min, t_max) != BVH_MISS) {
+            n = candidate;
+        }
+    }
+    return n;
+}
+
 // Traverses one BLAS from `root` with an object-space ray; updates `hit` (closest so far) and
 // returns true when `any_hit` found a hit.
 fn bvh_traverse_blas(root: u32, o: vec3<f32>, d: vec3<f32>, t_min: f32, any_hit: bool,
                      instance: u32, hit: ptr<function, BvhHit>) -> bool {
     let inv_d = bvh_safe_inverse(d);
-    var stack: array<u32, BLAS_STACK>;
+    var stack: BvhStack;
     var sp = 0u;
     if (bvh_box_entry(bvh_nodes[root], o, inv_d, t_min, (*hit).t) == BVH_MISS) {
         return false;
@@ -135,28 +172,9 @@ fn bvh_traverse_blas(root: u32, o: vec3<f32>, d: vec3<f32>, t_min: f32, any_hit:
                 }
             }
         } else {
-            let l = node.first;
-            let tl = bvh_box_entry(bvh_nodes[l], o, inv_d, t_min, (*hit).t);
-            let tr = bvh_box_entry(bvh_nodes[l + 1u], o, inv_d, t_min, (*hit).t);
-            if (tl != BVH_MISS && tr != BVH_MISS) {
-                let near_left = tl <= tr;
-                next = select(l + 1u, l, near_left);
-                stack[sp] = select(l, l + 1u, near_left);
-                sp += 1u;
-            } else if (tl != BVH_MISS) {
-                next = l;
-            } else if (tr != BVH_MISS) {
-                next = l + 1u;
-            }
+            next = bvh_descend(node.first, o, inv_d, t_min, (*hit).t, &stack, &sp);
         }
-        // Pop until a node still within reach (t_max may have shrunk since it was pushed).
-        while (next == BVH_MISS_INDEX && sp > 0u) {
-            sp -= 1u;
-            let candidate = stack[sp];
-            if (bvh_box_entry(bvh_nodes[candidate], o, inv_d, t_min, (*hit).t) != BVH_MISS) {
-                next = candidate;
-            }
-        }
+        next = bvh_pop(next, o, inv_d, t_min, (*hit).t, &stack, &sp);
         if (next == BVH_MISS_INDEX) {
             return false;
         }
@@ -191,7 +209,7 @@ fn bvh_trace_from(o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any_hit: b
     // t_max bounds the search; `triangle` stays BVH_MISS_INDEX until something is hit.
     var hit = BvhHit(min(t_max, BVH_MISS), 0u, BVH_MISS_INDEX);
     let inv_d = bvh_safe_inverse(d);
-    var stack: array<u32, TLAS_STACK>;
+    var stack: BvhStack;
     var sp = 0u;
     if (bvh_box_entry(bvh_nodes[0], o, inv_d, t_min, hit.t) == BVH_MISS) {
         return BvhHit(BVH_MISS, 0u, BVH_MISS_INDEX);
@@ -211,27 +229,9 @@ fn bvh_trace_from(o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any_hit: b
                 }
             }
         } else {
-            let l = node.first;
-            let tl = bvh_box_entry(bvh_nodes[l], o, inv_d, t_min, hit.t);
-            let tr = bvh_box_entry(bvh_nodes[l + 1u], o, inv_d, t_min, hit.t);
-            if (tl != BVH_MISS && tr != BVH_MISS) {
-                let near_left = tl <= tr;
-                next = select(l + 1u, l, near_left);
-                stack[sp] = select(l, l + 1u, near_left);
-                sp += 1u;
-            } else if (tl != BVH_MISS) {
-                next = l;
-            } else if (tr != BVH_MISS) {
-                next = l + 1u;
-            }
+            next = bvh_descend(node.first, o, inv_d, t_min, hit.t, &stack, &sp);
         }
-        while (next == BVH_MISS_INDEX && sp > 0u) {
-            sp -= 1u;
-            let candidate = stack[sp];
-            if (bvh_box_entry(bvh_nodes[candidate], o, inv_d, t_min, hit.t) != BVH_MISS) {
-                next = candidate;
-            }
-        }
+        next = bvh_pop(next, o, inv_d, t_min, hit.t, &stack, &sp);
         if (next == BVH_MISS_INDEX) {
             break;
         }

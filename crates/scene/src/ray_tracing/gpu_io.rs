@@ -77,6 +77,25 @@ pub(crate) fn bind_group(
     })
 }
 
+/// Submits one compute pass of `pipeline` with `group` over `groups` (x, y) workgroups.
+pub(crate) fn submit_dispatch(
+    gpu: &GpuContext,
+    pipeline: &wgpu::ComputePipeline,
+    group: &wgpu::BindGroup,
+    groups: (u32, u32),
+) {
+    let mut enc = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
+    }
+    gpu.queue.submit([enc.finish()]);
+}
+
 /// Workgroups of 64 invocations covering `count`, as (x, y) within the 65535 limit per
 /// dimension, and the invocations per row.
 pub(crate) fn dispatch_grid(count: u32) -> (u32, u32, u32) {

@@ -14,7 +14,9 @@ use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::{Pod, Zeroable};
 
 use super::gpu_bvh::GpuSceneBvh;
-use super::gpu_io::{bind_group, buffer_of, check_storage, compute_pipeline, read_back};
+use super::gpu_io::{
+    bind_group, buffer_of, check_storage, compute_pipeline, read_back, submit_dispatch,
+};
 use crate::error::SceneError;
 use crate::reference::{
     ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer, check_inputs,
@@ -153,16 +155,12 @@ impl GpuReferenceTracer {
                     (14, &bvh.triangles),
                 ],
             );
-            let mut enc = gpu
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &group, &[]);
-                pass.dispatch_workgroups(width.div_ceil(8), band_rows.div_ceil(8), 1);
-            }
-            gpu.queue.submit([enc.finish()]);
+            submit_dispatch(
+                gpu,
+                &self.pipeline,
+                &group,
+                (width.div_ceil(8), band_rows.div_ceil(8)),
+            );
             row_start += band_rows;
         }
         let bytes = read_back(gpu, &result, result_size)?;

@@ -10,6 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use super::gpu_bvh::GpuSceneBvh;
 use super::gpu_io::{
     bind_group, buffer_of, check_storage, compute_pipeline, dispatch_grid, read_back,
+    submit_dispatch,
 };
 use crate::error::SceneError;
 
@@ -107,16 +108,7 @@ impl GpuRayBatch {
             ],
         );
         for _ in 0..repeat.max(1) {
-            let mut enc = gpu
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &group, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
-            gpu.queue.submit([enc.finish()]);
+            submit_dispatch(gpu, &self.pipeline, &group, (x, y));
         }
         let bytes = read_back(gpu, &results, result_size)?;
         let words: &[[u32; 4]] = bytemuck::cast_slice(&bytes);
