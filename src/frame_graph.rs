@@ -145,7 +145,8 @@ pub fn build_frame_graph_with(
     let gbuffer = owners.record(&mut b, PassOwner::GBuffer, |b| {
         add_gbuffer_shared(b, scene.clone(), channels, view, clock.clone(), gbuffer)
     });
-    // R in pixels at the view's nearest geometry, for techniques with automatic level counts.
+    // What an automatic level count must reach: R at the view's closest geometry, at most the
+    // image's diagonal (`ProjectedRadius::reach_needed_px`).
     let radius_pixels = if technique.needs_radius_pixels() {
         aograph_scene::projected_radius(
             &scene,
@@ -154,7 +155,7 @@ pub fn build_frame_graph_with(
             size.height,
             radius,
         )
-        .map(|p| p.nearest_px)
+        .map(|p| p.reach_needed_px())
     } else {
         None
     };

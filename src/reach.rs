@@ -76,6 +76,6 @@ pub fn radius_reach(
     };
     let reach_px = ao
         .resolve(registry)?
-        .reach_pixels(size.height, Some(needed.nearest_px));
+        .reach_pixels(size.height, Some(needed.reach_needed_px()));
     Ok(Some(RadiusReach { needed, reach_px }))
 }

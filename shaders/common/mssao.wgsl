@@ -150,22 +150,42 @@ fn mssao_tap(depth: texture_2d<f32>, g: MssaoGrid, size: vec2<i32>, c: vec2<i32>
 
 // Coarse levels (Sec. 4.3, Fig. 6 left): every other pixel of the (2 R + 1)^2 kernel, i.e. the
 // odd offsets +-1, +-3, +-5 (36 of 121 taps at R = 5) with |o.x|, |o.y| <= R. Returns
-// (un-normalised sum of Eq. 6, sample count N); N = 0 when R < 1 (no samples under a pixel).
+// (un-normalised sum of Eq. 6, sample count N).
+//
+// The paper's kernel takes ring k (the taps with max(|o.x|, |o.y|) = k) exactly when R >= k, so
+// its tap set, and with it the mean sum / N, jumps where R crosses 1, 3 or 5: a surface whose
+// R_l = r_0 / 2^l sits near 3 or 5 texels switches from 4 to 16 or from 16 to 36 taps, and a
+// camera step of 0.1 units changed the mean of a wall by 0.15 (README, "MSSAO at every output
+// size"). Here ring k enters with weight w_k(R) = clamp((R - k) / 2 + 1, 0, 1), rising over
+// (k - 2, k]; ring 1 over (0, 1]. At odd R (R = r_max = 5 included) every ring the paper takes
+// has weight 1 and no other ring is present, so the kernel is the paper's there; between, the
+// sum and N move continuously with R. The weights count in N as fractions.
+fn mssao_ring_weight(k: i32, radius: f32) -> f32 {
+    if (k == 1) {
+        return clamp(radius, 0.0, 1.0);
+    }
+    return clamp((radius - f32(k)) * 0.5 + 1.0, 0.0, 1.0);
+}
+
 fn mssao_near_interleaved(depth: texture_2d<f32>, g: MssaoGrid, c: vec2<i32>, s: MssaoSurface, radius: f32, d_max: f32) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(depth));
     var acc = vec2<f32>(0.0);
-    if (!(radius >= 1.0)) {
+    if (!(radius > 0.0)) {
         return acc;
     }
-    // Largest odd offset within the radius.
-    let k = (i32(floor((radius - 1.0) * 0.5)) * 2) + 1;
+    // The outermost ring with a weight: the largest odd k < R + 2.
+    let k = min((i32(ceil((radius + 1.0) * 0.5)) * 2) - 1, MSSAO_MAX_RING);
     for (var oy = -k; oy <= k; oy = oy + 2) {
         for (var ox = -k; ox <= k; ox = ox + 2) {
-            acc = acc + mssao_tap(depth, g, size, c + vec2<i32>(ox, oy), s.p, s.n, d_max);
+            let w = mssao_ring_weight(max(abs(ox), abs(oy)), radius);
+            acc = acc + w * mssao_tap(depth, g, size, c + vec2<i32>(ox, oy), s.p, s.n, d_max);
         }
     }
     return acc;
 }
+
+// The outermost ring a radius within r_max's range (at most 8) can weigh: 9 (w_9 > 0 above 7).
+const MSSAO_MAX_RING: i32 = 9;
 
 // The finest level's fixed, unrotated 16-point Poisson disk (Sec. 4.3, Fig. 6 right). The paper
 // prints no coordinates: these come from Mitchell's best-candidate algorithm in the unit disk
@@ -211,7 +231,10 @@ fn mssao_bilateral_weight(n: vec3<f32>, z: f32, ni: vec3<f32>, zi: f32, t_n: f32
 
 // Bilateral 2x2 upsampling (Sec. 4.5, Fig. 9, Eqs. 8-9) of the blurred tuple of the next
 // coarser level to fine texel `c` with surface `s`: the four nearest coarse texels with bilinear
-// weights 9/16, 3/16, 3/16, 1/16, times Eq. 8 and Eq. 9, normalised. Coarse sky texels get no
+// weights 9/16, 3/16, 3/16, 1/16, times Eq. 8 and Eq. 9, normalised. Eq. 9's |dz| is the coarse
+// point's distance from the fine surface's tangent plane, |n . (q - p)|: the depth difference
+// for a surface facing the camera, but not many units along a wall seen at a grazing angle,
+// where the depth difference made one coarse texel win (blocks a coarse texel wide). Coarse sky texels get no
 // weight; if every bilateral weight underflows, the bilinear weights are used; if every
 // coarse texel is sky, the result is (0, 0, 0): no far-field occlusion. `mode` is Fig. 8's
 // comparison: 2 as described, 1 the bilinear weights alone, 0 the enclosing coarse texel
@@ -230,7 +253,6 @@ fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coa
     if (mode == MSSAO_NEAREST) {
         wb = array<f32, 4>(1.0, 0.0, 0.0, 0.0);
     }
-    let z = -s.p.z;
     var sum_bilateral = vec3<f32>(0.0);
     var w_bilateral = 0.0;
     var sum_bilinear = vec3<f32>(0.0);
@@ -242,7 +264,7 @@ fn mssao_upsample(coarse_ao: texture_2d<f32>, coarse_depth: texture_2d<f32>, coa
             continue;
         }
         let a = textureLoad(coarse_ao, t, 0).xyz;
-        let w = wb[j] * mssao_bilateral_weight(s.n, z, q.n, -q.p.z, t_n, t_z);
+        let w = wb[j] * mssao_bilateral_weight(s.n, 0.0, q.n, dot(s.n, q.p - s.p), t_n, t_z);
         sum_bilateral = sum_bilateral + w * a;
         w_bilateral = w_bilateral + w;
         sum_bilinear = sum_bilinear + wb[j] * a;

@@ -366,7 +366,7 @@ pub fn run_technique(
         FrameOutputs::default(),
         extent,
     )?;
-    let radius_px = reference.projected.map(|p| p.nearest_px);
+    let radius_px = reference.projected.map(|p| p.reach_needed_px());
     let technique = ao.resolve(&ctx.registry)?;
     let reach_px = if technique.is_baseline() {
         None

@@ -180,7 +180,18 @@ pub(crate) fn add(a: (f32, f32), b: (f32, f32)) -> (f32, f32) {
     (a.0 + b.0, a.1 + b.1)
 }
 
-/// Coarse levels: the odd offsets +-1, +-3, ... up to the largest odd k <= radius.
+/// The weight of ring k (the odd offsets with max(|o.x|, |o.y|) = k) at kernel radius R:
+/// rising from 0 at R = k - 2 to 1 at R = k (ring 1: from R = 0 to 1).
+pub(crate) fn ring_weight(k: i32, radius: f32) -> f32 {
+    if k == 1 {
+        radius.clamp(0.0, 1.0)
+    } else {
+        ((radius - k as f32) * 0.5 + 1.0).clamp(0.0, 1.0)
+    }
+}
+
+/// Coarse levels: the odd offsets +-1, +-3, ... of every ring with a weight (the largest odd
+/// k < R + 2), each tap's (ao, counted) times its ring's weight.
 pub(crate) fn near_interleaved(
     l: &Level,
     x: i32,
@@ -189,14 +200,16 @@ pub(crate) fn near_interleaved(
     radius: f32,
     d_max: f32,
 ) -> (f32, f32) {
-    if radius < 1.0 {
+    if radius <= 0.0 || radius.is_nan() {
         return (0.0, 0.0);
     }
-    let k = ((radius - 1.0) * 0.5).floor() as i32 * 2 + 1;
+    let k = (((radius + 1.0) * 0.5).ceil() as i32 * 2 - 1).min(9);
     let mut acc = (0.0, 0.0);
     for oy in (-k..=k).step_by(2) {
         for ox in (-k..=k).step_by(2) {
-            acc = add(acc, tap(l, x + ox, y + oy, s, d_max));
+            let w = ring_weight(ox.abs().max(oy.abs()), radius);
+            let t = tap(l, x + ox, y + oy, s, d_max);
+            acc = add(acc, (w * t.0, w * t.1));
         }
     }
     acc
@@ -278,7 +291,6 @@ pub(crate) fn upsample(coarse: &[V4], cl: &Level, x: i32, y: i32, s: &Surface, k
     } else {
         [9.0 / 16.0, 3.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0]
     };
-    let z = -s.p[2];
     let (mut sum_bl, mut w_bl, mut sum_lin, mut w_lin) = ([0.0f32; 3], 0.0f32, [0.0f32; 3], 0.0f32);
     for j in 0..4 {
         let (tx, ty) = (
@@ -292,7 +304,8 @@ pub(crate) fn upsample(coarse: &[V4], cl: &Level, x: i32, y: i32, s: &Surface, k
             continue;
         }
         let a = xyz(coarse[cl.index(tx, ty)]);
-        let w = wb[j] * bilateral_weight(s.n, z, q.n, -q.p[2], k.t_n, k.t_z);
+        // Eq. 9 on the coarse point's distance from the fine surface's tangent plane.
+        let w = wb[j] * bilateral_weight(s.n, 0.0, q.n, dot(s.n, sub(q.p, s.p)), k.t_n, k.t_z);
         for c in 0..3 {
             sum_bl[c] += w * a[c];
             sum_lin[c] += wb[j] * a[c];
@@ -416,19 +429,36 @@ pub(crate) fn downsample(src: &Level, d_threshold: f32, src_grid: &Grid, grid: &
             let p1 = src_grid.position(at[i1].0, at[i1].1, z[i1]);
             let n1 = oct_decode(nrm[i1]);
             let (mut p, mut nv, mut n, mut d) = (p1, n1, nrm[i1], z[i1]);
-            if z[idx[3]] - z[idx[0]] <= d_threshold {
+            // The median candidate and the block's spread about its plane (sky: unbounded).
+            let p2 = src_grid.position(at[i2].0, at[i2].1, z[i2]);
+            let p_med = [
+                0.5 * (p1[0] + p2[0]),
+                0.5 * (p1[1] + p2[1]),
+                0.5 * (p1[2] + p2[2]),
+            ];
+            let b = oct_decode(nrm[i2]);
+            let s = [n1[0] + b[0], n1[1] + b[1], n1[2] + b[2]];
+            let l = dot(s, s).sqrt();
+            let n_med = if l > 1e-6 {
+                [s[0] / l, s[1] / l, s[2] / l]
+            } else {
+                n1
+            };
+            let spread = if z[idx[3]] < SKY {
+                let p0 = src_grid.position(at[idx[0]].0, at[idx[0]].1, z[idx[0]]);
+                let p3 = src_grid.position(at[idx[3]].0, at[idx[3]].1, z[idx[3]]);
+                [p0, p1, p2, p3]
+                    .iter()
+                    .map(|q| dot(n_med, sub(*q, p_med)).abs())
+                    .fold(0.0f32, f32::max)
+            } else {
+                f32::INFINITY
+            };
+            if spread <= d_threshold {
                 d = 0.5 * (z[i1] + z[i2]);
-                let p2 = src_grid.position(at[i2].0, at[i2].1, z[i2]);
-                p = [
-                    0.5 * (p1[0] + p2[0]),
-                    0.5 * (p1[1] + p2[1]),
-                    0.5 * (p1[2] + p2[2]),
-                ];
-                let b = oct_decode(nrm[i2]);
-                let s = [n1[0] + b[0], n1[1] + b[1], n1[2] + b[2]];
-                let l = dot(s, s).sqrt();
+                p = p_med;
                 if l > 1e-6 {
-                    nv = [s[0] / l, s[1] / l, s[2] / l];
+                    nv = n_med;
                     n = oct_encode(nv);
                 }
             }

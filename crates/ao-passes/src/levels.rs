@@ -1,8 +1,8 @@
 //! `levels = "auto"` or a number: how many pyramid levels a multi-resolution technique
 //! builds. With `auto`, a technique takes as many levels as the radius R needs in this view and
 //! no more ("model only what a scene requires"): R projected to full-resolution pixels at the
-//! view's nearest geometry (`AoBuildContext::radius_pixels`) decides it, and a near camera gets
-//! more levels than a far one. Where the projection is unknown (a graph built without a view),
+//! view's closest geometry, at most the image's diagonal (`AoBuildContext::radius_pixels`),
+//! decides it, and a near camera or a larger image gets more levels. Where the projection is unknown (a graph built without a view),
 //! `auto` falls back to the technique's paper default.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};

@@ -44,7 +44,8 @@ pub struct AoBuildContext<'a> {
     pub intermediate_format: wgpu::TextureFormat,
     /// Name of the technique being built, for error messages.
     pub technique: &'static str,
-    /// R projected to full-resolution pixels at the view's nearest geometry, when the graph
+    /// R projected to full-resolution pixels at the view's closest geometry, at most the
+    /// image's diagonal (`aograph_scene::ProjectedRadius::reach_needed_px`), when the graph
     /// is built for a known view (for `levels = "auto"`; see [`crate::Levels`]). Filled in
     /// only for techniques whose [`DynAoTechnique::needs_radius_pixels`] says so.
     pub radius_pixels: Option<f32>,

@@ -1,9 +1,13 @@
 #include "common/view.wgsl"
 #include "common/mssao.wgsl"
 // MSSAO downsampling, one pyramid level (Sec. 4.2, Table 2): each texel of level l takes the four
-// sub-pixels of level l - 1, sorted by positive linear depth z0 <= z1 <= z2 <= z3. If the depth
-// range z3 - z0 is at most d_threshold, depth and normal are the means of the middle two (the
-// paper's "median"); otherwise the second-nearest sub-pixel is kept as it is. Normals follow the
+// sub-pixels of level l - 1, sorted by positive linear depth z0 <= z1 <= z2 <= z3. If every
+// sub-pixel lies within d_threshold of the median's plane (through the mean of the middle two,
+// with their renormalised mean normal), depth and normal are the means of the middle two (the
+// paper's "median"); otherwise the second-nearest sub-pixel is kept as it is. Table 2 tests the
+// depth range z3 - z0 instead, which a plane seen at a grazing angle exceeds at coarse levels,
+// so the rule then depended on the distance to the camera (crates/ao-passes/src/techniques/
+// mssao.rs, "At every output size"); on a plane both branches give the same texel. Normals follow the
 // same sorted indices and are renormalised (falling back to n1 when n1 + n2 ~ 0). Sky sub-pixels
 // sort last (infinite depth), so a block with at least two geometry sub-pixels stays geometry.
 // Odd sizes: the level is ceil(size / 2); the 2x2 fetch is clamped at the border.
@@ -90,14 +94,25 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var nv = n1;
     var n = s1.n;
     var depth = s1.z;
-    if (s3.z - s0.z <= params.d_threshold) {
-        // Table 2: small depth range, the mean of the two middle sub-pixels.
+    // The median candidate: the mean of the two middle sub-pixels and their renormalised normal.
+    let p2 = mssao_position(src_grid, s2.c, s2.z);
+    let sum = n1 + normal_oct_decode(s2.n);
+    let l = length(sum);
+    let p_med = 0.5 * (p1 + p2);
+    let n_med = select(n1, sum / max(l, 1e-30), l > 1e-6);
+    var spread = 3.0e38;
+    if (s3.z < SKY_DEPTH) {
+        let p0 = mssao_position(src_grid, s0.c, s0.z);
+        let p3 = mssao_position(src_grid, s3.c, s3.z);
+        spread = max(max(abs(dot(n_med, p0 - p_med)), abs(dot(n_med, p1 - p_med))),
+                     max(abs(dot(n_med, p2 - p_med)), abs(dot(n_med, p3 - p_med))));
+    }
+    if (spread <= params.d_threshold) {
+        // A continuous surface: the mean of the two middle sub-pixels.
         depth = 0.5 * (s1.z + s2.z);
-        p = 0.5 * (p1 + mssao_position(src_grid, s2.c, s2.z));
-        let sum = n1 + normal_oct_decode(s2.n);
-        let l = length(sum);
+        p = p_med;
         if (l > 1e-6) {
-            nv = sum / l;
+            nv = n_med;
             n = normal_oct_encode(nv);
         }
     }

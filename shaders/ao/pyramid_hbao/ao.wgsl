@@ -25,7 +25,7 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<uniform> params: Params;
-// Level 0: the full-resolution linear depth (0 = sky); levels 1..4 of the 3x3-average
+// Level 0: the full-resolution linear depth (0 = sky); levels 1..6 of the 3x3-average
 // pyramid. Slots past L - 1 are bound to some level and never read.
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var depth1: texture_2d<f32>;
@@ -38,6 +38,9 @@ struct Params {
 // the output.
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var ao: IntermediateStorage;
+// Levels 5 and 6 (texels of 243 and 729 pixels): the reach of 1920x1080 and 3840x2160.
+@group(0) @binding(9) var depth5: texture_2d<f32>;
+@group(0) @binding(10) var depth6: texture_2d<f32>;
 
 const TAU: f32 = 6.283185307179586;
 // Reads per direction and level (`step_count`): a pipeline constant, not a uniform, so the
@@ -150,7 +153,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     g.inv_radius = 1.0 / params.radius;
     // World size of one full-resolution pixel at P, for the early-out slack.
     let pixel_world = 1.0 / max(pixels_per_unit(z, view), 1e-30);
-    let levels = clamp(LEVELS, 1u, 5u);
+    let levels = clamp(LEVELS, 1u, 7u);
     let k = params.factor;
     let ki = i32(k);
     // The levels' edge texels (common/pyramid.wgsl), once per pixel.
@@ -159,6 +162,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let e2 = pyramid_next_edge(e1, vec2<i32>(textureDimensions(depth2)), ki, k);
     let e3 = pyramid_next_edge(e2, vec2<i32>(textureDimensions(depth3)), ki, k * k);
     let e4 = pyramid_next_edge(e3, vec2<i32>(textureDimensions(depth4)), ki, k * k * k);
+    let e5 = pyramid_next_edge(e4, vec2<i32>(textureDimensions(depth5)), ki, k * k * k * k);
+    let e6 = pyramid_next_edge(e5, vec2<i32>(textureDimensions(depth6)), ki, k * k * k * k * k);
 
     // Spec §2.5: per-pixel rotation from a low-discrepancy dither (R2 sequence over pixels,
     // a blue-noise-like pattern) instead of a 32x32 blue-noise texture; per-direction jitter
@@ -200,6 +205,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                     scale = scale * k;
                     if (levels > 4u && !march_ends(g, m, m.t + step, scale, pixel_world)) {
                         m = march_level(depth4, e4, scale, step, g, m);
+                        step = step * k;
+                        scale = scale * k;
+                        if (levels > 5u && !march_ends(g, m, m.t + step, scale, pixel_world)) {
+                            m = march_level(depth5, e5, scale, step, g, m);
+                            step = step * k;
+                            scale = scale * k;
+                            if (levels > 6u && !march_ends(g, m, m.t + step, scale, pixel_world)) {
+                                m = march_level(depth6, e6, scale, step, g, m);
+                            }
+                        }
                     }
                 }
             }

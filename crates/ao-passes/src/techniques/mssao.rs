@@ -37,23 +37,61 @@
 //!   P[1][1] / 2 (`pixels_per_unit`), so non-square viewports work.
 //! - Eq. 6 sums without 1/N (spec erratum: Eq. 10 divides by N itself); samples below the
 //!   hemisphere or beyond d_max still count in N (the paper's "no rejection").
-//! - Coarse levels take the odd offsets (+-1, +-3, +-5) within R (4, 16 or 36 taps); the finest
-//!   level's 16-point Poisson disk is our own (Mitchell best-candidate), fixed and unrotated,
-//!   scaled by R and rounded to texels; a point rounding onto the pixel itself is skipped
-//!   (not counted in N).
+//! - Coarse levels take the odd offsets (+-1, +-3, +-5) within R (4, 16 or 36 taps at odd R);
+//!   ring k (the taps with max(|o.x|, |o.y|) = k) enters with a weight rising from 0 at
+//!   R = k - 2 to 1 at R = k, counted in N as that fraction, so the kernel is the paper's at
+//!   odd R (at r_max = 5 too) and moves continuously with R between (see "At every output
+//!   size"). The finest level's 16-point Poisson disk is our own (Mitchell best-candidate),
+//!   fixed and unrotated, scaled by R and rounded to texels; a point rounding onto the pixel
+//!   itself is skipped (not counted in N).
 //! - Off-screen taps are skipped (not counted); sky taps count as unoccluding samples.
-//! - Downsampling tests the depth range (Table 2, not the prose's 3D distance), renormalises the
-//!   averaged normal and sorts sky last; odd sizes round up (`SizeClass::half_pow`) and clamp
-//!   the 2x2 fetch at the border.
+//! - Downsampling keeps the median where the four sub-pixels lie within d_threshold of the
+//!   median's plane (the plane through the mean of the middle two with their renormalised
+//!   normal), else the second-nearest; Table 2 tests the depth range instead, which a plane
+//!   seen at a grazing angle exceeds (see "At every output size"). Sky sorts last; odd sizes
+//!   round up (`SizeClass::half_pow`) and clamp the 2x2 fetch at the border.
+//! - Eq. 9's depth term in the upsampling weighs the coarse texel's distance from the fine
+//!   texel's tangent plane, |n . (q - p)|, not the depth difference |z_q - z_p|: the two agree
+//!   for a surface facing the camera, and along a wall seen at a grazing angle the depth
+//!   difference of neighbouring coarse texels of the same wall is many units, which made
+//!   Eq. 9 pick one coarse texel: faint blocks the size of a coarse texel.
 //! - Blur and upsampling are normalised by their weight sums (the pseudo-code omits it); the
 //!   blur is bilateral by default as the prose says (`bilateral_blur`), applied to all three
 //!   channels. If every bilateral upsampling weight underflows, the bilinear weights are used.
 //! - Tuple textures (max, sum, count, unused) are intermediates: Rgba16Float under
 //!   `intermediate_format = "r16float"`, Rgba32Float under "r32float"
 //!   (`ctx.intermediate_rgba_format`), written by the matching shader variants. In fp16 the max
-//!   is in [0, 1]; sums and counts are at most 3 x 36 + 16 = 124 at the defaults and
-//!   7 x 64 + 16 = 464 at the limits, where fp16 is exact for integers and within 2^-11
-//!   relative for the blurred, fractional values.
+//!   is in [0, 1]; sums and counts are at most 11 x 36 + 16 = 412 at r_max = 5 and
+//!   11 x 100 + 16 = 1116 at the limits (12 levels, r_max = 8: rings up to 9), within 2^-11
+//!   relative in fp16.
+//!
+//! # At every output size
+//! On `columns` at 1280x720 the walls at the image's sides, mirror images of each other in the
+//! reference (0.712 and 0.715), read 0.884 and 0.737 (0.075 apart at 640x360, the sign flipping
+//! with the size). The cause was no left/right rule: with the camera on the mirror plane every
+//! size is symmetric to 0.001. It was three rules that jump as a view moves, so two walls at
+//! different distances (2.35 and 3.15 units here) land on different sides of a jump, and a
+//! camera step of 0.1 units changed one wall by 0.15:
+//! 1. the interleaved kernel took ring k only once R_l >= k: where R_l = r_0 / 2^l crosses 3 or
+//!    5 texels the tap count jumps 4 -> 16 -> 36 and the level's mean with it, which Eq. 10's
+//!    max passes to every finer level (the rings now fade in, above);
+//! 2. Table 2's depth-range test calls a grazing plane a discontinuity at coarse levels, so
+//!    whether a block is averaged or keeps one sub-pixel depended on the distance (the plane
+//!    test, above);
+//! 3. Eq. 9 on depth differences made a grazing wall's upsampling blocky (the tangent-plane
+//!    distance, above).
+//!
+//! With all three, the walls agree within 0.014 at 640x360 and 1920x1080 and 0.023 at
+//! 1280x720 (README, "At every output size"); what remains moves with the camera (+-0.04 over
+//! 0.4 units of sideways motion, gtao +-0.02): the arcade in front of the aisle walls lands on
+//! different coarse taps, screen-space parallax no rule of the pyramid removes. Against the
+//! obscurance reference, whose falloff is Eq. 7's, the MAE on `columns` falls (0.0721 to
+//! 0.0649 at 1280x720); against the binary one it rises (0.120 to 0.139): the jumps' dark
+//! patches had made the obscurance estimate look closer to binary AO.
+//!
+//! `levels = "auto"` sizes the pyramid to R at the view's closest geometry (at most the image's
+//! diagonal, `ProjectedRadius::reach_needed_px`), up to 12 levels: r_max 2^11 = 10240 px, so R
+//! is reached at every size up to 7680x4320.
 //!
 //! # Storage
 //! Every level, the g-buffer's included, is linear depth (R32Float) and an octahedral normal
@@ -96,7 +134,7 @@ use passes::{Level, MssaoUniform};
 pub struct Mssao;
 
 /// Most pyramid levels accepted.
-pub const MAX_LEVELS: u32 = 8;
+pub const MAX_LEVELS: u32 = 12;
 /// The paper's n (Sec. 4.2, all of its tests): `levels = "auto"` without a known view.
 pub const PAPER_LEVELS: u32 = 4;
 
@@ -180,7 +218,7 @@ impl MssaoParams {
         self.r_max * 2f32.powi(levels as i32 - 1)
     }
 
-    /// The level count: fixed, or for `auto` the fewest in 1..=8 whose reach covers
+    /// The level count: fixed, or for `auto` the fewest in 1..=12 whose reach covers
     /// `radius_pixels` (the paper's 4 when the view is unknown).
     pub fn levels_for(&self, radius_pixels: Option<f32>) -> u32 {
         self.levels

@@ -24,7 +24,8 @@
 //!   is off screen or its line of sight passes farther than R from P (both only grow along a
 //!   direction), so a larger reach costs little where it is not needed. S is a pipeline
 //!   constant (`STEP_COUNT`): the driver unrolls the march, and each S is its own pipeline.
-//! - L = 4 levels by default (the paper tests 1-5; its Viking Room saturates at 4), 1 to 5.
+//! - L = 4 levels by default (the paper tests 1-5; its Viking Room saturates at 4), 1 to 7:
+//!   levels 6 and 7 (texels of 243 and 729 px) let `auto` reach R at 1920x1080 and 3840x2160.
 //!   L counts level 0 (spec §2.4 [IMPL]): L = 1 marches the full-resolution depth only.
 //! - xi_d in [0.5, 1.5) (spec §2.5 [IMPL]); directions theta_d = 2 pi (phi + (d + u_d)/D):
 //!   stratified random; the per-pixel rotation phi is the R2 low-discrepancy dither (a
@@ -66,7 +67,7 @@ use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 /// Pyramid reduction factor K (spec §2.2).
 const K: u32 = 3;
 /// Most levels the AO shader binds (level 0 included).
-pub const MAX_LEVELS: u32 = 5;
+pub const MAX_LEVELS: u32 = 7;
 /// The paper's L where its Viking Room saturates: `levels = "auto"` without a known view.
 pub const PAPER_LEVELS: u32 = 4;
 /// The smallest step jitter xi (spec §2.5: xi in [0.5, 1.5)): the reach every direction has.
@@ -133,7 +134,7 @@ impl PyramidHbaoParams {
             / (k - 1.0)
     }
 
-    /// The level count: fixed, or for `auto` the fewest in 1..=5 whose reach covers
+    /// The level count: fixed, or for `auto` the fewest in 1..=7 whose reach covers
     /// `radius_pixels` (the paper's 4 when the view is unknown).
     pub fn levels_for(&self, radius_pixels: Option<f32>) -> u32 {
         self.levels
