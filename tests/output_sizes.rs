@@ -1,0 +1,312 @@
+//! Every technique at the sizes users ship, not only 256x256: on a view that is exactly its own
+//! mirror image, every technique's output must be its own mirror image, at sizes that do not
+//! halve (or third) evenly and at non-square aspects, and on `columns`' default view at 640x360
+//! the walls at the image's two sides must agree as the reference's do.
+//!
+//! The mirror check compares 8x8 block means of the output with the mirrored image's, so a
+//! technique's per-pixel noise (a fixed dither or a rotation texture is not mirror-symmetric)
+//! averages out while a deterministic left/right bias (a coarse level shifted by a texel, a
+//! pyramid anchored at one side) stays. The bound is stated from the technique's own noise,
+//! sigma_d, the standard deviation of the difference of two noise realisations of a block
+//! mean: measured between two frames after a camera cut (the frame index reseeds the noise
+//! of gtao, rtao and the other per-frame jittered techniques; their denoisers correlate the
+//! noise, so no per-pixel figure predicts it), and for noise fixed in screen space (a dither,
+//! a rotation texture) from the high-frequency residual sigma of the output (each pixel
+//! against its 3x3 neighbours' mean) as sigma sqrt(2 / 64); the larger of the two. The mean
+//! difference may be FLOOR_MEAN + 2 sigma_d and the 99th percentile FLOOR_P99 + 5 sigma_d. The floors are the view's own asymmetry: rasterisation
+//! ties at silhouettes and the triangulation of mirrored faces (0.0009 mean, 0.012 99th
+//! percentile for `mssao`, which has no noise, on the mirrored view at 320x180).
+
+mod common;
+
+use aograph::{FrameOutputs, Renderer};
+use aograph_ao::{RadiusSetting, TechniqueRegistry};
+use aograph_graph::{Extent, test_gpu};
+use aograph_scene::{Camera, Scene, procedural_scene};
+use glam::Vec3;
+use std::sync::Arc;
+
+/// Block edge of the mirror check's means.
+const BLOCK: usize = 8;
+/// The view's own asymmetry (module docs).
+const FLOOR_MEAN: f32 = 0.003;
+const FLOOR_P99: f32 = 0.03;
+/// Odd, non-square and degenerate sizes (1x1, 2x3): none halves evenly down a pyramid.
+const SIZES: [(u32, u32); 7] = [
+    (67, 41),
+    (97, 64),
+    (160, 90),
+    (317, 211),
+    (320, 180),
+    (1, 1),
+    (2, 3),
+];
+
+/// `columns` seen from the nave's mirror plane z = 0: the arcade, the aisles and the props
+/// are symmetric about it, so the image is its own mirror image about its vertical centre line.
+fn mirrored_columns() -> Scene {
+    let mut scene = procedural_scene("columns").expect("columns exists");
+    scene.camera = Camera::perspective(
+        Vec3::new(11.5, 1.7, 0.0),
+        Vec3::new(-12.0, 2.4, 0.0),
+        60f32.to_radians(),
+        0.05,
+        200.0,
+    );
+    scene
+}
+
+fn renderer(technique: &str, scene: Scene, size: Extent) -> Option<Renderer> {
+    let gpu = test_gpu()?;
+    let mut config = common::ao_config(technique, 1.0, "");
+    config.radius = RadiusSetting::Auto;
+    let outputs = FrameOutputs {
+        linear_depth: true,
+        ..Default::default()
+    };
+    Some(
+        Renderer::new(
+            gpu,
+            aograph::shader_library(),
+            &TechniqueRegistry::with_builtins(),
+            Arc::new(scene),
+            &config,
+            outputs,
+            size,
+        )
+        .expect("frame graph builds"),
+    )
+}
+
+/// One frame's accessibility and linear depth.
+fn frame(r: &mut Renderer) -> (Vec<f32>, Vec<f32>) {
+    r.render(0.0).expect("frame renders");
+    (
+        r.read_ao().expect("ao reads back"),
+        r.read_linear_depth().expect("depth reads back"),
+    )
+}
+
+/// The mirror check's figures for one image.
+#[derive(Debug)]
+struct Mirror {
+    mean: f32,
+    p99: f32,
+    sigma_d: f32,
+}
+
+/// Block means (None where fewer than half the block's pixels and their mirrors are geometry),
+/// of the image or of its mirror image.
+fn block_means(ao: &[f32], depth: &[f32], w: usize, h: usize, mirror: bool) -> Vec<Option<f32>> {
+    let geo = |x: usize, y: usize| depth[y * w + x] > 0.0;
+    let b = BLOCK.min(w).min(h).max(1);
+    let mut out = Vec::new();
+    for by in 0..h / b {
+        for bx in 0..w / b {
+            let (mut s, mut k) = (0.0f32, 0);
+            for y in by * b..(by + 1) * b {
+                for x in bx * b..(bx + 1) * b {
+                    let x = if mirror { w - 1 - x } else { x };
+                    if geo(x, y) && geo(w - 1 - x, y) {
+                        s += ao[y * w + x];
+                        k += 1;
+                    }
+                }
+            }
+            out.push((k * 2 > b * b).then(|| s / k as f32));
+        }
+    }
+    out
+}
+
+/// |a - b| of the blocks both have.
+fn block_differences(a: &[Option<f32>], b: &[Option<f32>]) -> Vec<f32> {
+    a.iter()
+        .zip(b)
+        .filter_map(|(a, b)| Some((a.as_ref()? - b.as_ref()?).abs()))
+        .collect()
+}
+
+impl Mirror {
+    /// `again`: a second frame of the same view after a camera cut (other noise, where the
+    /// technique's noise moves per frame).
+    fn of(ao: &[f32], again: &[f32], depth: &[f32], w: usize, h: usize) -> Mirror {
+        let geo = |x: usize, y: usize| depth[y * w + x] > 0.0;
+        // Residual against the 3x3 neighbours' mean, over geometry pixels.
+        let (mut r2, mut n) = (0.0f64, 0usize);
+        for y in 1..h.saturating_sub(1) {
+            for x in 1..w.saturating_sub(1) {
+                if !geo(x, y) {
+                    continue;
+                }
+                let (mut s, mut k) = (0.0f32, 0);
+                for (dx, dy) in [
+                    (-1i32, -1i32),
+                    (0, -1),
+                    (1, -1),
+                    (-1, 0),
+                    (1, 0),
+                    (-1, 1),
+                    (0, 1),
+                    (1, 1),
+                ] {
+                    let (qx, qy) = ((x as i32 + dx) as usize, (y as i32 + dy) as usize);
+                    if geo(qx, qy) {
+                        s += ao[qy * w + qx];
+                        k += 1;
+                    }
+                }
+                if k > 0 {
+                    r2 += ((ao[y * w + x] - s / k as f32) as f64).powi(2);
+                    n += 1;
+                }
+            }
+        }
+        let sigma = (r2 / n.max(1) as f64).sqrt() as f32;
+        let b = BLOCK.min(w).min(h).max(1);
+        // Each block against the mirror image's block at the same place (each pixel read at
+        // its mirror position, so blocks need not divide the width).
+        let here = block_means(ao, depth, w, h, false);
+        let mut d = block_differences(&here, &block_means(ao, depth, w, h, true));
+        let frames = block_differences(&here, &block_means(again, depth, w, h, false));
+        let frame_sigma =
+            (frames.iter().map(|v| v * v).sum::<f32>() / frames.len().max(1) as f32).sqrt();
+        d.sort_by(f32::total_cmp);
+        let mean = d.iter().sum::<f32>() / d.len().max(1) as f32;
+        let p99 = d
+            .get((d.len() as f32 * 0.99) as usize)
+            .copied()
+            .unwrap_or(0.0);
+        Mirror {
+            mean,
+            p99,
+            sigma_d: (sigma * (2.0 / (b * b) as f32).sqrt()).max(frame_sigma),
+        }
+    }
+
+    fn check(&self, what: &str) {
+        let (mean_bound, p99_bound) = (
+            FLOOR_MEAN + 2.0 * self.sigma_d,
+            FLOOR_P99 + 5.0 * self.sigma_d,
+        );
+        assert!(
+            self.mean <= mean_bound && self.p99 <= p99_bound,
+            "{what}: block means differ from the mirror image by {:.4} on average (allowed {mean_bound:.4}) and {:.4} at the 99th percentile (allowed {p99_bound:.4}); noise sigma_d {:.4}",
+            self.mean,
+            self.p99,
+            self.sigma_d
+        );
+    }
+}
+
+/// The depth is its own mirror image: the premise of the mirror check.
+#[test]
+fn the_mirrored_view_is_its_own_mirror_image() {
+    let size = Extent::new(160, 90);
+    let Some(mut r) = renderer("none", mirrored_columns(), size) else {
+        return;
+    };
+    let (_, depth) = frame(&mut r);
+    let (w, h) = (160, 90);
+    let mut differ = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let (a, b) = (depth[y * w + x], depth[y * w + w - 1 - x]);
+            if (a - b).abs() > 1e-3 * a.max(b) {
+                differ += 1;
+            }
+        }
+    }
+    // Silhouette pixels whose centre lies on a triangle edge can differ (rasterisation ties).
+    assert!(
+        differ <= w * h / 200,
+        "{differ} of {} depths differ from their mirror",
+        w * h
+    );
+}
+
+#[test]
+fn every_technique_is_its_own_mirror_image_at_odd_and_non_square_sizes() {
+    let registry = TechniqueRegistry::with_builtins();
+    for technique in registry.names() {
+        let Some(mut r) = renderer(&technique, mirrored_columns(), Extent::new(67, 41)) else {
+            return;
+        };
+        for (w, h) in SIZES {
+            r.resize(Extent::new(w, h)).expect("resizes");
+            let (ao, depth) = frame(&mut r);
+            r.cut();
+            let (again, _) = frame(&mut r);
+            let what = format!("{technique} at {w}x{h}");
+            common::assert_valid_ao(&ao, &depth, &what);
+            let m = Mirror::of(&ao, &again, &depth, w as usize, h as usize);
+            println!("{what}: {m:?}");
+            if let Some((_, why)) = NOT_MIRROR_COVARIANT.iter().find(|(t, _)| *t == technique) {
+                println!("  not asserted: {why}");
+                continue;
+            }
+            m.check(&what);
+        }
+    }
+}
+
+/// Techniques that are not their own mirror image by construction, with the measured reason
+/// (their figures are still printed; README "At every output size" and the issue note).
+const NOT_MIRROR_COVARIANT: &[(&str, &str)] = &[
+    (
+        "pyramid-hbao",
+        "its 3x3 pyramid is anchored at the image's top-left corner, so a width not divisible by \
+         the coarsest texel (27 px at 4 levels) puts the two sides at different phases of the \
+         coarse grid: 320x180 reads the walls 0.024 apart, 324x211 and 729x400 0.0002; a \
+         centred pyramid needs a level size SizeClass cannot state yet",
+    ),
+    (
+        "ssao",
+        "its 16 fixed random hemisphere samples under 16 rotations about the normal are not a \
+         mirror-symmetric kernel: block means differ from the mirror image by 0.007 to 0.011 \
+         (99th percentile up to 0.07 at silhouettes), although the walls at 640x360 agree \
+         within 0.006",
+    ),
+];
+
+/// Mean accessibility of the left and right fifth of the image, rows 28 % to 83 % (the walls
+/// of `columns`' default view), over geometry pixels.
+fn walls(ao: &[f32], depth: &[f32], w: usize, h: usize) -> (f32, f32) {
+    let (mut l, mut r, mut nl, mut nr) = (0.0f64, 0.0f64, 0usize, 0usize);
+    for y in (h * 28).div_ceil(100)..(h * 83).div_ceil(100) {
+        for x in 0..w / 5 {
+            let (i, j) = (y * w + x, y * w + w - 1 - x);
+            if depth[i] > 0.0 {
+                l += ao[i] as f64;
+                nl += 1;
+            }
+            if depth[j] > 0.0 {
+                r += ao[j] as f64;
+                nr += 1;
+            }
+        }
+    }
+    ((l / nl.max(1) as f64) as f32, (r / nr.max(1) as f64) as f32)
+}
+
+#[test]
+fn every_technique_reads_columns_walls_alike_at_640x360() {
+    // The reference reads the two walls 0.713 and 0.714 at 640x360 (64 rays, standard error
+    // about 0.001 over a wall). Before the fixes of crates/ao-passes/src/techniques/mssao.rs
+    // ("At every output size") mssao read them 0.880 and 0.810.
+    let (w, h) = (640usize, 360usize);
+    let registry = TechniqueRegistry::with_builtins();
+    for technique in registry.names() {
+        let scene = procedural_scene("columns").expect("columns exists");
+        let Some(mut r) = renderer(&technique, scene, Extent::new(w as u32, h as u32)) else {
+            return;
+        };
+        let (ao, depth) = frame(&mut r);
+        let (left, right) = walls(&ao, &depth, w, h);
+        println!("{technique}: walls {left:.4} {right:.4}");
+        assert!(
+            (left - right).abs() <= 0.02,
+            "{technique}: the walls read {left:.4} and {right:.4}, more than 0.02 apart"
+        );
+    }
+}
