@@ -39,6 +39,71 @@ fn decode_png(path: &Path) -> image::DynamicImage {
 }
 
 #[test]
+fn bench_sizes_scores_every_run_at_each_size_against_its_own_reference() {
+    if aograph_graph::test_gpu().is_none() {
+        return;
+    }
+    let dir = temp_dir("bench-sizes");
+    let d = dir.to_str().unwrap();
+    aograph(&[
+        "bench",
+        "--scenes",
+        "sphere-on-plane",
+        "--techniques",
+        "mssao,none",
+        "--sizes",
+        "48x27,33x40",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--rays",
+        "16",
+        "--out",
+        d,
+        "--quiet",
+    ]);
+    let file: ResultsFile =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("results.json")).unwrap()).unwrap();
+    let mut got: Vec<(String, u32, u32)> = file
+        .runs
+        .iter()
+        .map(|r| (r.technique.clone(), r.width, r.height))
+        .collect();
+    got.sort();
+    let want = [
+        ("mssao", 33, 40),
+        ("mssao", 48, 27),
+        ("none", 33, 40),
+        ("none", 48, 27),
+    ];
+    assert_eq!(got, want.map(|(t, w, h)| (t.to_string(), w, h)));
+    for r in &file.runs {
+        // Each run is scored over its own size's pixels, on both fifths.
+        assert!(r.metrics.pixels > 0 && r.metrics.pixels <= (r.width * r.height) as usize);
+        assert!(r.metrics.signed_error_left.is_some() && r.metrics.signed_error_right.is_some());
+        let image = r.image.as_deref().unwrap();
+        assert!(
+            image.ends_with(&format!("_{}x{}.png", r.width, r.height)),
+            "{image}"
+        );
+        assert_eq!(
+            decode_png(&dir.join(image)).width(),
+            3 * r.width + 2 * 2,
+            "{image}: three panels of the run's width"
+        );
+    }
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("## By output size"), "{report}");
+    for (t, w, h) in want {
+        assert!(
+            report.contains(&format!("| {t} | defaults | {w}x{h} |")),
+            "{t} at {w}x{h} in the size table:\n{report}"
+        );
+    }
+}
+
+#[test]
 fn bench_writes_every_output_and_each_parses() {
     if aograph_graph::test_gpu().is_none() {
         return;

@@ -82,6 +82,17 @@ fn malformed_gltf_names_the_file_and_the_parser_message() {
 }
 
 #[test]
+fn a_bench_size_that_is_not_width_x_height_names_the_form() {
+    for bad in ["64", "64x", "0x64", "64x36x2"] {
+        let e = fails(&["bench", "--sizes", bad, "--quiet"], &[]);
+        assert!(
+            e.contains("--sizes") && (e.contains("WIDTHxHEIGHT") || e.contains("1 to")),
+            "--sizes {bad}: {e}"
+        );
+    }
+}
+
+#[test]
 fn unknown_technique_lists_the_known_ones() {
     let out = temp_dir("technique");
     let e = render(&["--technique", "ssoa"], &out, &[]);

@@ -10,6 +10,7 @@
 //! - [`run`]: one run (timing, metrics), the per-scene reference;
 //! - [`report`]: results.csv, results.json, report.md; [`plot`]: pareto.svg/png
 //!   ([`bitmap_text`] gives the PNG its labels); [`images`]: AO | error | reference PNGs;
+//! - [`size_table`]: report.md's table by output size (`--sizes`);
 //! - [`stats`]: median/quartiles and the log-log fit.
 
 pub mod bitmap_text;
@@ -21,6 +22,7 @@ pub mod roofline;
 pub mod run;
 pub mod scaling;
 pub mod search;
+pub mod size_table;
 pub mod stats;
 pub mod sweep;
 
@@ -52,6 +54,26 @@ pub struct BenchPlan {
     pub views: ViewChoice,
     pub sets: Vec<ParamSet>,
     pub settings: BenchSettings,
+    /// `--sizes`: every run at each of these output sizes, each against its own reference;
+    /// empty: the settings' width and height only.
+    pub sizes: Vec<Extent>,
+}
+
+impl BenchPlan {
+    /// The settings of each output size the plan runs at.
+    pub fn sized_settings(&self) -> Vec<BenchSettings> {
+        if self.sizes.is_empty() {
+            return vec![self.settings.clone()];
+        }
+        self.sizes
+            .iter()
+            .map(|e| BenchSettings {
+                width: e.width,
+                height: e.height,
+                ..self.settings.clone()
+            })
+            .collect()
+    }
 }
 
 /// The views `--views` (and `--camera`) pick.
@@ -176,10 +198,10 @@ pub fn run_bench(
     out: Option<&Path>,
     progress: bool,
 ) -> AppResult<Vec<RunRecord>> {
-    let s = &plan.settings;
+    let sized = plan.sized_settings();
     let meta = BenchMeta {
         peaks: ctx.peaks,
-        ..bench_meta(&ctx.gpu, s)
+        ..bench_meta(&ctx.gpu, &sized[0])
     };
     let colours = ctx.registry.names();
     let mut writer = match out {
@@ -191,17 +213,22 @@ pub fn run_bench(
         }
         None => None,
     };
-    let per_run = (s.warmup + s.frames) as u64;
+    let per_run = (plan.settings.warmup + plan.settings.frames) as u64;
     let pb = progress_bar(
-        plan.scenes.len() as u64 * plan.sets.len() as u64 * per_run,
+        plan.scenes.len() as u64 * plan.sets.len() as u64 * sized.len() as u64 * per_run,
         progress,
     );
     let mut records = Vec::new();
     for source in &plan.scenes {
         let scene = crate::load_scene(source)?;
         let views = plan.views.views(&scene)?;
-        pb.inc_length(((views.len() as u64).saturating_sub(1)) * plan.sets.len() as u64 * per_run);
-        for view in &views {
+        pb.inc_length(
+            ((views.len() as u64).saturating_sub(1))
+                * plan.sets.len() as u64
+                * sized.len() as u64
+                * per_run,
+        );
+        for (view, s) in views.iter().flat_map(|v| sized.iter().map(move |s| (v, s))) {
             pb.set_message(format!(
                 "tracing the reference of {} / {} ({} rays/pixel)",
                 source.label(),
@@ -219,8 +246,13 @@ pub fn run_bench(
                 ));
                 let mut done = run::run_technique(ctx, &reference, set, s, &mut || pb.inc(1))?;
                 if let Some((dir, w)) = writer.as_mut() {
+                    let size = if plan.sizes.is_empty() {
+                        String::new()
+                    } else {
+                        format!("_{}x{}", s.width, s.height)
+                    };
                     let name = format!(
-                        "images/{}_{}_{}.png",
+                        "images/{}_{}_{}{size}.png",
                         file_safe(&reference.label),
                         file_safe(&reference.view),
                         set.slug()

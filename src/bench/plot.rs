@@ -338,6 +338,8 @@ pub(crate) mod tests {
                 psnr: 1.0,
                 ssim: 1.0,
                 signed_error: 0.0,
+                signed_error_left: None,
+                signed_error_right: None,
                 edge_mae: None,
                 edge_pixels: 0,
                 flicker: None,

@@ -93,7 +93,7 @@ pub struct ResultsFile {
     pub runs: Vec<RunRecord>,
 }
 
-pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image,radiance_direct_rmse,radiance_direct_psnr,radiance_full_rmse,radiance_full_psnr";
+pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image,radiance_direct_rmse,radiance_direct_psnr,radiance_full_rmse,radiance_full_psnr,signed_error_left,signed_error_right";
 
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -175,6 +175,8 @@ pub fn csv_row(r: &RunRecord) -> String {
         opt(r.radiance.map(|x| x.direct_psnr), 3),
         opt(r.radiance.map(|x| x.full_rmse), 6),
         opt(r.radiance.map(|x| x.full_psnr), 3),
+        opt(m.signed_error_left, 6),
+        opt(m.signed_error_right, 6),
     ]
     .join(",")
 }
@@ -490,6 +492,9 @@ pub fn write_report(
         let _ = writeln!(s, "Settings: {}\n", settings_line(meta));
         runs_section(&mut s, meta, runs);
         radiance_section(&mut s, runs);
+        if let Some(t) = super::size_table::size_section(runs) {
+            s.push_str(&t);
+        }
         if let Some(peaks) = &meta.peaks {
             s.push_str(&roofline_section(peaks, runs));
         }

@@ -41,6 +41,11 @@ pub struct BenchArgs {
     pub config: Option<PathBuf>,
     #[command(flatten)]
     pub run: RunFlags,
+    /// Output sizes, comma-separated WIDTHxHEIGHT (e.g. 256x144,640x360,1280x720): every run
+    /// at each size against a reference at that size, and report.md's table by size. Replaces
+    /// --width and --height.
+    #[arg(long, value_delimiter = ',')]
+    pub sizes: Vec<String>,
     /// Half-width in pixels of the depth-edge band of the edge MAE.
     #[arg(long, default_value_t = crate::metrics::DEFAULT_EDGE_BAND)]
     pub edge_band: u32,
@@ -301,6 +306,21 @@ pub(crate) fn techniques(
     Ok(out)
 }
 
+/// "WIDTHxHEIGHT", each side within the output limits.
+pub(crate) fn parse_size(flag: &str, text: &str) -> AppResult<aograph_graph::Extent> {
+    let bad = || AppError::InvalidArgument {
+        name: flag.into(),
+        value: text.into(),
+        allowed: "WIDTHxHEIGHT in pixels, e.g. 1280x720".into(),
+    };
+    let (w, h) = text.trim().split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    check_size(flag, w)?;
+    check_size(flag, h)?;
+    Ok(aograph_graph::Extent::new(w, h))
+}
+
 fn radii(args: &BenchArgs, base: RadiusSetting) -> AppResult<scaling::ScalingRadii> {
     if args.scaling_radii.is_empty() {
         return Ok(match base {
@@ -366,6 +386,11 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
         )?,
         sets,
         settings,
+        sizes: args
+            .sizes
+            .iter()
+            .map(|s| parse_size("--sizes", s))
+            .collect::<AppResult<_>>()?,
     };
     let sides: Vec<u32> = args
         .scaling_sizes

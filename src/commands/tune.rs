@@ -140,6 +140,7 @@ pub fn tune_budget(args: &TuneArgs) -> AppResult<()> {
         views: super::bench::view_choice(&[], args.camera.as_deref(), None, &registry)?,
         sets,
         settings,
+        sizes: Vec::new(),
     };
     let ctx = BenchContext {
         gpu: gpu()?,

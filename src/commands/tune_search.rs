@@ -126,6 +126,7 @@ pub fn tune_search(args: &TuneArgs) -> AppResult<()> {
             views: views.clone(),
             sets: sets.to_vec(),
             settings: settings.clone(),
+            sizes: Vec::new(),
         };
         let records = run_bench(&ctx, &plan, None, false)?;
         Ok(sets

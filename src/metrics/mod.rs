@@ -66,6 +66,13 @@ pub struct Metrics {
     /// Mean of technique - reference: negative = over-darkening.
     #[serde(with = "nonfinite")]
     pub signed_error: f64,
+    /// The signed error over the image's left and right fifths (`None` where a fifth has no
+    /// geometry): where a view is (nearly) its own mirror image, their difference is a
+    /// left/right bias of the technique (README, "At every output size").
+    #[serde(default)]
+    pub signed_error_left: Option<f64>,
+    #[serde(default)]
+    pub signed_error_right: Option<f64>,
     /// MAE over the non-sky pixels of the depth-edge band; `None` when the frame has no edge.
     pub edge_mae: Option<f64>,
     /// Non-sky pixels in the edge band.
@@ -108,6 +115,18 @@ pub fn compare(
     );
     let band_valid: Vec<bool> = band.iter().zip(&valid).map(|(b, v)| *b && *v).collect();
     let edge_pixels = band_valid.iter().filter(|b| **b).count();
+    let fifth = |left: bool| -> Option<f64> {
+        let w = width as usize;
+        let cols = (w / 5).max(1);
+        let mask: Vec<bool> = (0..n)
+            .map(|i| {
+                let x = i % w;
+                valid[i] && if left { x < cols } else { x >= w - cols }
+            })
+            .collect();
+        let s = error_stats(ao, reference, &mask);
+        (s.count > 0).then_some(s.signed)
+    };
     Ok(Metrics {
         pixels: e.count,
         mae: e.mae,
@@ -115,6 +134,8 @@ pub fn compare(
         psnr: e.psnr,
         ssim: ssim(ao, reference, &valid, width, height, &options.ssim),
         signed_error: e.signed,
+        signed_error_left: fifth(true),
+        signed_error_right: fifth(false),
         edge_mae: masked_mae(ao, reference, &band_valid),
         edge_pixels,
         flicker: None,
@@ -149,6 +170,28 @@ mod tests {
             }
         }
         (ao, depth, w, h)
+    }
+
+    #[test]
+    fn the_signed_error_of_each_outer_fifth_is_its_own() {
+        // 32 wide: the fifths are columns 0-5 and 26-31. The left one is 0.1 too bright, the
+        // right one 0.05 too dark, the middle 0.3 too bright.
+        let (r, d, w, h) = scene();
+        let ao: Vec<f32> = r
+            .iter()
+            .enumerate()
+            .map(|(i, v)| match i % 32 {
+                0..=5 => v + 0.1,
+                26..=31 => v - 0.05,
+                _ => v + 0.3,
+            })
+            .collect();
+        let m = compare(&ao, &r, &d, w, h, &MetricOptions::default()).unwrap();
+        let (l, rt) = (m.signed_error_left.unwrap(), m.signed_error_right.unwrap());
+        assert!(
+            (l - 0.1).abs() < 1e-6 && (rt + 0.05).abs() < 1e-6,
+            "{l} {rt}"
+        );
     }
 
     #[test]
