@@ -42,6 +42,18 @@ impl SceneSource {
             SceneSource::File(p) => p.display().to_string(),
         }
     }
+
+    /// A short name for file names: the procedural name, or the file's name without its
+    /// directories and extension.
+    pub fn short_name(&self) -> String {
+        match self {
+            SceneSource::Procedural(n) => n.clone(),
+            SceneSource::File(p) => p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| p.display().to_string()),
+        }
+    }
 }
 
 /// How R is chosen: `auto` or a number (`[ao] radius`, `--radius`), checked in one place.

@@ -129,8 +129,12 @@ enum SceneAction {
     },
     /// Bounds, counts, cameras, materials, transforms, views and the suggested radius.
     Info {
-        /// A procedural scene's name or a .gltf/.glb file.
-        scene: String,
+        /// A procedural scene's name or a .gltf/.glb file (or give it as --scene, as the
+        /// other commands take it).
+        #[arg(required_unless_present = "scene_flag", conflicts_with = "scene_flag")]
+        scene: Option<String>,
+        #[arg(long = "scene", id = "scene_flag", value_name = "SCENE")]
+        scene_flag: Option<String>,
     },
     /// List the procedural scenes.
     List,
@@ -195,8 +199,15 @@ fn main() -> ExitCode {
             action: SceneAction::Export { scene, file },
         } => commands::scene_export(&scene, &file),
         Command::Scene {
-            action: SceneAction::Info { scene },
-        } => commands::scene_info(&scene),
+            action: SceneAction::Info { scene, scene_flag },
+        } => match scene.or(scene_flag) {
+            Some(scene) => commands::scene_info(&scene),
+            None => Err(aograph::AppError::InvalidArgument {
+                name: "scene info".into(),
+                value: "no scene".into(),
+                allowed: "a scene name or file, as an argument or --scene".into(),
+            }),
+        },
         Command::Scene {
             action: SceneAction::List,
         } => {

@@ -170,6 +170,74 @@ fn scene_info_reports_counts_views_and_the_suggested_radius() {
     );
     let (ok, _, err) = aograph(&["scene", "info", "/no/such/scene.glb"]);
     assert!(!ok && err.contains("/no/such/scene.glb"), "{err}");
+    // --scene, as every other command takes it, says the same as the positional form.
+    let (ok, flag, err) = aograph(&["scene", "info", "--scene", "room"]);
+    let (_, positional, _) = aograph(&["scene", "info", "room"]);
+    assert!(ok && flag == positional, "{err}");
+}
+
+#[test]
+fn the_first_image_is_timed_warm_and_named_by_the_scene_file() {
+    if aograph_graph::test_gpu().is_none() {
+        return;
+    }
+    let out = temp_dir("first-image");
+    let dir = out.to_str().unwrap();
+    let (ok, _, err) = aograph(&[
+        "render", "--scene", "plane", "--width", "32", "--height", "24", "--frames", "1", "--out",
+        dir,
+    ]);
+    assert!(ok, "{err}");
+    let timings = std::fs::read_to_string(out.join("timings.txt")).unwrap();
+    assert!(
+        timings.contains("# times: a warm repeat of the frame"),
+        "{timings}"
+    );
+    // A bench of a scene file names its images by the file's name, not its absolute path,
+    // and report.md names the timing source results.csv records.
+    let glb = out.join("nested dir").join("my plane.glb");
+    std::fs::create_dir_all(glb.parent().unwrap()).unwrap();
+    let (ok, _, err) = aograph(&["scene", "export", "plane", glb.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let bench = out.join("bench");
+    let (ok, _, err) = aograph(&[
+        "bench",
+        "--scenes",
+        glb.to_str().unwrap(),
+        "--techniques",
+        "none",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--rays",
+        "4",
+        "--quiet",
+        "--out",
+        bench.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let results: aograph::bench::ResultsFile =
+        serde_json::from_str(&std::fs::read_to_string(bench.join("results.json")).unwrap())
+            .unwrap();
+    let run = &results.runs[0];
+    assert_eq!(
+        run.image.as_deref(),
+        Some("images/my_plane_default_none_defaults.png")
+    );
+    let report = std::fs::read_to_string(bench.join("report.md")).unwrap();
+    let said = match run.times.timing_source.as_str() {
+        "cpu-wall" => "CPU wall time",
+        _ => "GPU timestamp queries",
+    };
+    assert!(
+        report.contains(&format!("Times come from {said}")),
+        "{report}"
+    );
 }
 
 #[test]

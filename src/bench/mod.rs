@@ -253,7 +253,7 @@ pub fn run_bench(
                     };
                     let name = format!(
                         "images/{}_{}_{}{size}.png",
-                        file_safe(&reference.label),
+                        file_safe(&source.short_name()),
                         file_safe(&reference.view),
                         set.slug()
                     );

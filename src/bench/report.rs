@@ -59,11 +59,28 @@ pub struct BenchMeta {
 
 impl BenchMeta {
     /// The sentence that says what the milliseconds are.
-    pub fn timing_note(&self) -> String {
-        let what = if self.timestamps {
-            "GPU timestamp queries around each pass"
-        } else {
-            "CPU wall time around each pass (the adapter has no timestamp queries)"
+    /// Where the runs' times come from: the sources the runs record (`timing_source`), else
+    /// what the adapter offers.
+    pub fn timing_note(&self, runs: &[RunRecord]) -> String {
+        let used: std::collections::BTreeSet<&str> = runs
+            .iter()
+            .map(|r| r.times.timing_source.as_str())
+            .collect();
+        let timestamps = match (used.contains("gpu-timestamps"), used.contains("cpu-wall")) {
+            (true, true) => None,
+            (true, false) => Some(true),
+            (false, true) => Some(false),
+            (false, false) => Some(self.timestamps),
+        };
+        let what = match timestamps {
+            None => {
+                "GPU timestamp queries for some runs and CPU wall time for others (results.csv, `timing_source`)"
+            }
+            Some(true) => "GPU timestamp queries around each pass",
+            Some(false) if self.timestamps => {
+                "CPU wall time around each pass (results.csv: cpu-wall; the adapter's timestamp queries were not used)"
+            }
+            Some(false) => "CPU wall time around each pass (the adapter has no timestamp queries)",
         };
         if self.software {
             format!(
@@ -486,7 +503,7 @@ pub fn write_report(
         "# aograph bench\n\nDevice: **{}** (backend {}).\n\n{}\n",
         meta.device,
         meta.backend,
-        meta.timing_note()
+        meta.timing_note(runs)
     );
     if !runs.is_empty() {
         let _ = writeln!(s, "Settings: {}\n", settings_line(meta));

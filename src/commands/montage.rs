@@ -1,6 +1,7 @@
 //! `aograph montage`: one scene's reference and several techniques side by side in one PNG
-//! (README's picture). Panels left to right: shaded scene, reference, then each technique, all
-//! from the same camera and g-buffer surfaces, separated by 2-pixel gaps.
+//! (README's picture). Panels left to right: the scene shaded with the config's technique (its
+//! AO on the ambient term, as `aograph render`'s shaded.png), reference, then each technique,
+//! all from the same camera and g-buffer surfaces, separated by 2-pixel gaps.
 
 use std::path::Path;
 
@@ -35,8 +36,9 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
             .map(|a| [(a.clamp(0.0, 1.0) * 255.0).round() as u8; 3])
             .collect::<Vec<_>>()
     };
-    let mut base_ao = prepared.ao(&config.ao);
-    base_ao.technique = aograph_ao::techniques::none::BASELINE.into();
+    // The shaded panel carries the config's technique's AO (mssao unless the config says
+    // otherwise): with `none` an unlit wall was one flat grey beside panels with AO.
+    let base_ao = prepared.ao(&config.ao);
     let mut r = Renderer::new(
         gpu.clone(),
         shader_library(),
@@ -49,7 +51,9 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
         },
         size,
     )?;
-    r.render(0.0)?;
+    for _ in 0..config.frames.max(1) {
+        r.render(0.0)?;
+    }
     panels.push(
         r.read_shaded()?
             .chunks_exact(4)
@@ -102,8 +106,9 @@ pub fn montage(args: &CommonArgs, techniques: &[String], rays: u32, out: &Path) 
     }
     write_rgb_png(out, width, size.height, &rgb)?;
     println!(
-        "wrote {} (panels: shaded, reference, {})",
+        "wrote {} (panels: shaded with {}, reference, {})",
         out.display(),
+        config.ao.technique,
         techniques.join(", ")
     );
     Ok(())

@@ -430,7 +430,7 @@ pub fn run_motion_bench(
                     let name = format!(
                         "images/motion_{}_{}_{}_{}.png",
                         m.kind.name(),
-                        file_safe(&label),
+                        file_safe(&source.short_name()),
                         file_safe(&view.name),
                         set.slug()
                     );
