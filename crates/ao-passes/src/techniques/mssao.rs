@@ -146,8 +146,9 @@ pub struct MssaoParams {
     /// fewest whose coarsest kernel reaches R at the view's nearest geometry (see
     /// [`MssaoParams::levels_for`]).
     pub levels: Levels,
-    /// d_threshold (Table 2), scene units: a 2x2 block whose depth range is at most this is
-    /// averaged (median), otherwise its second-nearest sub-pixel is kept.
+    /// d_threshold (Table 2), scene units: a 2x2 block whose sub-pixels all lie within this of
+    /// the median's plane is averaged (median), otherwise its second-nearest sub-pixel is kept
+    /// (Table 2 tests the depth range; module docs, "At every output size").
     pub d_threshold: f32,
     /// r_max (Eq. 5): cap of the kernel radius in pixels of each level (5 = an 11x11 kernel).
     pub r_max: f32,
@@ -235,10 +236,10 @@ impl AoTechnique for Mssao {
     fn params(&self) -> Vec<ParamDesc> {
         vec![
             ParamDesc::word_or_int("levels", "auto", 1, MAX_LEVELS).doc(
-                "number of resolutions n, each half the previous (Sec. 4.2); auto: the fewest whose reach r_max 2^(n-1) px covers R in the view",
+                "number of resolutions n, each half the previous (Sec. 4.2); auto: the fewest whose reach r_max 2^(n-1) px covers R at the view's closest geometry (12 levels reach 10240 px: all of R up to 7680x4320)",
             ),
             ParamDesc::float("d_threshold", 0.0, 1000.0).doc(
-                "depth range (scene units) above which downsampling keeps the second-nearest sub-pixel instead of the median (Table 2)",
+                "spread of a 2x2 block about the median's plane (scene units) above which downsampling keeps the second-nearest sub-pixel instead of the median (Table 2's threshold; Table 2 tests the depth range)",
             ),
             ParamDesc::float("r_max", 1.0, 8.0)
                 .doc("kernel radius cap in pixels of each level (Eq. 5)"),
