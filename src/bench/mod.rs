@@ -10,6 +10,7 @@
 //! - [`run`]: one run (timing, metrics), the per-scene reference;
 //! - [`report`]: results.csv, results.json, report.md; [`plot`]: pareto.svg/png
 //!   ([`bitmap_text`] gives the PNG its labels); [`images`]: AO | error | reference PNGs;
+//! - [`roofline_table`]: report.md's roofline section;
 //! - [`size_table`]: report.md's table by output size (`--sizes`);
 //! - [`stats`]: median/quartiles and the log-log fit.
 
@@ -19,6 +20,7 @@ pub mod motion;
 pub mod plot;
 pub mod report;
 pub mod roofline;
+pub mod roofline_table;
 pub mod run;
 pub mod scaling;
 pub mod search;
