@@ -123,4 +123,24 @@ mod tests {
         assert!(far.closest_px >= far.nearest_px);
         assert!(far.nearest_px >= far.median_px && far.median_px >= far.farthest_px);
     }
+
+    #[test]
+    fn the_reach_needed_is_r_at_the_closest_depth_but_never_past_the_diagonal() {
+        // Straight down at the floor from 4 units: every depth is 4, so R = 0.5 needs
+        // R H / (2 tan(0.5) * 4) = 16.5 px at H = 144; R = 1000 would need 32,900 px, but no
+        // tap lands farther than the 256x144 image's diagonal, 293.7 px.
+        let mut scene = procedural_scene("plane").unwrap();
+        scene.camera = Camera {
+            up: Vec3::Z,
+            ..Camera::perspective(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, 1.0, 0.1, 100.0)
+        };
+        let small = projected_radius(&scene, &scene.camera, 256, 144, 0.5).unwrap();
+        let want = 0.5 * 144.0 / (2.0 * 0.5f32.tan() * 4.0);
+        assert!(
+            (small.reach_needed_px() / want - 1.0).abs() < 1e-4,
+            "{small:?}"
+        );
+        let huge = projected_radius(&scene, &scene.camera, 256, 144, 1000.0).unwrap();
+        assert_eq!(huge.reach_needed_px(), 256f32.hypot(144.0));
+    }
 }
