@@ -14,6 +14,7 @@ pub mod pass_owner;
 pub mod prepared_scene;
 pub mod reach;
 pub mod renderer;
+pub mod runtime_dir;
 pub mod viewer;
 
 pub use config::{AppConfig, RadiusSetting, SceneSource};

@@ -35,7 +35,8 @@ struct Common {
     #[arg(long)]
     height: Option<u32>,
     /// Shared AO radius R: `auto` (the default: the scene's size / 9) or world units.
-    #[arg(long)]
+    // A negative value reaches the range check (clap would read "-1" as a flag).
+    #[arg(long, allow_hyphen_values = true)]
     radius: Option<String>,
     /// Camera: a view (default, outside, outside-2, interior-1, interior-2, a [[views]] name),
     /// a glTF camera's name or index, or inline "pos=x,y,z target=x,y,z fov=60".
@@ -155,6 +156,7 @@ impl Common {
 }
 
 fn main() -> ExitCode {
+    aograph::runtime_dir::ensure_runtime_dir();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render {

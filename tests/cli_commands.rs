@@ -177,6 +177,25 @@ fn scene_info_reports_counts_views_and_the_suggested_radius() {
 }
 
 #[test]
+fn without_a_display_session_the_driver_says_nothing_about_xdg_runtime_dir() {
+    if aograph_graph::test_gpu().is_none() {
+        return;
+    }
+    let out = temp_dir("no-xdg");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_aograph"))
+        .args([
+            "render", "--scene", "plane", "--width", "16", "--height", "16", "--out",
+        ])
+        .arg(&out)
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .expect("aograph runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
+}
+
+#[test]
 fn the_first_image_is_timed_warm_and_named_by_the_scene_file() {
     if aograph_graph::test_gpu().is_none() {
         return;

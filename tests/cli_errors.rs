@@ -93,6 +93,36 @@ fn a_bench_size_that_is_not_width_x_height_names_the_form() {
 }
 
 #[test]
+fn every_list_option_of_bench_takes_the_form_its_help_shows() {
+    // Each list option's help says "comma-separated" (or shows a comma default), and that form
+    // gets past the parser: the run then stops at the radius check, which comes first.
+    let help = String::from_utf8_lossy(&aograph(&["bench", "--help"], &[]).stdout).to_string();
+    assert!(help.contains("[default: 128,256,512,1024]"), "{help}");
+    for (flag, form) in [
+        ("--scenes", "plane,corner"),
+        ("--techniques", "ssao,gtao"),
+        ("--views", "default,outside"),
+        ("--sizes", "64x36,32x18"),
+        ("--scaling-sizes", "128,256,512,1024"),
+        ("--scaling-radii", "0.5,1"),
+    ] {
+        let line = help
+            .lines()
+            .find(|l| l.trim_start().starts_with(&format!("{flag} ")))
+            .unwrap_or_else(|| panic!("{flag} in bench --help"));
+        assert!(
+            line.contains("comma-separated") || line.contains(','),
+            "{flag}'s help names no form: {line}"
+        );
+        let e = fails(&["bench", flag, form, "--radius", "-1", "--quiet"], &[]);
+        assert!(
+            e.contains("--radius") && e.contains("greater than 0"),
+            "{flag} {form}: {e}"
+        );
+    }
+}
+
+#[test]
 fn unknown_technique_lists_the_known_ones() {
     let out = temp_dir("technique");
     let e = render(&["--technique", "ssoa"], &out, &[]);
@@ -114,6 +144,12 @@ fn negative_or_zero_radius_gives_the_allowed_range() {
             "{e}"
         );
     }
+    // As a separate argument, as users type it: the range message, not clap's "unexpected
+    // argument '-1'", for render and for bench.
+    let e = render(&["--radius", "-1"], &out, &[]);
+    assert!(e.contains("greater than 0"), "{e}");
+    let e = fails(&["bench", "--radius", "-1", "--quiet"], &[]);
+    assert!(e.contains("greater than 0"), "{e}");
 }
 
 #[test]

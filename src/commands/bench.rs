@@ -55,10 +55,12 @@ pub struct BenchArgs {
     /// Time resolution and radius scaling instead (no reference): writes scaling.csv.
     #[arg(long)]
     pub scaling: bool,
-    /// Square sides for --scaling.
-    #[arg(long, value_delimiter = ',', default_values_t = scaling::DEFAULT_SIDES)]
+    /// Square sides for --scaling, comma-separated.
+    // The default as text, so --help shows the comma form it accepts (a list default prints
+    // space-separated, which the flag refused); `scaling::DEFAULT_SIDES` says the same.
+    #[arg(long, value_delimiter = ',', default_value = "128,256,512,1024")]
     pub scaling_sizes: Vec<u32>,
-    /// Radii (world units) for --scaling. Default: R times 0.5, 1, 2, 4.
+    /// Radii (world units) for --scaling, comma-separated. Default: R times 0.5, 1, 2, 4.
     #[arg(long, value_delimiter = ',')]
     pub scaling_radii: Vec<f32>,
     /// Move the camera instead of holding it still: orbit (about its target), path (a
@@ -116,7 +118,8 @@ pub struct RunFlags {
     #[arg(long, default_value_t = 2)]
     pub warmup: u32,
     /// Shared AO radius R: `auto` (default: each scene's size / 9) or world units.
-    #[arg(long)]
+    // A negative value reaches the range check (clap would read "-1" as a flag).
+    #[arg(long, allow_hyphen_values = true)]
     pub radius: Option<String>,
     /// Reference rays per pixel.
     #[arg(long, default_value_t = 256)]
