@@ -19,12 +19,11 @@
 
 mod common;
 
-use aograph::{FrameOutputs, Renderer};
+use aograph::Renderer;
 use aograph_ao::{RadiusSetting, TechniqueRegistry};
-use aograph_graph::{Extent, test_gpu};
+use aograph_graph::Extent;
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::Vec3;
-use std::sync::Arc;
 
 /// Block edge of the mirror check's means.
 const BLOCK: usize = 8;
@@ -57,25 +56,9 @@ fn mirrored_columns() -> Scene {
 }
 
 fn renderer(technique: &str, scene: Scene, size: Extent) -> Option<Renderer> {
-    let gpu = test_gpu()?;
     let mut config = common::ao_config(technique, 1.0, "");
     config.radius = RadiusSetting::Auto;
-    let outputs = FrameOutputs {
-        linear_depth: true,
-        ..Default::default()
-    };
-    Some(
-        Renderer::new(
-            gpu,
-            aograph::shader_library(),
-            &TechniqueRegistry::with_builtins(),
-            Arc::new(scene),
-            &config,
-            outputs,
-            size,
-        )
-        .expect("frame graph builds"),
-    )
+    common::renderer(scene, &config, size)
 }
 
 /// One frame's accessibility and linear depth.

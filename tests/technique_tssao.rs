@@ -9,9 +9,7 @@
 
 mod common;
 
-use std::sync::Arc;
-
-use aograph::{FrameOutputs, PassOwner, ReferenceSettings, Renderer};
+use aograph::{PassOwner, ReferenceSettings, Renderer};
 use aograph_ao::AoConfig;
 use aograph_ao::TechniqueRegistry;
 use aograph_ao::blocks::temporal::TemporalMode;
@@ -25,24 +23,7 @@ const RAYS: u32 = 1024;
 const FRAME_TIME: f32 = 1.0 / 30.0;
 
 fn renderer(scene: Scene, config: &AoConfig, size: Extent) -> Option<Renderer> {
-    let gpu = test_gpu()?;
-    let registry = TechniqueRegistry::with_builtins();
-    let outputs = FrameOutputs {
-        linear_depth: true,
-        ..Default::default()
-    };
-    Some(
-        Renderer::new(
-            gpu,
-            aograph::shader_library(),
-            &registry,
-            Arc::new(scene),
-            config,
-            outputs,
-            size,
-        )
-        .expect("frame graph builds"),
-    )
+    common::renderer(scene, config, size)
 }
 
 fn tssao(params: &str) -> AoConfig {

@@ -33,25 +33,33 @@ pub fn ao_config(technique: &str, radius: f32, params_toml: &str) -> AoConfig {
     c
 }
 
-/// Renders `frames` frames (static time 0) of `scene` with `config`; `None` when the test must
-/// skip because there is no GPU (never in CI).
-pub fn render_ao(scene: Scene, config: &AoConfig, size: Extent, frames: u32) -> Option<AoRun> {
+/// A renderer of `scene` with `config` at `size` that also outputs linear depth; `None` when
+/// the test must skip because there is no GPU (never in CI).
+pub fn renderer(scene: Scene, config: &AoConfig, size: Extent) -> Option<Renderer> {
     let gpu = test_gpu()?;
     let registry = TechniqueRegistry::with_builtins();
     let outputs = FrameOutputs {
         linear_depth: true,
         ..Default::default()
     };
-    let mut renderer = Renderer::new(
-        gpu,
-        aograph::shader_library(),
-        &registry,
-        Arc::new(scene),
-        config,
-        outputs,
-        size,
+    Some(
+        Renderer::new(
+            gpu,
+            aograph::shader_library(),
+            &registry,
+            Arc::new(scene),
+            config,
+            outputs,
+            size,
+        )
+        .expect("frame graph builds"),
     )
-    .expect("frame graph builds");
+}
+
+/// Renders `frames` frames (static time 0) of `scene` with `config`; `None` when the test must
+/// skip because there is no GPU (never in CI).
+pub fn render_ao(scene: Scene, config: &AoConfig, size: Extent, frames: u32) -> Option<AoRun> {
+    let mut renderer = renderer(scene, config, size)?;
     for _ in 0..frames {
         renderer.render(0.0).expect("frame renders");
     }
