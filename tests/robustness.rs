@@ -184,6 +184,7 @@ fn load_and_check(path: &std::path::Path) -> &'static str {
                 SceneError::MissingBuffer { .. } => "missing buffer",
                 SceneError::NonFiniteVertex { .. } => "non-finite vertex",
                 SceneError::EmptyScene { .. } => "no triangles",
+                SceneError::UnsupportedExtension { .. } => "unsupported extension",
                 other => panic!("unexpected error variant: {other:?}"),
             }
         }

@@ -198,9 +198,31 @@ pub fn scene_info_text(source: &SceneSource) -> AppResult<String> {
             let _ = writeln!(s, "materials: {}", scene.materials.len());
         }
     }
+    if let Some(info) = &gltf {
+        write_extensions(&mut s, &info.extensions);
+    }
     let r = suggested_radius(&scene);
     let _ = writeln!(s, "suggested R: {} ({})", short(r.radius), r.derivation);
     Ok(s)
+}
+
+/// The `extensions:` lines: each extension the file uses, and what aograph does with it.
+fn write_extensions(s: &mut String, extensions: &[aograph_scene::ExtensionUse]) {
+    use aograph_scene::ExtensionHandling;
+    if extensions.is_empty() {
+        let _ = writeln!(s, "extensions: none");
+        return;
+    }
+    let _ = writeln!(s, "extensions: {}", extensions.len());
+    for e in extensions {
+        let handling = match e.handling {
+            ExtensionHandling::Read => "read",
+            ExtensionHandling::Ignored => "not read (cannot change AO)",
+            ExtensionHandling::Unknown => "not read (unknown to aograph)",
+        };
+        let required = if e.required { ", required" } else { "" };
+        let _ = writeln!(s, "  {}{required}: {handling}", e.name);
+    }
 }
 
 /// `aograph scene info`.
@@ -244,5 +266,36 @@ mod tests {
         let shear = Mat3::from_diagonal(Vec3::new(1.0, 2.5, 1.0))
             * Mat3::from_rotation_z(std::f32::consts::FRAC_PI_4);
         assert_eq!(transform_kind(shear), (true, false));
+    }
+
+    #[test]
+    fn the_extensions_a_file_uses_are_listed_with_what_aograph_does() {
+        let dir = std::env::temp_dir().join(format!("aograph-info-ext-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("extensions.gltf");
+        // One triangle: positions (0,0,0), (1,0,0), (0,1,0) as a base64 data URI.
+        let gltf = serde_json::json!({
+            "asset": {"version": "2.0"},
+            "extensionsUsed": ["KHR_mesh_quantization", "KHR_texture_basisu", "VENDOR_made_up"],
+            "extensionsRequired": ["KHR_mesh_quantization"],
+            "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,\
+                AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                           "min": [0, 0, 0], "max": [1, 1, 0]}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+            "nodes": [{"mesh": 0}],
+        });
+        std::fs::write(&path, serde_json::to_vec(&gltf).unwrap()).unwrap();
+        let text = scene_info_text(&SceneSource::File(path)).unwrap();
+        assert!(
+            text.contains(
+                "extensions: 3\n  KHR_mesh_quantization, required: read\n  \
+                 KHR_texture_basisu: not read (cannot change AO)\n  \
+                 VENDOR_made_up: not read (unknown to aograph)\n"
+            ),
+            "{text}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

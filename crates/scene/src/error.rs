@@ -26,6 +26,19 @@ pub enum SceneError {
     #[error("{path} is not valid glTF JSON: {message}")]
     MalformedJson { path: PathBuf, message: String },
 
+    /// The file requires an extension aograph does not read (`extensionsRequired`).
+    #[error(
+        "{path} requires the glTF extension {extension}, which aograph does not read; to load it, \
+         {conversion}. Required extensions aograph accepts: {}",
+        supported.join(", ")
+    )]
+    UnsupportedExtension {
+        path: PathBuf,
+        extension: String,
+        supported: Vec<String>,
+        conversion: String,
+    },
+
     /// The file parsed but breaks the glTF 2.0 rules (bad .glb header, dangling index, ...).
     #[error("{path} is not a valid glTF 2.0 file: {message}")]
     InvalidGltf { path: PathBuf, message: String },

@@ -34,7 +34,9 @@ pub use camera::{Camera, CameraMotion, CameraRay, Projection};
 pub use environment::{SkyEnvironment, SkyIrradiance};
 pub use error::SceneError;
 pub use gltf_export::export_glb;
-pub use gltf_import::{GltfImport, GltfInfo, MaterialInfo, import_gltf, load_scene};
+pub use gltf_import::{
+    ExtensionHandling, ExtensionUse, GltfImport, GltfInfo, MaterialInfo, import_gltf, load_scene,
+};
 pub use model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, NamedCamera, Scene};
 pub use normal_transform::{normal_matrix, transform_normal};
 pub use procedural::{PROCEDURAL_SCENE_NAMES, procedural_scene};

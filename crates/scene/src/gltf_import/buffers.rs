@@ -4,6 +4,8 @@
 //! We resolve URIs here instead of calling `gltf::import_buffers` so that a missing .bin is
 //! reported by name ([`SceneError::MissingBuffer`]) and so a malformed percent-encoded URI cannot
 //! reach the `unwrap` in gltf 1.4's URI decoder. Images are never loaded: AO needs no textures.
+//! A buffer EXT_meshopt_compression marks as a `fallback` (it has no data; its views are
+//! decoded into it by `meshopt_views`) is made as zeros of its declared length.
 //! Invariant: every returned buffer is at least as long as the document declares, padded to a
 //! multiple of 4 bytes, in document order, so accessor reads can index by buffer number.
 
@@ -44,11 +46,15 @@ fn resolve_uri(base_dir: &Path, uri: &str) -> Option<PathBuf> {
     Some(base_dir.join(percent_decode(uri)))
 }
 
+/// The largest fallback buffer made (2 GiB): a declared length is not allocated unchecked.
+const MAX_FALLBACK_BYTES: usize = 1 << 31;
+
 /// Reads every buffer of `document`; `blob` is the GLB binary chunk, if any.
 pub(super) fn load_buffers(
     path: &Path,
     document: &gltf::Document,
     mut blob: Option<Vec<u8>>,
+    fallbacks: &[usize],
 ) -> Result<Vec<gltf::buffer::Data>, SceneError> {
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let invalid = |message: String| SceneError::InvalidGltf {
@@ -59,6 +65,16 @@ pub(super) fn load_buffers(
     for buffer in document.buffers() {
         let index = buffer.index();
         let mut data = match buffer.source() {
+            _ if fallbacks.contains(&index) => {
+                if buffer.length() > MAX_FALLBACK_BYTES {
+                    return Err(invalid(format!(
+                        "buffer {index} is an EXT_meshopt_compression fallback of {} bytes, more \
+                         than the {MAX_FALLBACK_BYTES} aograph decodes",
+                        buffer.length()
+                    )));
+                }
+                vec![0; buffer.length()]
+            }
             gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
                 invalid(format!(
                     "buffer {index} refers to the GLB binary chunk, but the file has none"

@@ -8,8 +8,11 @@
 //! and camera animations), and skins (JOINTS_0 / WEIGHTS_0, inverse bind matrices, joints
 //! animated by the same clip: see `crate::skin`; the skinned node's own transform is ignored,
 //! as glTF specifies).
-//! What is not: images and textures (never loaded; missing image files only cause a warning,
-//! since AO needs no textures), morph targets, lights. Non-triangle primitives (points, lines, line loops,
+//! Optimised files read as their originals: KHR_mesh_quantization, EXT_meshopt_compression,
+//! sparse accessors and accessors without a buffer view (`accessor_reader`, `meshopt_views`);
+//! which extensions are read, ignored or refused is decided once, in `document`.
+//! What is not: images and textures (never loaded; missing image files, or images in KTX2 or
+//! WebP, only cause a warning, since AO needs no textures), morph targets, lights. Non-triangle primitives (points, lines, line loops,
 //! line strips) are skipped with a warning; triangle strips and fans are converted to lists.
 //! Warnings go to stderr from [`load_scene`]; [`import_gltf`] returns them instead.
 //! Without a camera in the file, the default camera is the automatic one (see
@@ -17,8 +20,10 @@
 //! view fitting the bounding sphere). Invariant: a returned scene has at least one triangle, finite
 //! positions and in-range indices; anything else is a [`SceneError`] naming the file.
 
-mod accessor_check;
+mod accessor_reader;
 mod buffers;
+mod document;
+mod meshopt_views;
 mod node_animation;
 mod primitive_reader;
 mod skin_reader;
@@ -55,6 +60,28 @@ pub struct GltfInfo {
     pub materials: Vec<MaterialInfo>,
     /// Skins: name and joint count.
     pub skins: Vec<(String, usize)>,
+    /// The file's `extensionsUsed`, each with what aograph does with it.
+    pub extensions: Vec<ExtensionUse>,
+}
+
+/// One extension a file uses, and what aograph does with it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtensionUse {
+    pub name: String,
+    /// Listed in `extensionsRequired` too.
+    pub required: bool,
+    pub handling: ExtensionHandling,
+}
+
+/// What aograph does with an extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExtensionHandling {
+    /// Read: the geometry depends on it (KHR_mesh_quantization, EXT_meshopt_compression).
+    Read,
+    /// Not read, and cannot change AO (texture formats, materials, lights).
+    Ignored,
+    /// Not known to aograph: drawn without it when optional, refused when required.
+    Unknown,
 }
 
 /// One glTF material's properties that matter to AO and shading.
@@ -93,18 +120,24 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         }
         Err(e) => return Err(SceneError::io("read", path, e)),
     };
-    // Validation happens in `from_json`, after a check of the one index gltf-json 1.4's
-    // validator dereferences without a bounds check (it would panic on a bad POSITION index).
-    let unvalidated =
-        gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
-    check_attribute_indices(path, unvalidated.document.as_json())?;
+    let parsed = document::parse(path, &bytes)?;
     let gltf = gltf::Gltf {
-        document: gltf::Document::from_json(unvalidated.document.into_json())
-            .map_err(|e| parse_error(path, e))?,
-        blob: unvalidated.blob,
+        document: parsed.document,
+        blob: parsed.blob,
     };
-    let buffers = buffers::load_buffers(path, &gltf.document, gltf.blob.clone())?;
-    let mut warnings = Vec::new();
+    let mut buffers = buffers::load_buffers(
+        path,
+        &gltf.document,
+        gltf.blob.clone(),
+        &meshopt_views::fallback_buffers(&parsed.json),
+    )?;
+    meshopt_views::decode_views(&parsed.json, &mut buffers).map_err(|message| {
+        SceneError::InvalidGltf {
+            path: path.to_owned(),
+            message,
+        }
+    })?;
+    let mut warnings = parsed.warnings;
     let missing = buffers::missing_images(path, &gltf.document);
     if !missing.is_empty() {
         warnings.push(format!(
@@ -187,6 +220,7 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
             .iter()
             .map(|s| (s.name.clone(), s.joints.len()))
             .collect(),
+        extensions: document::extension_uses(&parsed.json),
     };
     let mut scene = Scene {
         meshes,
@@ -252,27 +286,6 @@ fn parse_error(path: &Path, error: gltf::Error) -> SceneError {
             message: other.to_string(),
         },
     }
-}
-
-/// Every mesh attribute must name an existing accessor.
-fn check_attribute_indices(path: &Path, root: &gltf::json::Root) -> Result<(), SceneError> {
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        for (p, primitive) in mesh.primitives.iter().enumerate() {
-            for index in primitive.attributes.values() {
-                if index.value() >= root.accessors.len() {
-                    return Err(SceneError::InvalidGltf {
-                        path: path.to_owned(),
-                        message: format!(
-                            "mesh {m} primitive {p} refers to accessor {}, but the file has {}",
-                            index.value(),
-                            root.accessors.len()
-                        ),
-                    });
-                }
-            }
-        }
-    }
-    Ok(())
 }
 
 /// Nodes that are nobody's child (used when the file has no scene).

@@ -8,12 +8,11 @@
 //! Invariant: every returned track passed [`Track::new`]'s checks (matching lengths, sorted
 //! finite times); channels that fail them are dropped with a warning, never a panic.
 
-use super::accessor_check::{KEY_ROTATIONS, KEY_TIMES, KEY_VECTORS, check_accessor};
+use super::accessor_reader::{KEY_ROTATIONS, KEY_TIMES, KEY_VECTORS, read_floats};
 use crate::animation::{Interpolation, Track, TrsKeyframes};
 use glam::{Quat, Vec3};
 use gltf::animation::Interpolation as GltfInterpolation;
 use gltf::animation::Property;
-use gltf::animation::util::ReadOutputs;
 use std::collections::BTreeMap;
 
 /// The unit quaternion of glTF `[x, y, z, w]` (identity if it has no usable length).
@@ -81,18 +80,19 @@ pub(super) fn read_node_animations(
                 continue;
             }
         };
-        let checked = check_accessor(&channel.sampler().input(), buffers, &KEY_TIMES)
-            .and_then(|()| check_accessor(&channel.sampler().output(), buffers, output_shape));
-        if let Err(problem) = checked {
-            warnings.push(format!("{label}: {problem}: ignored"));
-            continue;
-        }
-        let reader = channel.reader(|buffer| buffers.get(buffer.index()).map(|d| &d.0[..]));
-        let (Some(inputs), Some(outputs)) = (reader.read_inputs(), reader.read_outputs()) else {
-            warnings.push(format!("{label}: keyframes could not be read: ignored"));
-            continue;
+        let keys = read_floats(&channel.sampler().input(), buffers, &KEY_TIMES).and_then(|t| {
+            Ok((
+                t,
+                read_floats(&channel.sampler().output(), buffers, output_shape)?,
+            ))
+        });
+        let (times, outputs) = match keys {
+            Ok(keys) => keys,
+            Err(problem) => {
+                warnings.push(format!("{label}: {problem}: ignored"));
+                continue;
+            }
         };
-        let times: Vec<f32> = inputs.collect();
         let (interpolation, cubic) = match channel.sampler().interpolation() {
             GltfInterpolation::Linear => (Interpolation::Linear, false),
             GltfInterpolation::Step => (Interpolation::Step, false),
@@ -106,23 +106,26 @@ pub(super) fn read_node_animations(
         let entry = nodes
             .entry(node.index())
             .or_insert_with(|| rest_keyframes(&node));
-        let ok = match outputs {
-            ReadOutputs::Translations(values) => {
-                let values = key_values(values.map(Vec3::from_array).collect(), cubic);
-                entry.translation = Track::new(times, values, interpolation);
+        let ok = match channel.target().property() {
+            Property::Translation => {
+                let values = outputs.chunks_exact(3).map(Vec3::from_slice).collect();
+                entry.translation = Track::new(times, key_values(values, cubic), interpolation);
                 entry.translation.is_some()
             }
-            ReadOutputs::Scales(values) => {
-                let values = key_values(values.map(Vec3::from_array).collect(), cubic);
-                entry.scale = Track::new(times, values, interpolation);
+            Property::Scale => {
+                let values = outputs.chunks_exact(3).map(Vec3::from_slice).collect();
+                entry.scale = Track::new(times, key_values(values, cubic), interpolation);
                 entry.scale.is_some()
             }
-            ReadOutputs::Rotations(values) => {
-                let values = values.into_f32().map(unit_quat).collect();
+            Property::Rotation => {
+                let values = outputs
+                    .chunks_exact(4)
+                    .map(|q| unit_quat([q[0], q[1], q[2], q[3]]))
+                    .collect();
                 entry.rotation = Track::new(times, key_values(values, cubic), interpolation);
                 entry.rotation.is_some()
             }
-            ReadOutputs::MorphTargetWeights(_) => true,
+            Property::MorphTargetWeights => true,
         };
         if !ok {
             warnings.push(format!(

@@ -7,12 +7,15 @@
 //! made by un-indexing so each triangle has its own three vertices. Invariant of the result:
 //! finite positions (a NaN or infinite one is a [`SceneError::NonFiniteVertex`]), indices in
 //! range (else [`SceneError::InvalidGltf`]), one unit normal per position, a whole number of
-//! triangles. Quantized (non-float) positions are skipped with a warning; every accessor is
-//! checked (see `accessor_check`) before the `gltf` reader sees it. Weights are normalised to sum
+//! triangles. Accessors are read by `accessor_reader` (quantized and normalized integers,
+//! sparse parts, accessors without a buffer view), never by the `gltf` crate's readers, so a
+//! broken accessor is an error, not a panic. Weights are normalised to sum
 //! to 1 (a vertex with no positive weight follows its first joint alone, with a warning);
 //! influence sets beyond the first (JOINTS_1, more than four joints) are ignored with a warning.
 
-use super::accessor_check::{INDICES, JOINTS, NORMALS, POSITIONS, WEIGHTS, check_accessor};
+use super::accessor_reader::{
+    INDICES, JOINTS, NORMALS, POSITIONS, WEIGHTS, read_floats, read_uints,
+};
 use crate::error::SceneError;
 use crate::model::Mesh;
 use crate::skin::JointWeights;
@@ -89,27 +92,11 @@ pub(super) fn read_primitive(
             "{label} has no POSITION attribute: skipped"
         )));
     };
-    if position_accessor.data_type() != gltf::accessor::DataType::F32 {
-        return Ok(PrimitiveOutcome::Skipped(format!(
-            "{label} has quantized ({:?}) positions, which are not supported: skipped",
-            position_accessor.data_type()
-        )));
-    }
-    check_accessor(&position_accessor, buffers, &POSITIONS).map_err(invalid)?;
-    if let Some(indices) = primitive.indices() {
-        check_accessor(&indices, buffers, &INDICES).map_err(invalid)?;
-    }
-    let normals_usable = primitive
-        .get(&gltf::Semantic::Normals)
-        .is_some_and(|normals| check_accessor(&normals, buffers, &NORMALS).is_ok());
-    let reader = primitive.reader(|buffer| buffers.get(buffer.index()).map(|data| &data.0[..]));
-    let Some(positions) = reader.read_positions() else {
-        return Ok(PrimitiveOutcome::Skipped(format!(
-            "{label} has no readable POSITION attribute (sparse-only accessors are not \
-             supported): skipped"
-        )));
-    };
-    let positions: Vec<Vec3> = positions.map(Vec3::from_array).collect();
+    let positions: Vec<Vec3> = read_floats(&position_accessor, buffers, &POSITIONS)
+        .map_err(invalid)?
+        .chunks_exact(3)
+        .map(Vec3::from_slice)
+        .collect();
     if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
         return Err(SceneError::NonFiniteVertex {
             path: path.to_owned(),
@@ -117,8 +104,8 @@ pub(super) fn read_primitive(
             vertex,
         });
     }
-    let indices: Vec<u32> = match reader.read_indices() {
-        Some(indices) => indices.into_u32().collect(),
+    let indices: Vec<u32> = match primitive.indices() {
+        Some(accessor) => read_uints(&accessor, buffers, &INDICES).map_err(invalid)?,
         None => (0..positions.len() as u32).collect(),
     };
     if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
@@ -134,17 +121,17 @@ pub(super) fn read_primitive(
             "{label} has no triangles: skipped"
         )));
     }
-    let normals = if normals_usable {
-        reader.read_normals()
-    } else {
-        None
-    };
-    let normals: Option<Vec<Vec3>> = normals.and_then(|normals| {
-        let normals: Vec<Vec3> = normals
-            .map(|n| Vec3::from_array(n).try_normalize())
-            .collect::<Option<_>>()?;
-        (normals.len() == positions.len()).then_some(normals)
-    });
+    // Unusable normals (wrong type or count, zero length) mean flat shading, not an error.
+    let normals: Option<Vec<Vec3>> = primitive
+        .get(&gltf::Semantic::Normals)
+        .and_then(|accessor| read_floats(&accessor, buffers, &NORMALS).ok())
+        .and_then(|normals| {
+            normals
+                .chunks_exact(3)
+                .map(|n| Vec3::from_slice(n).try_normalize())
+                .collect::<Option<Vec<Vec3>>>()
+        })
+        .filter(|normals| normals.len() == positions.len());
     let mut warnings = Vec::new();
     let skin_weights =
         read_skin_weights(buffers, primitive, positions.len(), &mut warnings).map_err(invalid)?;
@@ -197,8 +184,6 @@ fn read_skin_weights(
         (Some(_), None) => return Err("has JOINTS_0 but no WEIGHTS_0".into()),
         (None, Some(_)) => return Err("has WEIGHTS_0 but no JOINTS_0".into()),
     };
-    check_accessor(&joints, buffers, &JOINTS)?;
-    check_accessor(&weights, buffers, &WEIGHTS)?;
     if joints.count() != vertices || weights.count() != vertices {
         return Err(format!(
             "JOINTS_0 has {} and WEIGHTS_0 {} entries for {vertices} vertices",
@@ -206,15 +191,16 @@ fn read_skin_weights(
             weights.count()
         ));
     }
-    let reader = primitive.reader(|buffer| buffers.get(buffer.index()).map(|data| &data.0[..]));
-    let (Some(j), Some(w)) = (reader.read_joints(0), reader.read_weights(0)) else {
-        return Err("JOINTS_0 or WEIGHTS_0 could not be read".into());
-    };
+    let j = read_uints(&joints, buffers, &JOINTS)?;
+    let w = read_floats(&weights, buffers, &WEIGHTS)?;
     let mut unweighted = 0;
     let out = j
-        .into_u16()
-        .zip(w.into_f32())
-        .map(|(joints, weights)| {
+        .chunks_exact(4)
+        .zip(w.chunks_exact(4))
+        .map(|(j, w)| {
+            // JOINTS_0 is UNSIGNED_BYTE or UNSIGNED_SHORT: every value fits a u16.
+            let joints = [j[0], j[1], j[2], j[3]].map(|j| j as u16);
+            let weights = [w[0], w[1], w[2], w[3]];
             let raw = JointWeights { joints, weights };
             raw.normalised().unwrap_or_else(|| {
                 unweighted += 1;

@@ -4,7 +4,7 @@
 //! Invariant of the result: every skin has at least one joint, every inverse bind matrix is
 //! finite and there is one per joint; anything else is an error naming the skin, never a panic.
 
-use super::accessor_check::{INVERSE_BIND_MATRICES, check_accessor};
+use super::accessor_reader::{INVERSE_BIND_MATRICES, read_floats};
 use super::{ChainLink, chain_transform, node_link};
 use crate::animation::{AnimatedTransform, Animation, TrsKeyframes};
 use crate::skin::{Joint, Skin};
@@ -67,19 +67,16 @@ fn inverse_bind_matrices(
     let Some(accessor) = skin.inverse_bind_matrices() else {
         return Ok(vec![Mat4::IDENTITY; joints]);
     };
-    check_accessor(&accessor, buffers, &INVERSE_BIND_MATRICES)?;
     if accessor.count() < joints {
         return Err(format!(
             "{} inverse bind matrices for {joints} joints",
             accessor.count()
         ));
     }
-    let reader = skin.reader(|buffer| buffers.get(buffer.index()).map(|d| &d.0[..]));
-    let matrices: Vec<Mat4> = reader
-        .read_inverse_bind_matrices()
-        .ok_or("the inverse bind matrices could not be read")?
+    let matrices: Vec<Mat4> = read_floats(&accessor, buffers, &INVERSE_BIND_MATRICES)?
+        .chunks_exact(16)
         .take(joints)
-        .map(|m| Mat4::from_cols_array_2d(&m))
+        .map(Mat4::from_cols_slice)
         .collect();
     if let Some(bad) = matrices.iter().position(|m| !m.is_finite()) {
         return Err(format!("inverse bind matrix {bad} is not finite"));

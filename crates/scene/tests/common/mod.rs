@@ -1,7 +1,10 @@
-//! Helpers shared by the glTF test files: a per-test temporary folder and the base64 of a
-//! .gltf's embedded buffer.
+//! Helpers shared by the glTF test files: a per-test temporary folder, the base64 of a
+//! .gltf's embedded buffer, gltfpack, and a hand-written file with sparse accessors.
+#![allow(dead_code)] // each test file uses some of them
 
-use std::path::PathBuf;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// A fresh folder for `test` under the system's temporary directory (per process).
 pub fn temp_dir(test: &str) -> PathBuf {
@@ -30,4 +33,90 @@ pub fn base64(bytes: &[u8]) -> String {
         }
     }
     out
+}
+
+/// Runs gltfpack with `args` on `input`, writing `output`; `None` (the test skips) when
+/// gltfpack is not installed, unless AOGRAPH_REQUIRE_GLTFPACK=1.
+pub fn gltfpack(input: &Path, output: &Path, args: &[&str]) -> Option<()> {
+    let run = Command::new("gltfpack")
+        .args(args)
+        .arg("-i")
+        .arg(input)
+        .arg("-o")
+        .arg(output)
+        .output();
+    match run {
+        Ok(out) => {
+            assert!(
+                out.status.success(),
+                "gltfpack {args:?} failed: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            Some(())
+        }
+        Err(e) => {
+            assert!(
+                std::env::var("AOGRAPH_REQUIRE_GLTFPACK").as_deref() != Ok("1"),
+                "gltfpack is required (AOGRAPH_REQUIRE_GLTFPACK=1) but could not run: {e}; \
+                 install it with scripts/ensure-gltfpack.sh"
+            );
+            eprintln!(
+                "skipping: gltfpack is not installed ({e}); scripts/ensure-gltfpack.sh installs it"
+            );
+            None
+        }
+    }
+}
+
+/// Writes `gltf` as `{test}.gltf` in the test's folder, buffer 0 being `bytes` as a data URI.
+pub fn write_gltf(test: &str, mut gltf: Value, bytes: &[u8]) -> PathBuf {
+    gltf["asset"] = json!({"version": "2.0"});
+    gltf["buffers"] = json!([{
+        "byteLength": bytes.len(),
+        "uri": format!("data:application/octet-stream;base64,{}", base64(bytes)),
+    }]);
+    let path = temp_dir(test).join(format!("{test}.gltf"));
+    std::fs::write(&path, serde_json::to_vec_pretty(&gltf).unwrap()).unwrap();
+    path
+}
+
+/// Little-endian bytes of `values`.
+pub fn f32_bytes(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// A triangle whose POSITION accessor has no buffer view (zeros) and a sparse part setting
+/// vertices 1 and 2 to (1, 0, 0) and (0, 2, 0); its indices are a base of [0, 0, 0] with a
+/// sparse part setting entries 1 and 2 to 1 and 2; its NORMAL accessor is zeros only.
+pub fn sparse_triangle() -> (Value, Vec<u8>) {
+    let mut bytes = vec![1u8, 2, 0, 0]; // sparse position indices (u8) 1, 2; padding
+    bytes.extend(f32_bytes(&[1.0, 0.0, 0.0, 0.0, 2.0, 0.0])); // at 4: sparse positions
+    bytes.extend([0u8, 0, 0, 0, 0, 0, 0, 0]); // at 28: index base, u16 [0, 0, 0] + padding
+    bytes.extend([1u8, 0, 2, 0]); // at 36: sparse index indices (u16) 1, 2
+    bytes.extend([1u8, 0, 2, 0]); // at 40: sparse index values (u16) 1, 2
+    let gltf = json!({
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 2},
+            {"buffer": 0, "byteOffset": 4, "byteLength": 24},
+            {"buffer": 0, "byteOffset": 28, "byteLength": 6},
+            {"buffer": 0, "byteOffset": 36, "byteLength": 4},
+            {"buffer": 0, "byteOffset": 40, "byteLength": 4},
+        ],
+        "accessors": [
+            {"componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 2, 0],
+             "sparse": {"count": 2,
+                        "indices": {"bufferView": 0, "componentType": 5121},
+                        "values": {"bufferView": 1}}},
+            {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR",
+             "sparse": {"count": 2,
+                        "indices": {"bufferView": 3, "componentType": 5123},
+                        "values": {"bufferView": 4}}},
+            {"componentType": 5126, "count": 3, "type": "VEC3"},
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 2}, "indices": 1}]}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+    });
+    (gltf, bytes)
 }
