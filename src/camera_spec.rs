@@ -300,8 +300,9 @@ impl CameraSpec {
                         name: "--camera".into(),
                         value: name.clone(),
                         allowed: format!(
-                            "{}, or an inline camera \"pos=x,y,z target=x,y,z fov=60\"",
-                            known.join(", ")
+                            "{}, or an inline camera \"pos=x,y,z target=x,y,z fov=60\"{}",
+                            known.join(", "),
+                            aograph_graph::did_you_mean(name, known.iter().map(String::as_str))
                         ),
                     }
                 })

@@ -127,9 +127,46 @@ fn unknown_technique_lists_the_known_ones() {
     let out = temp_dir("technique");
     let e = render(&["--technique", "ssoa"], &out, &[]);
     assert!(
-        e.contains("unknown technique `ssoa`")
+        e.contains("unknown technique `ssoa` (did you mean `ssao`?)")
             && e.contains("known techniques:")
             && e.contains("none"),
+        "{e}"
+    );
+}
+
+#[test]
+fn an_unknown_scene_view_or_preset_suggests_the_nearest_known_one() {
+    let out = temp_dir("nearest");
+    let e = render(&["--technique", "none", "--scene", "colums"], &out, &[]);
+    assert!(
+        e.contains("unknown procedural scene \"colums\" (did you mean `columns`?)"),
+        "{e}"
+    );
+    let e = render(
+        &[
+            "--technique",
+            "none",
+            "--scene",
+            "columns",
+            "--camera",
+            "outsde",
+        ],
+        &out,
+        &[],
+    );
+    assert!(
+        e.contains("--camera: outsde") && e.contains("(did you mean `outside`?)"),
+        "{e}"
+    );
+    let config = out.join("typo.toml");
+    std::fs::write(
+        &config,
+        "[ao]\ntechnique = \"gtao\"\n[ao.gtao]\npreset = \"hihg\"\n",
+    )
+    .unwrap();
+    let e = render(&["--config", config.to_str().unwrap()], &out, &[]);
+    assert!(
+        e.contains("\"hihg\"") && e.contains("(did you mean `high`?)"),
         "{e}"
     );
 }

@@ -73,29 +73,8 @@ impl Default for AoConfig {
     }
 }
 
-/// The candidate closest to `word` by edit distance, if any is reasonably close.
-pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
-    fn distance(a: &str, b: &str) -> usize {
-        let b: Vec<char> = b.chars().collect();
-        let mut row: Vec<usize> = (0..=b.len()).collect();
-        for (i, ca) in a.chars().enumerate() {
-            let mut prev = row[0];
-            row[0] = i + 1;
-            for (j, cb) in b.iter().enumerate() {
-                let cur = row[j + 1];
-                row[j + 1] = (prev + (ca != *cb) as usize).min(row[j] + 1).min(cur + 1);
-                prev = cur;
-            }
-        }
-        row[b.len()]
-    }
-    candidates
-        .into_iter()
-        .map(|c| (distance(word, c), c))
-        .filter(|(d, c)| *d <= (c.len().max(3) / 2).max(2))
-        .min()
-        .map(|(_, c)| c)
-}
+/// The candidate closest to `word` by edit distance (the one rule of `aograph_graph`).
+pub use aograph_graph::nearest_name as nearest;
 
 /// "unknown key `x` in [section]; did you mean `y`? allowed: ..."
 pub fn unknown_key(section: &str, key: &str, allowed: &[&str]) -> String {

@@ -9,7 +9,11 @@ pub enum AoError {
     #[error(transparent)]
     Graph(#[from] GraphError),
 
-    #[error("unknown technique `{name}`; known techniques: {}", known.join(", "))]
+    #[error(
+        "unknown technique `{name}`{}; known techniques: {}",
+        aograph_graph::did_you_mean(name, known.iter().map(String::as_str)),
+        known.join(", ")
+    )]
     UnknownTechnique { name: String, known: Vec<String> },
 
     #[error("invalid parameter `{name}` = {value} for technique `{technique}`: allowed {allowed}")]

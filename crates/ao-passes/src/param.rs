@@ -208,7 +208,15 @@ impl ParamDesc {
                 _ => false,
             },
         };
-        if ok { Ok(()) } else { Err(self.allowed()) }
+        match (&self.kind, value.as_str()) {
+            _ if ok => Ok(()),
+            (ParamKind::Choice(options), Some(word)) => Err(format!(
+                "{}{}",
+                self.allowed(),
+                aograph_graph::did_you_mean(word, options.iter().copied())
+            )),
+            _ => Err(self.allowed()),
+        }
     }
 }
 
