@@ -26,6 +26,13 @@ pub enum SceneError {
     #[error("{path} is not valid glTF JSON: {message}")]
     MalformedJson { path: PathBuf, message: String },
 
+    /// A glTF 1.0 file (`asset.version` 1.x, or a version-1 .glb).
+    #[error(
+        "{path} is a glTF 1.0 file, which aograph does not read; convert it to glTF 2.0 \
+         (for example with gltf-pipeline: `gltf-pipeline -i in.gltf -o out.gltf`)"
+    )]
+    Gltf1 { path: PathBuf },
+
     /// The file requires an extension aograph does not read (`extensionsRequired`).
     #[error(
         "{path} requires the glTF extension {extension}, which aograph does not read; to load it, \
@@ -76,7 +83,10 @@ pub enum SceneError {
     Export { path: PathBuf, message: String },
 
     /// A procedural scene name that is not in the registry.
-    #[error("unknown procedural scene \"{name}\"; known scenes: {known}")]
+    #[error(
+        "unknown procedural scene \"{name}\"{}; known scenes: {known}",
+        aograph_graph::did_you_mean(name, known.split(", "))
+    )]
     UnknownScene { name: String, known: String },
 
     /// A GPU operation (a pipeline, a dispatch, a readback) failed.

@@ -6,7 +6,8 @@
 //! reaching past the JSON parser into validation, buffers and geometry. Deterministic: the
 //! corruptions come from a fixed-seed generator. The optimised paths are fuzzed too: a
 //! gltfpack-quantized copy (KHR_mesh_quantization), a meshopt-compressed one
-//! (EXT_meshopt_compression: its JSON and its compressed streams) and sparse accessors.
+//! (EXT_meshopt_compression: its JSON and its compressed streams), an instanced one
+//! (EXT_mesh_gpu_instancing) and sparse accessors.
 
 mod common;
 
@@ -261,10 +262,15 @@ const MIN_OPTIMISED_SHARES: [(&str, f64); 2] = [("loaded", 0.03), ("invalid glTF
 #[test]
 fn corrupted_quantized_meshopt_and_sparse_files_never_panic() {
     let dir = common::temp_dir("fuzz-optimised");
-    let original = dir.join("cornell.glb");
-    export_glb(&procedural_scene("cornell-box").unwrap(), &original).unwrap();
     let mut rng = Lcg(0x0971);
-    for (kind, args) in [("quantized", &[][..]), ("meshopt", &["-c"][..])] {
+    // gltfpack -mi makes EXT_mesh_gpu_instancing of the columns of `columns`.
+    for (kind, scene, args) in [
+        ("quantized", "cornell-box", &[][..]),
+        ("meshopt", "cornell-box", &["-c"][..]),
+        ("instanced", "columns", &["-mi"][..]),
+    ] {
+        let original = dir.join(format!("{scene}.glb"));
+        export_glb(&procedural_scene(scene).unwrap(), &original).unwrap();
         let packed = dir.join(format!("{kind}.glb"));
         if common::gltfpack(&original, &packed, args).is_none() {
             return;

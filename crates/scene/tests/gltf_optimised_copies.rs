@@ -108,81 +108,116 @@ fn reference_difference(original: &Scene, copy: &Scene) -> (f32, f32, f32, f32) 
     )
 }
 
+/// The largest extent of `scene`'s world-space triangles.
+fn extent(scene: &Scene) -> f32 {
+    let (lo, hi) = (scene.world_triangles(0.0).iter().flatten())
+        .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    (hi - lo).max_element()
+}
+
+/// Checks `copy` (gltfpack's `label`) against `original`: the same drawn triangles, every
+/// vertex within half a quantization `step` per axis of one of the other's, and the same
+/// reference AO within the standard error.
+fn check_copy(label: &str, original: &Scene, copy: &Scene, step: f32) {
+    assert_eq!(
+        drawn_triangles(copy),
+        drawn_triangles(original),
+        "{label}: triangles"
+    );
+    // Half a step on each axis: sqrt(3)/2 steps at most, plus float rounding of the
+    // dequantizing node transform (a 1e-3 step margin).
+    let bound = step * (0.75f32.sqrt() + 1e-3);
+    let worst = worst_vertex_distance(copy, original, 4.0 * step).max(worst_vertex_distance(
+        original,
+        copy,
+        4.0 * step,
+    ));
+    let (ao_original, ao_copy, se, within) = reference_difference(original, copy);
+    eprintln!(
+        "{label}: {} triangles ({} in the original), worst vertex {worst:.3e} (step \
+         {step:.3e}), reference AO {ao_copy:.4} vs {ao_original:.4} (SE {se:.1e}), {:.1}% of \
+         pixels within 4 SE",
+        copy.triangle_count(),
+        original.triangle_count(),
+        100.0 * within
+    );
+    assert!(
+        worst <= bound,
+        "{label}: a vertex moved {worst}, over {bound}"
+    );
+    // The same rays on the same pixels: the means differ by the geometry's change only,
+    // which must stay inside three standard errors of the difference.
+    assert!(
+        (ao_original - ao_copy).abs() <= 3.0 * se,
+        "{label}: reference AO {ao_copy} vs {ao_original}, 3 SE = {}",
+        3.0 * se
+    );
+    assert!(within >= 0.99, "{label}: {within} of pixels within 4 SE");
+}
+
+/// The extension names a loaded copy reports.
+fn extensions(import: &aograph_scene::GltfImport) -> Vec<&str> {
+    (import.info.extensions.iter())
+        .map(|e| e.name.as_str())
+        .collect()
+}
+
 #[test]
 fn quantized_and_meshopt_copies_load_as_their_originals() {
     let dir = common::temp_dir("gltfpack-copies");
     for scene_name in ["teapot", "suzanne"] {
         let source = shared_scene(&format!("{scene_name}.gltf"));
         let original = load_scene(&source).unwrap();
-        let bounds = original
-            .world_triangles(0.0)
-            .iter()
-            .flatten()
-            .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| {
-                (lo.min(*p), hi.max(*p))
-            });
         // gltfpack's default is 14-bit positions over the mesh's largest extent: one step is
         // extent / (2^14 - 1), and rounding moves each coordinate by at most half of it.
-        let step = (bounds.1 - bounds.0).max_element() / 16383.0;
+        let step = extent(&original) / 16383.0;
         for (kind, args) in [("quantized", &[][..]), ("meshopt", &["-c"][..])] {
             let copy_path = dir.join(format!("{scene_name}-{kind}.glb"));
             if common::gltfpack(&source, &copy_path, args).is_none() {
                 return;
             }
-            let import =
-                import_gltf(&copy_path).unwrap_or_else(|e| panic!("{kind} {scene_name}: {e}"));
-            let used: Vec<&str> = import
-                .info
-                .extensions
-                .iter()
-                .map(|e| e.name.as_str())
-                .collect();
-            assert!(
-                used.contains(&"KHR_mesh_quantization"),
-                "{kind} {scene_name}: {used:?}"
-            );
+            let label = format!("{scene_name} {kind}");
+            let import = import_gltf(&copy_path).unwrap_or_else(|e| panic!("{label}: {e}"));
+            let used = extensions(&import);
+            assert!(used.contains(&"KHR_mesh_quantization"), "{label}: {used:?}");
             assert_eq!(
                 used.contains(&"EXT_meshopt_compression"),
                 kind == "meshopt",
-                "{kind} {scene_name}: {used:?}"
+                "{label}: {used:?}"
             );
-            let copy = import.scene;
-            assert_eq!(
-                drawn_triangles(&copy),
-                drawn_triangles(&original),
-                "{kind} {scene_name}: triangles"
-            );
-            // Half a step on each axis: sqrt(3)/2 steps at most, plus float rounding of the
-            // dequantizing node transform (a 1e-3 step margin).
-            let bound = step * (0.75f32.sqrt() + 1e-3);
-            let worst = worst_vertex_distance(&copy, &original, 4.0 * step)
-                .max(worst_vertex_distance(&original, &copy, 4.0 * step));
-            let (ao_original, ao_copy, se, within) = reference_difference(&original, &copy);
-            eprintln!(
-                "{scene_name} {kind}: {} triangles ({} in the original), worst vertex {:.3e} \
-                 (step {step:.3e}), reference AO {ao_copy:.4} vs {ao_original:.4} (SE {se:.1e}), \
-                 {:.1}% of pixels within 4 SE",
-                copy.triangle_count(),
-                original.triangle_count(),
-                worst,
-                100.0 * within
-            );
-            assert!(
-                worst <= bound,
-                "{kind} {scene_name}: a vertex moved {worst}, over {bound}"
-            );
-            // The same rays on the same pixels: the means differ by the geometry's change only,
-            // which must stay inside three standard errors of the difference.
-            assert!(
-                (ao_original - ao_copy).abs() <= 3.0 * se,
-                "{kind} {scene_name}: reference AO {ao_copy} vs {ao_original}, 3 SE = {}",
-                3.0 * se
-            );
-            assert!(
-                within >= 0.99,
-                "{kind} {scene_name}: {within} of pixels within 4 SE"
-            );
+            check_copy(&label, &original, &import.scene, step);
         }
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_instanced_copy_places_every_instance() {
+    // gltfpack -mi writes the ten identical columns of `columns` as one EXT_mesh_gpu_instancing
+    // node; every column must come back where it was.
+    let dir = common::temp_dir("gltfpack-instanced");
+    let source = dir.join("columns.glb");
+    let mut original = aograph_scene::procedural_scene("columns").unwrap();
+    aograph_scene::export_glb(&original, &source).unwrap();
+    original = load_scene(&source).unwrap();
+    let copy_path = dir.join("columns-instanced.glb");
+    if common::gltfpack(&source, &copy_path, &["-mi"]).is_none() {
+        return;
+    }
+    let import = import_gltf(&copy_path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        extensions(&import).contains(&"EXT_mesh_gpu_instancing"),
+        "{:?}",
+        extensions(&import)
+    );
+    // Each mesh is quantized over its own extent, at most the scene's.
+    check_copy(
+        "columns instanced",
+        &original,
+        &import.scene,
+        extent(&original) / 16383.0,
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

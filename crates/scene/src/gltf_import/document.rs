@@ -1,16 +1,19 @@
 //! Parses a glTF file's bytes (`.gltf` JSON or `.glb`) into a validated [`gltf::Document`],
 //! deciding per extension what aograph does with it.
 //!
-//! The specification allows three things gltf-json 1.4 refuses, so this module handles them
-//! before or instead of the crate: an accessor with neither a buffer view nor a sparse part (all
-//! zeros, glTF 2.0 §3.6.2.3), an animation channel without a target node (allowed when an
-//! extension such as KHR_animation_pointer names the target: skipped with a warning), and
-//! required extensions aograph reads itself (KHR_mesh_quantization, EXT_meshopt_compression) or
-//! that cannot change AO (texture formats, materials, lights).
+//! The specification (or the validator, which only warns) allows things gltf-json 1.4 refuses,
+//! so this module handles them before or instead of the crate: an accessor with neither a
+//! buffer view nor a sparse part (all zeros, glTF 2.0 §3.6.2.3), a texture whose image lives
+//! in an extension, a malformed accessor nothing uses, the JSON edits of `lenient_json`, and
+//! the .glb edge cases of `glb_container`. Required extensions are read (KHR_mesh_quantization,
+//! EXT_meshopt_compression, EXT_mesh_gpu_instancing), ignored when they cannot change AO
+//! (materials, textures, lights), or refused by name with a conversion.
 //! Invariant: a returned document passed gltf-json's validation except for exactly those
-//! cases; every required extension is in [`READ_EXTENSIONS`] or [`IGNORED_EXTENSIONS`], else the
-//! file is refused with [`SceneError::UnsupportedExtension`] naming it and how to convert.
+//! cases; every required extension is read or ignorable, else the file is refused with
+//! [`SceneError::UnsupportedExtension`]; glTF 1.0 is refused as [`SceneError::Gltf1`].
 
+use super::glb_container::{GlbProblem, split_glb};
+use super::lenient_json;
 use super::{ExtensionHandling, ExtensionUse};
 use crate::error::SceneError;
 use gltf::json::validation::{Error as ValidationError, Validate};
@@ -18,7 +21,11 @@ use serde_json::Value;
 use std::path::Path;
 
 /// Extensions aograph reads: the geometry depends on them.
-pub const READ_EXTENSIONS: &[&str] = &["KHR_mesh_quantization", "EXT_meshopt_compression"];
+pub const READ_EXTENSIONS: &[&str] = &[
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "EXT_mesh_gpu_instancing",
+];
 
 /// Extensions that cannot change AO, so a file that requires them still loads: texture
 /// formats and transforms (AO reads no texture; albedo is the base colour factor), material
@@ -47,14 +54,6 @@ pub const IGNORED_EXTENSIONS: &[&str] = &[
     "KHR_xmp_json_ld",
 ];
 
-/// Texture extensions whose image aograph cannot read (one warning names them).
-const TEXTURE_SOURCE_EXTENSIONS: &[&str] = &[
-    "KHR_texture_basisu",
-    "EXT_texture_webp",
-    "EXT_texture_avif",
-    "MSFT_texture_dds",
-];
-
 /// A parsed file: the validated document, its GLB binary chunk, and what was skipped.
 pub(super) struct ParsedDocument {
     pub document: gltf::Document,
@@ -74,41 +73,94 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<ParsedDocument, SceneEr
         path: path.to_owned(),
         message,
     };
-    let (json_bytes, blob) = if bytes.starts_with(b"glTF") {
-        let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| super::parse_error(path, e))?;
-        (glb.json.into_owned(), glb.bin.map(|b| b.into_owned()))
+    let gltf_1 = || SceneError::Gltf1 {
+        path: path.to_owned(),
+    };
+    let (json_bytes, blob, mut warnings) = if bytes.starts_with(b"glTF") {
+        match split_glb(bytes) {
+            Ok(parts) => (parts.json, parts.bin.map(<[u8]>::to_vec), parts.warnings),
+            Err(GlbProblem::Version1) => return Err(gltf_1()),
+            Err(GlbProblem::Invalid(message)) => return Err(invalid(message)),
+        }
     } else {
-        (bytes.to_vec(), None)
+        (bytes, None, Vec::new())
     };
     let mut json: Value =
-        serde_json::from_slice(&json_bytes).map_err(|e| malformed(e.to_string()))?;
-    let mut warnings = Vec::new();
-    let skipped = drop_channels_without_node(&mut json);
+        serde_json::from_slice(json_bytes).map_err(|e| malformed(e.to_string()))?;
+    if lenient_json::is_gltf_1(&json) {
+        return Err(gltf_1());
+    }
+    let skipped = lenient_json::drop_channels_without_node(&mut json);
     if skipped > 0 {
         warnings.push(format!(
             "{skipped} animation channel(s) have no target node (their target is named by an \
              extension such as KHR_animation_pointer, which aograph does not read): skipped"
         ));
     }
+    let filled = lenient_json::fill_scene_nodes(&mut json);
+    if filled > 0 {
+        warnings.push(format!(
+            "{filled} scene(s) have no `nodes` array: read as empty"
+        ));
+    }
+    let odd_extras = lenient_json::non_object_extras(&json);
+    if odd_extras > 0 {
+        warnings.push(format!(
+            "{odd_extras} `extras` are not JSON objects (glTF says they should be): ignored, as \
+             every `extras` is"
+        ));
+    }
     check_required_extensions(path, &json)?;
     warnings.extend(extension_warnings(&json));
     // Typed parsing from the original bytes keeps serde's line and column in messages; the
-    // edited value is parsed only when something was dropped.
-    let root: gltf::json::Root = if skipped > 0 {
-        serde_json::from_value(json.clone()).map_err(|e| malformed(e.to_string()))?
+    // edited value is parsed only when something was edited, or when strict parsing failed
+    // and whole numbers written as decimals are the cause.
+    let strict = if skipped + filled > 0 {
+        serde_json::from_value(json.clone())
     } else {
-        serde_json::from_slice(&json_bytes).map_err(|e| malformed(e.to_string()))?
+        serde_json::from_slice(json_bytes)
+    };
+    let root: gltf::json::Root = match strict {
+        Ok(root) => root,
+        Err(strict_error) => {
+            let mut lenient = json.clone();
+            let rewritten = lenient_json::whole_floats_to_integers(&mut lenient);
+            match serde_json::from_value(lenient) {
+                Ok(root) if rewritten > 0 => {
+                    warnings.push(
+                        "the JSON writes whole numbers as decimals (such as 1.0) where glTF \
+                         expects integers: read as integers"
+                            .into(),
+                    );
+                    root
+                }
+                _ => return Err(malformed(strict_error.to_string())),
+            }
+        }
     };
     check_attribute_indices(&root).map_err(invalid)?;
+    let used = used_accessors(&root, &json);
     let mut errors = Vec::new();
+    let mut unused_broken = std::collections::BTreeSet::new();
     root.validate(&root, gltf::json::Path::new, &mut |path, error| {
         let path = path();
-        if !allowed_by_specification(path.as_str(), &error) {
-            errors.push((path, error));
+        if allowed_by_specification(path.as_str(), &error) {
+            return;
+        }
+        match accessor_of(path.as_str()) {
+            Some(i) if !used.contains(&i) => {
+                unused_broken.insert(i);
+            }
+            _ => errors.push((path, error)),
         }
     });
     if !errors.is_empty() {
         return Err(super::parse_error(path, gltf::Error::Validation(errors)));
+    }
+    if !unused_broken.is_empty() {
+        warnings.push(format!(
+            "accessor(s) {unused_broken:?} break the glTF rules but nothing uses them: ignored"
+        ));
     }
     Ok(ParsedDocument {
         document: gltf::Document::from_json_without_validation(root),
@@ -116,6 +168,48 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<ParsedDocument, SceneEr
         json,
         warnings,
     })
+}
+
+/// The accessor index a validation path such as `accessors[3].type` is about.
+fn accessor_of(path: &str) -> Option<usize> {
+    let rest = path.strip_prefix("accessors[")?;
+    rest[..rest.find(']')?].parse().ok()
+}
+
+/// Every accessor something reads: attributes, indices and morph targets of every primitive,
+/// inverse bind matrices, animation samplers, and EXT_mesh_gpu_instancing attributes.
+fn used_accessors(root: &gltf::json::Root, json: &Value) -> std::collections::BTreeSet<usize> {
+    let mut used = std::collections::BTreeSet::new();
+    for primitive in root.meshes.iter().flat_map(|m| &m.primitives) {
+        used.extend(primitive.attributes.values().map(|i| i.value()));
+        used.extend(primitive.indices.map(|i| i.value()));
+        for target in primitive.targets.iter().flatten() {
+            used.extend(
+                [target.positions, target.normals, target.tangents]
+                    .into_iter()
+                    .flatten()
+                    .map(|i| i.value()),
+            );
+        }
+    }
+    used.extend(
+        root.skins
+            .iter()
+            .filter_map(|s| s.inverse_bind_matrices.map(|i| i.value())),
+    );
+    for sampler in root.animations.iter().flat_map(|a| &a.samplers) {
+        used.extend([sampler.input.value(), sampler.output.value()]);
+    }
+    let nodes = json.get("nodes").and_then(Value::as_array);
+    for node in nodes.into_iter().flatten() {
+        let attributes = node
+            .pointer("/extensions/EXT_mesh_gpu_instancing/attributes")
+            .and_then(Value::as_object);
+        for index in attributes.into_iter().flat_map(|a| a.values()) {
+            used.extend(index.as_u64().map(|i| i as usize));
+        }
+    }
+    used
 }
 
 /// The extension names a file lists in `extensionsUsed`.
@@ -144,11 +238,14 @@ pub(super) fn extension_uses(json: &Value) -> Vec<ExtensionUse> {
         .collect()
 }
 
-/// What aograph does with extension `name`.
+/// What aograph does with extension `name`: one not in the lists whose name says it concerns
+/// only materials or textures (`VENDOR_materials_*`, `VENDOR_texture_*`, the naming rule of the
+/// Khronos extension registry) is ignored like the listed ones.
 fn handling(name: &str) -> ExtensionHandling {
+    let material_or_texture = name.contains("_materials_") || name.contains("_texture_");
     if READ_EXTENSIONS.contains(&name) {
         ExtensionHandling::Read
-    } else if IGNORED_EXTENSIONS.contains(&name) {
+    } else if IGNORED_EXTENSIONS.contains(&name) || material_or_texture {
         ExtensionHandling::Ignored
     } else {
         ExtensionHandling::Unknown
@@ -182,22 +279,6 @@ fn allowed_by_specification(path: &str, error: &ValidationError) -> bool {
     zeros_accessor || required_extension || texture_source
 }
 
-/// Removes animation channels whose target has no `node`; returns how many.
-fn drop_channels_without_node(json: &mut Value) -> usize {
-    let mut dropped = 0;
-    let Some(animations) = json.get_mut("animations").and_then(Value::as_array_mut) else {
-        return 0;
-    };
-    for animation in animations {
-        if let Some(channels) = animation.get_mut("channels").and_then(Value::as_array_mut) {
-            let before = channels.len();
-            channels.retain(|c| c.get("target").is_none_or(|t| t.get("node").is_some()));
-            dropped += before - channels.len();
-        }
-    }
-    dropped
-}
-
 /// `Err` naming the first required extension aograph neither reads nor may ignore.
 fn check_required_extensions(path: &Path, json: &Value) -> Result<(), SceneError> {
     let unsupported = string_list(json, "extensionsRequired")
@@ -210,9 +291,6 @@ fn check_required_extensions(path: &Path, json: &Value) -> Result<(), SceneError
         "KHR_draco_mesh_compression" => {
             "decode it first, e.g. `gltf-transform meshopt in.glb out.glb` (meshopt compression, \
              which aograph reads) or re-export without Draco compression"
-        }
-        "EXT_mesh_gpu_instancing" => {
-            "write it without instancing, e.g. `gltfpack -i in.glb -o out.glb` (without -mi)"
         }
         _ => "convert it without that extension, e.g. with gltf-transform, or re-export it",
     };
@@ -228,27 +306,26 @@ fn check_required_extensions(path: &Path, json: &Value) -> Result<(), SceneError
     })
 }
 
-/// One warning for textures aograph cannot read, one for optional extensions it does not know.
+/// One warning for the material, texture and light extensions aograph does not apply, one for
+/// optional extensions it does not know.
 fn extension_warnings(json: &Value) -> Vec<String> {
-    let used = extensions_used(json);
+    let used = extension_uses(json);
+    let named = |handling: ExtensionHandling| -> Vec<&str> {
+        (used.iter())
+            .filter(|e| e.handling == handling)
+            .map(|e| e.name.as_str())
+            .collect()
+    };
     let mut warnings = Vec::new();
-    let textures: Vec<&str> = TEXTURE_SOURCE_EXTENSIONS
-        .iter()
-        .copied()
-        .filter(|e| used.iter().any(|u| u == e))
-        .collect();
-    if !textures.is_empty() {
+    let ignored = named(ExtensionHandling::Ignored);
+    if !ignored.is_empty() {
         warnings.push(format!(
-            "textures in {} are not read (AO reads no texture; albedo is each material's base \
-             colour factor)",
-            textures.join(", ")
+            "{} change only materials, textures or lights, which AO does not use: not applied \
+             (albedo is each material's base colour factor)",
+            ignored.join(", ")
         ));
     }
-    let unknown: Vec<&str> = used
-        .iter()
-        .map(String::as_str)
-        .filter(|e| handling(e) == ExtensionHandling::Unknown)
-        .collect();
+    let unknown = named(ExtensionHandling::Unknown);
     if !unknown.is_empty() {
         warnings.push(format!(
             "optional extension(s) {} are not read: the file is drawn without them",

@@ -1,6 +1,7 @@
 //! glTF 2.0 import: `.gltf` (embedded base64 or external buffers) and `.glb` into a [`Scene`].
 //!
-//! What is read: the default scene (else the first; else every root node), the node hierarchy
+//! What is read: the default scene (else the first; else, or when it lists no nodes, every
+//! root node), EXT_mesh_gpu_instancing copies, the node hierarchy
 //! with parent transforms accumulated, triangle primitives (positions, normals, indices or
 //! none), base colour factors, every camera node in depth-first order (named after its node,
 //! else its camera, else "camera N"; the first is the default camera; its world transform
@@ -23,6 +24,9 @@
 mod accessor_reader;
 mod buffers;
 mod document;
+mod glb_container;
+mod lenient_json;
+mod mesh_instancing;
 mod meshopt_views;
 mod node_animation;
 mod primitive_reader;
@@ -157,11 +161,17 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
             }
         })?;
 
+    let instancing = mesh_instancing::read_instances(&parsed.json, &gltf.document, &buffers)
+        .map_err(|message| SceneError::InvalidGltf {
+            path: path.to_owned(),
+            message,
+        })?;
     let mut walk = NodeWalk {
         path,
         buffers: &buffers,
         animated_nodes: &animated_nodes,
         skins: &skins,
+        instancing: &instancing,
         materials: gltf
             .document
             .materials()
@@ -182,7 +192,14 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         .default_scene()
         .or_else(|| gltf.document.scenes().next())
     {
-        Some(scene) => scene.nodes().collect(),
+        Some(scene) if scene.nodes().next().is_some() => scene.nodes().collect(),
+        Some(scene) => {
+            walk.warnings.push(format!(
+                "scene {} lists no nodes: every root node is drawn instead",
+                scene.index()
+            ));
+            root_nodes(&gltf.document)
+        }
         None => root_nodes(&gltf.document),
     };
     for root in roots {
@@ -363,6 +380,8 @@ struct NodeWalk<'a> {
     animated_nodes: &'a BTreeMap<usize, TrsKeyframes>,
     /// Every skin of the file, by glTF skin index.
     skins: &'a [Skin],
+    /// EXT_mesh_gpu_instancing transforms, by node index.
+    instancing: &'a BTreeMap<usize, Vec<Mat4>>,
     materials: Vec<Material>,
     default_material: Option<usize>,
     meshes: Vec<Mesh>,
@@ -398,7 +417,13 @@ impl NodeWalk<'_> {
         chain.push(node_link(node, self.animated_nodes).map_err(|m| self.invalid(m))?);
         if let Some(mesh) = node.mesh() {
             let meshes = self.meshes_of(&mesh)?;
-            if self.instances.len() + meshes.len() > MAX_INSTANCES {
+            // EXT_mesh_gpu_instancing: one copy per instance transform, applied before the
+            // node's own (see `mesh_instancing`); a node without it is one copy.
+            let copies: Vec<Option<Mat4>> = match self.instancing.get(&node.index()) {
+                Some(transforms) => transforms.iter().copied().map(Some).collect(),
+                None => vec![None],
+            };
+            if self.instances.len() + meshes.len() * copies.len() > MAX_INSTANCES {
                 return Err(self.invalid(format!(
                     "the node hierarchy makes more than {MAX_INSTANCES} mesh instances"
                 )));
@@ -409,17 +434,21 @@ impl NodeWalk<'_> {
                     self.instances.push(instance);
                     continue;
                 }
-                let instance = match chain_transform(&chain) {
-                    Ok(animation) => Instance::animated(index, animation),
-                    Err(matrix) => Instance::fixed(index, matrix),
-                };
-                if !instance.transform.is_finite() {
-                    return Err(self.invalid(format!(
-                        "node {}'s world transform is not finite (its parents' scales overflow a 32-bit float)",
-                        node.index()
-                    )));
+                for copy in &copies {
+                    let mut placed = chain.clone();
+                    placed.extend(copy.map(ChainLink::Static));
+                    let instance = match chain_transform(&placed) {
+                        Ok(animation) => Instance::animated(index, animation),
+                        Err(matrix) => Instance::fixed(index, matrix),
+                    };
+                    if !instance.transform.is_finite() {
+                        return Err(self.invalid(format!(
+                            "node {}'s world transform is not finite (its parents' scales overflow a 32-bit float)",
+                            node.index()
+                        )));
+                    }
+                    self.instances.push(instance);
                 }
-                self.instances.push(instance);
             }
         }
         if let Some(camera) = node.camera() {
