@@ -68,8 +68,12 @@ fn accessibility(p: vec2<i32>) -> f32 {
     let r = r_px / ppu;
     let bias = params.bias * r;
 
-    // Rotation k of the 4x4 tile (Bayer order): every 4x4 window holds all 16 once.
-    let angle = 6.2831853 * f32(interleave_4x4(vec2<u32>(p))) / 16.0;
+    // Rotation k of the 4x4 tile (Bayer order): every 4x4 window holds all 16 once. Half-step
+    // angles and the kernel mirrored (y negated) for k mod 8 >= 4 make the image mirror-
+    // covariant (module docs of techniques/ssao.rs).
+    let k_rot = interleave_4x4(vec2<u32>(p));
+    let angle = 6.2831853 * (f32(k_rot) + 0.5) / 16.0;
+    let y_sign = select(1.0, -1.0, (k_rot % 8u) >= 4u);
     let rv = vec3<f32>(cos(angle), sin(angle), 0.0);
     var t = rv - n * dot(rv, n);
     if (length(t) < 1e-3) {
@@ -83,7 +87,7 @@ fn accessibility(p: vec2<i32>) -> f32 {
     var occlusion = 0.0;
     for (var i = 0u; i < count; i = i + 1u) {
         let k = params.kernel[i].xyz;
-        let s = o + (t * k.x + b * k.y + n * k.z) * r;
+        let s = o + (t * k.x + b * (y_sign * k.y) + n * k.z) * r;
         let zs = -s.z;
         if (view.orthographic < 0.5 && !(zs > 1e-6)) {
             continue; // behind the camera
