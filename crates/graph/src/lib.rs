@@ -58,7 +58,7 @@ pub use pool::PoolKey;
 pub use readback::{TextureReadback, read_texture};
 pub use resource::{
     Buffer, BufferAccess, BufferDesc, BufferHandle, Extent, Handle, SizeClass, Texture,
-    TextureAccess, TextureDesc, TextureHandle, texel_bytes,
+    TextureAccess, TextureDesc, TextureHandle, centred_step, texel_bytes,
 };
 pub use sampler::SamplerDesc;
 pub use shader::{

@@ -46,6 +46,28 @@ pub enum SizeClass {
     Relative { divisor: u32 },
     /// A fixed size, independent of the output.
     Fixed(Extent),
+    /// Level `level` of a *centred* factor-`factor` pyramid over the output divided by
+    /// `base_divisor` (rounded up): each level is ceil(n / factor) per axis, plus one where
+    /// `factor * m - n` is odd, so the block grid overhangs both edges by the same
+    /// `(factor * m - n) / 2` texels and the pyramid is its own mirror image ([`centred_step`];
+    /// for an odd factor). Pyramid HBAO's 3x3 pyramid.
+    Centred {
+        base_divisor: u32,
+        factor: u32,
+        level: u32,
+    },
+}
+
+/// One level of a centred pyramid: `n` texels become ceil(n / factor), or one more where the
+/// overhang `factor * m - n` would be odd (it is then even, for an odd factor).
+pub fn centred_step(n: u32, factor: u32) -> u32 {
+    let k = factor.max(1);
+    let m = n.max(1).div_ceil(k);
+    if (k * m - n.max(1)) % 2 == 1 {
+        m + 1
+    } else {
+        m
+    }
 }
 
 impl SizeClass {
@@ -66,6 +88,14 @@ impl SizeClass {
     pub fn fixed(width: u32, height: u32) -> Self {
         SizeClass::Fixed(Extent::new(width, height))
     }
+    /// Level `level` of a centred factor-`factor` pyramid over the full output.
+    pub fn centred_pyramid_level(factor: u32, level: u32) -> Self {
+        SizeClass::Centred {
+            base_divisor: 1,
+            factor,
+            level,
+        }
+    }
     /// The concrete size for an output of size `output`; never below 1x1.
     pub fn resolve(self, output: Extent) -> Extent {
         match self {
@@ -77,6 +107,18 @@ impl SizeClass {
                 )
             }
             SizeClass::Fixed(e) => Extent::new(e.width.max(1), e.height.max(1)),
+            SizeClass::Centred {
+                base_divisor,
+                factor,
+                level,
+            } => {
+                let base = SizeClass::Relative {
+                    divisor: base_divisor,
+                }
+                .resolve(output);
+                let level_of = |n: u32| (0..level.min(64)).fold(n, |n, _| centred_step(n, factor));
+                Extent::new(level_of(base.width), level_of(base.height))
+            }
         }
     }
 }
@@ -87,6 +129,14 @@ impl std::fmt::Display for SizeClass {
             SizeClass::Relative { divisor: 1 } => write!(f, "full"),
             SizeClass::Relative { divisor } => write!(f, "1/{divisor}"),
             SizeClass::Fixed(e) => write!(f, "fixed {e}"),
+            SizeClass::Centred {
+                base_divisor,
+                factor,
+                level,
+            } => write!(
+                f,
+                "centred level {level} of 1/{factor} over 1/{base_divisor}"
+            ),
         }
     }
 }

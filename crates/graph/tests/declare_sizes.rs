@@ -162,3 +162,41 @@ fn with_mips_never_goes_below_one_level() {
     assert_eq!(d.mip_levels, 1);
     assert_eq!(d.bytes(Extent::new(10, 10)), 400);
 }
+
+#[test]
+fn centred_pyramid_levels_overhang_both_edges_alike() {
+    use aograph_graph::centred_step;
+    // n % 3 == 0: no overhang; == 1: ceil, overhang 2 (one each side); == 2: ceil would leave
+    // an overhang of 1, so one texel more: overhang 4 (two each side).
+    assert_eq!(centred_step(99, 3), 33);
+    assert_eq!(centred_step(97, 3), 33);
+    assert_eq!(centred_step(11, 3), 5);
+    assert_eq!(centred_step(1, 3), 1);
+    assert_eq!(
+        centred_step(2, 3),
+        2,
+        "a 2-texel level stays 2: overhang 2 each side"
+    );
+    for n in 1..500u32 {
+        let m = centred_step(n, 3);
+        assert!(
+            m >= n.div_ceil(3) && (3 * m - n).is_multiple_of(2),
+            "{n} -> {m}"
+        );
+    }
+    assert_eq!(
+        SizeClass::centred_pyramid_level(3, 3).resolve(Extent::new(97, 61)),
+        Extent::new(5, 3)
+    );
+    assert_eq!(
+        SizeClass::centred_pyramid_level(3, 0).resolve(Extent::new(97, 61)),
+        Extent::new(97, 61)
+    );
+    let half = SizeClass::Centred {
+        base_divisor: 2,
+        factor: 3,
+        level: 1,
+    };
+    assert_eq!(half.resolve(Extent::new(194, 122)), Extent::new(33, 21));
+    assert_eq!(half.to_string(), "centred level 1 of 1/3 over 1/2");
+}

@@ -85,7 +85,7 @@ fn march_level(tex: texture_2d<f32>, edge: PyramidEdge, scale: f32, step: f32, g
     for (var i = 0u; i < STEP_COUNT; i = i + 1u) {
         m.t = m.t + step;
         let q = g.pc + m.dir * m.t;
-        let tx = clamp(vec2<i32>(floor(q * inv_scale)), vec2<i32>(0), edge.last);
+        let tx = pyramid_texel(edge, q, inv_scale);
         let zs = textureLoad(tex, tx, 0).r;
         let v = pixel_view_position(g.to_view, pyramid_texel_centre(edge, tx, scale), zs) - g.o;
         let r2 = dot(v, v);

@@ -4,8 +4,11 @@
 //! Reductions:
 //! - [`DepthReduction::Average3x3`] (Pyramid HBAO, spec §2.2): factor K = 3; texel (x, y) of
 //!   level l + 1 is the arithmetic mean of the in-bounds, non-sky texels among
-//!   (3x + i, 3y + j), i, j in 0..3, of level l, i.e. the 3x3 block centred on (3x + 1, 3y + 1)
-//!   (spec §7 pseudo-code). Following the spec's [IMPL] notes (§2.2 "Edge texels", §6.3), the
+//!   (3x + i - o, 3y + j - o), i, j in 0..3, of level l, i.e. the 3x3 block centred on
+//!   (3x + 1 - o, 3y + 1 - o) (spec §7 pseudo-code, with the grid centred): the overhang
+//!   o = (3m - n) / 2 per axis (n texels become m, `aograph_graph::centred_step`) puts the
+//!   same partial block at both edges, so a mirrored image gives the mirrored pyramid. (The
+//!   spec's grid from the top-left corner made `columns`' walls 0.024 apart at 320x180.) Following the spec's [IMPL] notes (§2.2 "Edge texels", §6.3), the
 //!   ceil-sized edge windows average only in-bounds texels (no clamp-to-edge duplicates), and
 //!   sky texels (depth 0) never enter a mean, so one sky texel cannot drag a silhouette's mean
 //!   to the far plane; a block of sky only stays sky (0). A block holding both sky and
@@ -17,14 +20,14 @@
 //! - [`DepthReduction::Min2x2`] / [`DepthReduction::Max2x2`]: factor 2; the nearest / farthest
 //!   non-sky texel of the in-bounds 2x2 block, 0 when all are sky.
 //!
-//! Sizes: level l is ceil(size / factor^l) per axis (spec §2.2, "K times less (rounded up)"),
-//! declared as size classes derived from the input's; for 97x61 the 3x3 levels are 33x21,
-//! 11x7, 4x3. Passes: `<prefix>.depth_level<l>` for l = 1..levels-1, writing textures of the
+//! Sizes: for 2x2 reductions level l is ceil(size / factor^l) per axis (spec §2.2, "K times
+//! less (rounded up)"); the 3x3 pyramid adds one texel where the overhang would be odd
+//! (`SizeClass::Centred`): for 97x61 its levels are 33x21, 11x7, 5x3. Passes: `<prefix>.depth_level<l>` for l = 1..levels-1, writing textures of the
 //! same names. Invariant: every level is finite, >= 0, 0 exactly where its block is all sky.
 
 use aograph_graph::{GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 
-use super::{BLOCK_FORMAT, desc_of, invalid, scaled_size};
+use super::{BLOCK_FORMAT, centred_size, desc_of, invalid, scaled_size};
 use crate::error::AoResult;
 
 /// Most levels a pyramid may have (level 0 included).
@@ -131,7 +134,10 @@ pub fn depth_pyramid(
         reduction,
     };
     for l in 1..levels {
-        let size = scaled_size(base.size, reduction.factor(), l);
+        let size = match reduction {
+            DepthReduction::Average3x3 => centred_size(base.size, 3, l),
+            _ => scaled_size(base.size, reduction.factor(), l),
+        };
         let name = format!("{prefix}.depth_level{l}");
         let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, size));
         let mut p = b.compute_pass(&name, "blocks/depth_pyramid.wgsl", entry);
@@ -151,7 +157,17 @@ pub fn depth_pyramid(
 /// [`DepthReduction::FarWeighted2x2`], whose mirror is `depth_prefilter::prefilter_cpu`.
 pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Vec<f32>, u32, u32) {
     let k = reduction.factor();
-    let (ow, oh) = (w.div_ceil(k), h.div_ceil(k));
+    // The 3x3 grid is centred: o texels of overhang on each side; the 2x2 ones start at 0.
+    let (ow, oh, ox, oy) = match reduction {
+        DepthReduction::Average3x3 => {
+            let (ow, oh) = (
+                aograph_graph::centred_step(w, 3),
+                aograph_graph::centred_step(h, 3),
+            );
+            (ow, oh, (3 * ow - w) / 2, (3 * oh - h) / 2)
+        }
+        _ => (w.div_ceil(k), h.div_ceil(k), 0, 0),
+    };
     let mut out = Vec::with_capacity((ow * oh) as usize);
     for y in 0..oh {
         for x in 0..ow {
@@ -159,11 +175,14 @@ pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Ve
                 (0.0f32, 0u32, 0u32, f32::INFINITY, 0.0f32);
             for j in 0..k {
                 for i in 0..k {
-                    let (sx, sy) = (x * k + i, y * k + j);
-                    if sx >= w || sy >= h {
+                    let (sx, sy) = (
+                        (x * k + i) as i64 - ox as i64,
+                        (y * k + j) as i64 - oy as i64,
+                    );
+                    if sx < 0 || sy < 0 || sx >= w as i64 || sy >= h as i64 {
                         continue;
                     }
-                    let z = src[(sy * w + sx) as usize];
+                    let z = src[(sy as u32 * w + sx as u32) as usize];
                     if z > 0.0 {
                         sum += z;
                         n += 1;
@@ -174,8 +193,12 @@ pub fn reduce_cpu(src: &[f32], w: u32, h: u32, reduction: DepthReduction) -> (Ve
                     hi = hi.max(z);
                 }
             }
-            let centre =
-                || src[((y * k + 1).min(h - 1) * w + (x * k + 1).min(w - 1)) as usize].max(0.0);
+            let clamp = |v: i64, size: u32| v.clamp(0, size as i64 - 1) as u32;
+            let centre = || {
+                let cx = clamp((x * k + 1) as i64 - ox as i64, w);
+                let cy = clamp((y * k + 1) as i64 - oy as i64, h);
+                src[(cy * w + cx) as usize].max(0.0)
+            };
             out.push(match reduction {
                 DepthReduction::Average3x3 if n > 0 && sky > 0 => centre(),
                 DepthReduction::Average3x3 if n > 0 => sum / n as f32,

@@ -96,7 +96,58 @@ pub fn scaled_size(size: SizeClass, factor: u32, level: u32) -> SizeClass {
             e.width.div_ceil(f).max(1),
             e.height.div_ceil(f).max(1),
         )),
+        // No built-in scales a centred level (only `centred_size` extends it); such a size is
+        // taken as a ceil-divided pyramid over the centred pyramid's base, which differs from
+        // the centred level by at most one texel a level.
+        SizeClass::Centred {
+            base_divisor,
+            factor: k,
+            level: l,
+        } => SizeClass::Relative {
+            divisor: base_divisor
+                .max(1)
+                .saturating_mul(k.max(1).saturating_pow(l))
+                .saturating_mul(f),
+        },
     }
+}
+
+/// Level `level` of a centred factor-`factor` pyramid over textures of size class `size`
+/// (`SizeClass::Centred`: the block grid overhangs both edges alike).
+pub fn centred_size(size: SizeClass, factor: u32, level: u32) -> SizeClass {
+    match size {
+        SizeClass::Relative { divisor } => SizeClass::Centred {
+            base_divisor: divisor,
+            factor,
+            level,
+        },
+        SizeClass::Centred {
+            base_divisor,
+            factor: f,
+            level: l,
+        } if f == factor => SizeClass::Centred {
+            base_divisor,
+            factor,
+            level: l + level,
+        },
+        SizeClass::Fixed(e) => SizeClass::Fixed(centred_level_extent(e, factor, level)),
+        // No built-in nests pyramids of two factors; such a level is taken over its base.
+        SizeClass::Centred { base_divisor, .. } => SizeClass::Centred {
+            base_divisor,
+            factor,
+            level,
+        },
+    }
+}
+
+/// Level `level` of a centred factor-`factor` pyramid over an image of size `base`.
+pub fn centred_level_extent(base: Extent, factor: u32, level: u32) -> Extent {
+    SizeClass::Centred {
+        base_divisor: 1,
+        factor,
+        level,
+    }
+    .resolve(base)
 }
 
 /// Pyramid level `level` of an image of size `base`: ceil(base / factor^level) per axis.

@@ -60,20 +60,21 @@ fn average_pyramid_has_one_pass_per_level_with_ceil_sizes() {
             Extent::new(97, 61),
             Extent::new(33, 21),
             Extent::new(11, 7),
-            Extent::new(4, 3)
+            Extent::new(5, 3)
         ]
     );
     let e: Vec<Extent> = (0..4)
-        .map(|l| level_extent(Extent::new(97, 61), 3, l))
+        .map(|l| centred_level_extent(Extent::new(97, 61), 3, l))
         .collect();
     assert_eq!(e, sizes);
-    // The spec's table (§2.2): 1280x720 -> 427x240, 143x80, 48x27, 16x9, 6x3, 2x1.
+    // The spec's table (§2.2) is ceil-sized: 1280x720 -> 427x240, 143x80, 48x27, 16x9, 6x3,
+    // 2x1. The centred grid adds a texel where the overhang 3m - n would be odd (1281 - 1280).
     let e: Vec<Extent> = (1..=6)
-        .map(|l| level_extent(Extent::new(1280, 720), 3, l))
+        .map(|l| centred_level_extent(Extent::new(1280, 720), 3, l))
         .collect();
     assert_eq!(
         e,
-        [(427, 240), (143, 80), (48, 27), (16, 9), (6, 3), (2, 1)].map(|(w, h)| Extent::new(w, h))
+        [(428, 240), (144, 80), (48, 28), (16, 10), (6, 4), (2, 2)].map(|(w, h)| Extent::new(w, h))
     );
 }
 
@@ -125,7 +126,8 @@ const MAX_LEVELS_PLUS_ONE: u32 = depth_pyramid::MAX_LEVELS + 1;
 
 #[test]
 fn cpu_reduction_averages_in_bounds_taps_and_takes_the_centre_of_blocks_with_sky() {
-    // 4x4 -> 2x2 (3x3 average): the last column and row windows are 1 wide.
+    // 4x4 -> 2x2 (3x3 average, centred: one texel of overhang on each side, so every window
+    // holds 2 columns and 2 rows of the image).
     #[rustfmt::skip]
     let src = [
         1.0, 2.0, 3.0, 10.0,
@@ -135,9 +137,9 @@ fn cpu_reduction_averages_in_bounds_taps_and_takes_the_centre_of_blocks_with_sky
     ];
     let (out, w, h) = reduce_cpu(&src, 4, 4, DepthReduction::Average3x3);
     assert_eq!((w, h), (2, 2));
-    // Blocks with sky take their (clamped) centre: 5 and 9; the all-geometry edge column is
-    // averaged; the all-sky corner is sky.
-    assert_eq!(out, [5.0, 20.0, 9.0, 0.0]);
+    // The all-geometry top-left block is averaged ((1 + 2 + 4 + 5) / 4); blocks with sky take
+    // their centre texel (3x + 1 - 1, clamped): (3, 0) = 10, (0, 3) = 0 (sky), (3, 3) = 0.
+    assert_eq!(out, [3.0, 10.0, 0.0, 0.0]);
     let (lo, ..) = reduce_cpu(&src, 4, 4, DepthReduction::Min2x2);
     let (hi, ..) = reduce_cpu(&src, 4, 4, DepthReduction::Max2x2);
     assert_eq!(lo, [1.0, 3.0, 6.0, 2.0]);
@@ -161,6 +163,35 @@ fn cpu_reduction_averages_in_bounds_taps_and_takes_the_centre_of_blocks_with_sky
         reduce_cpu(&centre, 3, 3, DepthReduction::Average3x3).0,
         [0.0]
     );
+}
+
+#[test]
+fn the_average_pyramid_of_a_mirrored_image_is_the_mirrored_pyramid() {
+    for (w, h) in [(97u32, 61u32), (98, 5), (4, 4), (2, 3), (1, 1), (320, 7)] {
+        let src: Vec<f32> = (0..w * h)
+            .map(|i| {
+                if i % 7 == 3 {
+                    0.0
+                } else {
+                    1.0 + (i * 37 % 101) as f32
+                }
+            })
+            .collect();
+        let mirrored: Vec<f32> = (0..w * h)
+            .map(|i| src[((i / w) * w + w - 1 - i % w) as usize])
+            .collect();
+        let (a, ow, oh) = reduce_cpu(&src, w, h, DepthReduction::Average3x3);
+        let (b, ..) = reduce_cpu(&mirrored, w, h, DepthReduction::Average3x3);
+        for y in 0..oh {
+            for x in 0..ow {
+                assert_eq!(
+                    a[(y * ow + x) as usize],
+                    b[(y * ow + ow - 1 - x) as usize],
+                    "{w}x{h}: texel ({x}, {y})"
+                );
+            }
+        }
+    }
 }
 
 #[test]
