@@ -198,3 +198,61 @@ fn a_required_extension_aograph_does_not_read_is_refused_with_a_conversion() {
         );
     }
 }
+
+#[test]
+fn a_khr_meshopt_compressed_triangle_decodes_to_its_vertices_and_indices() {
+    // KHR_meshopt_compression (the Khronos successor of EXT_meshopt_compression, same JSON):
+    // positions (ATTRIBUTES, stride 12) and indices (TRIANGLES, u16) compressed by meshoptimizer
+    // into buffer 0; buffer 1 is the fallback without data that they decode into.
+    let positions: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0]];
+    let vertices = meshopt::encoding::encode_vertex_buffer(&positions).unwrap();
+    let indices = meshopt::encoding::encode_index_buffer(&[0, 2, 1], 3).unwrap();
+    let mut bytes = vertices.clone();
+    while !bytes.len().is_multiple_of(4) {
+        bytes.push(0);
+    }
+    let index_offset = bytes.len();
+    bytes.extend(&indices);
+    let ext = "KHR_meshopt_compression";
+    let gltf = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": [ext],
+        "extensionsRequired": [ext],
+        "buffers": [
+            {"byteLength": bytes.len(),
+             "uri": format!("data:application/octet-stream;base64,{}", common::base64(&bytes))},
+            {"byteLength": 44, "extensions": {ext: {"fallback": true}}},
+        ],
+        "bufferViews": [
+            {"buffer": 1, "byteOffset": 0, "byteLength": 36, "byteStride": 12,
+             "extensions": {ext: {"buffer": 0, "byteOffset": 0, "byteLength": vertices.len(),
+                                  "byteStride": 12, "count": 3, "mode": "ATTRIBUTES"}}},
+            {"buffer": 1, "byteOffset": 36, "byteLength": 6,
+             "extensions": {ext: {"buffer": 0, "byteOffset": index_offset,
+                                  "byteLength": indices.len(), "byteStride": 2, "count": 3,
+                                  "mode": "TRIANGLES"}}},
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0, 0, 0], "max": [2, 3, 0]},
+            {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"},
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "nodes": [{"mesh": 0}],
+    });
+    let path = common::temp_dir("khr-meshopt").join("khr-meshopt.gltf");
+    std::fs::write(&path, serde_json::to_vec(&gltf).unwrap()).unwrap();
+    let import = import_gltf(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = &import.scene.meshes[0];
+    // No normals: flat shading un-indexes in index order 0, 2, 1.
+    assert_eq!(
+        mesh.positions,
+        vec![
+            Vec3::ZERO,
+            Vec3::new(0.0, 3.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0)
+        ]
+    );
+    assert_eq!(mesh.normals, vec![Vec3::NEG_Z; 3]);
+    assert_eq!(import.info.extensions[0].handling, ExtensionHandling::Read);
+}

@@ -6,7 +6,7 @@
 //! buffer view nor a sparse part (all zeros, glTF 2.0 §3.6.2.3), a texture whose image lives
 //! in an extension, a malformed accessor nothing uses, the JSON edits of `lenient_json`, and
 //! the .glb edge cases of `glb_container`. Required extensions are read (KHR_mesh_quantization,
-//! EXT_meshopt_compression, EXT_mesh_gpu_instancing), ignored when they cannot change AO
+//! EXT_ / KHR_meshopt_compression, EXT_mesh_gpu_instancing), ignored when they cannot change AO
 //! (materials, textures, lights), or refused by name with a conversion.
 //! Invariant: a returned document passed gltf-json's validation except for exactly those
 //! cases; every required extension is read or ignorable, else the file is refused with
@@ -24,6 +24,7 @@ use std::path::Path;
 pub const READ_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
+    "KHR_meshopt_compression",
     "EXT_mesh_gpu_instancing",
 ];
 

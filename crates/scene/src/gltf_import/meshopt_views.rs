@@ -1,7 +1,10 @@
-//! Decodes buffer views compressed with EXT_meshopt_compression (gltfpack `-c`) into their
-//! buffer, so every accessor reads them like uncompressed data.
+//! Decodes buffer views compressed with EXT_meshopt_compression (gltfpack `-c`) or its
+//! Khronos successor KHR_meshopt_compression into their buffer, so every accessor reads them
+//! like uncompressed data.
 //!
-//! The extension (KhronosGroup/glTF, extensions/2.0/Vendor/EXT_meshopt_compression) gives each
+//! The extensions (KhronosGroup/glTF, extensions/2.0/Vendor/EXT_meshopt_compression and
+//! Khronos/KHR_meshopt_compression: the same JSON; the KHR one adds the COLOR filter and the
+//! codecs' version 1, both of which meshoptimizer 0.25 decodes) give each
 //! compressed view a source range in another buffer, an element `count` and `byteStride`, a
 //! `mode` (ATTRIBUTES: meshopt vertex codec; TRIANGLES: index codec; INDICES: index sequence)
 //! and an optional `filter` (OCTAHEDRAL, QUATERNION, EXPONENTIAL) undone after decoding. The
@@ -15,8 +18,8 @@
 
 use serde_json::Value;
 
-/// The JSON name of the extension.
-pub(super) const EXTENSION: &str = "EXT_meshopt_compression";
+/// The JSON names of the extensions, vendor one first.
+pub(super) const EXTENSIONS: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
 
 /// How a compressed view's stream was encoded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,12 +36,16 @@ enum Filter {
     Octahedral,
     Quaternion,
     Exponential,
+    /// KHR_meshopt_compression only: YCoCg colours (meshopt_decodeFilterColor).
+    Color,
 }
 
 /// One compressed buffer view, as the extension object describes it.
 #[derive(Clone, Debug, PartialEq)]
 struct CompressedView {
     view: usize,
+    /// Which of [`EXTENSIONS`] compressed it.
+    extension: &'static str,
     source_buffer: usize,
     source_offset: usize,
     source_length: usize,
@@ -55,7 +62,7 @@ pub(super) fn fallback_buffers(json: &Value) -> Vec<usize> {
         .enumerate()
         .filter(|(_, b)| {
             extension(b)
-                .and_then(|e| e.get("fallback"))
+                .and_then(|(_, e)| e.get("fallback"))
                 .and_then(Value::as_bool)
                 == Some(true)
         })
@@ -67,18 +74,19 @@ pub(super) fn fallback_buffers(json: &Value) -> Vec<usize> {
 pub(super) fn decode_views(json: &Value, buffers: &mut [gltf::buffer::Data]) -> Result<(), String> {
     let views = array(json, "bufferViews");
     for (index, view) in views.iter().enumerate() {
-        let Some(ext) = extension(view) else {
+        let Some((name, ext)) = extension(view) else {
             continue;
         };
-        let compressed = parse_view(index, ext)?;
-        let target_buffer = usize_field(view, "buffer").ok_or_else(|| no_field(index, "buffer"))?;
+        let compressed = parse_view(index, name, ext)?;
+        let target_buffer =
+            usize_field(view, "buffer").ok_or_else(|| no_field(index, name, "buffer"))?;
         let target_offset = usize_field(view, "byteOffset").unwrap_or(0);
         let target_length =
-            usize_field(view, "byteLength").ok_or_else(|| no_field(index, "byteLength"))?;
+            usize_field(view, "byteLength").ok_or_else(|| no_field(index, name, "byteLength"))?;
         let decoded = decode(&compressed, buffers)?;
         if decoded.len() > target_length {
             return Err(format!(
-                "buffer view {index}: {EXTENSION} decodes to {} bytes, more than its byteLength {target_length}",
+                "buffer view {index}: {name} decodes to {} bytes, more than its byteLength {target_length}",
                 decoded.len()
             ));
         }
@@ -102,8 +110,12 @@ fn array<'v>(json: &'v Value, key: &str) -> &'v [Value] {
         .map_or(&[], Vec::as_slice)
 }
 
-fn extension(object: &Value) -> Option<&Value> {
-    object.get("extensions").and_then(|e| e.get(EXTENSION))
+/// The object's meshopt extension (either name) and its JSON.
+fn extension(object: &Value) -> Option<(&'static str, &Value)> {
+    let extensions = object.get("extensions")?;
+    EXTENSIONS
+        .iter()
+        .find_map(|name| extensions.get(*name).map(|e| (*name, e)))
 }
 
 fn usize_field(object: &Value, key: &str) -> Option<usize> {
@@ -113,20 +125,20 @@ fn usize_field(object: &Value, key: &str) -> Option<usize> {
         .and_then(|v| usize::try_from(v).ok())
 }
 
-fn no_field(view: usize, field: &str) -> String {
-    format!("buffer view {view}: {EXTENSION} needs a whole-number `{field}`")
+fn no_field(view: usize, extension: &str, field: &str) -> String {
+    format!("buffer view {view}: {extension} needs a whole-number `{field}`")
 }
 
 /// Reads and checks the extension object of view `view`.
-fn parse_view(view: usize, ext: &Value) -> Result<CompressedView, String> {
-    let field = |key: &str| usize_field(ext, key).ok_or_else(|| no_field(view, key));
+fn parse_view(view: usize, name: &'static str, ext: &Value) -> Result<CompressedView, String> {
+    let field = |key: &str| usize_field(ext, key).ok_or_else(|| no_field(view, name, key));
     let mode = match ext.get("mode").and_then(Value::as_str) {
         Some("ATTRIBUTES") => Mode::Attributes,
         Some("TRIANGLES") => Mode::Triangles,
         Some("INDICES") => Mode::Indices,
         other => {
             return Err(format!(
-                "buffer view {view}: {EXTENSION} mode {other:?} is not ATTRIBUTES, TRIANGLES or INDICES"
+                "buffer view {view}: {name} mode {other:?} is not ATTRIBUTES, TRIANGLES or INDICES"
             ));
         }
     };
@@ -135,15 +147,22 @@ fn parse_view(view: usize, ext: &Value) -> Result<CompressedView, String> {
         Some("OCTAHEDRAL") => Filter::Octahedral,
         Some("QUATERNION") => Filter::Quaternion,
         Some("EXPONENTIAL") => Filter::Exponential,
+        Some("COLOR") if name == EXTENSIONS[1] => Filter::Color,
         Some(other) => {
             return Err(format!(
-                "buffer view {view}: {EXTENSION} filter \"{other}\" is not NONE, OCTAHEDRAL, \
-                 QUATERNION or EXPONENTIAL"
+                "buffer view {view}: {name} filter \"{other}\" is not NONE, OCTAHEDRAL, \
+                 QUATERNION, EXPONENTIAL{}",
+                if name == EXTENSIONS[1] {
+                    " or COLOR"
+                } else {
+                    " (COLOR is KHR_meshopt_compression's)"
+                }
             ));
         }
     };
     let compressed = CompressedView {
         view,
+        extension: name,
         source_buffer: field("buffer")?,
         source_offset: usize_field(ext, "byteOffset").unwrap_or(0),
         source_length: field("byteLength")?,
@@ -168,20 +187,21 @@ fn check_sizes(c: &CompressedView) -> Result<(), String> {
         Filter::Octahedral => c.stride == 4 || c.stride == 8,
         Filter::Quaternion => c.stride == 8,
         Filter::Exponential => c.stride.is_multiple_of(4),
+        Filter::Color => c.stride == 4 || c.stride == 8,
     };
     let count_ok = c.mode != Mode::Triangles || c.count.is_multiple_of(3);
     if !(stride_ok && filter_ok && count_ok) {
         return Err(format!(
-            "buffer view {}: {EXTENSION} {:?} with filter {:?}, byteStride {} and count {} breaks \
+            "buffer view {}: {} {:?} with filter {:?}, byteStride {} and count {} breaks \
              the extension's rules (attributes: stride a multiple of 4 up to 256; indices: stride \
              2 or 4; triangles: count a multiple of 3)",
-            c.view, c.mode, c.filter, c.stride, c.count
+            c.view, c.extension, c.mode, c.filter, c.stride, c.count
         ));
     }
     if c.count.checked_mul(c.stride).is_none_or(|n| n > 1 << 30) {
         return Err(format!(
-            "buffer view {}: {EXTENSION} declares {} elements of {} bytes, more than a file can hold",
-            c.view, c.count, c.stride
+            "buffer view {}: {} declares {} elements of {} bytes, more than a file can hold",
+            c.view, c.extension, c.count, c.stride
         ));
     }
     Ok(())
@@ -197,8 +217,8 @@ fn decode(c: &CompressedView, buffers: &[gltf::buffer::Data]) -> Result<Vec<u8>,
         })
         .ok_or_else(|| {
             format!(
-                "buffer view {}: {EXTENSION}'s source reaches past the end of buffer {}",
-                c.view, c.source_buffer
+                "buffer view {}: {}'s source reaches past the end of buffer {}",
+                c.view, c.extension, c.source_buffer
             )
         })?;
     let mut out = vec![0u8; c.count * c.stride];
@@ -221,8 +241,8 @@ fn decode(c: &CompressedView, buffers: &[gltf::buffer::Data]) -> Result<Vec<u8>,
     };
     if status != 0 {
         return Err(format!(
-            "buffer view {}: its {EXTENSION} {:?} stream is malformed (meshoptimizer error {status})",
-            c.view, c.mode
+            "buffer view {}: its {} {:?} stream is malformed (meshoptimizer error {status})",
+            c.view, c.extension, c.mode
         ));
     }
     // SAFETY: the filters rewrite `count` elements of `stride` bytes in place, the stride
@@ -234,6 +254,7 @@ fn decode(c: &CompressedView, buffers: &[gltf::buffer::Data]) -> Result<Vec<u8>,
             Filter::Octahedral => meshopt::ffi::meshopt_decodeFilterOct(buffer, count, stride),
             Filter::Quaternion => meshopt::ffi::meshopt_decodeFilterQuat(buffer, count, stride),
             Filter::Exponential => meshopt::ffi::meshopt_decodeFilterExp(buffer, count, stride),
+            Filter::Color => meshopt::ffi::meshopt_decodeFilterColor(buffer, count, stride),
         }
     }
     Ok(out)
@@ -246,6 +267,7 @@ mod tests {
     fn view(mode: Mode, filter: Filter, stride: usize, count: usize) -> CompressedView {
         CompressedView {
             view: 0,
+            extension: EXTENSIONS[0],
             source_buffer: 0,
             source_offset: 0,
             source_length: 0,
@@ -268,6 +290,8 @@ mod tests {
         assert!(check_sizes(&view(Mode::Attributes, Filter::Octahedral, 12, 1)).is_err());
         assert!(check_sizes(&view(Mode::Attributes, Filter::Quaternion, 4, 1)).is_err());
         assert!(check_sizes(&view(Mode::Indices, Filter::Exponential, 4, 1)).is_err());
+        assert!(check_sizes(&view(Mode::Attributes, Filter::Color, 8, 1)).is_ok());
+        assert!(check_sizes(&view(Mode::Attributes, Filter::Color, 12, 1)).is_err());
     }
 
     #[test]
