@@ -11,21 +11,6 @@ use aograph_scene::{SceneError, import_gltf};
 use serde_json::{Value, json};
 use std::path::Path;
 
-/// One triangle of float positions (accessor 0) with a material.
-fn triangle() -> (Value, Vec<u8>) {
-    let bytes = common::f32_bytes(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
-    let gltf = json!({
-        "bufferViews": [{"buffer": 0, "byteLength": 36}],
-        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                       "min": [0, 0, 0], "max": [1, 1, 0]}],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
-        "nodes": [{"mesh": 0}],
-        "scenes": [{"nodes": [0]}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1.0]}}],
-    });
-    (gltf, bytes)
-}
-
 /// Imports `gltf` written as `{test}.gltf`: the triangle count and the warnings.
 fn load(test: &str, gltf: Value, bytes: &[u8]) -> (usize, Vec<String>) {
     let import = import_gltf(common::write_gltf(test, gltf, bytes))
@@ -46,7 +31,7 @@ fn one_warning_with(warnings: &[String], words: &[&str]) {
 
 #[test]
 fn application_attributes_are_accepted_and_ignored() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     gltf["meshes"][0]["primitives"][0]["attributes"]["_FEATURE_ID_0"] = json!(0);
     gltf["meshes"][0]["primitives"][0]["attributes"]["_BATCHID"] = json!(0);
     let (triangles, warnings) = load("app-attributes", gltf, &bytes);
@@ -56,7 +41,7 @@ fn application_attributes_are_accepted_and_ignored() {
 
 #[test]
 fn required_material_and_texture_extensions_load_with_one_warning() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     let extensions = [
         "KHR_materials_unlit",
         "KHR_texture_transform",
@@ -73,7 +58,7 @@ fn required_material_and_texture_extensions_load_with_one_warning() {
 
 #[test]
 fn whole_numbers_written_as_decimals_are_read_as_integers_with_a_warning() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     gltf["accessors"][0]["count"] = json!(3.0);
     gltf["accessors"][0]["componentType"] = json!(5126.0);
     gltf["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(0.0);
@@ -84,7 +69,7 @@ fn whole_numbers_written_as_decimals_are_read_as_integers_with_a_warning() {
 
 #[test]
 fn extras_that_are_not_objects_load_with_a_warning() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     gltf["nodes"][0]["extras"] = json!(5);
     gltf["materials"][0]["extras"] = json!("note");
     let (triangles, warnings) = load("extras", gltf, &bytes);
@@ -94,7 +79,7 @@ fn extras_that_are_not_objects_load_with_a_warning() {
 
 #[test]
 fn a_malformed_accessor_nothing_uses_is_ignored_with_a_warning() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     gltf["accessors"]
         .as_array_mut()
         .unwrap()
@@ -110,7 +95,7 @@ fn a_malformed_accessor_nothing_uses_is_ignored_with_a_warning() {
 
 #[test]
 fn a_scene_without_nodes_draws_the_root_nodes_with_a_warning() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     gltf["scenes"] = json!([{"name": "empty"}]);
     let (triangles, warnings) = load("scene-without-nodes", gltf, &bytes);
     assert_eq!(triangles, 1);
@@ -149,7 +134,7 @@ fn write_glb(test: &str, bytes: &[u8]) -> std::path::PathBuf {
 
 #[test]
 fn glb_edge_cases_the_validator_warns_about_load() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     gltf["asset"] = json!({"version": "2.0"});
     gltf["buffers"] = json!([{"byteLength": bytes.len()}]);
     // Bytes after the last chunk, past the length the header declares.
@@ -199,7 +184,7 @@ fn gltf_1_files_are_named_as_such_with_a_conversion() {
 
 #[test]
 fn points_and_lines_beside_triangles_leave_the_triangles_and_none_at_all_is_refused() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     let lines = json!({"attributes": {"POSITION": 0}, "mode": 1});
     let points = json!({"attributes": {"POSITION": 0}, "mode": 0});
     gltf["meshes"][0]["primitives"]

@@ -8,7 +8,7 @@ mod common;
 
 use aograph_scene::{ExtensionHandling, SceneError, import_gltf};
 use glam::Vec3;
-use serde_json::{Value, json};
+use serde_json::json;
 #[test]
 fn an_accessor_without_a_buffer_view_is_zeros_and_sparse_values_replace_them() {
     // POSITION: zeros (no bufferView) with vertices 1 and 2 set by its sparse part; indices
@@ -99,23 +99,9 @@ fn quantized_positions_and_normals_are_dequantized_by_the_accessor_rules() {
     );
 }
 
-/// One triangle of float positions, for the tests that are about something else.
-fn triangle() -> (Value, Vec<u8>) {
-    let bytes = common::f32_bytes(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
-    let gltf = json!({
-        "bufferViews": [{"buffer": 0, "byteLength": 36}],
-        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                       "min": [0, 0, 0], "max": [1, 1, 0]}],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
-        "nodes": [{"mesh": 0}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1.0]}}],
-    });
-    (gltf, bytes)
-}
-
 #[test]
 fn a_ktx2_texture_is_ignored_with_one_warning_and_albedo_is_the_base_colour_factor() {
-    let (mut gltf, bytes) = triangle();
+    let (mut gltf, bytes) = common::material_triangle();
     gltf["extensionsUsed"] = json!(["KHR_texture_basisu"]);
     gltf["extensionsRequired"] = json!(["KHR_texture_basisu"]);
     gltf["images"] = json!([{"uri": "albedo.ktx2", "mimeType": "image/ktx2"}]);
@@ -136,7 +122,7 @@ fn a_ktx2_texture_is_ignored_with_one_warning_and_albedo_is_the_base_colour_fact
 
 #[test]
 fn an_animation_channel_without_a_target_node_is_skipped_with_a_warning() {
-    let (mut gltf, mut bytes) = triangle();
+    let (mut gltf, mut bytes) = common::material_triangle();
     bytes.extend(common::f32_bytes(&[0.0, 1.0]));
     gltf["bufferViews"]
         .as_array_mut()
@@ -180,7 +166,7 @@ fn a_required_extension_aograph_does_not_read_is_refused_with_a_conversion() {
         ),
         ("VENDOR_made_up", "convert it without that extension"),
     ] {
-        let (mut gltf, bytes) = triangle();
+        let (mut gltf, bytes) = common::material_triangle();
         gltf["extensionsUsed"] = json!([extension]);
         gltf["extensionsRequired"] = json!([extension]);
         let error = import_gltf(common::write_gltf("required", gltf, &bytes)).unwrap_err();

@@ -24,7 +24,7 @@ pub(super) struct AccessorShape {
 }
 
 /// Every integer component type, as KHR_mesh_quantization allows for positions.
-const QUANTIZED: &[DataType] = &[
+pub(super) const QUANTIZED: &[DataType] = &[
     DataType::F32,
     DataType::I8,
     DataType::U8,

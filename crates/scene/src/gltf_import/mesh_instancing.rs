@@ -10,7 +10,7 @@
 //! Invariant: every returned matrix is finite, and a node's instance list is as long as its
 //! accessors' common count; anything else is an `Err` naming the node.
 
-use super::accessor_reader::{AccessorShape, read_floats};
+use super::accessor_reader::{AccessorShape, QUANTIZED, read_floats};
 use glam::{Mat4, Quat, Vec3};
 use gltf::accessor::{DataType, Dimensions};
 use serde_json::Value;
@@ -19,15 +19,8 @@ use std::collections::BTreeMap;
 /// The JSON name of the extension.
 pub(super) const EXTENSION: &str = "EXT_mesh_gpu_instancing";
 
-const ALL_TYPES: &[DataType] = &[
-    DataType::F32,
-    DataType::I8,
-    DataType::U8,
-    DataType::I16,
-    DataType::U16,
-];
 const TRANSLATION: AccessorShape = AccessorShape {
-    types: ALL_TYPES,
+    types: QUANTIZED,
     dimensions: Dimensions::Vec3,
     role: "instance TRANSLATION",
 };
@@ -37,7 +30,7 @@ const ROTATION: AccessorShape = AccessorShape {
     role: "instance ROTATION",
 };
 const SCALE: AccessorShape = AccessorShape {
-    types: ALL_TYPES,
+    types: QUANTIZED,
     dimensions: Dimensions::Vec3,
     role: "instance SCALE",
 };

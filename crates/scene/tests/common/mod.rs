@@ -1,5 +1,5 @@
 //! Helpers shared by the glTF test files: a per-test temporary folder, the base64 of a
-//! .gltf's embedded buffer, gltfpack, and a hand-written file with sparse accessors.
+//! .gltf's embedded buffer, gltfpack, and hand-written files (sparse accessors, a plain triangle).
 #![allow(dead_code)] // each test file uses some of them
 
 use serde_json::{Value, json};
@@ -117,6 +117,22 @@ pub fn sparse_triangle() -> (Value, Vec<u8>) {
         "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 2}, "indices": 1}]}],
         "nodes": [{"mesh": 0}],
         "scenes": [{"nodes": [0]}],
+    });
+    (gltf, bytes)
+}
+
+/// One triangle of float positions (accessor 0) in scene 0, with a material of base colour
+/// (0.25, 0.5, 0.75, 1), for the tests that are about something else.
+pub fn material_triangle() -> (Value, Vec<u8>) {
+    let bytes = f32_bytes(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+    let gltf = json!({
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1.0]}}],
     });
     (gltf, bytes)
 }
