@@ -279,3 +279,41 @@ fn every_technique_reads_columns_walls_alike_at_640x360() {
     // ("At every output size") mssao read them 0.880 and 0.810.
     walls_agree_at(640, 360);
 }
+
+/// A measurement, not a check: the walls of the techniques in `AOGRAPH_WALLS_TECHNIQUES`
+/// (default mssao,pyramid-hbao) at the sizes in `AOGRAPH_WALLS_SIZES` (default the sizes
+/// around 1280x720), with the largest difference. Which coarse texels the arcade lands on moves
+/// with the size while the reference does not, so the spread over nearby sizes shows how much
+/// of a wall difference is the coarse grid's phase.
+#[test]
+#[ignore = "a measurement: cargo test --release --test output_sizes -- --ignored --nocapture"]
+fn walls_over_nearby_sizes() {
+    let techniques =
+        std::env::var("AOGRAPH_WALLS_TECHNIQUES").unwrap_or("mssao,pyramid-hbao".into());
+    let sizes = std::env::var("AOGRAPH_WALLS_SIZES").unwrap_or(
+        "1280x714,1280x717,1280x720,1280x723,1280x726,1276x720,1284x720,640x360,1920x1080".into(),
+    );
+    for technique in techniques.split(',') {
+        let mut worst = 0.0f32;
+        for size in sizes.split(',') {
+            let (w, h) = size.split_once('x').expect("WxH");
+            let (w, h): (usize, usize) = (w.parse().unwrap(), h.parse().unwrap());
+            let scene = procedural_scene("columns").expect("columns exists");
+            let params = std::env::var("AOGRAPH_WALLS_PARAMS").unwrap_or_default();
+            let mut config = common::ao_config(technique, 1.0, &params);
+            config.radius = RadiusSetting::Auto;
+            let Some(mut r) = common::renderer(scene, &config, Extent::new(w as u32, h as u32))
+            else {
+                return;
+            };
+            let (ao, depth) = frame(&mut r);
+            let (left, right) = walls(&ao, &depth, w, h);
+            worst = worst.max((left - right).abs());
+            println!(
+                "{technique} {w}x{h}: {left:.4} {right:.4} ({:+.4})",
+                left - right
+            );
+        }
+        println!("{technique}: largest difference {worst:.4}");
+    }
+}

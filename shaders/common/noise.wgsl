@@ -1,6 +1,17 @@
 // Per-pixel noise shared by techniques: integer hashes (PCG) and low-discrepancy sequences.
 // Deterministic: the same pixel and frame always give the same values.
 
+// True when the technique's output is accumulated over frames (`temporal = true`,
+// crates/ao-passes/src/temporal_option.rs sets it): its noise then follows the frame index, so
+// the running mean averages over noise realisations. False (the default): the same noise
+// every frame, as without accumulation.
+override TEMPORAL_NOISE: bool = false;
+
+// The frame a technique's noise is drawn for: `frame_index` under TEMPORAL_NOISE, else 0.
+fn noise_frame(frame_index: u32) -> u32 {
+    return select(0u, frame_index, TEMPORAL_NOISE);
+}
+
 fn pcg_hash(v: u32) -> u32 {
     let state = v * 747796405u + 2891336453u;
     let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;

@@ -2,6 +2,7 @@
 #include "common/gbuffer.wgsl"
 #include "common/finite.wgsl"
 #include "common/horizon.wgsl"
+#include "common/noise.wgsl"
 // What the slice-based techniques (ao/gtao, ao/vbao) share (specs/gtao.md §1.2, §2, §5; vbao.md
 // §2 takes them unchanged): their inputs, the receiver's set-up, XeGTAO's noise and sample
 // placement, depth taps on the prefiltered MIPs (blocks/depth_prefilter.wgsl) and the slice
@@ -111,8 +112,10 @@ fn centre_of(p: vec2<i32>, effect_radius: f32) -> Centre {
     c.pos = view_position(pixel_uv(p, view), rc.z * CENTRE_DEPTH_BIAS, view);
     c.v = normalize(-c.pos);
     c.r_px = effect_radius * pixels_per_unit(rc.z, view);
-    // Noise (spec §5): R2 over the Hilbert index; no temporal term (no TAA here).
-    c.noise = fract(vec2<f32>(0.5) + f32(hilbert_index(vec2<u32>(p))) * R2);
+    // Noise (spec §5): R2 over the Hilbert index; XeGTAO's temporal term (288 (frame mod 64))
+    // only when the output is accumulated (TEMPORAL_NOISE, common/noise.wgsl).
+    let index = hilbert_index(vec2<u32>(p)) + 288u * (noise_frame(view.frame_index) % 64u);
+    c.noise = fract(vec2<f32>(0.5) + f32(index) * R2);
     c.valid = c.r_px >= PIXEL_TOO_CLOSE;
     return c;
 }

@@ -36,12 +36,22 @@ pub fn ao_config(technique: &str, radius: f32, params_toml: &str) -> AoConfig {
 /// A renderer of `scene` with `config` at `size` that also outputs linear depth; `None` when
 /// the test must skip because there is no GPU (never in CI).
 pub fn renderer(scene: Scene, config: &AoConfig, size: Extent) -> Option<Renderer> {
-    let gpu = test_gpu()?;
-    let registry = TechniqueRegistry::with_builtins();
     let outputs = FrameOutputs {
         linear_depth: true,
         ..Default::default()
     };
+    renderer_with(scene, config, size, outputs)
+}
+
+/// [`renderer`] with the read-backs in `outputs`.
+pub fn renderer_with(
+    scene: Scene,
+    config: &AoConfig,
+    size: Extent,
+    outputs: FrameOutputs,
+) -> Option<Renderer> {
+    let gpu = test_gpu()?;
+    let registry = TechniqueRegistry::with_builtins();
     Some(
         Renderer::new(
             gpu,

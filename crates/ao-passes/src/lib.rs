@@ -12,6 +12,7 @@ mod radius;
 mod registry;
 mod technique;
 pub mod techniques;
+mod temporal_option;
 
 pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat, nearest, unknown_key};
 pub use error::{AoError, AoResult, check_one_of, check_param};
@@ -22,4 +23,7 @@ pub use registry::TechniqueRegistry;
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,
     DeclaredInputs, DynAoTechnique, RadianceEnvironment, RadianceOutput,
+};
+pub use temporal_option::{
+    DEFAULT_TEMPORAL_FRAMES, PER_FRAME_OUTPUT, TEMPORAL_NOISE, TemporalOption,
 };

@@ -63,8 +63,11 @@ fn accessibility(p: vec2<i32>) -> f32 {
     let steps = clamp(params.steps, 1u, 128u);
     let step_px = (r_px - 1.0) / f32(steps);
     // Per-pixel random rotation of the directions and start offset of the march.
-    let rotation = hash_pixel(vec2<u32>(p), 0x9e3779b9u);
-    let jitter = hash_pixel(vec2<u32>(p), 0x85ebca6bu);
+    // With temporal accumulation both advance by the R2 sequence's step each frame (a
+    // low-discrepancy walk over the frames of the running mean).
+    let frame = f32(noise_frame(view.frame_index));
+    let rotation = fract(hash_pixel(vec2<u32>(p), 0x9e3779b9u) + frame * 0.7548776662);
+    let jitter = fract(hash_pixel(vec2<u32>(p), 0x85ebca6bu) + frame * 0.5698402910);
     let centre = vec2<f32>(p) + 0.5;
     let eps = 1e-4 * z;
 

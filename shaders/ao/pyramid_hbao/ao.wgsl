@@ -168,9 +168,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // Spec §2.5: per-pixel rotation from a low-discrepancy dither (R2 sequence over pixels,
     // a blue-noise-like pattern) instead of a 32x32 blue-noise texture; per-direction jitter
     // u_d and start-step multiplier xi_d from a hash tiled every 32 pixels.
-    let rotation = fract(0.7548776662 * f32(p.x) + 0.5698402910 * f32(p.y));
+    // With temporal accumulation the rotation advances by the golden ratio each frame and the
+    // hash is reseeded by the frame.
+    let frame = noise_frame(view.frame_index);
+    let rotation = fract(0.7548776662 * f32(p.x) + 0.5698402910 * f32(p.y) + 0.6180339887 * f32(frame));
     let tile = vec2<u32>(p) % vec2<u32>(32u);
-    let pixel_seed = pcg_hash(tile.x ^ pcg_hash(tile.y));
+    let pixel_seed = pcg_hash(tile.x ^ pcg_hash(tile.y + frame * 0x01000193u));
     let dirs = max(params.directions, 1u);
     var occlusion = 0.0;
     for (var d = 0u; d < dirs; d = d + 1u) {

@@ -71,7 +71,9 @@ fn accessibility(p: vec2<i32>) -> f32 {
     // Rotation k of the 4x4 tile (Bayer order): every 4x4 window holds all 16 once. Half-step
     // angles and the kernel mirrored (y negated) for k mod 8 >= 4 make the image mirror-
     // covariant (module docs of techniques/ssao.rs).
-    let k_rot = interleave_4x4(vec2<u32>(p));
+    // With temporal accumulation the index advances by one a frame, so every pixel takes all
+    // 16 rotations over 16 frames (the set stays mirror-closed).
+    let k_rot = (interleave_4x4(vec2<u32>(p)) + noise_frame(view.frame_index)) % 16u;
     let angle = 6.2831853 * (f32(k_rot) + 0.5) / 16.0;
     let y_sign = select(1.0, -1.0, (k_rot % 8u) >= 4u);
     let rv = vec3<f32>(cos(angle), sin(angle), 0.0);

@@ -71,6 +71,7 @@ use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
+use crate::temporal_option::TemporalOption;
 
 pub use super::slices::{GtaoPreset, MAX_SLICES, MAX_STEPS, SliceCounts};
 
@@ -117,6 +118,9 @@ pub struct GtaoParams {
     pub bent_normals: bool,
     /// Also output the multi-bounce fit from the albedo (`gtao_multibounce`, spec §7).
     pub multibounce: bool,
+    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    #[serde(flatten)]
+    pub accumulation: TemporalOption,
 }
 
 impl Default for GtaoParams {
@@ -135,6 +139,7 @@ impl Default for GtaoParams {
             blur_beta: 1.2,
             bent_normals: false,
             multibounce: false,
+            accumulation: TemporalOption::default(),
         }
     }
 }
@@ -212,6 +217,7 @@ impl AoTechnique for Gtao {
                 "also output gtao_multibounce: max(A, ((a A + b) A + c) A) per channel from the albedo (GTAO's fit); the reference comparison uses A",
             ),
         ]);
+        d.extend(TemporalOption::params());
         d
     }
     fn channels(&self, p: &GtaoParams) -> GBufferChannels {
@@ -219,7 +225,10 @@ impl AoTechnique for Gtao {
         if p.multibounce {
             c.push(GBufferChannel::Albedo);
         }
-        GBufferChannels::of(&c)
+        p.accumulation.channels(GBufferChannels::of(&c))
+    }
+    fn is_temporal(&self, p: &GtaoParams) -> bool {
+        p.accumulation.temporal
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &GtaoParams) -> AoResult<AoOutput> {
         // §4 prefilter, §1-§3 slices (ao/gtao/ao.wgsl), §6 denoiser: `slice_passes`.
@@ -240,7 +249,7 @@ impl AoTechnique for Gtao {
             normal_fudge: p.normal_fudge,
             _pad0: 0.0,
         };
-        let mut out = slice_passes(
+        let out = slice_passes(
             ctx,
             &SlicePasses {
                 prefix: "gtao",
@@ -262,8 +271,12 @@ impl AoTechnique for Gtao {
                     output: "gtao_bent_normals",
                     format: wgpu::TextureFormat::Rgba16Float,
                 }),
+                accumulation: p.accumulation,
             },
         )?;
+        // The running mean over frames, when asked (crate::TemporalOption), before the
+        // multi-bounce fit reads the accessibility.
+        let mut out = p.accumulation.apply(ctx, out)?;
         // §7: the multi-bounce fit, an extra output for shading.
         if p.multibounce {
             let albedo = ctx.channel(GBufferChannel::Albedo)?;

@@ -57,6 +57,7 @@ use crate::blocks::{GaussianBlur, gaussian_blur_with_intermediate};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
+use crate::temporal_option::TemporalOption;
 
 /// Largest D (Table 1a's largest row is D = 64).
 pub const MAX_DIRECTIONS: u32 = 64;
@@ -104,7 +105,7 @@ impl HbaoPreset {
 
 /// `[ao.hbao]` parameters. Table 1a's rows: (D, S) = (8, 10), (16, 20), (32, 40), (64, 80).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct HbaoParams {
     /// The estimator's named settings (module docs).
     pub preset: HbaoPreset,
@@ -120,6 +121,9 @@ pub struct HbaoParams {
     pub blur: bool,
     /// Cap of the projected radius, as a fraction of the image height.
     pub max_screen_radius: f32,
+    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    #[serde(flatten)]
+    pub accumulation: TemporalOption,
 }
 
 impl HbaoParams {
@@ -143,6 +147,7 @@ impl Default for HbaoParams {
             steps: 10,
             blur: true,
             max_screen_radius: 0.5,
+            accumulation: TemporalOption::default(),
         }
     }
 }
@@ -192,15 +197,31 @@ impl AoTechnique for Hbao {
             ParamDesc::float("max_screen_radius", 0.01, 2.0)
                 .doc("cap of the projected radius R, as a fraction of the image height"),
         ]
+        .into_iter()
+        .chain(TemporalOption::params())
+        .collect()
     }
     fn reach_pixels(&self, p: &HbaoParams, height: u32, _: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
         Some(p.max_screen_radius * height as f32)
     }
-    fn channels(&self, _: &HbaoParams) -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    fn channels(&self, p: &HbaoParams) -> GBufferChannels {
+        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        p.accumulation.channels(spatial)
+    }
+    fn is_temporal(&self, p: &HbaoParams) -> bool {
+        p.accumulation.temporal
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &HbaoParams) -> AoResult<AoOutput> {
+        let spatial = self.spatial(ctx, p)?;
+        // Optional: the running mean over frames (crate::TemporalOption).
+        p.accumulation.apply(ctx, spatial)
+    }
+}
+
+impl Hbao {
+    /// The paper's passes: the estimator, then the optional Gaussian.
+    fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &HbaoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
 
@@ -235,6 +256,7 @@ impl AoTechnique for Hbao {
         pass.loads_per_invocation(2.0 + (p.directions * p.steps) as f32);
         pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
+        p.accumulation.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);
         if !p.blur {

@@ -68,6 +68,7 @@ use crate::error::AoResult;
 use crate::levels::Levels;
 use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
+use crate::temporal_option::TemporalOption;
 
 /// Pyramid reduction factor K (spec §2.2).
 const K: u32 = 3;
@@ -82,7 +83,7 @@ pub struct PyramidHbao;
 
 /// Parameters; defaults are the paper's values where it gives them (module docs for the rest).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct PyramidHbaoParams {
     /// Pyramid levels L, level 0 (full resolution) included, or `auto`: the fewest whose
     /// march reaches R at the view's nearest geometry ([`PyramidHbaoParams::levels_for`]).
@@ -101,6 +102,9 @@ pub struct PyramidHbaoParams {
     pub blur_sigma: f32,
     /// Gaussian taps per axis (paper: 5).
     pub blur_taps: u32,
+    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    #[serde(flatten)]
+    pub accumulation: TemporalOption,
 }
 
 impl Default for PyramidHbaoParams {
@@ -114,6 +118,7 @@ impl Default for PyramidHbaoParams {
             blur: true,
             blur_sigma: 1.5,
             blur_taps: 5,
+            accumulation: TemporalOption::default(),
         }
     }
 }
@@ -168,9 +173,16 @@ impl AoTechnique for PyramidHbao {
             ParamDesc::float("blur_sigma", 0.1, 8.0).doc("Gaussian sigma in pixels (paper: 1.5)"),
             ParamDesc::odd("blur_taps", 1, 31).doc("Gaussian taps per axis (paper: 5)"),
         ]
+        .into_iter()
+        .chain(TemporalOption::params())
+        .collect()
     }
-    fn channels(&self, _: &PyramidHbaoParams) -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    fn channels(&self, p: &PyramidHbaoParams) -> GBufferChannels {
+        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        p.accumulation.channels(spatial)
+    }
+    fn is_temporal(&self, p: &PyramidHbaoParams) -> bool {
+        p.accumulation.temporal
     }
     fn needs_radius_pixels(&self, p: &PyramidHbaoParams) -> bool {
         p.levels == Levels::Auto
@@ -184,6 +196,15 @@ impl AoTechnique for PyramidHbao {
         Some(p.reach(p.levels_for(radius_pixels)))
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
+        let spatial = self.spatial(ctx, p)?;
+        // 4. Optional: the running mean over frames (crate::TemporalOption).
+        p.accumulation.apply(ctx, spatial)
+    }
+}
+
+impl PyramidHbao {
+    /// The paper's passes: pyramid, march, Gaussian.
+    fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
         let levels = p.levels_for(ctx.radius_pixels);
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
@@ -231,6 +252,7 @@ impl AoTechnique for PyramidHbao {
         // drops the levels the pyramid lacks (shader, `STEP_COUNT`, `LEVELS`).
         pass.constant("STEP_COUNT", p.step_count as f64);
         pass.constant("LEVELS", levels as f64);
+        p.accumulation.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", target);
         pass.dispatch_over(raw);
         if !p.blur {

@@ -15,6 +15,7 @@ use crate::blocks::{EdgeDenoise, depth_prefilter, edge_denoise};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput};
+use crate::temporal_option::TemporalOption;
 
 /// Depth MIP levels, level 0 included (XeGTAO: 5).
 pub const DEPTH_MIP_LEVELS: u32 = 5;
@@ -115,6 +116,8 @@ pub(crate) struct SlicePasses<'a> {
     /// Texel loads of the AO pass per pixel (for the bench's roofline): the centre's depth,
     /// normal and four edge neighbours, and two depth taps per step and slice.
     pub loads_per_pixel: f32,
+    /// The technique's temporal option: its noise follows the frame when it accumulates.
+    pub accumulation: TemporalOption,
 }
 
 /// The passes every slice-based technique runs: `<prefix>.depth_level1..4` (XeGTAO's depth
@@ -170,6 +173,7 @@ pub(crate) fn slice_passes(
     }
     pass.sample("normals", normals)
         .loads_per_invocation(s.loads_per_pixel);
+    s.accumulation.vary_noise(&mut pass);
     let raw = pass.write_storage("ao", raw);
     let edges = pass.write_storage("edges", edges);
     let mut extras = Vec::new();

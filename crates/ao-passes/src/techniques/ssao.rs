@@ -51,6 +51,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
+use crate::temporal_option::TemporalOption;
 
 /// Largest sample count (size of the kernel array in the uniform block).
 pub const MAX_SAMPLES: u32 = 64;
@@ -67,6 +68,9 @@ pub struct SsaoParams {
     pub bias: f32,
     /// Cap of the projected radius, as a fraction of the image height.
     pub max_screen_radius: f32,
+    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    #[serde(flatten)]
+    pub accumulation: TemporalOption,
 }
 
 impl Default for SsaoParams {
@@ -75,6 +79,7 @@ impl Default for SsaoParams {
             samples: 16,
             bias: 0.025,
             max_screen_radius: 0.5,
+            accumulation: TemporalOption::default(),
         }
     }
 }
@@ -141,13 +146,20 @@ impl AoTechnique for Ssao {
             ParamDesc::float("max_screen_radius", 0.01, 2.0)
                 .doc("cap of the projected radius R, as a fraction of the image height"),
         ]
+        .into_iter()
+        .chain(TemporalOption::params())
+        .collect()
     }
     fn reach_pixels(&self, p: &SsaoParams, height: u32, _: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
         Some(p.max_screen_radius * height as f32)
     }
-    fn channels(&self, _: &SsaoParams) -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    fn channels(&self, p: &SsaoParams) -> GBufferChannels {
+        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        p.accumulation.channels(spatial)
+    }
+    fn is_temporal(&self, p: &SsaoParams) -> bool {
+        p.accumulation.temporal
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &SsaoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
@@ -176,6 +188,7 @@ impl AoTechnique for Ssao {
         pass.loads_per_invocation(2.0 + p.samples as f32);
         pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
+        p.accumulation.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);
 
@@ -192,7 +205,8 @@ impl AoTechnique for Ssao {
         pass.loads_per_invocation(1.0 + 16.0 * 2.0);
         let out = pass.write_storage("ao", out);
         pass.dispatch_over(out);
-        Ok(AoOutput::new(out))
+        // Optional: the running mean over frames (crate::TemporalOption).
+        p.accumulation.apply(ctx, AoOutput::new(out))
     }
 }
 

@@ -43,6 +43,7 @@ use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
+use crate::temporal_option::TemporalOption;
 
 /// Most sectors per slice: one u32 of bits.
 pub const MAX_SECTORS: u32 = 32;
@@ -97,6 +98,9 @@ pub struct VbaoParams {
     pub final_value_power: f32,
     pub denoise_passes: u32,
     pub blur_beta: f32,
+    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    #[serde(flatten)]
+    pub accumulation: TemporalOption,
 }
 
 impl Default for VbaoParams {
@@ -114,6 +118,7 @@ impl Default for VbaoParams {
             final_value_power: 1.0,
             denoise_passes: 1,
             blur_beta: 1.2,
+            accumulation: TemporalOption::default(),
         }
     }
 }
@@ -185,10 +190,15 @@ impl AoTechnique for Vbao {
             ParamDesc::float("blur_beta", 0.01, 1e4)
                 .doc("the denoiser's centre weight on its last pass"),
         ]);
+        d.extend(TemporalOption::params());
         d
     }
-    fn channels(&self, _: &VbaoParams) -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    fn channels(&self, p: &VbaoParams) -> GBufferChannels {
+        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
+        p.accumulation.channels(spatial)
+    }
+    fn is_temporal(&self, p: &VbaoParams) -> bool {
+        p.accumulation.temporal
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &VbaoParams) -> AoResult<AoOutput> {
         let effect_radius = ctx.radius * p.radius_multiplier;
@@ -207,7 +217,7 @@ impl AoTechnique for Vbao {
             centre_rounding: (p.rounding == SectorRounding::Centre) as u32 as f32,
             clip_to_radius: p.clip_to_radius as u32 as f32,
         };
-        slice_passes(
+        let spatial = slice_passes(
             ctx,
             &SlicePasses {
                 prefix: "vbao",
@@ -221,8 +231,11 @@ impl AoTechnique for Vbao {
                     blur_beta: p.blur_beta,
                 },
                 extra_output: None,
+                accumulation: p.accumulation,
             },
-        )
+        )?;
+        // The running mean over frames, when asked (crate::TemporalOption).
+        p.accumulation.apply(ctx, spatial)
     }
 }
 
