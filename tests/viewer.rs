@@ -309,3 +309,58 @@ fn without_a_display_the_viewer_says_how_to_get_one() {
         "{stderr}"
     );
 }
+
+/// Mean absolute difference of each pixel from the mean of its 3x3 neighbourhood (interior
+/// pixels): the per-pixel noise a denoiser or an accumulation removes.
+fn residual(v: &[f32], w: usize, h: usize) -> f32 {
+    let mut sum = 0.0;
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let mut m = 0.0;
+            for (dx, dy) in (-1i32..=1).flat_map(|dy| (-1i32..=1).map(move |dx| (dx, dy))) {
+                m += v[(y as i32 + dy) as usize * w + (x as i32 + dx) as usize];
+            }
+            sum += (v[y * w + x] - m / 9.0).abs();
+        }
+    }
+    sum / ((w - 2) * (h - 2)) as f32
+}
+
+#[test]
+fn temporal_accumulation_toggles_live_per_technique() {
+    let Some(xvfb) = xvfb_run() else { return };
+    let dir = temp_dir("temporal");
+    let d = dir.display();
+    let script = dir.join("temporal.txt");
+    std::fs::write(
+        &script,
+        format!(
+            "size 96 64\ntechnique gtao\nwait 2\nscreenshot {d}/off.png\n\
+             param temporal true\nwait 24\nscreenshot {d}/on.png\n\
+             mark\nparam temporal false\nwait 2\nscreenshot {d}/off-again.png\n\
+             param temporal true\nwait 2\nexpect-no-new-pipelines\nquit\n"
+        ),
+    )
+    .unwrap();
+    let stdout = view(xvfb, &script, &[]);
+    assert!(
+        stdout.contains("no pipelines created since mark"),
+        "{stdout}"
+    );
+    let (w, h, off) = gray(&dir.join("off.png"));
+    let (_, _, on) = gray(&dir.join("on.png"));
+    let (_, _, again) = gray(&dir.join("off-again.png"));
+    let (w, h) = (w as usize, h as usize);
+    let (r_off, r_on) = (residual(&off, w, h), residual(&on, w, h));
+    println!(
+        "gtao in the viewer: residual off {r_off:.4}, on {r_on:.4}; off vs on {:.4}",
+        mean_abs_diff(&off, &on)
+    );
+    // Off again is the image it was: without accumulation the noise is the same every frame.
+    assert_eq!(off, again, "temporal off must give back the same image");
+    // On, 24 frames of changing noise are averaged: less per-pixel noise than one frame.
+    assert!(
+        r_on < 0.9 * r_off,
+        "accumulating frames should lower the per-pixel noise: {r_on} against {r_off}"
+    );
+}
