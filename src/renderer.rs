@@ -455,6 +455,18 @@ impl Renderer {
         Ok(self.read_channel(h, name)?.to_f32()?)
     }
 
+    /// An extra output of the technique as read back: its own size (a technique at
+    /// `resolution = "half"` leaves its extras at half size) and format.
+    pub fn read_extra_readback(&self, name: &str) -> AppResult<aograph_graph::TextureReadback> {
+        let h = self
+            .graph
+            .extra
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, h)| *h);
+        self.read_channel(h, name)
+    }
+
     /// The technique's radiance outputs (direct, indirect) as RGBA floats, or an error when
     /// the technique computes no radiance.
     pub fn read_radiance(&self) -> AppResult<(Vec<f32>, Vec<f32>)> {

@@ -312,3 +312,41 @@ fn render_from_a_named_view_and_an_inline_camera_prints_the_radius_and_view() {
     );
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn render_writes_each_extra_output_at_its_own_size() {
+    // gtao at half resolution with temporal accumulation: the per-frame accessibility is one
+    // channel at the output size, the depth it ran on one channel at half size (rounded up).
+    let dir = temp_dir("extras");
+    let config = dir.join("gtao.toml");
+    std::fs::write(
+        &config,
+        "[ao]\ntechnique = \"gtao\"\n[ao.gtao]\nresolution = \"half\"\ntemporal = true\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (ok, stdout, stderr) = aograph(&[
+        "render",
+        "--config",
+        config.to_str().unwrap(),
+        "--scene",
+        "columns",
+        "--width",
+        "67",
+        "--height",
+        "41",
+        "--frames",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "render failed\nstdout: {stdout}\nstderr: {stderr}");
+    for (name, size) in [
+        ("ao.png", (67, 41)),
+        ("per_frame_accessibility.png", (67, 41)),
+        ("half_linear_depth.png", (34, 21)),
+    ] {
+        let img = image::open(out.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!((img.width(), img.height()), size, "{name}");
+    }
+}

@@ -52,8 +52,11 @@ struct MssaoGrid {
     full: vec2<f32>,
 }
 
+// `full` is the level-0 image's extent in its own texels: view.size, which a half-resolution
+// view block (blocks/half_view.wgsl) gives as W / 2, so rounded up: the half image's last texel
+// at an odd size is its block's, centred on full pixel corner 2p + 1 like every other.
 fn mssao_grid(view: View, level: u32) -> MssaoGrid {
-    return MssaoGrid(pixel_to_view(view, view.inv_size), f32(1u << level), view.size);
+    return MssaoGrid(pixel_to_view(view, view.inv_size), f32(1u << level), ceil(view.size));
 }
 
 // The centre, in full-resolution pixels, of the pixels texel c covers: [c 2^l, (c + 1) 2^l)

@@ -71,18 +71,27 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     write_rgba_png(&shaded, size.width, size.height, &r.read_shaded()?)?;
     let mut written = vec![ao, shaded];
     for (name, _) in r.graph.extra.clone() {
-        let rgba = r.read_extra(&name)?;
-        let bytes: Vec<u8> = rgba
-            .chunks_exact(4)
-            .flat_map(|c| {
-                [c[0], c[1], c[2]]
-                    .map(|v| (v.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8)
-                    .into_iter()
-                    .chain([255])
-            })
-            .collect();
+        // Each extra at its own size and channel count: one channel (a per-frame
+        // accessibility, a half-size depth) as grey, more as RGB with the sRGB curve.
+        let readback = r.read_extra_readback(&name)?;
+        let (extent, channels) = (readback.extent, readback.channels().max(1));
+        let values = readback.to_f32()?;
         let path = args.out.join(format!("{name}.png"));
-        write_rgba_png(&path, size.width, size.height, &bytes)?;
+        if channels == 1 {
+            write_gray_png(&path, extent.width, extent.height, &values)?;
+        } else {
+            let bytes: Vec<u8> = values
+                .chunks_exact(channels)
+                .flat_map(|c| {
+                    [0, 1, 2]
+                        .map(|i| c.get(i).copied().unwrap_or(0.0))
+                        .map(|v| (v.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8)
+                        .into_iter()
+                        .chain([255])
+                })
+                .collect();
+            write_rgba_png(&path, extent.width, extent.height, &bytes)?;
+        }
         written.push(path);
     }
     // A single frame is a cold one: on its first dispatch a driver compiles each pipeline, and

@@ -10,6 +10,7 @@ mod levels;
 mod param;
 mod radius;
 mod registry;
+mod resolution;
 mod technique;
 pub mod techniques;
 mod temporal_option;
@@ -20,6 +21,7 @@ pub use levels::Levels;
 pub use param::{ParamDesc, ParamKind};
 pub use radius::{RADIUS_ALLOWED, Radius, RadiusSetting};
 pub use registry::TechniqueRegistry;
+pub use resolution::{HALF_DEPTH_OUTPUT, Resolution};
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,
     DeclaredInputs, DynAoTechnique, RadianceEnvironment, RadianceOutput,

@@ -18,6 +18,9 @@ use crate::resource::*;
 #[derive(Default)]
 pub struct GraphBuilder {
     decl: GraphDecl,
+    /// Sizes of created textures and dispatches are divided by this (0 reads as 1): see
+    /// [`GraphBuilder::set_size_divisor`].
+    size_divisor: u32,
 }
 
 /// Both halves of a history (ping-pong) texture: read `previous`, write `current`.
@@ -34,7 +37,24 @@ impl GraphBuilder {
     /// Continues declaring on top of an existing declaration (e.g. to add user passes after a
     /// frame graph built elsewhere); its handles stay valid.
     pub fn from_decl(decl: GraphDecl) -> Self {
-        Self { decl }
+        Self {
+            decl,
+            size_divisor: 1,
+        }
+    }
+
+    /// Declares what follows at 1/`divisor` of the sizes it names: every texture created
+    /// (transient or history) and every `dispatch_size` afterwards has its size class
+    /// [`SizeClass::divided`] by `divisor`, until the divisor is set back. Imported textures
+    /// keep their sizes. Returns the previous divisor, to restore. A block written for the full
+    /// output (`SizeClass::FULL`) thus runs at half resolution under divisor 2 unchanged:
+    /// aograph's `resolution = "half"`.
+    pub fn set_size_divisor(&mut self, divisor: u32) -> u32 {
+        std::mem::replace(&mut self.size_divisor, divisor.max(1)).max(1)
+    }
+    /// The divisor in effect (1 unless [`GraphBuilder::set_size_divisor`] changed it).
+    pub fn size_divisor(&self) -> u32 {
+        self.size_divisor.max(1)
     }
 
     fn add_resource(&mut self, name: &str, kind: ResourceKind, origin: ResourceOrigin) -> u32 {
@@ -49,7 +69,8 @@ impl GraphBuilder {
     }
 
     /// A transient texture owned by the graph; it must be written before it is read.
-    pub fn create_texture(&mut self, name: &str, desc: TextureDesc) -> TextureHandle {
+    pub fn create_texture(&mut self, name: &str, mut desc: TextureDesc) -> TextureHandle {
+        desc.size = desc.size.divided(self.size_divisor());
         Handle::new(
             self.add_resource(name, ResourceKind::Texture(desc), ResourceOrigin::Transient),
             0,
@@ -79,7 +100,8 @@ impl GraphBuilder {
     /// A persistent texture: `previous` holds last frame's value (check
     /// `Executor::history_valid`), `current` must be written this frame and becomes next
     /// frame's `previous`.
-    pub fn history_texture(&mut self, name: &str, desc: TextureDesc) -> HistoryTexture {
+    pub fn history_texture(&mut self, name: &str, mut desc: TextureDesc) -> HistoryTexture {
+        desc.size = desc.size.divided(self.size_divisor());
         let prev = self.add_resource(
             &format!("{name}.previous"),
             ResourceKind::Texture(desc),
@@ -106,12 +128,19 @@ impl GraphBuilder {
             r.exported = true;
         }
     }
-    /// Descriptor of a texture handle of this builder.
+    /// Descriptor of a texture handle of this builder, its size as the current size divisor's
+    /// scope names it ([`SizeClass::within`]), so a block that creates a texture the size of
+    /// another gets that size under any divisor.
     pub fn texture_desc(&self, handle: TextureHandle) -> Option<TextureDesc> {
+        let divisor = self.size_divisor();
         self.decl
             .resources
             .get(handle.id as usize)
             .and_then(|r| r.texture_desc().copied())
+            .map(|mut d| {
+                d.size = d.size.within(divisor);
+                d
+            })
     }
 
     fn add_pass(&mut self, name: &str, kind: PassKind) -> PassBuilder<'_> {
@@ -127,7 +156,8 @@ impl GraphBuilder {
             samplers: Vec::new(),
         });
         let id = PassId(self.decl.passes.len() - 1);
-        PassBuilder::new(&mut self.decl, id)
+        let divisor = self.size_divisor();
+        PassBuilder::new(&mut self.decl, id, divisor)
     }
     /// A compute pass running `entry` of the WGSL file `shader` (relative to the shader root).
     pub fn compute_pass(&mut self, name: &str, shader: &str, entry: &str) -> PassBuilder<'_> {
@@ -186,7 +216,7 @@ impl GraphBuilder {
                 PassKind::Custom(Arc::new(crate::custom::NoopPass)),
             );
         }
-        PassBuilder::new(&mut self.decl, id)
+        PassBuilder::new(&mut self.decl, id, self.size_divisor.max(1))
     }
 
     /// Finishes declaring.

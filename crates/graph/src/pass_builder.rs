@@ -26,12 +26,19 @@ enum Target {
 pub struct PassBuilder<'a> {
     graph: &'a mut GraphDecl,
     id: PassId,
+    /// The graph builder's size divisor when the pass was added ([`PassBuilder::dispatch_size`]).
+    size_divisor: u32,
 }
 
 impl<'a> PassBuilder<'a> {
-    /// The builder of pass `id` of the declaration `graph` (a pass `graph` has).
-    pub(crate) fn new(graph: &'a mut GraphDecl, id: PassId) -> Self {
-        Self { graph, id }
+    /// The builder of pass `id` of the declaration `graph` (a pass `graph` has), declared
+    /// under the size divisor `size_divisor`.
+    pub(crate) fn new(graph: &'a mut GraphDecl, id: PassId, size_divisor: u32) -> Self {
+        Self {
+            graph,
+            id,
+            size_divisor,
+        }
     }
 }
 
@@ -378,6 +385,7 @@ impl PassBuilder<'_> {
     }
     /// Runs one compute thread per texel of a size class.
     pub fn dispatch_size(&mut self, size: SizeClass) -> &mut Self {
+        let size = size.divided(self.size_divisor);
         self.set_dispatch(Dispatch::Threads { size, mip: 0 })
     }
     /// Explicit workgroup counts.

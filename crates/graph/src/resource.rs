@@ -96,6 +96,48 @@ impl SizeClass {
             level,
         }
     }
+    /// This size class over an output `divisor` times smaller (rounded up, as every relative
+    /// class is): relative and centred classes compose exactly (ceil(ceil(w/a)/b) =
+    /// ceil(w/(ab))); a fixed size stays fixed. What `GraphBuilder::set_size_divisor` applies.
+    pub fn divided(self, divisor: u32) -> Self {
+        let d = divisor.max(1);
+        match self {
+            SizeClass::Relative { divisor } => SizeClass::Relative {
+                divisor: divisor.max(1).saturating_mul(d),
+            },
+            SizeClass::Fixed(e) => SizeClass::Fixed(e),
+            SizeClass::Centred {
+                base_divisor,
+                factor,
+                level,
+            } => SizeClass::Centred {
+                base_divisor: base_divisor.max(1).saturating_mul(d),
+                factor,
+                level,
+            },
+        }
+    }
+    /// The inverse of [`SizeClass::divided`]: this size class as named inside a scope whose
+    /// output is `divisor` times smaller (a relative or centred class whose divisor `divisor`
+    /// divides; anything else is returned as it is).
+    pub fn within(self, divisor: u32) -> Self {
+        let k = divisor.max(1);
+        match self {
+            SizeClass::Relative { divisor: d } if d % k == 0 => {
+                SizeClass::Relative { divisor: d / k }
+            }
+            SizeClass::Centred {
+                base_divisor,
+                factor,
+                level,
+            } if base_divisor % k == 0 => SizeClass::Centred {
+                base_divisor: base_divisor / k,
+                factor,
+                level,
+            },
+            other => other,
+        }
+    }
     /// The concrete size for an output of size `output`; never below 1x1.
     pub fn resolve(self, output: Extent) -> Extent {
         match self {

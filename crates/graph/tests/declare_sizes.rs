@@ -200,3 +200,37 @@ fn centred_pyramid_levels_overhang_both_edges_alike() {
     assert_eq!(half.resolve(Extent::new(194, 122)), Extent::new(33, 21));
     assert_eq!(half.to_string(), "centred level 1 of 1/3 over 1/2");
 }
+
+#[test]
+fn a_size_divisor_scales_what_is_created_under_it_and_nothing_else() {
+    let size = |b: &GraphBuilder, h: TextureHandle| b.texture_desc(h).unwrap().size.resolve(ODD);
+    let mut b = GraphBuilder::new();
+    let desc = |size| TextureDesc::new(TextureFormat::R32Float, size);
+    let imported = b.import_texture("depth", desc(SizeClass::FULL));
+    assert_eq!(b.set_size_divisor(2), 1);
+    let full = b.create_texture("full", desc(SizeClass::FULL));
+    let quarter = b.create_texture("quarter", desc(SizeClass::half_pow(1)));
+    let centred = b.create_texture("centred", desc(SizeClass::centred_pyramid_level(3, 1)));
+    let fixed = b.create_texture("fixed", desc(SizeClass::fixed(5, 3)));
+    let history = b.history_texture("history", desc(SizeClass::FULL));
+    assert_eq!(b.set_size_divisor(1), 2);
+    let after = b.create_texture("after", desc(SizeClass::FULL));
+    // 97x61 halves to 49x31 (rounded up), as SizeClass::half_pow(1) does.
+    assert_eq!(size(&b, imported), ODD);
+    assert_eq!(size(&b, full), Extent::new(49, 31));
+    assert_eq!(size(&b, quarter), Extent::new(25, 16));
+    // The centred 3x3 pyramid's first level over 49x31: 17x11 (ceil, one more where the
+    // overhang would be odd: 3 x 17 - 49 = 2, 3 x 11 - 31 = 2).
+    assert_eq!(size(&b, centred), Extent::new(17, 11));
+    assert_eq!(size(&b, fixed), Extent::new(5, 3));
+    assert_eq!(size(&b, history.previous), Extent::new(49, 31));
+    // Inside the scope a texture's size reads as the scope names it, so a texture made "the
+    // size of" another is that size.
+    b.set_size_divisor(2);
+    assert_eq!(b.texture_desc(full).unwrap().size, SizeClass::FULL);
+    let copy = b.create_texture("copy", b.texture_desc(quarter).unwrap());
+    b.set_size_divisor(1);
+    assert_eq!(size(&b, copy), size(&b, quarter));
+    assert_eq!(size(&b, history.current), Extent::new(49, 31));
+    assert_eq!(size(&b, after), ODD);
+}

@@ -30,6 +30,7 @@ pub mod depth_prefilter;
 pub mod depth_pyramid;
 pub mod edge_denoise;
 pub mod gaussian_blur;
+pub mod half_resolution;
 pub mod temporal;
 
 #[cfg(test)]

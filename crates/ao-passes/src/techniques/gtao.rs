@@ -66,10 +66,11 @@ use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use super::slices::{ExtraOutput, SlicePasses, slice_passes};
+use super::slices::{ExtraOutput, SlicePasses, slice_channels, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 use crate::temporal_option::TemporalOption;
 
@@ -118,6 +119,8 @@ pub struct GtaoParams {
     pub bent_normals: bool,
     /// Also output the multi-bounce fit from the albedo (`gtao_multibounce`, spec §7).
     pub multibounce: bool,
+    /// The size the slice passes run at (crate::Resolution).
+    pub resolution: Resolution,
     /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
     #[serde(flatten)]
     pub accumulation: TemporalOption,
@@ -139,6 +142,7 @@ impl Default for GtaoParams {
             blur_beta: 1.2,
             bent_normals: false,
             multibounce: false,
+            resolution: Resolution::Full,
             accumulation: TemporalOption::default(),
         }
     }
@@ -217,15 +221,19 @@ impl AoTechnique for Gtao {
                 "also output gtao_multibounce: max(A, ((a A + b) A + c) A) per channel from the albedo (GTAO's fit); the reference comparison uses A",
             ),
         ]);
+        d.push(Resolution::param());
         d.extend(TemporalOption::params());
         d
     }
     fn channels(&self, p: &GtaoParams) -> GBufferChannels {
-        let mut c = vec![GBufferChannel::LinearDepth, GBufferChannel::Normals];
-        if p.multibounce {
-            c.push(GBufferChannel::Albedo);
-        }
-        p.accumulation.channels(GBufferChannels::of(&c))
+        // The multi-bounce fit reads the albedo at the output size, after the slices.
+        let slices = p.resolution.channels(slice_channels());
+        let c = if p.multibounce {
+            slices.with(GBufferChannel::Albedo)
+        } else {
+            slices
+        };
+        p.accumulation.channels(c)
     }
     fn is_temporal(&self, p: &GtaoParams) -> bool {
         p.accumulation.temporal
@@ -249,31 +257,31 @@ impl AoTechnique for Gtao {
             normal_fudge: p.normal_fudge,
             _pad0: 0.0,
         };
-        let out = slice_passes(
-            ctx,
-            &SlicePasses {
-                prefix: "gtao",
-                shader: if p.bent_normals {
-                    "ao/gtao/ao_bent.wgsl"
-                } else {
-                    "ao/gtao/ao.wgsl"
-                },
-                uniform: bytemuck::bytes_of(&uniform),
-                loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
-                effect_radius,
-                falloff_range: p.falloff_range,
-                denoise: EdgeDenoise {
-                    passes: p.denoise_passes,
-                    blur_beta: p.blur_beta,
-                },
-                extra_output: p.bent_normals.then_some(ExtraOutput {
-                    binding: "bent",
-                    output: "gtao_bent_normals",
-                    format: wgpu::TextureFormat::Rgba16Float,
-                }),
-                accumulation: p.accumulation,
+        let slices = SlicePasses {
+            prefix: "gtao",
+            shader: if p.bent_normals {
+                "ao/gtao/ao_bent.wgsl"
+            } else {
+                "ao/gtao/ao.wgsl"
             },
-        )?;
+            uniform: bytemuck::bytes_of(&uniform),
+            loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
+            effect_radius,
+            falloff_range: p.falloff_range,
+            denoise: EdgeDenoise {
+                passes: p.denoise_passes,
+                blur_beta: p.blur_beta,
+            },
+            extra_output: p.bent_normals.then_some(ExtraOutput {
+                binding: "bent",
+                output: "gtao_bent_normals",
+                format: wgpu::TextureFormat::Rgba16Float,
+            }),
+            accumulation: p.accumulation,
+        };
+        let out = p
+            .resolution
+            .build(ctx, slice_channels(), |ctx| slice_passes(ctx, &slices))?;
         // The running mean over frames, when asked (crate::TemporalOption), before the
         // multi-bounce fit reads the accessibility.
         let mut out = p.accumulation.apply(ctx, out)?;

@@ -56,6 +56,7 @@ use serde::{Deserialize, Serialize};
 use crate::blocks::{GaussianBlur, gaussian_blur_with_intermediate};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
 use crate::temporal_option::TemporalOption;
 
@@ -121,6 +122,8 @@ pub struct HbaoParams {
     pub blur: bool,
     /// Cap of the projected radius, as a fraction of the image height.
     pub max_screen_radius: f32,
+    /// The size the passes run at (crate::Resolution).
+    pub resolution: Resolution,
     /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
     #[serde(flatten)]
     pub accumulation: TemporalOption,
@@ -147,6 +150,7 @@ impl Default for HbaoParams {
             steps: 10,
             blur: true,
             max_screen_radius: 0.5,
+            resolution: Resolution::Full,
             accumulation: TemporalOption::default(),
         }
     }
@@ -196,30 +200,39 @@ impl AoTechnique for Hbao {
             ParamDesc::flag("blur").doc("separable Gaussian, sigma 1.5, 5 taps per axis (paper §3.5)"),
             ParamDesc::float("max_screen_radius", 0.01, 2.0)
                 .doc("cap of the projected radius R, as a fraction of the image height"),
+            Resolution::param(),
         ]
         .into_iter()
         .chain(TemporalOption::params())
         .collect()
     }
-    fn reach_pixels(&self, p: &HbaoParams, height: u32, _: Option<f32>) -> Option<f32> {
+    fn reach_pixels(&self, p: &HbaoParams, height: u32, r: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
-        Some(p.max_screen_radius * height as f32)
+        p.resolution
+            .reach(height, r, |h, _| Some(p.max_screen_radius * h as f32))
     }
     fn channels(&self, p: &HbaoParams) -> GBufferChannels {
-        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
-        p.accumulation.channels(spatial)
+        p.accumulation
+            .channels(p.resolution.channels(Self::spatial_channels()))
     }
     fn is_temporal(&self, p: &HbaoParams) -> bool {
         p.accumulation.temporal
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &HbaoParams) -> AoResult<AoOutput> {
-        let spatial = self.spatial(ctx, p)?;
+        let spatial = p
+            .resolution
+            .build(ctx, Self::spatial_channels(), |ctx| self.spatial(ctx, p))?;
         // Optional: the running mean over frames (crate::TemporalOption).
         p.accumulation.apply(ctx, spatial)
     }
 }
 
 impl Hbao {
+    /// What the estimator and the blur read.
+    fn spatial_channels() -> GBufferChannels {
+        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    }
+
     /// The paper's passes: the estimator, then the optional Gaussian.
     fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &HbaoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;

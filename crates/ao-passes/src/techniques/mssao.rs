@@ -126,6 +126,7 @@ use crate::blocks::temporal::{
 use crate::error::AoResult;
 use crate::levels::Levels;
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
 use passes::{Level, MssaoUniform};
@@ -169,6 +170,9 @@ pub struct MssaoParams {
     /// epsilon (Eq. 13): relative depth tolerance of the reprojection test (not given by the
     /// paper; the spec suggests 0.01 to 0.05, the shared block's default is 0.03).
     pub temporal_epsilon: f32,
+    /// The size the pyramid's finest level has (crate::Resolution): at half, the whole
+    /// pipeline, its temporal filter included, runs on the half-size g-buffer.
+    pub resolution: Resolution,
 }
 
 /// The upsampling of Fig. 8 (shaders/common/mssao.wgsl, `mssao_upsample`).
@@ -208,6 +212,7 @@ impl Default for MssaoParams {
             temporal: false,
             temporal_k: 0.5,
             temporal_epsilon: DEFAULT_EPSILON,
+            resolution: Resolution::Full,
         }
     }
 }
@@ -260,9 +265,33 @@ impl AoTechnique for Mssao {
             ParamDesc::float("temporal_epsilon", 0.0001, 1.0).doc(
                 "relative depth tolerance |1 - z / z_prev| of the reprojection test (Eq. 13 in TSSAO Eq. 7's form, the shared block's; the paper's |1 - z_prev / z| differs only within about epsilon^2)",
             ),
+            Resolution::param(),
         ]
     }
     fn channels(&self, p: &MssaoParams) -> GBufferChannels {
+        p.resolution.channels(Self::spatial_channels(p))
+    }
+    fn is_temporal(&self, p: &MssaoParams) -> bool {
+        p.temporal
+    }
+    fn needs_radius_pixels(&self, p: &MssaoParams) -> bool {
+        p.levels == Levels::Auto
+    }
+    fn reach_pixels(&self, p: &MssaoParams, _: u32, radius_pixels: Option<f32>) -> Option<f32> {
+        p.resolution
+            .reach(0, radius_pixels, |_, r| Some(p.reach(p.levels_for(r))))
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &MssaoParams) -> AoResult<AoOutput> {
+        self.validate(p)?;
+        p.resolution.build(ctx, Self::spatial_channels(p), |ctx| {
+            self.paper_pipeline(ctx, p)
+        })
+    }
+}
+
+impl Mssao {
+    /// What the paper's pipeline reads.
+    fn spatial_channels(p: &MssaoParams) -> GBufferChannels {
         // Sec. 4.1: view-space positions and true face normals (interpolated vertex normals
         // self-occlude on coarse meshes); positions are rebuilt from linear depth, normals read
         // in the compact encoding (module docs, "Storage").
@@ -275,17 +304,9 @@ impl AoTechnique for Mssao {
             spatial
         }
     }
-    fn is_temporal(&self, p: &MssaoParams) -> bool {
-        p.temporal
-    }
-    fn needs_radius_pixels(&self, p: &MssaoParams) -> bool {
-        p.levels == Levels::Auto
-    }
-    fn reach_pixels(&self, p: &MssaoParams, _: u32, radius_pixels: Option<f32>) -> Option<f32> {
-        Some(p.reach(p.levels_for(radius_pixels)))
-    }
-    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &MssaoParams) -> AoResult<AoOutput> {
-        self.validate(p)?;
+
+    /// Table 1's passes, levels 0 to n - 1, and the optional temporal filter.
+    fn paper_pipeline(&self, ctx: &mut AoBuildContext<'_>, p: &MssaoParams) -> AoResult<AoOutput> {
         let radius = ctx.radius;
         let levels = p.levels_for(ctx.radius_pixels);
         let uniform = |level: u32| MssaoUniform::new(p, radius, level);

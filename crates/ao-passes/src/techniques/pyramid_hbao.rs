@@ -67,6 +67,7 @@ use crate::blocks::{DepthReduction, GaussianBlur, depth_pyramid, gaussian_blur_w
 use crate::error::AoResult;
 use crate::levels::Levels;
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 use crate::temporal_option::TemporalOption;
 
@@ -102,6 +103,8 @@ pub struct PyramidHbaoParams {
     pub blur_sigma: f32,
     /// Gaussian taps per axis (paper: 5).
     pub blur_taps: u32,
+    /// The size the passes run at (crate::Resolution).
+    pub resolution: Resolution,
     /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
     #[serde(flatten)]
     pub accumulation: TemporalOption,
@@ -118,6 +121,7 @@ impl Default for PyramidHbaoParams {
             blur: true,
             blur_sigma: 1.5,
             blur_taps: 5,
+            resolution: Resolution::Full,
             accumulation: TemporalOption::default(),
         }
     }
@@ -172,14 +176,15 @@ impl AoTechnique for PyramidHbao {
             ParamDesc::flag("blur").doc("run the separable Gaussian denoiser"),
             ParamDesc::float("blur_sigma", 0.1, 8.0).doc("Gaussian sigma in pixels (paper: 1.5)"),
             ParamDesc::odd("blur_taps", 1, 31).doc("Gaussian taps per axis (paper: 5)"),
+            Resolution::param(),
         ]
         .into_iter()
         .chain(TemporalOption::params())
         .collect()
     }
     fn channels(&self, p: &PyramidHbaoParams) -> GBufferChannels {
-        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
-        p.accumulation.channels(spatial)
+        p.accumulation
+            .channels(p.resolution.channels(Self::spatial_channels()))
     }
     fn is_temporal(&self, p: &PyramidHbaoParams) -> bool {
         p.accumulation.temporal
@@ -193,16 +198,24 @@ impl AoTechnique for PyramidHbao {
         _: u32,
         radius_pixels: Option<f32>,
     ) -> Option<f32> {
-        Some(p.reach(p.levels_for(radius_pixels)))
+        p.resolution
+            .reach(0, radius_pixels, |_, r| Some(p.reach(p.levels_for(r))))
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
-        let spatial = self.spatial(ctx, p)?;
+        let spatial = p
+            .resolution
+            .build(ctx, Self::spatial_channels(), |ctx| self.spatial(ctx, p))?;
         // 4. Optional: the running mean over frames (crate::TemporalOption).
         p.accumulation.apply(ctx, spatial)
     }
 }
 
 impl PyramidHbao {
+    /// What the pyramid, the march and the blur read.
+    fn spatial_channels() -> GBufferChannels {
+        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    }
+
     /// The paper's passes: pyramid, march, Gaussian.
     fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
         let levels = p.levels_for(ctx.radius_pixels);

@@ -50,6 +50,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::AoResult;
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
 use crate::temporal_option::TemporalOption;
 
@@ -68,6 +69,8 @@ pub struct SsaoParams {
     pub bias: f32,
     /// Cap of the projected radius, as a fraction of the image height.
     pub max_screen_radius: f32,
+    /// The size the passes run at (crate::Resolution).
+    pub resolution: Resolution,
     /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
     #[serde(flatten)]
     pub accumulation: TemporalOption,
@@ -79,6 +82,7 @@ impl Default for SsaoParams {
             samples: 16,
             bias: 0.025,
             max_screen_radius: 0.5,
+            resolution: Resolution::Full,
             accumulation: TemporalOption::default(),
         }
     }
@@ -145,23 +149,41 @@ impl AoTechnique for Ssao {
             ),
             ParamDesc::float("max_screen_radius", 0.01, 2.0)
                 .doc("cap of the projected radius R, as a fraction of the image height"),
+            Resolution::param(),
         ]
         .into_iter()
         .chain(TemporalOption::params())
         .collect()
     }
-    fn reach_pixels(&self, p: &SsaoParams, height: u32, _: Option<f32>) -> Option<f32> {
+    fn reach_pixels(&self, p: &SsaoParams, height: u32, r: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
-        Some(p.max_screen_radius * height as f32)
+        p.resolution
+            .reach(height, r, |h, _| Some(p.max_screen_radius * h as f32))
     }
     fn channels(&self, p: &SsaoParams) -> GBufferChannels {
-        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
-        p.accumulation.channels(spatial)
+        p.accumulation
+            .channels(p.resolution.channels(Self::spatial_channels()))
     }
     fn is_temporal(&self, p: &SsaoParams) -> bool {
         p.accumulation.temporal
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &SsaoParams) -> AoResult<AoOutput> {
+        let spatial = p
+            .resolution
+            .build(ctx, Self::spatial_channels(), |ctx| self.spatial(ctx, p))?;
+        // Optional: the running mean over frames (crate::TemporalOption).
+        p.accumulation.apply(ctx, spatial)
+    }
+}
+
+impl Ssao {
+    /// What the estimator and the blur read.
+    fn spatial_channels() -> GBufferChannels {
+        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+    }
+
+    /// The classic passes: the estimator, then the 5x5 tile blur.
+    fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &SsaoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         let mut uniform = SsaoUniform {
@@ -205,8 +227,7 @@ impl AoTechnique for Ssao {
         pass.loads_per_invocation(1.0 + 16.0 * 2.0);
         let out = pass.write_storage("ao", out);
         pass.dispatch_over(out);
-        // Optional: the running mean over frames (crate::TemporalOption).
-        p.accumulation.apply(ctx, AoOutput::new(out))
+        Ok(AoOutput::new(out))
     }
 }
 

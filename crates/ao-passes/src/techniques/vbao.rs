@@ -34,14 +34,15 @@
 //!   (common/horizon.wgsl), as gtao and hbao; precise acos for θ and γ alike (spec §10).
 //! - Not yet: indirect light and the ambient fallback (V5), which need radiance inputs.
 
-use aograph_frame::{GBufferChannel, GBufferChannels};
+use aograph_frame::GBufferChannels;
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use super::slices::{SliceCounts, SlicePasses, slice_passes};
+use super::slices::{SliceCounts, SlicePasses, slice_channels, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 use crate::temporal_option::TemporalOption;
 
@@ -98,6 +99,8 @@ pub struct VbaoParams {
     pub final_value_power: f32,
     pub denoise_passes: u32,
     pub blur_beta: f32,
+    /// The size the slice passes run at (crate::Resolution).
+    pub resolution: Resolution,
     /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
     #[serde(flatten)]
     pub accumulation: TemporalOption,
@@ -118,6 +121,7 @@ impl Default for VbaoParams {
             final_value_power: 1.0,
             denoise_passes: 1,
             blur_beta: 1.2,
+            resolution: Resolution::Full,
             accumulation: TemporalOption::default(),
         }
     }
@@ -190,12 +194,13 @@ impl AoTechnique for Vbao {
             ParamDesc::float("blur_beta", 0.01, 1e4)
                 .doc("the denoiser's centre weight on its last pass"),
         ]);
+        d.push(Resolution::param());
         d.extend(TemporalOption::params());
         d
     }
     fn channels(&self, p: &VbaoParams) -> GBufferChannels {
-        let spatial = GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]);
-        p.accumulation.channels(spatial)
+        p.accumulation
+            .channels(p.resolution.channels(slice_channels()))
     }
     fn is_temporal(&self, p: &VbaoParams) -> bool {
         p.accumulation.temporal
@@ -217,23 +222,23 @@ impl AoTechnique for Vbao {
             centre_rounding: (p.rounding == SectorRounding::Centre) as u32 as f32,
             clip_to_radius: p.clip_to_radius as u32 as f32,
         };
-        let spatial = slice_passes(
-            ctx,
-            &SlicePasses {
-                prefix: "vbao",
-                shader: "ao/vbao/ao.wgsl",
-                uniform: bytemuck::bytes_of(&uniform),
-                loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
-                effect_radius,
-                falloff_range: PREFILTER_FALLOFF_RANGE,
-                denoise: EdgeDenoise {
-                    passes: p.denoise_passes,
-                    blur_beta: p.blur_beta,
-                },
-                extra_output: None,
-                accumulation: p.accumulation,
+        let slices = SlicePasses {
+            prefix: "vbao",
+            shader: "ao/vbao/ao.wgsl",
+            uniform: bytemuck::bytes_of(&uniform),
+            loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
+            effect_radius,
+            falloff_range: PREFILTER_FALLOFF_RANGE,
+            denoise: EdgeDenoise {
+                passes: p.denoise_passes,
+                blur_beta: p.blur_beta,
             },
-        )?;
+            extra_output: None,
+            accumulation: p.accumulation,
+        };
+        let spatial = p
+            .resolution
+            .build(ctx, slice_channels(), |ctx| slice_passes(ctx, &slices))?;
         // The running mean over frames, when asked (crate::TemporalOption).
         p.accumulation.apply(ctx, spatial)
     }
@@ -242,6 +247,7 @@ impl AoTechnique for Vbao {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use aograph_frame::GBufferChannel;
 
     #[test]
     fn reads_depth_and_normals_and_shares_gtaos_presets() {
