@@ -15,8 +15,18 @@ use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
 
 /// The techniques with a `resolution` parameter.
-const TECHNIQUES: [&str; 6] = ["ssao", "hbao", "pyramid-hbao", "mssao", "gtao", "vbao"];
+const TECHNIQUES: [&str; 7] = [
+    "ssao",
+    "hbao",
+    "pyramid-hbao",
+    "mssao",
+    "gtao",
+    "vbao",
+    "rtao",
+];
 
+/// One frame, or 32 for rtao: its 2 rays a frame converge over frames (its running mean is on
+/// by default), so one frame's noise would hide what half resolution changes.
 fn run(
     scene: aograph_scene::Scene,
     technique: &str,
@@ -25,7 +35,8 @@ fn run(
 ) -> Option<common::AoRun> {
     let mut config = common::ao_config(technique, 1.0, params);
     config.radius = RadiusSetting::Auto;
-    common::render_ao(scene, &config, size, 1)
+    let frames = if technique == "rtao" { 32 } else { 1 };
+    common::render_ao(scene, &config, size, frames)
 }
 
 #[test]

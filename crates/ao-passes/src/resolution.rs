@@ -93,7 +93,7 @@ impl Resolution {
             return Err(AoError::ParameterRule {
                 technique: ctx.technique.into(),
                 rule: format!(
-                    "resolution = \"half\" downsamples linear depth, normals, octahedral normals and motion, and this technique also reads {}: use resolution = \"full\"",
+                    "resolution = \"half\" downsamples linear depth, normals, octahedral normals, motion and positions, and this technique also reads {}: use resolution = \"full\"",
                     c.name()
                 ),
             });

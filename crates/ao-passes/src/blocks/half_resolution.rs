@@ -9,7 +9,9 @@
 //!   block's nearest surface, its depth moved to the block's centre along its tangent plane
 //!   (a plane stays on itself), its normal, and which sample it was;
 //! - `<prefix>.normals_oct`, `<prefix>.motion` (gather_*.wgsl): the same sample's octahedral
-//!   normal and motion, where the g-buffer has them (a pass nobody reads is culled).
+//!   normal and motion, where the g-buffer has them (a pass nobody reads is culled);
+//! - `<prefix>.positions` (positions.wgsl): view-space positions rebuilt from the half depth
+//!   through the half view block, where the g-buffer has positions.
 //!
 //! Invariant: every half texture has the size class of the full channel divided by 2 (ceil:
 //! an odd size's last half texel covers one column or row), which is what
@@ -21,11 +23,12 @@ use aograph_graph::{BufferDesc, BufferHandle, GraphBuilder, SizeClass, TextureDe
 use crate::error::{AoError, AoResult};
 
 /// The channels a half-resolution g-buffer holds (the rest are not downsampled).
-pub const HALF_CHANNELS: [GBufferChannel; 4] = [
+pub const HALF_CHANNELS: [GBufferChannel; 5] = [
     GBufferChannel::LinearDepth,
     GBufferChannel::Normals,
     GBufferChannel::NormalsOct,
     GBufferChannel::Motion,
+    GBufferChannel::Positions,
 ];
 
 /// A half-resolution g-buffer and its view block.
@@ -128,6 +131,20 @@ pub fn half_gbuffer(
             GBufferChannel::NormalsOct => out.normals_oct = Some(dst),
             _ => out.motion = Some(dst),
         }
+    }
+    if gbuffer.positions.is_some() {
+        let dst = tex(b, "positions", GBufferChannel::Positions);
+        let mut pass = b.compute_pass(
+            &format!("{prefix}.positions"),
+            "blocks/half_gbuffer/positions.wgsl",
+            "main",
+        );
+        pass.read_view(half_view);
+        pass.sample("depth", half_depth);
+        pass.loads_per_invocation(1.0);
+        let dst = pass.write_storage("dst", dst);
+        pass.dispatch_over(dst);
+        out.positions = Some(dst);
     }
     Ok(HalfGBuffer {
         gbuffer: out,

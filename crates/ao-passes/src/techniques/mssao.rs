@@ -128,6 +128,7 @@ use crate::levels::Levels;
 use crate::param::ParamDesc;
 use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
+use crate::temporal_option::PER_FRAME_OUTPUT;
 
 use passes::{Level, MssaoUniform};
 
@@ -348,6 +349,11 @@ impl Mssao {
             ctx.view,
             &filter,
         )?;
-        Ok(AoOutput::new(t.accumulated))
+        let mut out = AoOutput::new(t.accumulated);
+        // This frame's own Eq. 11 output, before Eq. 14's blend (as the shared temporal
+        // option outputs it).
+        out.extra
+            .push((PER_FRAME_OUTPUT.to_string(), accessibility));
+        Ok(out)
     }
 }

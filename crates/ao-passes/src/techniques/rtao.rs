@@ -47,7 +47,9 @@ use crate::blocks::temporal::{
 use crate::blocks::{EdgeDenoise, edge_denoise};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
+use crate::temporal_option::PER_FRAME_OUTPUT;
 
 /// Most rays per pixel and frame (one frame of the 256-ray reference).
 pub const MAX_RAYS: u32 = 256;
@@ -75,6 +77,9 @@ pub struct RtaoParams {
     pub sequence: String,
     /// "binary" or "obscurance" (the reference's modes).
     pub mode: String,
+    /// The size the rays are traced at (crate::Resolution): at half, the rays, the running
+    /// mean and the denoiser run on the half-size g-buffer.
+    pub resolution: Resolution,
 }
 
 impl Default for RtaoParams {
@@ -87,6 +92,7 @@ impl Default for RtaoParams {
             denoise_passes: 1,
             sequence: "per-frame".into(),
             mode: "binary".into(),
+            resolution: Resolution::Full,
         }
     }
 }
@@ -129,9 +135,24 @@ impl AoTechnique for Rtao {
                 .doc("per-frame: each frame continues the pixel's Sobol sequence; fixed: the same rays every frame"),
             ParamDesc::choice("mode", MODES)
                 .doc("binary: a hit within R occludes; obscurance: a hit at d occludes by 1 - (d/R)^2"),
+            Resolution::param(),
         ]
     }
     fn channels(&self, p: &RtaoParams) -> GBufferChannels {
+        p.resolution.channels(Self::spatial_channels(p))
+    }
+    fn is_temporal(&self, p: &RtaoParams) -> bool {
+        p.temporal
+    }
+    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &RtaoParams) -> AoResult<AoOutput> {
+        p.resolution
+            .build(ctx, Self::spatial_channels(p), |ctx| self.traced(ctx, p))
+    }
+}
+
+impl Rtao {
+    /// What the rays, the running mean and the denoiser read.
+    fn spatial_channels(p: &RtaoParams) -> GBufferChannels {
         // The reference's hemisphere is the geometric normal's: face normals.
         let trace = GBufferChannels::of(&[GBufferChannel::Positions, GBufferChannel::LinearDepth])
             .with_face_normals();
@@ -141,10 +162,9 @@ impl AoTechnique for Rtao {
             trace
         }
     }
-    fn is_temporal(&self, p: &RtaoParams) -> bool {
-        p.temporal
-    }
-    fn build(&self, ctx: &mut AoBuildContext<'_>, p: &RtaoParams) -> AoResult<AoOutput> {
+
+    /// The passes: rays, running mean, denoise.
+    fn traced(&self, ctx: &mut AoBuildContext<'_>, p: &RtaoParams) -> AoResult<AoOutput> {
         let positions = ctx.channel(GBufferChannel::Positions)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
@@ -239,6 +259,11 @@ impl AoTechnique for Rtao {
         // Where this frame's rays hit moving geometry (r = 1): the pixels whose history is
         // held to `moving_frames`, for inspection.
         output.extra.push(("rtao_changed".into(), changed));
+        if p.temporal {
+            // This frame's own rays, before the running mean (as the shared temporal option
+            // outputs it), so the mean can be checked against its frames.
+            output.extra.push((PER_FRAME_OUTPUT.to_string(), raw));
+        }
         Ok(output)
     }
 }
