@@ -141,3 +141,42 @@ fn every_technique_at_half_resolution_tracks_itself_at_full() {
         );
     }
 }
+
+#[test]
+fn rtao_at_half_resolution_keeps_its_rays_above_a_plane_that_meets_the_sky() {
+    // sphere-on-plane's floor runs to the horizon. Where a 2x2 block holds the floor's far edge
+    // and sky, the selection cannot move the floor's depth to the block's centre (the centre's
+    // ray meets the floor far beyond, or not at all): a ray origin rebuilt there lies below
+    // the floor and every ray hits it (a black line along the horizon, MAE 0.018 at 256x256).
+    // The origin is the kept sample's own position, on the floor.
+    let (w, h) = (128u32, 128u32);
+    let scene = || procedural_scene("sphere-on-plane").expect("sphere-on-plane exists");
+    let Some(full) = run(scene(), "rtao", "", Extent::new(w, h)) else {
+        return;
+    };
+    let half =
+        run(scene(), "rtao", "resolution = \"half\"", Extent::new(w, h)).expect("the GPU is there");
+    let darkest_row = |ao: &[f32], depth: &[f32]| {
+        (0..h as usize)
+            .map(|y| {
+                let row = (0..w as usize).filter(|x| depth[y * w as usize + x] > 0.0);
+                let n = row.clone().count();
+                if n == 0 {
+                    return 1.0;
+                }
+                row.map(|x| ao[y * w as usize + x]).sum::<f32>() / n as f32
+            })
+            .fold(1.0f32, f32::min)
+    };
+    let (f, hf) = (
+        darkest_row(&full.ao, &full.depth),
+        darkest_row(&half.ao, &half.depth),
+    );
+    let mae = common::mae(&half.ao, &full.ao, &full.depth);
+    println!("rtao on sphere-on-plane: darkest row mean full {f:.4}, half {hf:.4}; MAE {mae:.4}");
+    // The darkest row is the sphere's contact either way; a black horizon line reads far lower.
+    assert!(
+        hf > f - 0.1,
+        "at half a row reads {hf} (full: {f}): rays starting below the floor?"
+    );
+}

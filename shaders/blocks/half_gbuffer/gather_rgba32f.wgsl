@@ -1,4 +1,5 @@
-// Half-resolution g-buffer, an Rgba32Float channel (motion): the sample the selection kept
+// Half-resolution g-buffer, an Rgba32Float channel (motion, positions): the sample the
+// selection kept
 // (blocks/half_gbuffer/select.wgsl, `choice` = x + 2y of the 2x2 block).
 
 @group(0) @binding(0) var src: texture_2d<f32>;

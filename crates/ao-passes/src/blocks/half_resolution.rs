@@ -8,10 +8,12 @@
 //! - `<prefix>.select` (shaders/blocks/half_gbuffer/select.wgsl): per half texel, the 2x2
 //!   block's nearest surface, its depth moved to the block's centre along its tangent plane
 //!   (a plane stays on itself), its normal, and which sample it was;
-//! - `<prefix>.normals_oct`, `<prefix>.motion` (gather_*.wgsl): the same sample's octahedral
-//!   normal and motion, where the g-buffer has them (a pass nobody reads is culled);
-//! - `<prefix>.positions` (positions.wgsl): view-space positions rebuilt from the half depth
-//!   through the half view block, where the g-buffer has positions.
+//! - `<prefix>.normals_oct`, `<prefix>.motion`, `<prefix>.positions` (gather_*.wgsl): the same
+//!   sample's octahedral normal, motion and view-space position, where the g-buffer has them
+//!   (a pass nobody reads is culled). The position is the sample's own, on its surface (not
+//!   moved to the block's centre): a ray traced from it (`rtao`) starts on the surface even
+//!   where the plane move falls back, at a grazing angle near the horizon, and the depth does
+//!   not lie on the surface at the centre.
 //!
 //! Invariant: every half texture has the size class of the full channel divided by 2 (ceil:
 //! an odd size's last half texel covers one column or row), which is what
@@ -118,6 +120,11 @@ pub fn half_gbuffer(
             "motion",
             "blocks/half_gbuffer/gather_rgba32f.wgsl",
         ),
+        (
+            GBufferChannel::Positions,
+            "positions",
+            "blocks/half_gbuffer/gather_rgba32f.wgsl",
+        ),
     ];
     for (c, name, shader) in gathers {
         let Some(src) = gbuffer.get(c) else { continue };
@@ -129,22 +136,9 @@ pub fn half_gbuffer(
         pass.dispatch_over(dst);
         match c {
             GBufferChannel::NormalsOct => out.normals_oct = Some(dst),
-            _ => out.motion = Some(dst),
+            GBufferChannel::Motion => out.motion = Some(dst),
+            _ => out.positions = Some(dst),
         }
-    }
-    if gbuffer.positions.is_some() {
-        let dst = tex(b, "positions", GBufferChannel::Positions);
-        let mut pass = b.compute_pass(
-            &format!("{prefix}.positions"),
-            "blocks/half_gbuffer/positions.wgsl",
-            "main",
-        );
-        pass.read_view(half_view);
-        pass.sample("depth", half_depth);
-        pass.loads_per_invocation(1.0);
-        let dst = pass.write_storage("dst", dst);
-        pass.dispatch_over(dst);
-        out.positions = Some(dst);
     }
     Ok(HalfGBuffer {
         gbuffer: out,
