@@ -337,6 +337,7 @@ fn temporal_accumulation_toggles_live_per_technique() {
         format!(
             "size 96 64\ntechnique gtao\nwait 2\nscreenshot {d}/off.png\n\
              param temporal true\nwait 24\nscreenshot {d}/on.png\n\
+             display temporal\nsplit 0.5\nwait 1\nscreenshot {d}/split.png\ndisplay ao\n\
              mark\nparam temporal false\nwait 2\nscreenshot {d}/off-again.png\n\
              param temporal true\nwait 2\nexpect-no-new-pipelines\nquit\n"
         ),
@@ -362,5 +363,29 @@ fn temporal_accumulation_toggles_live_per_technique() {
     assert!(
         r_on < 0.9 * r_off,
         "accumulating frames should lower the per-pixel noise: {r_on} against {r_off}"
+    );
+    // The temporal split: the accumulated image left of the line, this frame's own right of
+    // it, as noisy as the technique without accumulation.
+    let split = rgba(&dir.join("split.png"));
+    let line = split.get_pixel(w as u32 / 2, h as u32 / 2);
+    assert!(
+        line[0] > 200 && line[1] > 150 && line[2] < 80,
+        "split line {line:?}"
+    );
+    let half_residual = |left: bool| {
+        let (x0, x1) = if left { (0, w / 2 - 2) } else { (w / 2 + 2, w) };
+        let v: Vec<f32> = (0..h)
+            .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+            .map(|(x, y)| split.get_pixel(x as u32, y as u32)[0] as f32 / 255.0)
+            .collect();
+        residual(&v, x1 - x0, h)
+    };
+    let (left, right) = (half_residual(true), half_residual(false));
+    println!(
+        "temporal split: residual left (accumulated) {left:.4}, right (this frame) {right:.4}"
+    );
+    assert!(
+        left < 0.9 * right,
+        "the accumulated side should be smoother than this frame's: {left} against {right}"
     );
 }

@@ -3,8 +3,10 @@
 // 0 AO (gray = accessibility, the bytes ao.png holds), 1 shaded (shaded.png's colour),
 // 2 split (the technique left of `split`, the ray-traced reference right of it, a thin line
 // between), 3 signed error (technique minus reference: red where the technique is too bright,
-// blue where too dark, full colour at +-`error_scale`). Reference texels below 0 are not traced
-// yet: shown as a dim checkerboard in split and heat-map modes.
+// blue where too dark, full colour at +-`error_scale`), 4 temporal split (the accumulated image
+// left of `split`, the technique's own image of this frame right of it: temporal on against
+// off; `per_frame` may be at half size, read at the pixel's half-size texel). Reference texels
+// below 0 are not traced yet: shown as a dim checkerboard in split and heat-map modes.
 
 struct Display { mode: u32, split: f32, error_scale: f32, pad: f32 }
 
@@ -12,6 +14,7 @@ struct Display { mode: u32, split: f32, error_scale: f32, pad: f32 }
 @group(0) @binding(1) var shaded: texture_2d<f32>;
 @group(0) @binding(2) var reference: texture_2d<f32>;
 @group(0) @binding(3) var<uniform> display: Display;
+@group(0) @binding(4) var per_frame: texture_2d<f32>;
 
 @vertex
 fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -56,6 +59,13 @@ fn fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             let too_bright = vec3<f32>(1.0, 1.0 - e, 1.0 - e);
             let too_dark = vec3<f32>(1.0 + e, 1.0 + e, 1.0);
             return vec4<f32>(to_linear(select(too_dark, too_bright, e >= 0.0)), 1.0);
+        }
+        case 4u: {
+            let x = display.split * width;
+            if (abs(frag.x - x) < 1.0) { return vec4<f32>(1.0, 0.8, 0.0, 1.0); }
+            if (frag.x < x) { return gray(a); }
+            let q = p * vec2<i32>(textureDimensions(per_frame)) / vec2<i32>(textureDimensions(ao));
+            return gray(textureLoad(per_frame, q, 0).r);
         }
         default: {
             return gray(a);

@@ -9,6 +9,7 @@
 
 use std::sync::Arc;
 
+use aograph_ao::PER_FRAME_OUTPUT;
 use aograph_graph::{ColorTarget, Extent, GpuContext, GraphBuilder, SizeClass, TextureDesc};
 
 use crate::error::{AppError, AppResult};
@@ -35,16 +36,27 @@ pub enum DisplayMode {
     Split,
     /// Technique minus reference, signed.
     Error,
+    /// With `temporal = true`: the accumulated image left of the split, the technique's own
+    /// image of this frame (what it shows with `temporal = false`, noise of this frame) right
+    /// of it. Without accumulation both sides are the same image.
+    Temporal,
 }
 
 impl DisplayMode {
-    pub const ALL: [DisplayMode; 4] = [Self::Ao, Self::Shaded, Self::Split, Self::Error];
+    pub const ALL: [DisplayMode; 5] = [
+        Self::Ao,
+        Self::Shaded,
+        Self::Split,
+        Self::Error,
+        Self::Temporal,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             Self::Ao => "ao",
             Self::Shaded => "shaded",
             Self::Split => "split",
             Self::Error => "error",
+            Self::Temporal => "temporal",
         }
     }
     pub fn parse(s: &str) -> AppResult<Self> {
@@ -54,7 +66,7 @@ impl DisplayMode {
             .ok_or_else(|| AppError::InvalidArgument {
                 name: "display mode".into(),
                 value: s.into(),
-                allowed: "ao, shaded, split or error".into(),
+                allowed: "ao, shaded, split, error or temporal".into(),
             })
     }
     /// True when the picture needs the reference.
@@ -88,10 +100,17 @@ pub fn display_extension() -> GraphExtension {
             REFERENCE_TEXTURE,
             TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
         );
+        // The technique's own image of this frame where it accumulates (else its output).
+        let per_frame = fg
+            .extra
+            .iter()
+            .find(|(name, _)| name == PER_FRAME_OUTPUT)
+            .map_or(fg.ao, |(_, h)| *h);
         let mut p = b.fullscreen_pass(DISPLAY_PASS, "viewer/display.wgsl", "vs", "fs");
         p.sample("ao", fg.ao)
             .sample("shaded", shaded)
-            .sample("reference", reference);
+            .sample("reference", reference)
+            .sample("per_frame", per_frame);
         p.uniform(
             DISPLAY_UNIFORM,
             &display_uniform(DisplayMode::Ao, 0.5, 0.25),

@@ -296,7 +296,10 @@ fn display_section(ui: &mut egui::Ui, s: &mut Session) {
                     ui.selectable_value(&mut s.settings.display, m, m.name());
                 }
             });
-            if s.settings.display == DisplayMode::Split {
+            if matches!(
+                s.settings.display,
+                DisplayMode::Split | DisplayMode::Temporal
+            ) {
                 ui.add(egui::Slider::new(&mut s.settings.split, 0.0..=1.0).text("split"));
             }
             if s.settings.display == DisplayMode::Error {

@@ -9,7 +9,7 @@
 //! param samples 16             # set a parameter of the current technique (a TOML value)
 //! radius 0.5                   # the shared R (or: radius auto)
 //! precision r32float           # intermediate precision
-//! display split                # ao, shaded, split or error
+//! display split                # ao, shaded, split, error or temporal (accumulated | this frame)
 //! split 0.4                    # where the split falls (0 to 1)
 //! view outside                 # a named view of the scene
 //! camera pos=0,2,5 target=0,0,0 fov=60
@@ -409,7 +409,7 @@ mod tests {
             ("jump 3", "unknown action `jump`"),
             ("wait soon", "not a whole number"),
             ("split 2", "allowed 0 to 1"),
-            ("display fancy", "ao, shaded, split or error"),
+            ("display fancy", "ao, shaded, split, error or temporal"),
             ("param samples", "takes a name and a value"),
             ("screenshot", "needs a file path"),
             ("move sideways 1", "allowed forward"),
