@@ -446,13 +446,7 @@ impl Renderer {
 
     /// An extra output of the technique (e.g. SSDO's radiance) as RGBA floats.
     pub fn read_extra(&self, name: &str) -> AppResult<Vec<f32>> {
-        let h = self
-            .graph
-            .extra
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, h)| *h);
-        Ok(self.read_channel(h, name)?.to_f32()?)
+        Ok(self.read_extra_readback(name)?.to_f32()?)
     }
 
     /// An extra output of the technique as read back: its own size (a technique at
