@@ -117,12 +117,7 @@ impl Resolution {
         let out = out?;
         let full_depth = ctx.channel(GBufferChannel::LinearDepth)?;
         let full_normals = ctx.channel(GBufferChannel::Normals)?;
-        let (half_depth, half_normals) = (
-            half.gbuffer
-                .linear_depth
-                .expect("the half g-buffer has depth"),
-            half.gbuffer.normals.expect("the half g-buffer has normals"),
-        );
+        let (half_depth, half_normals) = (half.depth, half.normals);
         let accessibility = bilateral_upsample(
             ctx.builder,
             &prefix,

@@ -41,6 +41,9 @@ pub struct HalfGBuffer {
     pub gbuffer: GBufferTextures,
     /// The view block of the half-size image (a buffer the graph writes).
     pub view: BufferHandle,
+    /// The half linear depth and normals (also in `gbuffer`), which every half g-buffer has.
+    pub depth: aograph_graph::TextureHandle,
+    pub normals: aograph_graph::TextureHandle,
 }
 
 fn channel(
@@ -143,5 +146,7 @@ pub fn half_gbuffer(
     Ok(HalfGBuffer {
         gbuffer: out,
         view: half_view,
+        depth: half_depth,
+        normals: half_normals,
     })
 }
