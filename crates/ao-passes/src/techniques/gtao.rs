@@ -66,7 +66,8 @@ use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use super::slices::{ExtraOutput, SlicePasses, slice_channels, slice_passes};
+use super::depth_and_normals;
+use super::slices::{ExtraOutput, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
@@ -227,7 +228,7 @@ impl AoTechnique for Gtao {
     }
     fn channels(&self, p: &GtaoParams) -> GBufferChannels {
         // The multi-bounce fit reads the albedo at the output size, after the slices.
-        let slices = p.resolution.channels(slice_channels());
+        let slices = p.resolution.channels(depth_and_normals());
         let c = if p.multibounce {
             slices.with(GBufferChannel::Albedo)
         } else {
@@ -281,7 +282,7 @@ impl AoTechnique for Gtao {
         };
         let out = p
             .resolution
-            .build(ctx, slice_channels(), |ctx| slice_passes(ctx, &slices))?;
+            .build(ctx, depth_and_normals(), |ctx| slice_passes(ctx, &slices))?;
         // The running mean over frames, when asked (crate::TemporalOption), before the
         // multi-bounce fit reads the accessibility.
         let mut out = p.accumulation.apply(ctx, out)?;

@@ -53,6 +53,7 @@ use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
+use super::depth_and_normals;
 use crate::blocks::{GaussianBlur, gaussian_blur_with_intermediate};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
@@ -213,7 +214,7 @@ impl AoTechnique for Hbao {
     }
     fn channels(&self, p: &HbaoParams) -> GBufferChannels {
         p.accumulation
-            .channels(p.resolution.channels(Self::spatial_channels()))
+            .channels(p.resolution.channels(depth_and_normals()))
     }
     fn is_temporal(&self, p: &HbaoParams) -> bool {
         p.accumulation.temporal
@@ -221,18 +222,13 @@ impl AoTechnique for Hbao {
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &HbaoParams) -> AoResult<AoOutput> {
         let spatial = p
             .resolution
-            .build(ctx, Self::spatial_channels(), |ctx| self.spatial(ctx, p))?;
+            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))?;
         // Optional: the running mean over frames (crate::TemporalOption).
         p.accumulation.apply(ctx, spatial)
     }
 }
 
 impl Hbao {
-    /// What the estimator and the blur read.
-    fn spatial_channels() -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
-    }
-
     /// The paper's passes: the estimator, then the optional Gaussian.
     fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &HbaoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;

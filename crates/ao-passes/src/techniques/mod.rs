@@ -14,7 +14,15 @@ pub mod vbao;
 
 use std::sync::Arc;
 
+use aograph_frame::{GBufferChannel, GBufferChannels};
+
 use crate::technique::DynAoTechnique;
+
+/// Linear depth and view-space normals: what the depth-buffer estimators (ssao, hbao,
+/// pyramid-hbao, and gtao's and vbao's slices) read.
+pub(crate) fn depth_and_normals() -> GBufferChannels {
+    GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
+}
 
 /// Every built-in technique (the registry's `with_builtins`).
 pub(crate) fn builtins() -> Vec<Arc<dyn DynAoTechnique>> {

@@ -63,6 +63,7 @@ use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::SizeClass;
 use serde::{Deserialize, Serialize};
 
+use super::depth_and_normals;
 use crate::blocks::{DepthReduction, GaussianBlur, depth_pyramid, gaussian_blur_with_intermediate};
 use crate::error::AoResult;
 use crate::levels::Levels;
@@ -184,7 +185,7 @@ impl AoTechnique for PyramidHbao {
     }
     fn channels(&self, p: &PyramidHbaoParams) -> GBufferChannels {
         p.accumulation
-            .channels(p.resolution.channels(Self::spatial_channels()))
+            .channels(p.resolution.channels(depth_and_normals()))
     }
     fn is_temporal(&self, p: &PyramidHbaoParams) -> bool {
         p.accumulation.temporal
@@ -204,18 +205,13 @@ impl AoTechnique for PyramidHbao {
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
         let spatial = p
             .resolution
-            .build(ctx, Self::spatial_channels(), |ctx| self.spatial(ctx, p))?;
+            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))?;
         // 4. Optional: the running mean over frames (crate::TemporalOption).
         p.accumulation.apply(ctx, spatial)
     }
 }
 
 impl PyramidHbao {
-    /// What the pyramid, the march and the blur read.
-    fn spatial_channels() -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
-    }
-
     /// The paper's passes: pyramid, march, Gaussian.
     fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
         let levels = p.levels_for(ctx.radius_pixels);

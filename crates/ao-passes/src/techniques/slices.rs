@@ -98,11 +98,6 @@ pub(crate) struct ExtraOutput {
     pub format: wgpu::TextureFormat,
 }
 
-/// What [`slice_passes`] reads of the g-buffer.
-pub(crate) fn slice_channels() -> aograph_frame::GBufferChannels {
-    aograph_frame::GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
-}
-
 /// What a slice-based technique (gtao, vbao) hands to [`slice_passes`].
 pub(crate) struct SlicePasses<'a> {
     pub prefix: &'static str,

@@ -48,6 +48,7 @@ use aograph_graph::{SizeClass, TextureDesc};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
+use super::depth_and_normals;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::resolution::Resolution;
@@ -162,7 +163,7 @@ impl AoTechnique for Ssao {
     }
     fn channels(&self, p: &SsaoParams) -> GBufferChannels {
         p.accumulation
-            .channels(p.resolution.channels(Self::spatial_channels()))
+            .channels(p.resolution.channels(depth_and_normals()))
     }
     fn is_temporal(&self, p: &SsaoParams) -> bool {
         p.accumulation.temporal
@@ -170,18 +171,13 @@ impl AoTechnique for Ssao {
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &SsaoParams) -> AoResult<AoOutput> {
         let spatial = p
             .resolution
-            .build(ctx, Self::spatial_channels(), |ctx| self.spatial(ctx, p))?;
+            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))?;
         // Optional: the running mean over frames (crate::TemporalOption).
         p.accumulation.apply(ctx, spatial)
     }
 }
 
 impl Ssao {
-    /// What the estimator and the blur read.
-    fn spatial_channels() -> GBufferChannels {
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals])
-    }
-
     /// The classic passes: the estimator, then the 5x5 tile blur.
     fn spatial(&self, ctx: &mut AoBuildContext<'_>, p: &SsaoParams) -> AoResult<AoOutput> {
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;

@@ -38,7 +38,8 @@ use aograph_frame::GBufferChannels;
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use super::slices::{SliceCounts, SlicePasses, slice_channels, slice_passes};
+use super::depth_and_normals;
+use super::slices::{SliceCounts, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
@@ -200,7 +201,7 @@ impl AoTechnique for Vbao {
     }
     fn channels(&self, p: &VbaoParams) -> GBufferChannels {
         p.accumulation
-            .channels(p.resolution.channels(slice_channels()))
+            .channels(p.resolution.channels(depth_and_normals()))
     }
     fn is_temporal(&self, p: &VbaoParams) -> bool {
         p.accumulation.temporal
@@ -238,7 +239,7 @@ impl AoTechnique for Vbao {
         };
         let spatial = p
             .resolution
-            .build(ctx, slice_channels(), |ctx| slice_passes(ctx, &slices))?;
+            .build(ctx, depth_and_normals(), |ctx| slice_passes(ctx, &slices))?;
         // The running mean over frames, when asked (crate::TemporalOption).
         p.accumulation.apply(ctx, spatial)
     }
