@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod parity;
+pub mod user_frame;
 
 use std::sync::Arc;
 

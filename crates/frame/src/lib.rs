@@ -18,4 +18,4 @@ pub use channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures
 pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
 pub use precision::{INTERMEDIATE_ALIAS, intermediate_shader};
 pub use scene_bvh::{BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, SceneBvhInputs};
-pub use view::{Mat4Cols, ReadsView, VIEW_BINDING, VIEW_BUFFER, ViewUniforms};
+pub use view::{Mat4Cols, ReadsView, VIEW_BINDING, VIEW_BUFFER, ViewMatrices, ViewUniforms};

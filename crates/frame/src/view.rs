@@ -7,6 +7,7 @@
 
 use aograph_graph::{BufferAccess, BufferHandle, PassBuilder};
 use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
 
 /// Column-major 4x4 matrix as WGSL reads it.
 pub type Mat4Cols = [[f32; 4]; 4];
@@ -61,6 +62,69 @@ impl ViewUniforms {
     pub fn bytes(&self) -> &[u8] {
         bytemuck::bytes_of(self)
     }
+
+    /// The block of one frame: the matrices are inverted here (a singular one becomes the
+    /// identity), `view_to_prev_clip` is `prev_view_proj * inverse(view)`, and an infinite far
+    /// plane is stored as 0. The one place the block is filled, for aograph's own cameras
+    /// (`aograph_scene::view_block`) and an application's matrices (the embedding API) alike.
+    pub fn from_matrices(f: &ViewMatrices) -> Self {
+        let inv = |m: Mat4| {
+            let i = m.inverse();
+            if i.is_finite() { i } else { Mat4::IDENTITY }
+        };
+        let (w, h) = (f.width.max(1), f.height.max(1));
+        Self {
+            view: f.view.to_cols_array_2d(),
+            proj: f.proj.to_cols_array_2d(),
+            inv_proj: inv(f.proj).to_cols_array_2d(),
+            inv_view: inv(f.view).to_cols_array_2d(),
+            prev_view_proj: f.prev_view_proj.to_cols_array_2d(),
+            view_to_prev_clip: (f.prev_view_proj * inv(f.view)).to_cols_array_2d(),
+            size: [f.width as f32, f.height as f32],
+            inv_size: [1.0 / w as f32, 1.0 / h as f32],
+            near: f.near,
+            far: if f.far.is_finite() { f.far } else { 0.0 },
+            reversed_z: f.reversed_z as u32 as f32,
+            orthographic: f.orthographic as u32 as f32,
+            frame_index: f.frame_index,
+            history_valid: f.history_valid as u32,
+            camera_cut: f.camera_cut as u32,
+            pad0: 0,
+            time: f.time,
+            dt: f.dt,
+            pad1: 0.0,
+            pad2: 0.0,
+        }
+    }
+}
+
+/// What one frame's [`ViewUniforms`] are made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewMatrices {
+    /// World to view space (right-handed, looking down -Z).
+    pub view: Mat4,
+    /// View to clip space (wgpu's 0..1 depth).
+    pub proj: Mat4,
+    /// The previous frame's `proj * view`.
+    pub prev_view_proj: Mat4,
+    /// Near plane distance (positive).
+    pub near: f32,
+    /// Far plane distance; infinity for an infinite far plane.
+    pub far: f32,
+    /// Near maps to clip depth 1.
+    pub reversed_z: bool,
+    pub orthographic: bool,
+    /// Output size in pixels.
+    pub width: u32,
+    pub height: u32,
+    pub frame_index: u32,
+    /// The previous frame's history may be read.
+    pub history_valid: bool,
+    /// The camera jumped this frame.
+    pub camera_cut: bool,
+    /// Time in seconds, and this frame's time minus the previous frame's.
+    pub time: f32,
+    pub dt: f32,
 }
 
 /// Name under which the view block is imported as a buffer into every graph.

@@ -4,7 +4,8 @@
 //! plan, its pipelines shared through the cache), bind its resources for this frame (pool,
 //! imports, histories), record every kept pass, submit, and start the read-back of its
 //! timestamps. Nothing in `execute` waits for the GPU, except in the opt-in
-//! [`TimingMode::CpuWall`].
+//! [`TimingMode::CpuWall`]. [`Executor::encode`] records the same frame into an application's
+//! own command encoder instead, untimed and unsubmitted.
 //!
 //! Invariants: a plan's exported resources stay readable (with [`Executor::read_texture`],
 //! naming the plan) until that plan executes again or is evicted, whatever other plans run in
@@ -275,6 +276,47 @@ impl Executor {
     /// Runs one frame of `plan` at output size `output` and returns its number, which its
     /// timings carry when they arrive. Returns without waiting for the GPU.
     pub fn execute(&mut self, plan: &Arc<CompiledGraph>, output: Extent) -> GraphResult<FrameId> {
+        let frame = self.begin_frame(plan, output)?;
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("aograph frame"),
+            });
+        let timing = self.timing;
+        let slot = self.record_frame(plan, output, frame, &mut encoder, timing)?;
+        let n = plan.order.len() as u32;
+        if let Some(s) = slot {
+            self.ring.resolve(&mut encoder, s, n);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        match (slot, timing) {
+            (Some(s), _) => self.ring.submitted(s, frame, plan),
+            (None, TimingMode::CpuWall) => self.ring.record_cpu(frame, plan, &self.pass_ms),
+            _ => {}
+        }
+        self.end_frame(plan, frame)
+    }
+
+    /// Records one frame of `plan` at output size `output` into the caller's `encoder`, for an
+    /// application that owns its frame's command buffer (the embedding API): nothing is
+    /// submitted and nothing waits. The frame is untimed whatever [`Executor::set_timing`]
+    /// says (its timestamps could only be read back after the caller's submit). Uniforms and
+    /// imports written for this frame go through the queue, so submit `encoder` before the
+    /// next `encode` or `execute`.
+    pub fn encode(
+        &mut self,
+        plan: &Arc<CompiledGraph>,
+        output: Extent,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> GraphResult<FrameId> {
+        let frame = self.begin_frame(plan, output)?;
+        self.record_frame(plan, output, frame, encoder, TimingMode::Off)?;
+        self.end_frame(plan, frame)
+    }
+
+    /// Checks the size, harvests finished timings (no wait) and makes the plan's state.
+    fn begin_frame(&mut self, plan: &Arc<CompiledGraph>, output: Extent) -> GraphResult<FrameId> {
         if output.width == 0 || output.height == 0 {
             return Err(GraphError::InvalidParameter {
                 owner: "graph".into(),
@@ -283,17 +325,27 @@ impl Executor {
                 allowed: "width and height of at least 1 pixel".into(),
             });
         }
-        let frame = FrameId(self.frames);
         // Run whatever map callbacks are due (no wait), then take finished timings.
         if self.timing == TimingMode::GpuTimestamps {
             let _ = self.gpu.device.poll(wgpu::PollType::Poll);
             self.ring.harvest()?;
         }
         self.ensure_state(plan)?;
+        Ok(FrameId(self.frames))
+    }
+
+    /// Binds the plan's resources for `frame` and records every kept pass into `encoder`,
+    /// timed as `timing` says; returns the timestamp slot to resolve, if any. On an error the
+    /// frame's slots are released and nothing is left half-bound.
+    fn record_frame(
+        &mut self,
+        plan: &Arc<CompiledGraph>,
+        output: Extent,
+        frame: FrameId,
+        encoder: &mut wgpu::CommandEncoder,
+        timing: TimingMode,
+    ) -> GraphResult<Option<usize>> {
         let device = self.gpu.device.clone();
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("aograph frame"),
-        });
         let Self {
             gpu,
             shaders,
@@ -301,7 +353,6 @@ impl Executor {
             history,
             imports,
             plans,
-            timing,
             ring,
             pass_ms,
             scratch,
@@ -318,7 +369,7 @@ impl Executor {
             imports,
             frame: frame.0,
         };
-        bind_resources(state, plan, output, &mut sources, &mut encoder)?;
+        bind_resources(state, plan, output, &mut sources, encoder)?;
         bind_groups(state, plan, gpu, scratch)?;
 
         let n = plan.order.len() as u32;
@@ -343,16 +394,16 @@ impl Executor {
                 if let Some(s) = slot {
                     encoder.write_timestamp(ring.query_set(s), 2 * pos as u32);
                 }
-                record_pass(&ctx, state, plan, pos, &mut encoder)?;
+                record_pass(&ctx, state, plan, pos, encoder)?;
                 if let Some(s) = slot {
                     encoder.write_timestamp(ring.query_set(s), 2 * pos as u32 + 1);
                 }
                 if debug_groups {
                     encoder.pop_debug_group();
                 }
-                if *timing == TimingMode::CpuWall {
+                if timing == TimingMode::CpuWall {
                     let done = std::mem::replace(
-                        &mut encoder,
+                        encoder,
                         device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                             label: Some("aograph frame"),
                         }),
@@ -371,28 +422,28 @@ impl Executor {
             state.release_slots(pool, false);
             return Err(e);
         }
-        if let Some(s) = slot {
-            ring.resolve(&mut encoder, s, n);
-        }
-        gpu.queue.submit([encoder.finish()]);
-        match (slot, *timing) {
-            (Some(s), _) => ring.submitted(s, frame, plan),
-            (None, TimingMode::CpuWall) => ring.record_cpu(frame, plan, pass_ms),
-            _ => {}
-        }
+        Ok(slot)
+    }
 
-        // Retire the frame: histories swap, textures not retained go back to the pool.
+    /// Retires a recorded frame: histories swap, textures not retained go back to the pool,
+    /// and validation errors raised meanwhile become the frame's error.
+    fn end_frame(&mut self, plan: &Arc<CompiledGraph>, frame: FrameId) -> GraphResult<FrameId> {
+        let key = plan.key();
         let written = plan.decl.resources.iter().filter_map(|r| match &r.origin {
             ResourceOrigin::HistoryCurrent { history } if r.latest_version() > 0 => {
                 Some(history.as_str())
             }
             _ => None,
         });
-        history.end_frame(key, written, frame.0);
-        state.release_slots(pool, false);
+        self.history.end_frame(key, written, frame.0);
+        let state = self
+            .plans
+            .get_mut(key)
+            .ok_or_else(|| GraphError::Gpu("plan state vanished".into()))?;
+        state.release_slots(&mut self.pool, false);
         state.last_frame = Some(frame.0);
-        history.evict_idle(pool, frame.0);
-        pool.end_frame();
+        self.history.evict_idle(&mut self.pool, frame.0);
+        self.pool.end_frame();
         self.frames += 1;
         let errors = self.gpu.take_errors();
         if !errors.is_empty() {

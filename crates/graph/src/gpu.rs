@@ -95,8 +95,7 @@ impl GpuContext {
             }
         }));
         let info = adapter.get_info();
-        let debug_groups = std::env::var_os("AOGRAPH_DEBUG_GROUPS").is_some_and(|v| v == "1")
-            || !info.driver.to_ascii_lowercase().contains("llvmpipe");
+        let debug_groups = debug_groups_on(&info);
         Ok(Self {
             adapter,
             device,
@@ -106,6 +105,25 @@ impl GpuContext {
             errors,
             debug_groups,
         })
+    }
+
+    /// A context over an application's own adapter, device and queue (the embedding API): the
+    /// device keeps the features and limits the application requested, and its uncaptured
+    /// errors keep going to the application's handler (`take_errors` then reports none;
+    /// aograph installs no handler on a device it did not create).
+    pub fn from_device(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
+        let info = adapter.get_info();
+        let features = device.features();
+        let debug_groups = debug_groups_on(&info);
+        Self {
+            adapter,
+            device,
+            queue,
+            info,
+            features,
+            errors: Arc::default(),
+            debug_groups,
+        }
     }
 
     /// True when textures of `format` can have `usage` on this device: the adapter's own
@@ -170,6 +188,12 @@ impl GpuContext {
             .map(|_| ())
             .map_err(|e| GraphError::Gpu(e.to_string()))
     }
+}
+
+/// Whether a device of `info` gets debug groups (see [`GpuContext::debug_groups`]).
+fn debug_groups_on(info: &wgpu::AdapterInfo) -> bool {
+    std::env::var_os("AOGRAPH_DEBUG_GROUPS").is_some_and(|v| v == "1")
+        || !info.driver.to_ascii_lowercase().contains("llvmpipe")
 }
 
 /// For tests: a device, `None` (with a printed reason) when there is none and

@@ -1,0 +1,497 @@
+//! [`AmbientOcclusion`]: aograph's techniques on an application's own device, recording into
+//! its own command encoder. Declare (adapters for the inputs given, the technique, the output
+//! pass), compile, execute, as aograph's own renderer does; only the g-buffer is the
+//! application's.
+//!
+//! Invariants: `encode` never submits or waits; a plan is built once per (settings, input
+//! layout, output format) and kept, so switching technique or parameters back and forth, or
+//! alternating layouts, creates no pipeline after each plan's first frame (the executor shares
+//! pipelines between plans); choosing the plan for a frame compares `Copy` values and allocates
+//! nothing.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use aograph_ao::{AoBuildContext, AoConfig, ConfiguredTechnique, RadiusSetting, TechniqueRegistry};
+use aograph_frame::{GBufferChannel, VIEW_BUFFER, ViewMatrices, ViewUniforms};
+use aograph_graph::{
+    BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder,
+    GraphCompiler, ShaderLibrary,
+};
+use glam::Mat4;
+
+use crate::adapters::{
+    DEPTH_IMPORT, MOTION_IMPORT, NORMALS_IMPORT, OUTPUT_IMPORT, declare_inputs, declare_output,
+    producible,
+};
+use crate::error::{EmbedError, EmbedResult};
+use crate::inputs::{AoInputs, InputLayout};
+use crate::output::{AoOutputFormat, AoOutputView, OUTPUT_USAGE};
+use crate::projection::DepthConvention;
+
+/// Plans kept for settings and layouts seen before; beyond that they are dropped and rebuilt
+/// when asked for again (a window dragged through many sizes builds one per size).
+const MAX_PLANS: usize = 32;
+
+/// Which plan a frame runs: the settings, the inputs' shape and the output format.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct PlanKey {
+    /// Technique, parameters, radius and precision (written once per `set_config`).
+    settings: Arc<str>,
+    layout: InputLayout,
+    output: AoOutputFormat,
+}
+
+/// One technique at a time on an application's frames. See the crate docs for an example.
+pub struct AmbientOcclusion {
+    gpu: Arc<GpuContext>,
+    shaders: Arc<ShaderLibrary>,
+    registry: TechniqueRegistry,
+    config: AoConfig,
+    technique: Arc<dyn ConfiguredTechnique>,
+    radius: f32,
+    settings: Arc<str>,
+    output_format: AoOutputFormat,
+    exec: Executor,
+    compiler: GraphCompiler,
+    plans: HashMap<PlanKey, Arc<CompiledGraph>>,
+    current: Option<(PlanKey, Arc<CompiledGraph>)>,
+    view_buffer: wgpu::Buffer,
+    /// The textures imported last, so an unchanged texture is not rebound.
+    bound: [Option<wgpu::Texture>; 4],
+    /// aograph's own output texture, when the application passes none.
+    owned_output: Option<AoOutputView>,
+    prev_view_proj: Option<Mat4>,
+    prev_time: f32,
+    frame_index: u32,
+}
+
+/// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
+fn shader_dir() -> PathBuf {
+    std::env::var_os("AOGRAPH_SHADERS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders")))
+}
+
+impl AmbientOcclusion {
+    /// AO on the application's `device` (made from `adapter`) and `queue`, with the technique
+    /// and parameters of `config` (`[ao]`: `technique`, `radius` in the view matrix's units,
+    /// `[ao.<technique>]` tables). Builds nothing on the GPU until the first frame.
+    pub fn new(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        config: &AoConfig,
+    ) -> EmbedResult<Self> {
+        Self::with_registry(
+            adapter,
+            device,
+            queue,
+            config,
+            TechniqueRegistry::with_builtins(),
+        )
+    }
+
+    /// As [`AmbientOcclusion::new`], with the `[ao]` section given as TOML text (the same
+    /// keys as aograph's config files: `technique = "gtao"`, `radius = 0.5`, `[gtao]` ...).
+    pub fn from_toml(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        toml_text: &str,
+    ) -> EmbedResult<Self> {
+        let registry = TechniqueRegistry::with_builtins();
+        let config = parse_config(toml_text, &registry)?;
+        Self::with_registry(adapter, device, queue, &config, registry)
+    }
+
+    /// As [`AmbientOcclusion::new`], choosing among the techniques of `registry` (the
+    /// built-ins and the application's own).
+    pub fn with_registry(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        config: &AoConfig,
+        registry: TechniqueRegistry,
+    ) -> EmbedResult<Self> {
+        let gpu = Arc::new(GpuContext::from_device(
+            adapter.clone(),
+            device.clone(),
+            queue.clone(),
+        ));
+        let (technique, radius, settings) = resolve(&gpu, &registry, config)?;
+        let shaders = Arc::new(ShaderLibrary::new(shader_dir()));
+        let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
+        exec.set_timing(aograph_graph::TimingMode::Off)?;
+        let view_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("aograph view"),
+            size: std::mem::size_of::<ViewUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
+        Ok(Self {
+            gpu,
+            shaders,
+            registry,
+            config: config.clone(),
+            technique,
+            radius,
+            settings,
+            output_format: AoOutputFormat::default(),
+            exec,
+            compiler: GraphCompiler::new(),
+            plans: HashMap::new(),
+            current: None,
+            view_buffer,
+            bound: Default::default(),
+            owned_output: None,
+            prev_view_proj: None,
+            prev_time: 0.0,
+            frame_index: 0,
+        })
+    }
+
+    /// Switches technique or parameters from the next frame on. Settings seen before come back
+    /// with the plan they were built with: nothing is compiled or created. On an error the
+    /// current settings stay.
+    pub fn set_config(&mut self, config: &AoConfig) -> EmbedResult<()> {
+        let (technique, radius, settings) = resolve(&self.gpu, &self.registry, config)?;
+        self.config = config.clone();
+        self.technique = technique;
+        self.radius = radius;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// [`AmbientOcclusion::set_config`] from `[ao]` TOML text.
+    pub fn set_config_toml(&mut self, toml_text: &str) -> EmbedResult<()> {
+        let config = parse_config(toml_text, &self.registry)?;
+        self.set_config(&config)
+    }
+
+    /// The settings in use.
+    pub fn config(&self) -> &AoConfig {
+        &self.config
+    }
+
+    /// The format of the texture [`AmbientOcclusion::encode`] writes (R8Unorm by default).
+    pub fn set_output_format(&mut self, format: AoOutputFormat) {
+        self.output_format = format;
+    }
+
+    /// Marks a camera cut: the next frame starts with no history (as `camera_cut` does).
+    pub fn cut(&mut self) {
+        self.prev_view_proj = None;
+        self.exec.reset_history();
+    }
+
+    /// Records one frame into `encoder` and returns the texture holding its AO, owned by
+    /// aograph (made or remade when the size or output format changes). Submits nothing:
+    /// submit `encoder` before the next `encode`.
+    pub fn encode(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &AoInputs<'_>,
+    ) -> EmbedResult<AoOutputView> {
+        let (w, h) = (
+            inputs.depth.texture().width(),
+            inputs.depth.texture().height(),
+        );
+        let format = self.output_format.wgpu();
+        let fits = self.owned_output.as_ref().is_some_and(|o| {
+            (o.texture.width(), o.texture.height(), o.texture.format()) == (w, h, format)
+        });
+        if !fits {
+            let texture = self.gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("aograph ao"),
+                size: wgpu::Extent3d {
+                    width: w.max(1),
+                    height: h.max(1),
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: OUTPUT_USAGE
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&Default::default());
+            self.owned_output = Some(AoOutputView { texture, view });
+        }
+        let out = self
+            .owned_output
+            .clone()
+            .ok_or_else(|| aograph_graph::GraphError::Gpu("output texture vanished".into()))?;
+        self.encode_into(encoder, inputs, &out.texture)?;
+        Ok(out)
+    }
+
+    /// Records one frame into `encoder`, writing the AO into the application's `target`
+    /// (R8Unorm, R16Float or R32Float, with `RENDER_ATTACHMENT` usage, the depth's size).
+    pub fn encode_into(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &AoInputs<'_>,
+        target: &wgpu::Texture,
+    ) -> EmbedResult<()> {
+        let layout = InputLayout::of(inputs)?;
+        let output = AoOutputFormat::of(target.format()).ok_or(EmbedError::InputFormat {
+            input: "the output texture",
+            found: target.format(),
+            allowed: "R8Unorm, R16Float or R32Float",
+        })?;
+        if (target.width(), target.height()) != (layout.width, layout.height) {
+            return Err(EmbedError::InputSize {
+                input: "the output texture",
+                found: format!("{}x{}", target.width(), target.height()),
+                expected: format!("{}x{}", layout.width, layout.height),
+            });
+        }
+        if layout.width == 0 || layout.height == 0 {
+            return Err(EmbedError::InvalidSetting {
+                name: "depth texture size".into(),
+                value: format!("{}x{}", layout.width, layout.height),
+                allowed: "at least 1x1".into(),
+            });
+        }
+        let convention = DepthConvention::of(inputs.projection)?;
+        if !inputs.view.is_finite() {
+            return Err(EmbedError::InvalidSetting {
+                name: "view matrix".into(),
+                value: "non-finite entries".into(),
+                allowed: "a finite world-to-view matrix".into(),
+            });
+        }
+        let plan = self.plan_for(layout, output)?;
+        let size = Extent::new(layout.width, layout.height);
+
+        self.bind(0, DEPTH_IMPORT, inputs.depth.texture());
+        if let Some(n) = inputs.normals {
+            self.bind(1, NORMALS_IMPORT, n.texture);
+        }
+        if let Some(m) = inputs.motion {
+            self.bind(2, MOTION_IMPORT, m.texture);
+        }
+        self.bind(3, OUTPUT_IMPORT, target);
+
+        if inputs.camera_cut {
+            self.cut();
+        }
+        let view_proj = inputs.projection * inputs.view;
+        let history_valid =
+            self.prev_view_proj.is_some() && self.exec.all_history_valid(&plan, size);
+        let view = ViewUniforms::from_matrices(&ViewMatrices {
+            view: inputs.view,
+            proj: inputs.projection,
+            prev_view_proj: self.prev_view_proj.unwrap_or(view_proj),
+            near: convention.near,
+            far: convention.far,
+            reversed_z: convention.reversed_z,
+            orthographic: convention.orthographic,
+            width: layout.width,
+            height: layout.height,
+            frame_index: self.frame_index,
+            history_valid,
+            camera_cut: self.prev_view_proj.is_none(),
+            time: inputs.time,
+            dt: if self.prev_view_proj.is_some() {
+                inputs.time - self.prev_time
+            } else {
+                0.0
+            },
+        });
+        self.gpu
+            .queue
+            .write_buffer(&self.view_buffer, 0, view.bytes());
+        self.exec.encode(&plan, size, encoder)?;
+        self.prev_view_proj = Some(view_proj);
+        self.prev_time = inputs.time;
+        self.frame_index = self.frame_index.wrapping_add(1);
+        Ok(())
+    }
+
+    /// Compute pipelines and render pipelines created so far (a switch back to settings seen
+    /// before adds none).
+    pub fn pipelines_created(&self) -> u64 {
+        self.exec.pipeline_created_count()
+    }
+
+    /// Plans built so far and kept.
+    pub fn plan_count(&self) -> usize {
+        self.plans.len()
+    }
+
+    /// The frame graph's executor, for its counters and timings.
+    pub fn executor(&self) -> &Executor {
+        &self.exec
+    }
+
+    /// The compiled plan the last frame ran, if any (its passes, for inspection and tests).
+    pub fn current_plan(&self) -> Option<&Arc<CompiledGraph>> {
+        self.current.as_ref().map(|(_, p)| p)
+    }
+
+    /// Imports `texture` under `name` unless it is the one bound already.
+    fn bind(&mut self, slot: usize, name: &str, texture: &wgpu::Texture) {
+        if self.bound[slot].as_ref() != Some(texture) {
+            self.exec.import_texture(name, texture.clone());
+            self.bound[slot] = Some(texture.clone());
+        }
+    }
+
+    /// The plan for this frame: the current one when nothing changed (no allocation), a kept
+    /// one, or a new one.
+    fn plan_for(
+        &mut self,
+        layout: InputLayout,
+        output: AoOutputFormat,
+    ) -> EmbedResult<Arc<CompiledGraph>> {
+        if let Some((key, plan)) = &self.current
+            && key.layout == layout
+            && key.output == output
+            && Arc::ptr_eq(&key.settings, &self.settings)
+        {
+            return Ok(plan.clone());
+        }
+        let key = PlanKey {
+            settings: self.settings.clone(),
+            layout,
+            output,
+        };
+        let plan = match self.plans.get(&key) {
+            Some(plan) => plan.clone(),
+            None => {
+                let plan = self.build_plan(&layout, output)?;
+                if self.plans.len() >= MAX_PLANS {
+                    self.plans.clear();
+                }
+                self.plans.insert(key.clone(), plan.clone());
+                plan
+            }
+        };
+        self.current = Some((key, plan.clone()));
+        Ok(plan)
+    }
+
+    /// Declares and compiles the frame: adapters, technique, output pass.
+    fn build_plan(
+        &mut self,
+        layout: &InputLayout,
+        output: AoOutputFormat,
+    ) -> EmbedResult<Arc<CompiledGraph>> {
+        let technique = self.technique.clone();
+        let wanted = technique.channels();
+        if let Some(c) = wanted.iter().find(|c| !producible(*c)) {
+            return Err(EmbedError::UnsupportedTechnique {
+                technique: technique.name().into(),
+                what: format!("the g-buffer channel `{}`", c.name()),
+                fix: unsupported_fix(technique.name(), c),
+            });
+        }
+        let mut b = GraphBuilder::new();
+        let view = b.import_buffer(
+            VIEW_BUFFER,
+            BufferDesc {
+                size: std::mem::size_of::<ViewUniforms>() as u64,
+            },
+        );
+        let gbuffer = declare_inputs(&mut b, layout, wanted, view);
+        // `levels = "auto"` reaches R projected at the view's closest geometry, which an
+        // application's frame does not tell before it is drawn: the image's diagonal bounds it
+        // (aograph_scene::ProjectedRadius::reach_needed_px caps there too).
+        let diagonal = (layout.width as f32).hypot(layout.height as f32);
+        let mut ctx = AoBuildContext {
+            builder: &mut b,
+            gbuffer,
+            view,
+            radius: self.radius,
+            intermediate_format: self.config.intermediate_format.wgpu(),
+            technique: technique.name(),
+            radius_pixels: technique.needs_radius_pixels().then_some(diagonal),
+            declared: Default::default(),
+        };
+        let out = technique.build(&mut ctx)?;
+        if ctx.declared.scene_bvh.is_some() {
+            return Err(EmbedError::UnsupportedTechnique {
+                technique: technique.name().into(),
+                what: "the scene's triangles (it traces rays through a BVH)".into(),
+                fix: "choose a screen-space technique (gtao, vbao, mssao, hbao, pyramid-hbao, \
+                      ssao, tssao)"
+                    .into(),
+            });
+        }
+        declare_output(&mut b, out.accessibility, output.wgpu());
+        let plan = self
+            .compiler
+            .compile(b.build(), &self.shaders, CompileOptions::default())?;
+        Ok(plan)
+    }
+}
+
+/// What to do about a channel the adapters cannot produce.
+fn unsupported_fix(technique: &str, c: GBufferChannel) -> String {
+    match (technique, c) {
+        ("gtao", GBufferChannel::Albedo) => {
+            "set multibounce = false (the multi-bounce fit needs the surface colour)".into()
+        }
+        _ => "choose a technique that reads depth, normals and motion only (gtao, vbao, mssao, \
+              hbao, pyramid-hbao, ssao, tssao)"
+            .into(),
+    }
+}
+
+/// Parses `[ao]` TOML text (the section's keys at the top level).
+fn parse_config(text: &str, registry: &TechniqueRegistry) -> EmbedResult<AoConfig> {
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        aograph_ao::AoError::Config(format!("not valid TOML: {}", e.message()))
+    })?;
+    Ok(AoConfig::from_table(&table, registry)?)
+}
+
+/// The configured technique, its radius and the settings key, checked against the device.
+fn resolve(
+    gpu: &GpuContext,
+    registry: &TechniqueRegistry,
+    config: &AoConfig,
+) -> EmbedResult<(Arc<dyn ConfiguredTechnique>, f32, Arc<str>)> {
+    config.validate(registry)?;
+    let radius = match config.radius {
+        RadiusSetting::Units(r) => r.get(),
+        RadiusSetting::Auto => {
+            return Err(EmbedError::InvalidSetting {
+                name: "radius".into(),
+                value: "\"auto\"".into(),
+                allowed: "a positive number in the view matrix's units (\"auto\" sizes R from \
+                          aograph's own scene, which an application's frame does not have)"
+                    .into(),
+            });
+        }
+    };
+    let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+    if config.intermediate_format == aograph_ao::IntermediateFormat::R16Float
+        && !gpu.supports(wgpu::TextureFormat::R16Float, usage)
+    {
+        return Err(EmbedError::InvalidSetting {
+            name: "intermediate_format".into(),
+            value: "\"r16float\"".into(),
+            allowed: format!(
+                "\"r32float\" on this device ({}): it cannot write r16float storage textures \
+                 (enable TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES on the device if the adapter \
+                 has it)",
+                gpu.describe()
+            ),
+        });
+    }
+    let technique = config.resolve(registry)?;
+    let settings: Arc<str> = format!(
+        "{}|{:?}|{:?}|{:?}",
+        config.technique, config.params, config.radius, config.intermediate_format
+    )
+    .into();
+    Ok((technique, radius, settings))
+}
