@@ -175,10 +175,10 @@ const SAME_INPUTS: f32 = 1e-3;
 
 /// A discrete test on depth (mssao's discontinuity test between levels, a horizon's
 /// distance cut-off) can flip when a depth moves by one ulp: up to `KNIFE_EDGE_SHARE` of the
-/// pixels may then differ by up to `KNIFE_EDGE` (measured: one pixel of 5917 by 0.0084, mssao
-/// with standard Z).
+/// pixels may then differ by up to `KNIFE_EDGE` (measured: at most 6 pixels of 5917, by up to
+/// 0.0086, tssao on `columns`; 0.1 % of pixels would be an edge region, not a knife edge).
 const KNIFE_EDGE: f32 = 0.01;
-const KNIFE_EDGE_SHARE: f32 = 0.001;
+const KNIFE_EDGE_SHARE: f32 = 0.002;
 
 /// `None` when `got` matches `own` as [`SAME_INPUTS`] and the knife-edge rule allow (or, for a
 /// looser `bound`, within it everywhere); else what differs. Prints the figures either way.
@@ -194,12 +194,12 @@ fn compare(what: &str, got: &[f32], own: &OwnFrame, bound: f32) -> Option<String
     println!(
         "{what}: largest difference {d:.2e} at pixel {at}, mean {mean:.2e}, {over} pixels over {bound}"
     );
-    // Exact inputs: the knife-edge rule; lossy ones: the stated bound on every pixel, and
-    // the mean below 0.002 (a misread convention moves the mean by 0.05 and more).
+    // Exact inputs: the knife-edge rule; lossy ones: the stated bound on every pixel, and a
+    // tenth of it on average (a misread convention moves the mean by 0.05 and more).
     let ok = if bound <= SAME_INPUTS {
         d <= KNIFE_EDGE && share <= KNIFE_EDGE_SHARE && mean <= bound
     } else {
-        d <= bound && mean <= 0.002
+        d <= bound && mean <= 0.1 * bound
     };
     (!ok).then(|| {
         format!(
@@ -271,7 +271,7 @@ fn every_depth_convention_and_format_gives_the_g_buffers_ao() {
             // 16 bits over the frame's own depth range: a depth rounds by up to 2^-17 in d,
             // which is lin * 2^-17 / near relative (~5e-5 here): a plane becomes terraces of
             // that height, and a tap at a grazing angle sees a terrace's edge as a small
-            // horizon. Bounded per pixel by 0.05 and on average by 0.002 (measured: 0.030 and
+            // horizon. Bounded per pixel by 0.05 and on average by 0.005 (measured: 0.030 and
             // 1.9e-4).
             (
                 "standard Z, tight range, Depth16Unorm",
@@ -363,4 +363,438 @@ fn an_orthographic_projection_gives_the_g_buffers_ao() {
     if let Some(f) = compare("gtao, orthographic", &got, &own, SAME_INPUTS) {
         panic!("{f}");
     }
+}
+
+/// The screen-space techniques an application's frame can feed (rtao traces the scene's
+/// triangles and ssdo reads albedo and direct light: named errors below). Level counts are
+/// fixed: `levels = "auto"` depends on the scene's closest geometry, which only aograph's own
+/// path knows.
+const SCREEN_SPACE: [(&str, &str); 7] = [
+    ("ssao", ""),
+    ("hbao", ""),
+    ("pyramid-hbao", "levels = 4"),
+    ("mssao", "levels = 4"),
+    ("gtao", ""),
+    ("vbao", ""),
+    ("tssao", ""),
+];
+
+/// Three procedural scenes and two of ../shared/scenes.
+fn five_scenes() -> Vec<(String, Scene)> {
+    let mut scenes: Vec<(String, Scene)> = ["columns", "stairs", "cornell-box"]
+        .into_iter()
+        .map(|n| (n.to_string(), aograph_scene::procedural_scene(n).unwrap()))
+        .collect();
+    for file in ["shadowscene_fire.gltf", "suzanne.gltf"] {
+        let path = format!("{}/../shared/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+        scenes.push((file.into(), aograph_scene::load_scene(&path).unwrap()));
+    }
+    scenes
+}
+
+/// How far AO from normals rebuilt from depth may move from AO from the g-buffer's normals,
+/// on average over geometry and technique by technique: the rebuilt normals are the faces'
+/// (exact on a plane away from edges, `reconstructed_normals_match_the_faces_away_from_depth_edges`);
+/// the g-buffer's are interpolated, so the two differ across curved meshes (suzanne, the
+/// columns) and at every crease and silhouette. Measured: 0.001 to 0.021 (gtao on suzanne,
+/// whose interpolated normals are furthest from its faces; see the printout).
+const RECONSTRUCTED_MEAN: f32 = 0.03;
+
+#[test]
+fn every_screen_space_technique_on_five_scenes_gives_the_g_buffers_ao() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut failures = Vec::new();
+    for (name, scene) in five_scenes() {
+        let radius = aograph_scene::suggested_radius(&scene).radius;
+        for (technique, params) in SCREEN_SPACE {
+            let config = common::ao_config(technique, radius, params);
+            let own = own_frame(&scene, &config, None).unwrap();
+            let normals = given_normals(&gpu, &own);
+            let proj = perspective(&own.camera, own.camera.near(), None, true);
+            let depth = depth_buffer(
+                &gpu.device,
+                &gpu.queue,
+                &own.linear_depth,
+                (SIZE.width, SIZE.height),
+                proj,
+                true,
+                wgpu::TextureFormat::Depth32Float,
+            );
+            let mut ao = embedding(&gpu, &config);
+            let mut inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, own.view);
+            inputs.normals = Some(NormalsInput {
+                texture: &normals,
+                space: NormalSpace::View,
+                encoding: NormalEncoding::Xyz,
+            });
+            let given = embed_frame(&gpu, &mut ao, &inputs).unwrap();
+            failures.extend(compare(
+                &format!("{name}, {technique}, normals given"),
+                &given,
+                &own,
+                SAME_INPUTS,
+            ));
+            inputs.normals = None;
+            ao.cut();
+            let rebuilt = embed_frame(&gpu, &mut ao, &inputs).unwrap();
+            let mean = mean_diff(&rebuilt, &own.ao, &own.linear_depth);
+            println!("{name}, {technique}, normals rebuilt from depth: mean difference {mean:.4}");
+            if mean > RECONSTRUCTED_MEAN {
+                failures.push(format!(
+                    "{name}, {technique}: with normals rebuilt from depth the AO moves by \
+                     {mean} on average (allowed {RECONSTRUCTED_MEAN})"
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn every_normal_encoding_decodes_to_the_g_buffers_normals() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = aograph_scene::procedural_scene("stairs").unwrap();
+    let radius = aograph_scene::suggested_radius(&scene).radius;
+    let config = common::ao_config("gtao", radius, "");
+    let own = own_frame(&scene, &config, None).unwrap();
+    let proj = perspective(&own.camera, own.camera.near(), None, true);
+    let size = (SIZE.width, SIZE.height);
+    let depth = depth_buffer(
+        &gpu.device,
+        &gpu.queue,
+        &own.linear_depth,
+        size,
+        proj,
+        true,
+        wgpu::TextureFormat::Depth32Float,
+    );
+    let world = own.view.inverse();
+    let world_normals: Vec<Vec3> = own
+        .normals
+        .iter()
+        .map(|n| world.transform_vector3(*n))
+        .collect();
+    let f32s = |v: Vec<f32>| bytemuck::cast_slice::<f32, u8>(&v).to_vec();
+    let texture = |format, bytes: Vec<u8>| upload(&gpu.device, &gpu.queue, format, size, &bytes);
+    use wgpu::TextureFormat as F;
+    // (what, texture, space, encoding, bound and why)
+    let cases = [
+        (
+            "world space, xyz, Rgba32Float",
+            texture(
+                F::Rgba32Float,
+                f32s(
+                    world_normals
+                        .iter()
+                        .flat_map(|n| [n.x, n.y, n.z, 0.0])
+                        .collect(),
+                ),
+            ),
+            NormalSpace::World,
+            NormalEncoding::Xyz,
+            // The view rotation applied and rounded to f16 again: within an f16 ulp.
+            SAME_INPUTS,
+        ),
+        (
+            "world space, packed, Rgb10a2Unorm",
+            texture(
+                F::Rgb10a2Unorm,
+                world_normals
+                    .iter()
+                    .flat_map(|n| pack_rgb10a2(*n * 0.5 + 0.5).to_le_bytes())
+                    .collect(),
+            ),
+            NormalSpace::World,
+            NormalEncoding::PackedXyz,
+            // 10 bits per axis: a normal turns by up to ~1.7e-3 rad. GTAO projects it into each
+            // slice's plane, where a slice nearly perpendicular to it turns the projection by
+            // far more: up to 0.022 on 17 of 5917 pixels, 8e-4 on average (measured).
+            0.03,
+        ),
+        (
+            "view space, octahedral, Rg32Float",
+            texture(
+                F::Rg32Float,
+                f32s(
+                    own.normals
+                        .iter()
+                        .flat_map(|n| oct_encode(*n).to_array())
+                        .collect(),
+                ),
+            ),
+            NormalSpace::View,
+            NormalEncoding::Octahedral,
+            SAME_INPUTS,
+        ),
+        (
+            "view space, octahedral packed, Rg8Unorm",
+            texture(
+                F::Rg8Unorm,
+                own.normals
+                    .iter()
+                    .flat_map(|n| {
+                        let e = oct_encode(*n) * 0.5 + 0.5;
+                        [e.x, e.y].map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8)
+                    })
+                    .collect(),
+            ),
+            NormalSpace::View,
+            NormalEncoding::PackedOctahedral,
+            // 8 bits per coordinate: a normal turns by up to ~0.01 rad, ten times the 10-bit
+            // case above.
+            0.1,
+        ),
+    ];
+    let mut ao = embedding(&gpu, &config);
+    let mut failures = Vec::new();
+    for (what, normals, space, encoding, bound) in &cases {
+        let mut inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, own.view);
+        inputs.normals = Some(NormalsInput {
+            texture: normals,
+            space: *space,
+            encoding: *encoding,
+        });
+        let got = embed_frame(&gpu, &mut ao, &inputs).unwrap();
+        failures.extend(compare(what, &got, &own, *bound));
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Normals rebuilt from a hardware depth buffer by the adapter alone (a graph of the
+/// embedding's input passes, read back).
+fn rebuilt_normals(
+    gpu: &Arc<GpuContext>,
+    depth: &wgpu::Texture,
+    proj: Mat4,
+    view: Mat4,
+) -> Vec<Vec3> {
+    use aograph_embed::{DEPTH_IMPORT, DepthConvention, InputLayout, declare_inputs};
+    use aograph_frame::{GBufferChannels, VIEW_BUFFER, ViewMatrices, ViewUniforms};
+    use aograph_graph::{BufferDesc, CompileOptions, Executor, GraphBuilder, GraphCompiler};
+    let inputs = AoInputs::new(DepthInput::Hardware(depth), proj, view);
+    let layout = InputLayout::of(&inputs).unwrap();
+    let mut b = GraphBuilder::new();
+    let view_handle = b.import_buffer(
+        VIEW_BUFFER,
+        BufferDesc {
+            size: std::mem::size_of::<ViewUniforms>() as u64,
+        },
+    );
+    let g = declare_inputs(
+        &mut b,
+        &layout,
+        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]),
+        view_handle,
+    );
+    let normals = g.normals.unwrap();
+    b.export(normals);
+    let shaders = aograph::shader_library();
+    let plan = GraphCompiler::new()
+        .compile(b.build(), &shaders, CompileOptions::default())
+        .unwrap();
+    let mut exec = Executor::with_shaders(gpu.clone(), shaders);
+    let c = DepthConvention::of(proj).unwrap();
+    let block = ViewUniforms::from_matrices(&ViewMatrices {
+        view,
+        proj,
+        prev_view_proj: proj * view,
+        near: c.near,
+        far: c.far,
+        reversed_z: c.reversed_z,
+        orthographic: c.orthographic,
+        width: SIZE.width,
+        height: SIZE.height,
+        frame_index: 0,
+        history_valid: false,
+        camera_cut: true,
+        time: 0.0,
+        dt: 0.0,
+    });
+    let buffer = wgpu::util::DeviceExt::create_buffer_init(
+        &gpu.device,
+        &wgpu::util::BufferInitDescriptor {
+            label: Some("view"),
+            contents: block.bytes(),
+            usage: wgpu::BufferUsages::UNIFORM,
+        },
+    );
+    exec.import_buffer(VIEW_BUFFER, buffer);
+    exec.import_texture(DEPTH_IMPORT, depth.clone());
+    exec.execute(&plan, SIZE).unwrap();
+    let n = exec.read_texture(&plan, normals).unwrap().to_f32().unwrap();
+    n.chunks(4).map(|c| Vec3::new(c[0], c[1], c[2])).collect()
+}
+
+/// The angle between two (not quite unit: f16) vectors, accurate near 0, where acos of the
+/// dot product is not.
+fn angle_degrees(a: Vec3, b: Vec3) -> f32 {
+    let (a, b) = (a.normalize_or_zero(), b.normalize_or_zero());
+    a.cross(b).length().atan2(a.dot(b)).to_degrees()
+}
+
+/// The view-space point at pixel `i` with linear depth `z` (common/view.wgsl view_position).
+fn view_point(own: &OwnFrame, i: usize, z: f32) -> Vec3 {
+    let (w, h) = (SIZE.width as usize, SIZE.height as usize);
+    let uv = glam::Vec2::new(
+        ((i % w) as f32 + 0.5) / w as f32,
+        ((i / w) as f32 + 0.5) / h as f32,
+    );
+    let ndc = glam::Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let scale = glam::Vec2::new(own.proj.x_axis.x, own.proj.y_axis.y);
+    let shear = glam::Vec2::new(own.proj.z_axis.x, own.proj.z_axis.y);
+    let xy = z * (ndc + shear) / scale;
+    Vec3::new(xy.x, xy.y, -z)
+}
+
+/// Pixels where, along each image axis, the two texels on at least one side lie on the
+/// centre's face (geometry with the centre's geometric normal within 0.06 degrees, f16
+/// rounding, and on its plane within 1e-4 of the depth), and how many of them have another
+/// surface or sky on the other side (next to an edge or crease). There a rebuilt normal has
+/// one right answer, which an edge-unaware rule (central differences) misses next to edges.
+fn one_face_each_axis(own: &OwnFrame) -> (Vec<usize>, usize) {
+    let (w, h) = (SIZE.width as i32, SIZE.height as i32);
+    let mut pixels = Vec::new();
+    let mut next_to_edge = 0;
+    for y in 2..h - 2 {
+        for x in 2..w - 2 {
+            let i = (y * w + x) as usize;
+            let (z, n) = (own.linear_depth[i], own.normals[i]);
+            if z <= 0.0 {
+                continue;
+            }
+            let p = view_point(own, i, z);
+            let on_face = |dx: i32, dy: i32| {
+                let j = ((y + dy) * w + x + dx) as usize;
+                let zj = own.linear_depth[j];
+                zj > 0.0
+                    && angle_degrees(own.normals[j], n) < 0.06
+                    && (view_point(own, j, zj) - p).dot(n.normalize()).abs() < 1e-4 * z
+            };
+            let side = |sx: i32, sy: i32| on_face(sx, sy) && on_face(2 * sx, 2 * sy);
+            // A side on another face whose plane passes through the centre too (the centre
+            // is on a crease: a symmetric view puts one down the middle column): both faces
+            // are right there, and the rasteriser's tie-break picked one.
+            let crease = |sx: i32, sy: i32| {
+                let j = ((y + sy) * w + x + sx) as usize;
+                let zj = own.linear_depth[j];
+                zj > 0.0
+                    && angle_degrees(own.normals[j], n) >= 0.06
+                    && (view_point(own, j, zj) - p)
+                        .dot(own.normals[j].normalize())
+                        .abs()
+                        < 1e-4 * z
+            };
+            if crease(-1, 0) || crease(1, 0) || crease(0, -1) || crease(0, 1) {
+                continue;
+            }
+            let (l, r, u, d) = (side(-1, 0), side(1, 0), side(0, -1), side(0, 1));
+            if (l || r) && (u || d) {
+                pixels.push(i);
+                if !(l && r && u && d) {
+                    next_to_edge += 1;
+                }
+            }
+        }
+    }
+    (pixels, next_to_edge)
+}
+
+/// The worst angle (degrees) between normals rebuilt from depth and the g-buffer's face
+/// normals where each axis has one side on the centre's face (`one_face_each_axis`), on
+/// every procedural scene. On a face 1/z is affine in screen space and the rebuild exact but
+/// for rounding: positions carry f32 rounding, and differences of neighbours ~1/100 of the
+/// depth apart lose two digits of it; measured at most 0.0069 degrees (wall, stairs). A
+/// rule blind to edges (one fixed side, or central differences) is off by up to 90 degrees
+/// next to every edge and crease.
+const REBUILT_NORMAL_DEGREES: f32 = 0.05;
+
+#[test]
+fn reconstructed_normals_match_the_faces_away_from_depth_edges() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut failures = Vec::new();
+    for name in aograph_scene::PROCEDURAL_SCENE_NAMES {
+        let scene = aograph_scene::procedural_scene(name).unwrap();
+        let radius = aograph_scene::suggested_radius(&scene).radius;
+        // rtao's g-buffer: geometric (face) normals.
+        let config = common::ao_config("none", radius, "");
+        let Some(own) = own_frame_with_face_normals(&scene, &config) else {
+            return;
+        };
+        let proj = perspective(&own.camera, own.camera.near(), None, true);
+        let depth = depth_buffer(
+            &gpu.device,
+            &gpu.queue,
+            &own.linear_depth,
+            (SIZE.width, SIZE.height),
+            proj,
+            true,
+            wgpu::TextureFormat::Depth32Float,
+        );
+        let rebuilt = rebuilt_normals(&gpu, &depth, proj, own.view);
+        let (pixels, next_to_edge) = one_face_each_axis(&own);
+        let (worst, at) = pixels
+            .iter()
+            .map(|&i| (angle_degrees(rebuilt[i], own.normals[i]), i))
+            .fold((0.0f32, 0), |m, (a, i)| if a > m.0 { (a, i) } else { m });
+        // Everywhere on geometry, edges included: how far the rebuild strays at silhouettes.
+        let mean_all = {
+            let geo: Vec<usize> = (0..rebuilt.len())
+                .filter(|&i| own.linear_depth[i] > 0.0)
+                .collect();
+            geo.iter()
+                .map(|&i| angle_degrees(rebuilt[i], own.normals[i]))
+                .sum::<f32>()
+                / geo.len().max(1) as f32
+        };
+        println!(
+            "{name}: worst angle {worst:.4} degrees at pixel {at} over {} pixels with one face along \
+             each axis ({next_to_edge} of them next to an edge); mean over all geometry \
+             {mean_all:.3} degrees",
+            pixels.len()
+        );
+        if worst > REBUILT_NORMAL_DEGREES {
+            failures.push(format!(
+                "{name}: rebuilt normal {worst} degrees off at pixel {at}"
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// aograph's own frame with geometric normals in the g-buffer (as rtao and mssao read them).
+fn own_frame_with_face_normals(scene: &Scene, config: &AoConfig) -> Option<OwnFrame> {
+    let gpu = test_gpu()?;
+    let outputs = FrameOutputs {
+        linear_depth: true,
+        surfaces: true,
+        surface_normals: ReferenceNormals::Geometric,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(
+        gpu,
+        aograph::shader_library(),
+        &TechniqueRegistry::with_builtins(),
+        Arc::new(scene.clone()),
+        config,
+        outputs,
+        SIZE,
+    )
+    .ok()?;
+    let camera = scene.camera_at(0.0);
+    r.render_with_camera(0.0, camera).ok()?;
+    let n = r.read_gbuffer(GBufferChannel::Normals).ok()?;
+    Some(OwnFrame {
+        ao: r.read_ao().ok()?,
+        linear_depth: r.read_linear_depth().ok()?,
+        normals_bytes: n.bytes.clone(),
+        normals: n
+            .to_f32()
+            .ok()?
+            .chunks(4)
+            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .collect(),
+        camera,
+        view: camera.view(),
+        proj: camera.projection(aspect()),
+    })
 }
