@@ -560,19 +560,20 @@ fn every_normal_encoding_decodes_to_the_g_buffers_normals() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// Normals rebuilt from a hardware depth buffer by the adapter alone (a graph of the
-/// embedding's input passes, read back).
-fn rebuilt_normals(
+/// One channel as the input adapters alone make it from `inputs` (a graph of the embedding's
+/// input passes, read back), with the previous frame's view-projection `prev_view_proj`.
+fn adapter_channel(
     gpu: &Arc<GpuContext>,
-    depth: &wgpu::Texture,
-    proj: Mat4,
-    view: Mat4,
-) -> Vec<Vec3> {
-    use aograph_embed::{DEPTH_IMPORT, DepthConvention, InputLayout, declare_inputs};
+    inputs: &AoInputs<'_>,
+    channel: GBufferChannel,
+    prev_view_proj: Mat4,
+) -> aograph_graph::TextureReadback {
+    use aograph_embed::{
+        DEPTH_IMPORT, DepthConvention, InputLayout, MOTION_IMPORT, NORMALS_IMPORT, declare_inputs,
+    };
     use aograph_frame::{GBufferChannels, VIEW_BUFFER, ViewMatrices, ViewUniforms};
     use aograph_graph::{BufferDesc, CompileOptions, Executor, GraphBuilder, GraphCompiler};
-    let inputs = AoInputs::new(DepthInput::Hardware(depth), proj, view);
-    let layout = InputLayout::of(&inputs).unwrap();
+    let layout = InputLayout::of(inputs).unwrap();
     let mut b = GraphBuilder::new();
     let view_handle = b.import_buffer(
         VIEW_BUFFER,
@@ -583,21 +584,21 @@ fn rebuilt_normals(
     let g = declare_inputs(
         &mut b,
         &layout,
-        GBufferChannels::of(&[GBufferChannel::LinearDepth, GBufferChannel::Normals]),
+        GBufferChannels::of(&[GBufferChannel::LinearDepth, channel]),
         view_handle,
     );
-    let normals = g.normals.unwrap();
-    b.export(normals);
+    let out = g.get(channel).unwrap();
+    b.export(out);
     let shaders = aograph::shader_library();
     let plan = GraphCompiler::new()
         .compile(b.build(), &shaders, CompileOptions::default())
         .unwrap();
     let mut exec = Executor::with_shaders(gpu.clone(), shaders);
-    let c = DepthConvention::of(proj).unwrap();
+    let c = DepthConvention::of(inputs.projection).unwrap();
     let block = ViewUniforms::from_matrices(&ViewMatrices {
-        view,
-        proj,
-        prev_view_proj: proj * view,
+        view: inputs.view,
+        proj: inputs.projection,
+        prev_view_proj,
         near: c.near,
         far: c.far,
         reversed_z: c.reversed_z,
@@ -619,9 +620,28 @@ fn rebuilt_normals(
         },
     );
     exec.import_buffer(VIEW_BUFFER, buffer);
-    exec.import_texture(DEPTH_IMPORT, depth.clone());
+    exec.import_texture(DEPTH_IMPORT, inputs.depth.texture().clone());
+    if let Some(n) = inputs.normals {
+        exec.import_texture(NORMALS_IMPORT, n.texture.clone());
+    }
+    if let Some(m) = inputs.motion {
+        exec.import_texture(MOTION_IMPORT, m.texture.clone());
+    }
     exec.execute(&plan, SIZE).unwrap();
-    let n = exec.read_texture(&plan, normals).unwrap().to_f32().unwrap();
+    exec.read_texture(&plan, out).unwrap()
+}
+
+/// Normals rebuilt from a hardware depth buffer by the adapter alone.
+fn rebuilt_normals(
+    gpu: &Arc<GpuContext>,
+    depth: &wgpu::Texture,
+    proj: Mat4,
+    view: Mat4,
+) -> Vec<Vec3> {
+    let inputs = AoInputs::new(DepthInput::Hardware(depth), proj, view);
+    let n = adapter_channel(gpu, &inputs, GBufferChannel::Normals, proj * view)
+        .to_f32()
+        .unwrap();
     n.chunks(4).map(|c| Vec3::new(c[0], c[1], c[2])).collect()
 }
 
@@ -797,4 +817,269 @@ fn own_frame_with_face_normals(scene: &Scene, config: &AoConfig) -> Option<OwnFr
         view: camera.view(),
         proj: camera.projection(aspect()),
     })
+}
+
+/// A depth buffer of `SIZE` for the error and switching tests: the plane scene's, reversed Z.
+fn plane_frame(gpu: &GpuContext) -> (wgpu::Texture, Mat4, Mat4, AoConfig) {
+    let scene = aograph_scene::procedural_scene("plane").unwrap();
+    let camera = scene.camera_at(0.0);
+    let proj = perspective(&camera, camera.near(), None, true);
+    let lin = vec![5.0f32; (SIZE.width * SIZE.height) as usize];
+    let depth = depth_buffer(
+        &gpu.device,
+        &gpu.queue,
+        &lin,
+        (SIZE.width, SIZE.height),
+        proj,
+        true,
+        wgpu::TextureFormat::Depth32Float,
+    );
+    (
+        depth,
+        proj,
+        camera.view(),
+        common::ao_config("gtao", 0.5, ""),
+    )
+}
+
+#[test]
+fn wrong_inputs_and_settings_are_named_errors() {
+    let Some(gpu) = test_gpu() else { return };
+    let (depth, proj, view, config) = plane_frame(&gpu);
+    let mut ao = embedding(&gpu, &config);
+    let size = (SIZE.width, SIZE.height);
+    let rgba8 = upload(
+        &gpu.device,
+        &gpu.queue,
+        wgpu::TextureFormat::Rgba8Unorm,
+        size,
+        &vec![0; (size.0 * size.1 * 4) as usize],
+    );
+    let small = upload(
+        &gpu.device,
+        &gpu.queue,
+        wgpu::TextureFormat::Rgba16Float,
+        (size.0 - 1, size.1),
+        &vec![0; ((size.0 - 1) * size.1 * 8) as usize],
+    );
+    let r32 = upload(
+        &gpu.device,
+        &gpu.queue,
+        wgpu::TextureFormat::R32Float,
+        size,
+        &vec![0; (size.0 * size.1 * 4) as usize],
+    );
+    let err = |r: Result<Vec<f32>, EmbedError>| r.expect_err("must be refused").to_string();
+
+    let m = err(embed_frame(
+        &gpu,
+        &mut ao,
+        &AoInputs::new(DepthInput::Hardware(&rgba8), proj, view),
+    ));
+    assert!(
+        m.contains("Rgba8Unorm") && m.contains("Depth32Float, Depth24Plus or Depth16Unorm"),
+        "{m}"
+    );
+
+    let m = err(embed_frame(
+        &gpu,
+        &mut ao,
+        &AoInputs::new(DepthInput::Linear(&depth), proj, view),
+    ));
+    assert!(m.contains("linear depth") && m.contains("R32Float"), "{m}");
+
+    let mut inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, view);
+    inputs.normals = Some(NormalsInput {
+        texture: &small,
+        space: NormalSpace::View,
+        encoding: NormalEncoding::Xyz,
+    });
+    let m = err(embed_frame(&gpu, &mut ao, &inputs));
+    assert!(m.contains("96x61") && m.contains("97x61"), "{m}");
+
+    inputs.normals = Some(NormalsInput {
+        texture: &r32,
+        space: NormalSpace::View,
+        encoding: NormalEncoding::Xyz,
+    });
+    let m = err(embed_frame(&gpu, &mut ao, &inputs));
+    assert!(m.contains("normals") && m.contains("three channels"), "{m}");
+
+    let lh = Mat4::perspective_lh(1.0, aspect(), 0.1, 100.0);
+    let m = err(embed_frame(
+        &gpu,
+        &mut ao,
+        &AoInputs::new(DepthInput::Hardware(&depth), lh, view),
+    ));
+    assert!(m.contains("left-handed"), "{m}");
+
+    // The output: a format the pass cannot write, and a texture without RENDER_ATTACHMENT.
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    let inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, view);
+    let m = ao
+        .encode_into(&mut enc, &inputs, &rgba8)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        m.contains("output") && m.contains("R8Unorm, R16Float or R32Float"),
+        "{m}"
+    );
+    let m = ao
+        .encode_into(&mut enc, &inputs, &r32)
+        .unwrap_err()
+        .to_string();
+    assert!(m.contains("RENDER_ATTACHMENT"), "{m}");
+    drop(enc);
+
+    // Settings: "auto" radius, a technique that needs what an application's frame lacks, and
+    // an unknown technique; each leaves the current settings in place.
+    let mut auto = config.clone();
+    auto.radius = aograph_ao::RadiusSetting::Auto;
+    let m = ao.set_config(&auto).unwrap_err().to_string();
+    assert!(
+        m.contains("radius") && m.contains("view matrix's units"),
+        "{m}"
+    );
+    for (technique, needs) in [("rtao", "BVH"), ("ssdo", "albedo")] {
+        ao.set_config(&common::ao_config(technique, 0.5, ""))
+            .unwrap();
+        let m = err(embed_frame(
+            &gpu,
+            &mut ao,
+            &AoInputs::new(DepthInput::Hardware(&depth), proj, view),
+        ));
+        assert!(
+            m.contains(technique) && m.contains(needs),
+            "{technique}: {m}"
+        );
+    }
+    ao.set_config(&common::ao_config("gtao", 0.5, "multibounce = true"))
+        .unwrap();
+    let m = err(embed_frame(
+        &gpu,
+        &mut ao,
+        &AoInputs::new(DepthInput::Hardware(&depth), proj, view),
+    ));
+    assert!(m.contains("multibounce = false"), "{m}");
+    let m = ao
+        .set_config_toml("technique = \"gtoa\"\nradius = 0.5")
+        .unwrap_err()
+        .to_string();
+    assert!(m.contains("gtao"), "the nearest name is suggested: {m}");
+    // After all of that, a right frame still renders.
+    ao.set_config(&config).unwrap();
+    embed_frame(
+        &gpu,
+        &mut ao,
+        &AoInputs::new(DepthInput::Hardware(&depth), proj, view),
+    )
+    .unwrap();
+    assert!(gpu.take_errors().is_empty());
+}
+
+#[test]
+fn switching_techniques_back_creates_no_pipeline() {
+    let Some(gpu) = test_gpu() else { return };
+    let (depth, proj, view, config) = plane_frame(&gpu);
+    let mut ao = embedding(&gpu, &config);
+    let inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, view);
+    let settings = [
+        common::ao_config("gtao", 0.5, ""),
+        common::ao_config("mssao", 0.5, "levels = 3"),
+        common::ao_config("hbao", 0.5, "temporal = true"),
+    ];
+    let mut out = None;
+    for s in &settings {
+        ao.set_config(s).unwrap();
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        out = Some(ao.encode(&mut enc, &inputs).unwrap());
+        gpu.queue.submit([enc.finish()]);
+    }
+    let (pipelines, plans) = (ao.pipelines_created(), ao.plan_count());
+    assert_eq!(plans, 3);
+    for _ in 0..2 {
+        for s in &settings {
+            ao.set_config(s).unwrap();
+            let mut enc = gpu.device.create_command_encoder(&Default::default());
+            let o = ao.encode(&mut enc, &inputs).unwrap();
+            gpu.queue.submit([enc.finish()]);
+            // aograph's own output texture is the same one while the size and format stay.
+            assert_eq!(Some(&o.texture), out.as_ref().map(|o| &o.texture));
+        }
+    }
+    assert_eq!(
+        ao.pipelines_created(),
+        pipelines,
+        "a switch back created pipelines"
+    );
+    assert_eq!(ao.plan_count(), plans);
+    // A new output format is a new plan (and texture); going back to the old one is not.
+    ao.set_output_format(aograph_embed::AoOutputFormat::R16Float);
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    let o = ao.encode(&mut enc, &inputs).unwrap();
+    gpu.queue.submit([enc.finish()]);
+    assert_eq!(o.texture.format(), wgpu::TextureFormat::R16Float);
+    assert_eq!(ao.plan_count(), plans + 1);
+    assert!(gpu.take_errors().is_empty());
+}
+
+#[test]
+fn motion_vectors_in_pixels_become_the_motion_channel() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = aograph_scene::procedural_scene("stairs").unwrap();
+    let radius = aograph_scene::suggested_radius(&scene).radius;
+    let own = own_frame(&scene, &common::ao_config("none", radius, ""), None).unwrap();
+    let proj = perspective(&own.camera, own.camera.near(), None, true);
+    let size = (SIZE.width, SIZE.height);
+    let depth = depth_buffer(
+        &gpu.device,
+        &gpu.queue,
+        &own.linear_depth,
+        size,
+        proj,
+        true,
+        wgpu::TextureFormat::Depth32Float,
+    );
+    // The camera moved 0.5 units forward since the previous frame: each point was 0.5 deeper.
+    let prev_view = Mat4::from_translation(Vec3::new(0.0, 0.0, -0.5)) * own.view;
+    let prev_view_proj = proj * prev_view;
+    // Motion in pixels, current - previous (x, y) = (i mod 7 - 3, i mod 5 - 2): uv_scale
+    // (-1/w, -1/h) turns it into aograph's previous - current in uv.
+    let n = (size.0 * size.1) as usize;
+    let m: Vec<[f32; 2]> = (0..n)
+        .map(|i| [(i % 7) as f32 - 3.0, (i % 5) as f32 - 2.0])
+        .collect();
+    let motion = upload(
+        &gpu.device,
+        &gpu.queue,
+        wgpu::TextureFormat::Rg32Float,
+        size,
+        bytemuck::cast_slice(&m),
+    );
+    let scale = [-1.0 / size.0 as f32, -1.0 / size.1 as f32];
+    let mut inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, own.view);
+    inputs.motion = Some(aograph_embed::MotionInput {
+        texture: &motion,
+        uv_scale: scale,
+    });
+    let got = adapter_channel(&gpu, &inputs, GBufferChannel::Motion, prev_view_proj)
+        .to_f32()
+        .unwrap();
+    let mut worst: f32 = 0.0;
+    for i in 0..n {
+        let (g, z) = (&got[i * 4..i * 4 + 4], own.linear_depth[i]);
+        if z <= 0.0 {
+            assert_eq!(g, [0.0; 4], "sky at pixel {i}");
+            continue;
+        }
+        assert_eq!(
+            [g[0], g[1]],
+            [m[i][0] * scale[0], m[i][1] * scale[1]],
+            "pixel {i}"
+        );
+        worst = worst.max((g[2] - (z + 0.5)).abs() / z);
+    }
+    // The previous depth through view_to_prev_clip: f32 products of a few matrices.
+    println!("previous depth: largest relative error {worst:.2e}");
+    assert!(worst < 1e-5, "previous depth off by {worst} relative");
 }
