@@ -1,5 +1,8 @@
 //! aograph's application layer: config, the frame graph (g-buffer + technique + shading), the
-//! renderer, image output and the commands behind the `aograph` binary.
+//! renderer, image output and the commands behind the `aograph` binary. The viewer
+//! (`aograph view`: winit, egui) is behind the default `viewer` feature; an application that
+//! only wants aograph's AO in its own renderer depends on `aograph-embed`, which needs none of
+//! this crate.
 
 pub mod bench;
 pub mod camera_spec;
@@ -15,6 +18,7 @@ pub mod prepared_scene;
 pub mod reach;
 pub mod renderer;
 pub mod runtime_dir;
+#[cfg(feature = "viewer")]
 pub mod viewer;
 
 pub use config::{AppConfig, RadiusSetting, SceneSource};

@@ -170,9 +170,18 @@ fn main() -> ExitCode {
             frames,
             every,
         }),
+        #[cfg(feature = "viewer")]
         Command::View { common, script } => aograph::viewer::view(&aograph::viewer::ViewArgs {
             common: common.into_args(),
             script,
+        }),
+        #[cfg(not(feature = "viewer"))]
+        Command::View { .. } => Err(aograph::AppError::InvalidArgument {
+            name: "view".into(),
+            value: "this aograph was built without the viewer".into(),
+            allowed: "a build with the `viewer` feature (on by default: cargo build, or \
+                      cargo build --features viewer)"
+                .into(),
         }),
         Command::Graph { common, dot } => commands::graph(&common.into_args(), dot),
         Command::Techniques => commands::techniques(),

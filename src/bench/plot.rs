@@ -2,7 +2,7 @@
 //! against its MAE, one colour per technique, and the Pareto front (the runs no other run
 //! beats on both time and MAE) drawn as a staircase: for a time budget on the x axis, the
 //! front's height is the best MAE that budget buys. Written as SVG (text drawn by the viewer)
-//! and PNG (through [`TextBitmap`](super::bitmap_text::TextBitmap)).
+//! and PNG (through [`super::bitmap_text::TextBitmap`]).
 
 use std::path::Path;
 

@@ -30,13 +30,13 @@ pub struct BenchArgs {
     #[arg(long)]
     pub sweep: Option<PathBuf>,
     /// Views of each scene, comma-separated: default, outside, outside-2, interior-1,
-    /// interior-2, a glTF camera's name or index, a [[views]] name from --config, or `all`.
+    /// interior-2, a glTF camera's name or index, a `[[views]]` name from --config, or `all`.
     #[arg(long, value_delimiter = ',', default_value = "default")]
     pub views: Vec<String>,
     /// One view instead of --views: a name as there, or inline "pos=x,y,z target=x,y,z fov=60".
     #[arg(long)]
     pub camera: Option<String>,
-    /// A config whose [[views]] --views and --camera may name.
+    /// A config whose `[[views]]` --views and --camera may name.
     #[arg(long)]
     pub config: Option<PathBuf>,
     #[command(flatten)]

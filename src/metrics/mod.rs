@@ -7,7 +7,7 @@
 //!
 //! - [`error`]: MAE, RMSE, PSNR (peak 1.0), mean signed error, and MAE inside a mask (the
 //!   depth-edge band, where halos live).
-//! - [`ssim`]: SSIM with the Pyramid HBAO paper's settings (11x11 window, k1 and k2 as printed).
+//! - [`ssim`](mod@ssim): SSIM with the Pyramid HBAO paper's settings (11x11 window, k1 and k2 as printed).
 //! - [`edges`]: the band of a few pixels around depth discontinuities.
 //! - [`flicker`]: mean absolute frame-to-frame change over a multi-frame run.
 //! - [`nonfinite`]: how infinite or undefined values (PSNR of identical images) are serialised.

@@ -1,7 +1,7 @@
 //! Serde for f64 metrics that may be infinite or undefined. JSON has no infinity or NaN
 //! (serde_json would write `null` and lose which one it was), so a finite value is written as
 //! a number and the others as the strings `"inf"`, `"-inf"` and `"nan"`; reading accepts both.
-//! CSV and Markdown output use the same spellings through [`format`].
+//! CSV and Markdown output use the same spellings through [`format`](fn@format).
 
 use serde::Serializer;
 use serde::de::{self, Deserializer, Visitor};

@@ -28,18 +28,25 @@ pub const DEFAULT_TECHNIQUE: &str = "mssao";
 /// renderer reports a device without them and asks for "r32float").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum IntermediateFormat {
+    /// `"r32float"`: full precision; a storage format core WebGPU guarantees.
     R32Float,
+    /// `"r16float"` (the default): half the bandwidth; needs r16float storage textures.
     #[default]
     R16Float,
 }
 
 impl IntermediateFormat {
+    /// The wgpu format of single-channel intermediates (four-channel ones take the
+    /// four-channel format of the same precision:
+    /// [`crate::AoBuildContext::intermediate_rgba_format`]).
     pub fn wgpu(self) -> wgpu::TextureFormat {
         match self {
             Self::R32Float => wgpu::TextureFormat::R32Float,
             Self::R16Float => wgpu::TextureFormat::R16Float,
         }
     }
+    /// Parses the config's spelling, `"r32float"` or `"r16float"`; anything else is an
+    /// [`AoError::Config`] saying so.
     pub fn parse(s: &str) -> AoResult<Self> {
         match s {
             "r32float" => Ok(Self::R32Float),
@@ -54,9 +61,12 @@ impl IntermediateFormat {
 /// The parsed `[ao]` section.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AoConfig {
+    /// Registry name of the technique that runs (`[ao] technique`; [`DEFAULT_TECHNIQUE`] when
+    /// the config names none).
     pub technique: String,
     /// How the shared world-space radius R is chosen (`radius = "auto"` or a number).
     pub radius: RadiusSetting,
+    /// Format of intermediate AO textures (`[ao] intermediate_format`).
     pub intermediate_format: IntermediateFormat,
     /// `[ao.<technique>]` tables.
     pub params: BTreeMap<String, toml::Table>,
@@ -76,7 +86,8 @@ impl Default for AoConfig {
 /// The candidate closest to `word` by edit distance (the one rule of `aograph_graph`).
 pub use aograph_graph::nearest_name as nearest;
 
-/// "unknown key `x` in [section]; did you mean `y`? allowed: ..."
+/// The message for an unknown `key` in `[section]`, suggesting the nearest of `allowed`:
+/// "unknown key `x` in \[section\]; did you mean `y`? (allowed: ...)".
 pub fn unknown_key(section: &str, key: &str, allowed: &[&str]) -> String {
     let hint = nearest(key, allowed.iter().copied())
         .map(|n| format!("; did you mean `{n}`?"))

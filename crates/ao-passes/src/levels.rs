@@ -13,6 +13,8 @@ pub enum Levels {
     /// As many as R needs in the view (see the module docs). The default.
     #[default]
     Auto,
+    /// Exactly this many levels, the full-resolution one included (the technique checks its
+    /// own range).
     Fixed(u32),
 }
 

@@ -15,10 +15,15 @@ pub enum ParamKind {
     /// A number in `[min, max]` (`(min, max]` with `above_min`); `integer` for whole numbers,
     /// `odd` for odd whole numbers.
     Range {
+        /// Smallest value allowed (itself excluded with `above_min`).
         min: f64,
+        /// Largest value allowed.
         max: f64,
+        /// Whole numbers only: a TOML integer (`4.0` is refused).
         integer: bool,
+        /// Odd whole numbers only (e.g. a filter width in taps).
         odd: bool,
+        /// `min` itself is excluded: the range is `(min, max]`.
         above_min: bool,
     },
     /// One of these words.
@@ -27,8 +32,11 @@ pub enum ParamKind {
     Bool,
     /// A word (e.g. `auto`) or a whole number in `[min, max]`.
     WordOrNumber {
+        /// The one word accepted besides numbers (e.g. `auto`).
         word: &'static str,
+        /// Smallest whole number allowed.
         min: f64,
+        /// Largest whole number allowed.
         max: f64,
     },
 }
@@ -38,6 +46,8 @@ pub enum ParamKind {
 pub struct ParamDesc {
     /// The key in `[ao.<technique>]`.
     pub name: &'static str,
+    /// What values it takes: what [`ParamDesc::check`] applies and [`ParamDesc::allowed`]
+    /// prints.
     pub kind: ParamKind,
     /// One line of meaning.
     pub doc: &'static str,

@@ -30,6 +30,7 @@ impl Radius {
             })
         }
     }
+    /// The radius in world units (finite, greater than 0).
     pub fn get(self) -> f32 {
         self.0
     }

@@ -30,6 +30,7 @@ impl TechniqueRegistry {
     pub fn register<T: AoTechnique>(&mut self, technique: T) {
         self.techniques.insert(T::NAME, Arc::new(technique));
     }
+    /// The registered names, sorted: what `[ao] technique` accepts.
     pub fn names(&self) -> Vec<String> {
         self.techniques.keys().map(|s| s.to_string()).collect()
     }
@@ -42,6 +43,7 @@ impl TechniqueRegistry {
                 known: self.names(),
             })
     }
+    /// Every registered technique, in name order.
     pub fn iter(&self) -> impl Iterator<Item = &Arc<dyn DynAoTechnique>> {
         self.techniques.values()
     }

@@ -32,7 +32,11 @@ pub const ACCESSIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Fl
 
 /// What a technique's build step sees.
 pub struct AoBuildContext<'a> {
+    /// The frame graph the technique adds its passes and textures to.
     pub builder: &'a mut GraphBuilder,
+    /// The g-buffer channels written this frame: those the technique's `channels()` asked
+    /// for, except motion on a scene where nothing moves (read them with
+    /// [`AoBuildContext::channel`]).
     pub gbuffer: GBufferTextures,
     /// The imported per-frame `View` uniform buffer (shaders/common/view.wgsl).
     pub view: BufferHandle,
@@ -47,7 +51,7 @@ pub struct AoBuildContext<'a> {
     /// R projected to full-resolution pixels at the view's closest geometry, at most the
     /// image's diagonal (`aograph_scene::ProjectedRadius::reach_needed_px`), when the graph
     /// is built for a known view (for `levels = "auto"`; see [`crate::Levels`]). Filled in
-    /// only for techniques whose [`DynAoTechnique::needs_radius_pixels`] says so.
+    /// only for techniques whose [`ConfiguredTechnique::needs_radius_pixels`] says so.
     pub radius_pixels: Option<f32>,
     /// Frame inputs the build declared beyond the view block (filled in by the build: whoever
     /// runs the graph provides what is declared here, and nothing else is built).
@@ -131,7 +135,7 @@ impl AoBuildContext<'_> {
 pub struct AoOutput {
     /// Accessibility in [0, 1], 1 = unoccluded, full output size.
     pub accessibility: TextureHandle,
-    /// Radiance, where the technique computes it ([`AoTechnique::outputs_radiance`]).
+    /// Radiance, where the technique computes it ([`AoTechnique::radiance`]).
     pub radiance: Option<RadianceOutput>,
     /// Further named outputs for inspection (e.g. gtao's bent normals).
     pub extra: Vec<(String, TextureHandle)>,
@@ -141,7 +145,11 @@ pub struct AoOutput {
 /// full size): the direct term and one indirect bounce.
 #[derive(Clone, Copy, Debug)]
 pub struct RadianceOutput {
+    /// Direct radiance: the environment and the directional light reaching the surface past
+    /// the technique's occlusion, reflected by the albedo (SSDO's L_dir).
     pub direct: TextureHandle,
+    /// One indirect bounce from nearby surfaces (SSDO's L_ind); all zero when the technique
+    /// computes no bounce.
     pub indirect: TextureHandle,
 }
 
@@ -155,6 +163,7 @@ pub enum RadianceEnvironment {
 }
 
 impl AoOutput {
+    /// An output of `accessibility` alone: no radiance, no extra outputs.
     pub fn new(accessibility: TextureHandle) -> Self {
         Self {
             accessibility,
@@ -166,9 +175,12 @@ impl AoOutput {
 
 /// A technique with a typed parameter struct.
 pub trait AoTechnique: Send + Sync + 'static {
+    /// The typed parameters, deserialised from `[ao.<NAME>]`: one field (or flattened group)
+    /// per key of [`AoTechnique::params`], and `Default` holds the paper's values.
     type Params: Serialize + DeserializeOwned + Default + Clone + std::fmt::Debug + Send + Sync;
     /// The registry name (`[ao] technique = "..."`), stated once.
     const NAME: &'static str;
+    /// One line saying what the technique is, for the `aograph techniques` listing.
     fn description(&self) -> &'static str;
     /// One description per parameter, in listing order (defaults come from `Params`).
     fn params(&self) -> Vec<ParamDesc>;
@@ -209,27 +221,45 @@ pub trait AoTechnique: Send + Sync + 'static {
     ) -> Option<f32> {
         None
     }
+    /// Adds the technique's passes to `ctx.builder` (named `<NAME>.<pass>`) and returns its
+    /// output: accessibility in [0, 1], 1 = unoccluded and exactly 1 on sky, R32Float at the
+    /// full output size ([`AoBuildContext::accessibility_texture`]).
     fn build(&self, ctx: &mut AoBuildContext<'_>, params: &Self::Params) -> AoResult<AoOutput>;
 }
 
 /// A technique with its parameters parsed and validated: what a frame graph asks of it.
 pub trait ConfiguredTechnique: Send + Sync {
+    /// The registry name ([`AoTechnique::NAME`]).
     fn name(&self) -> &'static str;
     /// The parameters in effect, defaults included, as a table (for labels and saving).
     fn params_table(&self) -> toml::Table;
+    /// The g-buffer channels these parameters read: what the g-buffer must write
+    /// ([`AoTechnique::channels`]).
     fn channels(&self) -> GBufferChannels;
+    /// True when these parameters keep history between frames, so frames are not independent
+    /// ([`AoTechnique::is_temporal`]).
     fn is_temporal(&self) -> bool;
+    /// True for the cost floor, `none` ([`AoTechnique::is_baseline`]).
     fn is_baseline(&self) -> bool;
     /// See [`AoTechnique::radiance`].
     fn radiance(&self) -> Option<RadianceEnvironment>;
+    /// True when [`ConfiguredTechnique::build`] needs [`AoBuildContext::radius_pixels`] filled
+    /// in (`levels = "auto"`); see [`AoTechnique::needs_radius_pixels`].
     fn needs_radius_pixels(&self) -> bool;
+    /// The farthest the technique samples from a pixel, in full-resolution pixels of an image
+    /// `height` tall; `None` when it reaches R wherever R projects
+    /// ([`AoTechnique::reach_pixels`]).
     fn reach_pixels(&self, height: u32, radius_pixels: Option<f32>) -> Option<f32>;
+    /// Adds the technique's passes with these parameters, `ctx.technique` set to its name
+    /// ([`AoTechnique::build`]).
     fn build(&self, ctx: &mut AoBuildContext<'_>) -> AoResult<AoOutput>;
 }
 
 /// The object-safe face of a technique, taking parameters as a TOML table.
 pub trait DynAoTechnique: Send + Sync {
+    /// The registry name ([`AoTechnique::NAME`]).
     fn name(&self) -> &'static str;
+    /// One line saying what the technique is ([`AoTechnique::description`]).
     fn description(&self) -> &'static str;
     /// Parameter descriptions with their defaults filled in from the parameter struct.
     fn parameters(&self) -> Vec<ParamDesc>;

@@ -33,6 +33,7 @@ pub enum GBufferChannel {
 }
 
 impl GBufferChannel {
+    /// Every channel, in the order [`GBufferChannels::iter`] yields them.
     pub const ALL: [GBufferChannel; 8] = [
         Self::Depth,
         Self::LinearDepth,
@@ -58,6 +59,8 @@ impl GBufferChannel {
             Self::NormalsOct => F::R32Uint,
         }
     }
+    /// The channel's name (`"linear_depth"`, `"normals_oct"`, ...): the g-buffer names its
+    /// texture `gbuffer.<name>`, and aograph-ao's errors name a missing channel by it.
     pub fn name(self) -> &'static str {
         match self {
             Self::Depth => "depth",
@@ -86,6 +89,7 @@ pub enum DepthFormat {
 }
 
 impl DepthFormat {
+    /// The wgpu texture format the depth buffer is created with.
     pub fn format(self) -> wgpu::TextureFormat {
         match self {
             Self::Depth32Float => wgpu::TextureFormat::Depth32Float,
@@ -105,20 +109,26 @@ pub struct GBufferChannels {
 }
 
 impl GBufferChannels {
+    /// The empty set: no channel, interpolated normals, the default depth format.
     pub fn none() -> Self {
         Self::default()
     }
+    /// The set of exactly `channels` (interpolated normals, the default depth format).
     pub fn of(channels: &[GBufferChannel]) -> Self {
         channels.iter().fold(Self::default(), |s, c| s.with(*c))
     }
+    /// The same set with `c` added.
     pub fn with(mut self, c: GBufferChannel) -> Self {
         self.bits |= c.bit();
         self
     }
+    /// The same set with `c` removed (face normals and depth format unchanged).
     pub fn without(mut self, c: GBufferChannel) -> Self {
         self.bits &= !c.bit();
         self
     }
+    /// The same set with [`GBufferChannel::Normals`], written per face (flat) rather than
+    /// interpolated, as MSSAO needs.
     pub fn with_face_normals(mut self) -> Self {
         self.face_normals = true;
         self.with(GBufferChannel::Normals)
@@ -137,6 +147,7 @@ impl GBufferChannels {
         self.depth_format = depth_format;
         self
     }
+    /// Whether `c` is in the set.
     pub fn contains(&self, c: GBufferChannel) -> bool {
         self.bits & c.bit() != 0
     }
@@ -153,6 +164,7 @@ impl GBufferChannels {
             depth_format,
         }
     }
+    /// The channels in the set, in [`GBufferChannel::ALL`] order.
     pub fn iter(&self) -> impl Iterator<Item = GBufferChannel> + '_ {
         GBufferChannel::ALL
             .into_iter()
@@ -163,17 +175,27 @@ impl GBufferChannels {
 /// Handles of the channels a g-buffer node wrote (None for channels not requested).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct GBufferTextures {
+    /// Hardware depth, in the set's [`DepthFormat`] ([`GBufferChannel::Depth`]).
     pub depth: Option<TextureHandle>,
+    /// Linear view depth, R32Float, 0 on sky ([`GBufferChannel::LinearDepth`]).
     pub linear_depth: Option<TextureHandle>,
+    /// View-space unit normals, Rgba16Float ([`GBufferChannel::Normals`]).
     pub normals: Option<TextureHandle>,
+    /// View-space positions, Rgba32Float ([`GBufferChannel::Positions`]).
     pub positions: Option<TextureHandle>,
+    /// Base colour, Rgba8Unorm ([`GBufferChannel::Albedo`]).
     pub albedo: Option<TextureHandle>,
+    /// Unshadowed directly lit radiance, Rgba16Float ([`GBufferChannel::DirectLight`]).
     pub direct_light: Option<TextureHandle>,
+    /// 3D motion to the previous frame, Rgba32Float ([`GBufferChannel::Motion`]); also `None`
+    /// on a scene where nothing moves, whose g-buffer drops the channel.
     pub motion: Option<TextureHandle>,
+    /// Octahedral view-space normals, R32Uint ([`GBufferChannel::NormalsOct`]).
     pub normals_oct: Option<TextureHandle>,
 }
 
 impl GBufferTextures {
+    /// The handle of channel `c`, or `None` when the g-buffer did not write it.
     pub fn get(&self, c: GBufferChannel) -> Option<TextureHandle> {
         match c {
             GBufferChannel::Depth => self.depth,
@@ -186,6 +208,7 @@ impl GBufferTextures {
             GBufferChannel::NormalsOct => self.normals_oct,
         }
     }
+    /// Records `h` as the handle of channel `c`, replacing any previous one.
     pub fn set(&mut self, c: GBufferChannel, h: TextureHandle) {
         let slot = match c {
             GBufferChannel::Depth => &mut self.depth,

@@ -57,11 +57,19 @@ pub struct LightingUniforms {
 /// The sky of [`LightingUniforms::with_sky`]: world space, +Y up, linear RGB.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyColours {
+    /// Radiance straight up; above the horizon the sky blends from `horizon` to this.
     pub zenith: [f32; 3],
+    /// Radiance at the horizon.
     pub horizon: [f32; 3],
+    /// Radiance from below the horizon: blended in from `horizon`, full where a direction's
+    /// y is -0.25 or lower.
     pub ground: [f32; 3],
+    /// World-space direction towards the sun (normalised by [`LightingUniforms::with_sky`]).
     pub sun_direction: [f32; 3],
+    /// Irradiance the sun lobe puts on a surface facing the sun.
     pub sun_irradiance: [f32; 3],
+    /// Exponent k of the sun lobe: radiance `sun_irradiance` (k + 1) / 2π max(0, ω·s)^k
+    /// towards direction ω, s the sun's direction (>= 1; the larger k, the smaller the sun).
     pub sun_exponent: f32,
 }
 
@@ -111,6 +119,8 @@ impl LightingUniforms {
             ..self
         }
     }
+    /// The block's 128 bytes, in the WGSL `Lighting` layout, for the buffer imported as
+    /// [`LIGHTING_BUFFER`].
     pub fn bytes(&self) -> &[u8] {
         bytemuck::bytes_of(self)
     }

@@ -17,9 +17,13 @@ pub type Mat4Cols = [[f32; 4]; 4];
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ViewUniforms {
+    /// World to view space (right-handed, the camera looking down -Z).
     pub view: Mat4Cols,
+    /// View to clip space (wgpu's 0..1 depth, reversed when `reversed_z` is 1).
     pub proj: Mat4Cols,
+    /// Clip to view space: the inverse of `proj` (the identity when `proj` is singular).
     pub inv_proj: Mat4Cols,
+    /// View to world space: the inverse of `view` (the identity when `view` is singular).
     pub inv_view: Mat4Cols,
     /// Previous frame's view-projection (world to previous clip space).
     pub prev_view_proj: Mat4Cols,
@@ -59,6 +63,8 @@ pub struct ViewUniforms {
 const _: () = assert!(std::mem::size_of::<ViewUniforms>() == 6 * 64 + 4 * 16);
 
 impl ViewUniforms {
+    /// The block's 448 bytes, in the WGSL `View` layout, for the buffer imported as
+    /// [`VIEW_BUFFER`].
     pub fn bytes(&self) -> &[u8] {
         bytemuck::bytes_of(self)
     }
@@ -113,17 +119,21 @@ pub struct ViewMatrices {
     pub far: f32,
     /// Near maps to clip depth 1.
     pub reversed_z: bool,
+    /// Orthographic projection (false: perspective).
     pub orthographic: bool,
-    /// Output size in pixels.
+    /// Output width in pixels.
     pub width: u32,
+    /// Output height in pixels.
     pub height: u32,
+    /// Counts rendered frames, wrapping; temporal techniques vary their noise with it.
     pub frame_index: u32,
     /// The previous frame's history may be read.
     pub history_valid: bool,
     /// The camera jumped this frame.
     pub camera_cut: bool,
-    /// Time in seconds, and this frame's time minus the previous frame's.
+    /// Scene time in seconds.
     pub time: f32,
+    /// This frame's time minus the previous frame's, in seconds.
     pub dt: f32,
 }
 

@@ -11,14 +11,20 @@ use std::hash::{Hash, Hasher};
 /// How an attachment starts: keep what is there, or clear it to a value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LoadOp<T> {
+    /// Keep the attachment's current contents (wgpu's `LoadOp::Load`).
     Load,
+    /// Overwrite the whole attachment with this value before the pass draws: an RGBA colour
+    /// for colour attachments, a depth in [0, 1] for depth attachments.
     Clear(T),
 }
 
 /// A colour attachment's start and blend. `load: None` follows the module's rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ColorTarget {
+    /// How the attachment starts; `None` follows the module's rule (clear to 0 on a
+    /// graph-owned texture's first write, load otherwise).
     pub load: Option<LoadOp<[f32; 4]>>,
+    /// Blend state of the attachment; `None` replaces the attachment's texels.
     pub blend: Option<wgpu::BlendState>,
 }
 
@@ -47,7 +53,10 @@ impl ColorTarget {
 /// A depth attachment's start and test. `load: None` follows the module's rule.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthTarget {
+    /// How the attachment starts; `None` follows the module's rule (clear to
+    /// [`DepthTarget::far_value`] on a graph-owned texture's first write, load otherwise).
     pub load: Option<LoadOp<f32>>,
+    /// The depth test: a fragment passes when `compare(fragment depth, stored depth)` holds.
     pub compare: wgpu::CompareFunction,
 }
 
@@ -72,10 +81,14 @@ impl DepthTarget {
             compare: wgpu::CompareFunction::GreaterEqual,
         }
     }
+    /// Keeps the attachment's depth (e.g. a depth buffer rendered by an earlier pass or
+    /// imported) instead of the automatic choice.
     pub fn load(mut self) -> Self {
         self.load = Some(LoadOp::Load);
         self
     }
+    /// Clears the attachment to `depth` (in [0, 1]) before the pass draws, whatever version
+    /// it writes.
     pub fn clear(mut self, depth: f32) -> Self {
         self.load = Some(LoadOp::Clear(depth));
         self
@@ -93,14 +106,21 @@ impl DepthTarget {
 /// What a render pass does with one attachment, with the load resolved (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum AttachmentOps {
+    /// A colour attachment.
     Color {
+        /// Load or clear value (RGBA) the pass starts with.
         load: LoadOp<[f32; 4]>,
+        /// Blend state; `None` replaces the attachment's texels.
         blend: Option<wgpu::BlendState>,
     },
+    /// The depth attachment.
     Depth {
         /// Ignored when `read_only`: a read-only attachment always loads.
         load: LoadOp<f32>,
+        /// The depth test the pipeline uses.
         compare: wgpu::CompareFunction,
+        /// Tested but not written ([`TextureAccess::DepthRead`](crate::TextureAccess::DepthRead)):
+        /// the pipeline has depth writes off and the pass may also sample the texture.
         read_only: bool,
     },
 }

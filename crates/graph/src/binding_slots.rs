@@ -13,8 +13,11 @@ use crate::declaration::UniformHandle;
 /// One `@group(group) @binding(binding)` global of a pass's shader and what is bound to it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BindingSlot {
+    /// The global's `@group` index: which bind group of the pass it goes into.
     pub group: u32,
+    /// The global's `@binding` index within its group.
     pub binding: u32,
+    /// Where the bound resource comes from.
     pub source: BindingSource,
 }
 
@@ -24,23 +27,37 @@ pub enum BindingSource {
     /// `PassDecl::textures[texture_use]`, of resource `resource`, sampled: a view of mip `mip`,
     /// or of all mips when `None`.
     SampledTexture {
+        /// Index of the use in the pass's `PassDecl::textures`.
         texture_use: usize,
+        /// Index of the texture in `GraphDecl::resources`.
         resource: usize,
+        /// The single mip level viewed, or `None` for a view of all levels.
         mip: Option<u32>,
     },
     /// `PassDecl::textures[texture_use]`, of resource `resource`, as a storage texture: a view
     /// of mip `mip` (0 when the use names none).
     StorageTexture {
+        /// Index of the use in the pass's `PassDecl::textures`.
         texture_use: usize,
+        /// Index of the texture in `GraphDecl::resources`.
         resource: usize,
+        /// The mip level viewed (storage views always name one level).
         mip: u32,
     },
     /// A uniform block of the declaration (`GraphDecl::uniforms`).
     Uniform(UniformHandle),
     /// `PassDecl::buffers[buffer_use]`, of resource `resource`.
-    Buffer { buffer_use: usize, resource: usize },
+    Buffer {
+        /// Index of the use in the pass's `PassDecl::buffers`.
+        buffer_use: usize,
+        /// Index of the buffer in `GraphDecl::resources`.
+        resource: usize,
+    },
     /// `CompiledGraph::samplers[sampler]`.
-    Sampler { sampler: usize },
+    Sampler {
+        /// Index into `CompiledGraph::samplers`.
+        sampler: usize,
+    },
 }
 
 impl BindingSource {

@@ -26,11 +26,16 @@ pub struct GraphBuilder {
 /// Both halves of a history (ping-pong) texture: read `previous`, write `current`.
 #[derive(Clone, Copy, Debug)]
 pub struct HistoryTexture {
+    /// Last frame's contents (resource `{name}.previous`), readable without a write; zeros
+    /// when the history is not valid (see `Executor::history_valid`).
     pub previous: TextureHandle,
+    /// This frame's contents (resource `{name}`): must be written every frame, and becomes
+    /// next frame's `previous`.
     pub current: TextureHandle,
 }
 
 impl GraphBuilder {
+    /// An empty graph, declared at full size (size divisor 1).
     pub fn new() -> Self {
         Self::default()
     }

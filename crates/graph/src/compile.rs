@@ -38,26 +38,34 @@ impl Default for CompileOptions {
 /// A plan's identity in the executor: see [`CompiledGraph::key`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PlanKey {
+    /// The declaration's structure hash ([`GraphDecl::structure_hash`]).
     pub structure: u64,
+    /// Whether the plan was compiled with [`CompileOptions::reuse`].
     pub reuse: bool,
 }
 
 /// Why a pass was culled.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CulledPass {
+    /// The pass that will not run.
     pub pass: PassId,
+    /// Why, in words, for summaries and debug output.
     pub reason: String,
 }
 
 /// The result of compile: an execution plan.
 #[derive(Debug)]
 pub struct CompiledGraph {
+    /// The declaration the plan runs: on a compile-cache hit the caller's newest one, so its
+    /// custom passes and uniform contents are current.
     pub decl: Arc<GraphDecl>,
     /// The declaration's structure hash ([`GraphDecl::structure_hash`]).
     pub hash: u64,
+    /// The options the plan was compiled with.
     pub options: CompileOptions,
     /// Kept passes in execution order.
     pub order: Vec<PassId>,
+    /// Passes that will not run, in declaration order, with the reason.
     pub culled: Vec<CulledPass>,
     /// Dependency edges (producer, consumer) between passes, culled ones included.
     pub edges: Vec<(PassId, PassId)>,
@@ -106,15 +114,18 @@ impl CompiledGraph {
             reuse: self.options.reuse,
         }
     }
+    /// True when `pass` survived culling and runs (it is in [`CompiledGraph::order`]).
     pub fn is_kept(&self, pass: PassId) -> bool {
         self.order.contains(&pass)
     }
+    /// Names of the kept passes, in execution order.
     pub fn pass_names(&self) -> Vec<&str> {
         self.order
             .iter()
             .map(|p| self.decl.passes[p.0].name.as_str())
             .collect()
     }
+    /// Names of the culled passes, in declaration order.
     pub fn culled_names(&self) -> Vec<&str> {
         self.culled
             .iter()
@@ -155,6 +166,7 @@ impl GraphCompiler {
     /// Plans kept by [`GraphCompiler::new`]: every technique and preset of a session, with room.
     pub const DEFAULT_CAPACITY: usize = 64;
 
+    /// A compiler with an empty cache of [`GraphCompiler::DEFAULT_CAPACITY`] plans.
     pub fn new() -> Self {
         Self::default()
     }

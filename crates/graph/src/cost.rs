@@ -13,6 +13,7 @@ use crate::resource::{Extent, TextureAccess, texel_bytes};
 /// One pass's cost at an output size.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassCost {
+    /// Name of the pass, as in timings.
     pub pass: String,
     /// Threads of a compute pass, fragments of a full-screen pass (its attachments' pixels);
     /// 0 for copies and custom passes, whose work the graph does not see.
@@ -31,6 +32,8 @@ impl PassCost {
         self.loads_per_invocation
             .map(|l| l as f64 * self.invocations as f64)
     }
+    /// Bytes the pass must touch in all: `bytes_read + bytes_written`, a lower bound of its
+    /// memory traffic.
     pub fn bytes(&self) -> u64 {
         self.bytes_read + self.bytes_written
     }

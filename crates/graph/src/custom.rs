@@ -16,11 +16,13 @@ use crate::uses::{BufferUse, TextureUse};
 /// A physical texture bound to a resource for this frame. Cloning is cheap (reference counts).
 #[derive(Clone, Debug)]
 pub struct BoundTexture {
+    /// The physical texture (pooled, imported or a history half).
     pub texture: wgpu::Texture,
     /// A view of all mip levels.
     pub view: wgpu::TextureView,
     /// One view per mip level.
     pub mip_views: std::sync::Arc<[wgpu::TextureView]>,
+    /// Size of mip 0 in pixels.
     pub extent: Extent,
     /// Identifies the physical texture in bind-group caches.
     pub serial: u64,
@@ -69,8 +71,14 @@ pub trait CustomPass: Send + Sync {
 
 /// What a custom pass sees while recording.
 pub struct PassContext<'a> {
+    /// The executor's device, for creating pipelines and buffers (cache them in the pass;
+    /// `record` runs every frame).
     pub device: &'a wgpu::Device,
+    /// The executor's queue, for uploads (`write_buffer`, `write_texture`): they take effect at
+    /// the next submit, before any command recorded into `encoder` runs.
     pub queue: &'a wgpu::Queue,
+    /// The frame's command encoder: record the pass's commands here, in execution order with
+    /// the other passes.
     pub encoder: &'a mut wgpu::CommandEncoder,
     /// The graph's output size this frame.
     pub output: Extent,

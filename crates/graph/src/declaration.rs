@@ -19,6 +19,7 @@ pub use crate::uses::{BufferUse, SamplerUse, TextureUse};
 pub struct PassId(pub(crate) usize);
 
 impl PassId {
+    /// The pass's position in `GraphDecl::passes`.
     pub fn index(self) -> usize {
         self.0
     }
@@ -36,23 +37,35 @@ pub enum ResourceOrigin {
     /// Provided by the user (e.g. a g-buffer rendered elsewhere); version 0 is readable.
     Imported,
     /// Last frame's value of history `history`; version 0 is readable.
-    HistoryPrevious { history: String },
+    HistoryPrevious {
+        /// The history's name, as given to `GraphBuilder::history_texture`.
+        history: String,
+    },
     /// This frame's value of history `history`; must be written.
-    HistoryCurrent { history: String },
+    HistoryCurrent {
+        /// The history's name, as given to `GraphBuilder::history_texture`.
+        history: String,
+    },
 }
 
 /// Texture or buffer, with its descriptor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ResourceKind {
+    /// A 2D texture.
     Texture(TextureDesc),
+    /// A GPU buffer.
     Buffer(BufferDesc),
 }
 
 /// One virtual resource and the passes that wrote each of its versions.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ResourceDecl {
+    /// Name of the resource, as shown in summaries and errors; imports are bound by it
+    /// (`Executor::import_texture`). A history's `previous` half is named `{name}.previous`.
     pub name: String,
+    /// Texture or buffer, with its descriptor.
     pub kind: ResourceKind,
+    /// Where its contents come from and how long they live.
     pub origin: ResourceOrigin,
     /// Requested as an output: kept alive to the end of the frame and readable afterwards.
     pub exported: bool,
@@ -89,8 +102,12 @@ impl ResourceDecl {
 /// A uniform block owned by a pass: bound to `binding`, contents set per frame.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct UniformDecl {
+    /// The pass whose shader binds the block.
     pub pass: PassId,
+    /// Name of the WGSL `var<uniform>` global the block is bound to.
     pub binding: String,
+    /// The block's bytes as declared (laid out as the WGSL struct expects); its length is
+    /// part of the structure hash, its contents are not.
     pub initial: Vec<u8>,
 }
 
@@ -99,8 +116,13 @@ pub struct UniformDecl {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Dispatch {
     /// One thread per texel of a size class at a mip level.
-    Threads { size: SizeClass, mip: u32 },
-    /// Explicit workgroup counts.
+    Threads {
+        /// The size class, resolved against the output size each frame.
+        size: SizeClass,
+        /// The mip level of that size (0 for the base level).
+        mip: u32,
+    },
+    /// Explicit workgroup counts (x, y, z).
     Workgroups([u32; 3]),
 }
 
@@ -109,14 +131,23 @@ pub enum Dispatch {
 pub enum PassKind {
     /// A compute shader entry point from a WGSL file.
     Compute {
+        /// The WGSL file, relative to the shader root (or an inline name), optionally with a
+        /// variant suffix.
         shader: String,
+        /// Name of the `@compute` entry point.
         entry: String,
+        /// How many threads run; `None` until the builder sets one.
         dispatch: Option<Dispatch>,
     },
     /// A full-screen triangle drawn into the colour attachments.
     Fullscreen {
+        /// The WGSL file, relative to the shader root (or an inline name), optionally with a
+        /// variant suffix.
         shader: String,
+        /// Name of the `@vertex` entry point: it is drawn with 3 vertices and no vertex
+        /// buffer, so it must make the full-screen triangle from `vertex_index`.
         vertex: String,
+        /// Name of the `@fragment` entry point.
         fragment: String,
     },
     /// A texture-to-texture copy of the pass's `CopySrc` into its `CopyDst`.
@@ -160,10 +191,15 @@ impl Hash for PassKind {
 /// One pass: what it records and what it reads and writes.
 #[derive(Clone, Debug)]
 pub struct PassDecl {
+    /// Name of the pass, as shown in timings, summaries and errors.
     pub name: String,
+    /// What the pass records.
     pub kind: PassKind,
+    /// Its texture uses, in the order they were declared.
     pub textures: Vec<TextureUse>,
+    /// Its buffer uses, in the order they were declared.
     pub buffers: Vec<BufferUse>,
+    /// The uniform blocks its shader binds (indices into `GraphDecl::uniforms`).
     pub uniforms: Vec<UniformHandle>,
     /// Kept even when no output needs it (e.g. it writes to the CPU or a swapchain).
     pub side_effect: bool,
@@ -184,7 +220,9 @@ pub struct PassDecl {
 /// value in: a loop bound becomes a constant it can unroll.
 #[derive(Clone, Debug)]
 pub struct PipelineConstant {
+    /// Name of the WGSL `override` declaration.
     pub name: String,
+    /// The value, finite, converted to the override's type when the pipeline is built.
     pub value: f64,
 }
 
@@ -205,6 +243,8 @@ impl std::hash::Hash for PipelineConstant {
 }
 
 impl PassDecl {
+    /// True when the pass records a render pass: a full-screen pass, or any pass with a
+    /// colour or depth attachment.
     pub fn is_raster(&self) -> bool {
         matches!(self.kind, PassKind::Fullscreen { .. })
             || self.textures.iter().any(|u| {
@@ -221,8 +261,11 @@ impl PassDecl {
 /// A whole declaration, ready to compile.
 #[derive(Clone, Debug, Default)]
 pub struct GraphDecl {
+    /// Every virtual resource, indexed by its handles' resource index.
     pub resources: Vec<ResourceDecl>,
+    /// Every pass, indexed by [`PassId`], in declaration order.
     pub passes: Vec<PassDecl>,
+    /// Every uniform block, indexed by [`UniformHandle`].
     pub uniforms: Vec<UniformDecl>,
     /// Misuse found while declaring (e.g. conflicting writes); compile reports the first.
     pub(crate) errors: Vec<GraphError>,
@@ -266,9 +309,11 @@ impl GraphDecl {
             .position(|u| u.pass == p && u.binding == binding)
             .map(UniformHandle)
     }
+    /// The first pass named `name`, if any.
     pub fn pass_by_name(&self, name: &str) -> Option<PassId> {
         self.passes.iter().position(|p| p.name == name).map(PassId)
     }
+    /// The index in `resources` of the first resource named `name`, if any.
     pub fn resource_by_name(&self, name: &str) -> Option<usize> {
         self.resources.iter().position(|r| r.name == name)
     }

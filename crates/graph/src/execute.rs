@@ -88,6 +88,7 @@ impl Executor {
         }
     }
 
+    /// The device context the executor records and submits on.
     pub fn gpu(&self) -> &Arc<GpuContext> {
         &self.gpu
     }
@@ -114,6 +115,7 @@ impl Executor {
     pub fn set_pending_timing_frames(&mut self, frames: usize) {
         self.ring = TimestampRing::new(&self.gpu.queue, frames);
     }
+    /// How passes are timed now (see [`Executor::set_timing`]).
     pub fn timing(&self) -> TimingMode {
         self.timing
     }

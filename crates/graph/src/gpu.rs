@@ -11,10 +11,16 @@ use crate::error::{GraphError, GraphResult};
 
 /// Device, queue and what they can do.
 pub struct GpuContext {
+    /// The adapter the device was made on (format support is asked of it).
     pub adapter: wgpu::Adapter,
+    /// The device every plan records on.
     pub device: wgpu::Device,
+    /// The device's queue, which frames are submitted to.
     pub queue: wgpu::Queue,
+    /// The adapter's name, backend, device type and driver.
     pub info: wgpu::AdapterInfo,
+    /// Features enabled on the device: the optional ones the adapter had, or the
+    /// application's own with [`GpuContext::from_device`].
     pub features: wgpu::Features,
     errors: Arc<Mutex<Vec<String>>>,
     debug_groups: bool,

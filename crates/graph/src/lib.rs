@@ -5,6 +5,48 @@
 //! ```text
 //! GraphBuilder --build--> GraphDecl --GraphCompiler::compile--> CompiledGraph --Executor::execute--> GPU
 //! ```
+//!
+//! Declaring and compiling need no GPU, so a graph can be checked in a unit test. Here one
+//! compute pass fills a half-resolution texture that the graph exports; a second pass whose
+//! output nothing needs is culled:
+//!
+//! ```
+//! use aograph_graph::{
+//!     CompileOptions, GraphBuilder, ShaderLibrary, SizeClass, TextureDesc, compile, wgpu,
+//! };
+//!
+//! let shaders = ShaderLibrary::inline_only();
+//! shaders.add_inline(
+//!     "fill.wgsl",
+//!     "@group(0) @binding(0) var dst: texture_storage_2d<r32float, write>;
+//!      @compute @workgroup_size(8, 8)
+//!      fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+//!          let size = textureDimensions(dst);
+//!          if (id.x >= size.x || id.y >= size.y) { return; }
+//!          textureStore(dst, vec2<i32>(id.xy), vec4<f32>(1.0));
+//!      }",
+//! );
+//!
+//! let mut graph = GraphBuilder::new();
+//! let desc = TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::half_pow(1));
+//! let ao = graph.create_texture("ao", desc);
+//! let mut fill = graph.compute_pass("fill", "fill.wgsl", "main");
+//! let ao = fill.write_storage("dst", ao);
+//! fill.dispatch_over(ao);
+//! graph.export(ao);
+//!
+//! let unused = graph.create_texture("unused", desc);
+//! let mut extra = graph.compute_pass("extra", "fill.wgsl", "main");
+//! let unused = extra.write_storage("dst", unused);
+//! extra.dispatch_over(unused);
+//!
+//! let plan = compile(graph.build(), &shaders, CompileOptions::default())?;
+//! assert_eq!(plan.pass_names(), ["fill"]);
+//! assert_eq!(plan.culled_names(), ["extra"]);
+//! # Ok::<(), aograph_graph::GraphError>(())
+//! ```
+
+#![warn(missing_docs)]
 
 mod attachment;
 mod bind;

@@ -14,11 +14,14 @@ use crate::resource::{Extent, TextureDesc};
 /// First and last position in the execution order that uses a resource (inclusive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lifetime {
+    /// Position in `CompiledGraph::order` of the first pass that uses the resource.
     pub first: usize,
+    /// Position of the last pass that uses it (the last position for exported resources).
     pub last: usize,
 }
 
 impl Lifetime {
+    /// True when the two ranges share a position, so the resources cannot share a texture.
     pub fn overlaps(&self, o: &Lifetime) -> bool {
         self.first <= o.last && o.first <= self.last
     }
@@ -27,8 +30,12 @@ impl Lifetime {
 /// One physical texture and the resources that take turns in it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhysicalTexture {
+    /// The descriptor every resource placed in it has.
     pub desc: TextureDesc,
+    /// The union of the usages its resources need: the texture is created with these.
     pub usage: wgpu::TextureUsages,
+    /// Indices in `GraphDecl::resources` of the resources that take turns in it, in order of
+    /// first use.
     pub resources: Vec<usize>,
     /// The union of the lifetimes placed in it (for the summary).
     pub busy_until: usize,

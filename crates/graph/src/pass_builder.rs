@@ -43,6 +43,8 @@ impl<'a> PassBuilder<'a> {
 }
 
 impl PassBuilder<'_> {
+    /// The pass being built: keep it to reopen the pass later with
+    /// [`GraphBuilder::pass`](crate::GraphBuilder::pass).
     pub fn id(&self) -> PassId {
         self.id
     }

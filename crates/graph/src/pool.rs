@@ -15,9 +15,13 @@ use crate::resource::Extent;
 /// What must match for a pooled texture to be reused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PoolKey {
+    /// The texture's format.
     pub format: wgpu::TextureFormat,
+    /// Size of mip 0 in pixels (the size class resolved at the frame's output size).
     pub extent: Extent,
+    /// Number of mip levels.
     pub mip_levels: u32,
+    /// The usages the texture is created with.
     pub usage: wgpu::TextureUsages,
 }
 

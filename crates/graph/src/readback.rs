@@ -7,8 +7,12 @@ use crate::resource::{Extent, texel_bytes};
 /// Tightly packed texels of one mip level.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureReadback {
+    /// Size of the mip level read, in pixels.
     pub extent: Extent,
+    /// The texture's format, which says how to decode `bytes`.
     pub format: wgpu::TextureFormat,
+    /// The texels, row by row from the top, without row padding, in the format's own byte
+    /// layout (depth formats: the depth aspect only).
     pub bytes: Vec<u8>,
 }
 

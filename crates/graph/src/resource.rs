@@ -11,11 +11,14 @@ use std::marker::PhantomData;
 /// A concrete 2D size in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Extent {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
 }
 
 impl Extent {
+    /// A `width` x `height` pixel size.
     pub const fn new(width: u32, height: u32) -> Self {
         Self { width, height }
     }
@@ -26,6 +29,7 @@ impl Extent {
             height: self.height.div_ceil(1 << level.min(31)).max(1),
         }
     }
+    /// Number of pixels, `width * height`, without overflow.
     pub fn pixels(self) -> u64 {
         self.width as u64 * self.height as u64
     }
@@ -43,7 +47,10 @@ pub enum SizeClass {
     /// Output size divided by `divisor`, rounded up (1 = full resolution). Nested divisions
     /// compose exactly: ceil(ceil(w/a)/b) = ceil(w/(a*b)), so pyramid level k of a factor-K
     /// pyramid is `Relative { divisor: K^k }`.
-    Relative { divisor: u32 },
+    Relative {
+        /// The factor the output size is divided by on each axis (0 reads as 1).
+        divisor: u32,
+    },
     /// A fixed size, independent of the output.
     Fixed(Extent),
     /// Level `level` of a *centred* factor-`factor` pyramid over the output divided by
@@ -52,8 +59,11 @@ pub enum SizeClass {
     /// `(factor * m - n) / 2` texels and the pyramid is its own mirror image ([`centred_step`];
     /// for an odd factor). Pyramid HBAO's 3x3 pyramid.
     Centred {
+        /// The output is divided by this first, rounded up (1 = full output).
         base_divisor: u32,
+        /// Per-level reduction factor of the pyramid (odd, e.g. 3, for the mirror symmetry).
         factor: u32,
+        /// Pyramid level; level 0 is the base itself.
         level: u32,
     },
 }
@@ -85,6 +95,7 @@ impl SizeClass {
             divisor: factor.max(1).saturating_pow(level),
         }
     }
+    /// A fixed `width` x `height` size, whatever the output size.
     pub fn fixed(width: u32, height: u32) -> Self {
         SizeClass::Fixed(Extent::new(width, height))
     }
@@ -187,12 +198,16 @@ impl std::fmt::Display for SizeClass {
 /// and disjoint lifetimes may share one physical texture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct TextureDesc {
+    /// The texel format.
     pub format: wgpu::TextureFormat,
+    /// Size of mip 0, relative to the output.
     pub size: SizeClass,
+    /// Number of mip levels (at least 1); each is half the previous, rounded up.
     pub mip_levels: u32,
 }
 
 impl TextureDesc {
+    /// A texture of `format` and size class `size` with a single mip level.
     pub fn new(format: wgpu::TextureFormat, size: SizeClass) -> Self {
         Self {
             format,
@@ -200,6 +215,7 @@ impl TextureDesc {
             mip_levels: 1,
         }
     }
+    /// This descriptor with `mip_levels` mip levels (at least 1).
     pub fn with_mips(mut self, mip_levels: u32) -> Self {
         self.mip_levels = mip_levels.max(1);
         self
@@ -225,6 +241,7 @@ pub fn texel_bytes(format: wgpu::TextureFormat) -> u64 {
 /// A GPU buffer's descriptor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BufferDesc {
+    /// Size in bytes.
     pub size: u64,
 }
 
@@ -284,7 +301,9 @@ impl<K> std::fmt::Debug for Handle<K> {
     }
 }
 
+/// A handle to one version of a virtual texture.
 pub type TextureHandle = Handle<Texture>;
+/// A handle to one version of a virtual buffer.
 pub type BufferHandle = Handle<Buffer>;
 
 /// How a pass uses a texture. Usage flags of the physical texture are inferred from these.
@@ -311,6 +330,9 @@ pub enum TextureAccess {
 }
 
 impl TextureAccess {
+    /// True when the access itself reads the texture. A colour or depth attachment that loads
+    /// also reads its previous version; that follows from its load
+    /// ([`AttachmentOps::loads`](crate::AttachmentOps::loads)), not from this.
     pub fn reads(self) -> bool {
         matches!(
             self,
@@ -321,6 +343,7 @@ impl TextureAccess {
                 | Self::CopySrc
         )
     }
+    /// True when the access writes the texture, producing a new version of it.
     pub fn writes(self) -> bool {
         matches!(
             self,
@@ -347,27 +370,37 @@ impl TextureAccess {
 /// How a pass uses a buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BufferAccess {
+    /// Read through a `var<uniform>` binding.
     Uniform,
+    /// Read through a `var<storage, read>` binding.
     StorageRead,
+    /// Written through a `var<storage, read_write>` binding whose old contents the pass does
+    /// not need (produces a new version).
     StorageWrite,
+    /// Read and written through a `var<storage, read_write>` binding (in-place update).
     StorageReadWrite,
+    /// Source of a copy.
     CopySrc,
+    /// Destination of a copy (produces a new version).
     CopyDst,
 }
 
 impl BufferAccess {
+    /// True when the access reads the buffer's previous contents.
     pub fn reads(self) -> bool {
         matches!(
             self,
             Self::Uniform | Self::StorageRead | Self::StorageReadWrite | Self::CopySrc
         )
     }
+    /// True when the access writes the buffer, producing a new version of it.
     pub fn writes(self) -> bool {
         matches!(
             self,
             Self::StorageWrite | Self::StorageReadWrite | Self::CopyDst
         )
     }
+    /// The wgpu usage this access needs.
     pub fn usage(self) -> wgpu::BufferUsages {
         use wgpu::BufferUsages as U;
         match self {

@@ -61,14 +61,18 @@ impl std::fmt::Display for FrameId {
 pub struct PassTimings {
     /// The frame measured (`None` before any frame's timings arrived).
     pub frame: Option<FrameId>,
+    /// Where the milliseconds came from (`None` before any frame's timings arrived).
     pub source: Option<TimingSource>,
+    /// (pass name, milliseconds) for each kept pass, in execution order.
     pub passes: Vec<(String, f64)>,
 }
 
 impl PassTimings {
+    /// Sum of the passes' milliseconds: the passes' own time, without the gaps between them.
     pub fn total_ms(&self) -> f64 {
         self.passes.iter().map(|(_, ms)| ms).sum()
     }
+    /// Milliseconds of the pass named `pass` (the first, if several share the name).
     pub fn get(&self, pass: &str) -> Option<f64> {
         self.passes
             .iter()

@@ -18,8 +18,11 @@ use crate::sampler::SamplerDesc;
 pub struct TextureUse {
     /// The WGSL global this use binds to (`None` for attachments and copies).
     pub binding: Option<String>,
+    /// How the pass accesses the texture.
     pub access: TextureAccess,
+    /// The version the pass reads, when it reads (or keeps part of) the old contents.
     pub read: Option<TextureHandle>,
+    /// The version the pass produces, when it writes.
     pub written: Option<TextureHandle>,
     /// A single mip level, or all levels when `None`.
     pub mip: Option<u32>,
@@ -28,6 +31,7 @@ pub struct TextureUse {
 }
 
 impl TextureUse {
+    /// Index in `GraphDecl::resources` of the texture used.
     pub fn resource(&self) -> usize {
         self.read
             .or(self.written)
@@ -39,15 +43,21 @@ impl TextureUse {
 /// One use of a buffer by a pass.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct BufferUse {
+    /// The WGSL global this use binds to (`PassBuilder` always names one).
     pub binding: Option<String>,
+    /// How the pass accesses the buffer.
     pub access: BufferAccess,
+    /// The version the pass reads, when the access reads.
     pub read: Option<BufferHandle>,
+    /// The version the pass produces, when the access writes.
     pub written: Option<BufferHandle>,
 }
 
 /// The sampler a pass binds to its shader's `sampler` global `binding`.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SamplerUse {
+    /// Name of the WGSL `sampler` global.
     pub binding: String,
+    /// The filter and address mode bound to it.
     pub desc: SamplerDesc,
 }

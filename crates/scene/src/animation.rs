@@ -80,11 +80,17 @@ impl<T: Copy> Track<T> {
 /// node's rest value.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrsKeyframes {
+    /// The node's own translation (in its parent's space), used when `translation` is `None`.
     pub rest_translation: Vec3,
+    /// The node's own rotation (unit quaternion), used when `rotation` is `None`.
     pub rest_rotation: Quat,
+    /// The node's own per-axis scale, used when `scale` is `None`.
     pub rest_scale: Vec3,
+    /// Translation keys, in the parent's space; sampled with linear or step interpolation.
     pub translation: Option<Track<Vec3>>,
+    /// Rotation keys (quaternions); sampled with slerp or step, and renormalised.
     pub rotation: Option<Track<Quat>>,
+    /// Per-axis scale keys; sampled with linear or step interpolation.
     pub scale: Option<Track<Vec3>>,
 }
 
@@ -124,16 +130,33 @@ pub enum AnimatedTransform {
     /// Translation around a horizontal circle (in the XZ plane) of `radius` about `centre`,
     /// one turn per `period` seconds, starting `phase` turns in.
     Orbit {
+        /// Centre of the circle, in the parent's space.
         centre: Vec3,
+        /// Radius of the circle, in scene units.
         radius: f32,
+        /// Seconds per turn; not positive or not finite means standing still at the start.
         period: f32,
+        /// Starting angle in turns (0.5 = half way round), measured from +X towards +Z.
         phase: f32,
     },
     /// Translation back and forth between `from` (at t = 0) and `to`, smoothly (cosine
     /// easing), one round trip per `period` seconds.
-    Oscillate { from: Vec3, to: Vec3, period: f32 },
+    Oscillate {
+        /// Translation at t = 0 and at every whole period.
+        from: Vec3,
+        /// Translation at half a period.
+        to: Vec3,
+        /// Seconds per round trip; not positive or not finite means staying at `from`.
+        period: f32,
+    },
     /// Rotation about `axis` through the origin, one turn per `period` seconds.
-    Spin { axis: Vec3, period: f32 },
+    Spin {
+        /// Rotation axis; need not be unit length (a zero axis spins about +Y).
+        axis: Vec3,
+        /// Seconds per turn, counter-clockwise about `axis` (right-hand rule); not positive or
+        /// not finite means no rotation.
+        period: f32,
+    },
 }
 
 /// Fraction of a cycle of length `period` at time `t`; zero when the period is unusable.
@@ -198,6 +221,8 @@ impl AnimatedTransform {
 /// A transform over time: the product of its layers, parent (first) to child (last).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Animation {
+    /// The layers, outermost (root node) first; the world matrix is
+    /// `layers[0] * layers[1] * ... * layers[n - 1]` at the same time.
     pub layers: Vec<AnimatedTransform>,
 }
 

@@ -9,7 +9,9 @@ use glam::{Mat4, Vec3};
 /// An axis-aligned box, `min` and `max` corners inclusive.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// The corner with the smallest x, y and z, in world units (+inf on every axis when empty).
     pub min: Vec3,
+    /// The corner with the largest x, y and z, in world units (-inf on every axis when empty).
     pub max: Vec3,
 }
 

@@ -17,21 +17,43 @@ pub enum Projection {
     /// Perspective with vertical field of view `fov_y` (radians). With `reversed_z_infinite`
     /// the far plane is at infinity, depth is reversed (near = 1) and `far` is ignored.
     Perspective {
+        /// Vertical field of view in radians; values outside (0, pi) or non-finite render as
+        /// 45 degrees.
         fov_y: f32,
+        /// Distance from the camera to the near plane along the view direction, in world
+        /// units; a non-positive or non-finite value becomes 1e-6.
         near: f32,
+        /// Distance to the far plane, in world units; NaN or not beyond `near` means infinite.
         far: f32,
+        /// Use an infinite far plane with reversed depth (near plane at depth 1, infinity at
+        /// 0) for better depth precision far away.
         reversed_z_infinite: bool,
     },
     /// Orthographic with a view volume `height` units tall (width = height * aspect).
-    Orthographic { height: f32, near: f32, far: f32 },
+    Orthographic {
+        /// Height of the view volume in world units (non-positive or non-finite: 1).
+        height: f32,
+        /// Distance to the near plane along the view direction, in world units (made positive
+        /// like the perspective one).
+        near: f32,
+        /// Distance to the far plane; NaN or not beyond `near` means `near + 1e6` in the matrix
+        /// and an unbounded primary ray.
+        far: f32,
+    },
 }
 
 /// A camera at `position` looking at `target`, with `up` giving the roll.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Eye position in world space.
     pub position: Vec3,
+    /// World-space point the camera looks at; only the direction to it matters (looking down
+    /// -Z when it equals `position`).
     pub target: Vec3,
+    /// Approximate world-space up direction; need not be unit or orthogonal to the view
+    /// direction (when parallel to it, +Y or +Z is used instead).
     pub up: Vec3,
+    /// How view space maps to clip space.
     pub projection: Projection,
 }
 
@@ -39,9 +61,14 @@ pub struct Camera {
 /// between the near and far planes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraRay {
+    /// World-space start: the eye (perspective) or a point on the plane through the eye
+    /// (orthographic).
     pub origin: Vec3,
+    /// Unit world-space direction.
     pub direction: Vec3,
+    /// Distance along `direction` at which the ray crosses the near plane.
     pub t_min: f32,
+    /// Distance along `direction` at which the ray crosses the far plane (may be infinite).
     pub t_max: f32,
 }
 
@@ -218,9 +245,14 @@ pub enum CameraMotion {
     /// Circle `centre` at horizontal `radius` and `height` above it, looking at `centre`, one
     /// turn per `period` seconds, starting on the +Z side.
     Orbit {
+        /// World-space point circled and looked at.
         centre: Vec3,
+        /// Horizontal distance from `centre`, in world units.
         radius: f32,
+        /// Height of the camera above `centre` (along +Y), in world units.
         height: f32,
+        /// Seconds per turn, counter-clockwise seen from above (+Z towards +X); not positive
+        /// or not finite means the camera stays on the +Z side.
         period: f32,
     },
     /// A camera-to-world matrix over time (an animated glTF camera node): the camera sits at

@@ -25,13 +25,17 @@ pub const GROUND_BLEND: f32 = 0.25;
 /// A sky with a sun: linear RGB radiances, world space, +Y up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyEnvironment {
+    /// Sky radiance straight up (+Y), blended towards `horizon` by sqrt(y).
     pub zenith: Vec3,
+    /// Sky radiance at the horizon (y = 0).
     pub horizon: Vec3,
+    /// Radiance from below, reached [`GROUND_BLEND`] of y under the horizon and kept below.
     pub ground: Vec3,
     /// Unit direction towards the sun.
     pub sun_direction: Vec3,
     /// Irradiance the sun lobe puts on a surface facing it (colour times intensity).
     pub sun_irradiance: Vec3,
+    /// Sharpness k of the sun lobe max(0, w . s)^k ([`SUN_EXPONENT`] for the built-in sky).
     pub sun_exponent: f32,
 }
 
@@ -91,9 +95,13 @@ pub struct SkyIrradiance {
 impl SkyIrradiance {
     /// Rows (polar angle 0..pi, cell centres) and columns (azimuth, wrapping).
     pub const ROWS: usize = 32;
+    /// Columns of the table: azimuth 0..2 pi about +Y (from +X towards +Z), wrapping.
     pub const COLUMNS: usize = 64;
+    /// Sobol cosine-weighted directions integrated per table cell.
     pub const SAMPLES: u32 = 1024;
 
+    /// Tabulates `sky`: [`Self::ROWS`] x [`Self::COLUMNS`] normals of [`Self::SAMPLES`] rays
+    /// each (about two million radiance evaluations, so build it once per sky).
     pub fn new(sky: &SkyEnvironment) -> Self {
         let mut values = Vec::with_capacity(Self::ROWS * Self::COLUMNS);
         for row in 0..Self::ROWS {

@@ -11,27 +11,41 @@ use std::path::PathBuf;
 pub enum SceneError {
     /// The scene file does not exist.
     #[error("scene file {path} does not exist (check the path and the working directory)")]
-    MissingFile { path: PathBuf },
+    MissingFile {
+        /// The path as given (relative paths resolve against the working directory).
+        path: PathBuf,
+    },
 
     /// Reading or writing a file failed for a reason other than its absence.
     #[error("could not {action} {path}: {source}")]
     Io {
+        /// What was being attempted, as a verb phrase: "read", "write", "create cache directory".
         action: &'static str,
+        /// The file or directory the operation was on.
         path: PathBuf,
+        /// The underlying OS error.
         #[source]
         source: std::io::Error,
     },
 
     /// The glTF JSON could not be parsed.
     #[error("{path} is not valid glTF JSON: {message}")]
-    MalformedJson { path: PathBuf, message: String },
+    MalformedJson {
+        /// The .gltf or .glb file.
+        path: PathBuf,
+        /// The JSON parser's description of the error, with its line and column where known.
+        message: String,
+    },
 
     /// A glTF 1.0 file (`asset.version` 1.x, or a version-1 .glb).
     #[error(
         "{path} is a glTF 1.0 file, which aograph does not read; convert it to glTF 2.0 \
          (for example with gltf-pipeline: `gltf-pipeline -i in.gltf -o out.gltf`)"
     )]
-    Gltf1 { path: PathBuf },
+    Gltf1 {
+        /// The glTF 1.0 file.
+        path: PathBuf,
+    },
 
     /// The file requires an extension aograph does not read (`extensionsRequired`).
     #[error(
@@ -40,15 +54,24 @@ pub enum SceneError {
         supported.join(", ")
     )]
     UnsupportedExtension {
+        /// The .gltf or .glb file.
         path: PathBuf,
+        /// The first unsupported name in `extensionsRequired`, e.g. `KHR_draco_mesh_compression`.
         extension: String,
+        /// Every required extension aograph accepts (those it reads and those it may ignore).
         supported: Vec<String>,
+        /// Advice on converting the file, as a clause that follows "to load it, ".
         conversion: String,
     },
 
     /// The file parsed but breaks the glTF 2.0 rules (bad .glb header, dangling index, ...).
     #[error("{path} is not a valid glTF 2.0 file: {message}")]
-    InvalidGltf { path: PathBuf, message: String },
+    InvalidGltf {
+        /// The .gltf or .glb file.
+        path: PathBuf,
+        /// Which rule is broken and where (accessor, buffer view, mesh, byte offset, ...).
+        message: String,
+    },
 
     /// An external buffer (.bin) the glTF refers to could not be found.
     #[error(
@@ -56,8 +79,12 @@ pub enum SceneError {
          (put the file there, or fix the buffer's \"uri\" in the glTF)"
     )]
     MissingBuffer {
+        /// The .gltf file that refers to the buffer.
         path: PathBuf,
+        /// The buffer's `uri` exactly as written in the glTF.
         uri: String,
+        /// The file path the URI resolved to (percent-decoded; a relative URI against the glTF's
+        /// directory).
         resolved: PathBuf,
     },
 
@@ -66,8 +93,11 @@ pub enum SceneError {
         "{path}: mesh \"{mesh}\" has a non-finite (NaN or infinite) position at vertex {vertex}"
     )]
     NonFiniteVertex {
+        /// The .gltf or .glb file.
         path: PathBuf,
+        /// The glTF mesh's name, or "mesh N" (its index) when it has none.
         mesh: String,
+        /// The vertex's index within its primitive's POSITION accessor.
         vertex: usize,
     },
 
@@ -76,22 +106,40 @@ pub enum SceneError {
         "{path} contains no triangles (its scene has no triangle meshes; points and lines are \
          skipped)"
     )]
-    EmptyScene { path: PathBuf },
+    EmptyScene {
+        /// The .gltf or .glb file.
+        path: PathBuf,
+    },
 
     /// The scene cannot be written as glTF (non-finite position, index out of range, ...).
     #[error("cannot export the scene to {path}: {message}")]
-    Export { path: PathBuf, message: String },
+    Export {
+        /// The .glb file that was to be written (it is left untouched).
+        path: PathBuf,
+        /// What in the scene cannot be written, naming the mesh or value.
+        message: String,
+    },
 
     /// A procedural scene name that is not in the registry.
     #[error(
         "unknown procedural scene \"{name}\"{}; known scenes: {known}",
         aograph_graph::did_you_mean(name, known.split(", "))
     )]
-    UnknownScene { name: String, known: String },
+    UnknownScene {
+        /// The name that was asked for.
+        name: String,
+        /// The registered names, joined with ", " (see [`crate::PROCEDURAL_SCENE_NAMES`]).
+        known: String,
+    },
 
     /// A GPU operation (a pipeline, a dispatch, a readback) failed.
     #[error("GPU error while {what}: {message}")]
-    Gpu { what: &'static str, message: String },
+    Gpu {
+        /// What was being done, as a gerund phrase, e.g. "reading ray tracing results back".
+        what: &'static str,
+        /// wgpu's error text.
+        message: String,
+    },
 
     /// The scene's BVH does not fit one of the device's storage-buffer limits.
     #[error(
@@ -100,10 +148,16 @@ pub enum SceneError {
          or decimated meshes, or use a device with larger limits"
     )]
     BvhTooLarge {
+        /// Which buffer is too large: "node", "instance" or "triangle".
         buffer: &'static str,
+        /// That buffer's size in bytes.
         size: u64,
+        /// The three buffers' sizes together, in bytes.
         total: u64,
+        /// The limit it exceeds, in bytes: the smaller of the two limits named below.
         limit: u64,
+        /// The `wgpu::Limits` field that limit comes from: `max_storage_buffer_binding_size` or
+        /// `max_buffer_size`.
         limit_name: &'static str,
     },
 
@@ -114,8 +168,11 @@ pub enum SceneError {
          ([reference] tracer = \"cpu\")"
     )]
     OverDeviceLimit {
+        /// What the buffer holds, plural, e.g. "rays" or "surface points".
         what: &'static str,
+        /// The buffer's size in bytes.
         size: u64,
+        /// The device's largest storage binding (and buffer), in bytes.
         limit: u64,
     },
 
@@ -126,36 +183,58 @@ pub enum SceneError {
          duplicate triangles)"
     )]
     BvhTooDeep {
+        /// Which level is too deep: "top" (over instances) or "bottom" (over one mesh's
+        /// triangles).
         level: &'static str,
+        /// That tree's depth, in nodes from root to deepest leaf.
         depth: u32,
+        /// The traversal stack size for that level, the deepest tree the GPU can walk.
         limit: u32,
     },
 
     /// A numeric parameter outside its allowed range.
     #[error("invalid parameter {name} = {value}: must be {allowed}")]
     InvalidParameter {
+        /// The parameter's name, as in the config or the Rust field.
         name: &'static str,
+        /// The rejected value, formatted.
         value: String,
+        /// The allowed range in words, completing "must be ...", e.g. "at least 1".
         allowed: &'static str,
     },
 
     /// Per-pixel input buffers whose lengths do not match the image size.
     #[error("{what} has {actual} entries but the image is {width}x{height} ({expected} pixels)")]
     InputSizeMismatch {
+        /// Which input has the wrong length, e.g. "normals".
         what: &'static str,
+        /// Image width in pixels.
         width: u32,
+        /// Image height in pixels.
         height: u32,
+        /// The length it should have: `width * height` for per-pixel inputs.
         expected: usize,
+        /// The length it has.
         actual: usize,
     },
 
     /// A raw reference image file that is truncated or not in the AOREF32 format.
     #[error("{path} is not a valid AOREF32 reference image: {reason}")]
-    BadReferenceFile { path: PathBuf, reason: String },
+    BadReferenceFile {
+        /// The reference image (or cache entry) file.
+        path: PathBuf,
+        /// What is wrong: bad magic, truncated, size mismatch, ...
+        reason: String,
+    },
 
     /// PNG encoding failed.
     #[error("could not write PNG {path}: {message}")]
-    Png { path: PathBuf, message: String },
+    Png {
+        /// The PNG that was being written.
+        path: PathBuf,
+        /// The encoder's error text.
+        message: String,
+    },
 }
 
 impl SceneError {

@@ -4,6 +4,47 @@
 //! Conventions shared with the rest of aograph (see DESIGN.md, "AO conventions"): world units
 //! are scene units, right-handed with +Y up, counter-clockwise front faces; accessibility is in
 //! [0, 1] with 1 = unoccluded; sky pixels get exactly 1; nothing returns NaN or infinity.
+//!
+//! # Example
+//!
+//! Build a procedural scene, resolve the automatic AO radius, and trace a small CPU reference
+//! from the scene's own camera (no GPU needed; [`load_scene`] reads a glTF file instead):
+//!
+//! ```
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! use aograph_scene::reference::ProgressMode;
+//! use aograph_scene::{ReferenceParams, TriangleBvh, primary_hits, trace_reference};
+//!
+//! let scene = aograph_scene::procedural_scene("columns")?;
+//! let radius = aograph_scene::suggested_radius(&scene);
+//! println!(
+//!     "{} triangles, camera at {} looking at {}, R = {} ({})",
+//!     scene.triangle_count(),
+//!     scene.camera.position,
+//!     scene.camera.target,
+//!     radius.radius,
+//!     radius.derivation,
+//! );
+//!
+//! // The world-space surface under each pixel of a 32x18 view at t = 0 (CPU primary rays),
+//! // then 16 cosine-weighted rays per pixel against the scene's triangles.
+//! let surfaces = primary_hits(&scene, &scene.camera, 32, 18, 0.0);
+//! let bvh = TriangleBvh::new(&scene.world_triangles(0.0));
+//! let params = ReferenceParams {
+//!     radius: radius.radius,
+//!     rays_per_pixel: 16,
+//!     progress: ProgressMode::Never,
+//!     ..Default::default()
+//! };
+//! let reference = trace_reference(&bvh, &surfaces, &params)?;
+//! let centre = reference.at(16, 9).expect("inside the image");
+//! assert!((0.0..=1.0).contains(&centre));
+//! println!("accessibility at the centre: {centre:.3}");
+//! # Ok(())
+//! # }
+//! ```
+
+#![warn(missing_docs)]
 
 pub mod animation;
 mod atomic_file;

@@ -21,6 +21,8 @@ use glam::{Mat4, Vec3};
 pub struct Mesh {
     /// A human-readable name, used in messages.
     pub name: String,
+    /// Vertex positions in object space, finite (scene units once the instance transform is
+    /// applied).
     pub positions: Vec<Vec3>,
     /// One unit normal per position (may be empty for geometry only used by the ray tracer).
     pub normals: Vec<Vec3>,
@@ -210,8 +212,12 @@ pub struct NamedCamera {
 /// Everything needed to render a frame and to ray trace its reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// The geometry, each mesh in its own object space; drawn only through `instances`.
     pub meshes: Vec<Mesh>,
+    /// Materials that [`Mesh::material`] indexes.
     pub materials: Vec<Material>,
+    /// Placements of meshes in the world; a mesh may be placed any number of times, and one
+    /// that is never placed is neither drawn nor traced.
     pub instances: Vec<Instance>,
     /// The default camera at t = 0: the file's first camera, a procedural scene's own, or an
     /// automatic view (`crate::views`).
@@ -221,6 +227,7 @@ pub struct Scene {
     /// Every camera the file defines, in the order of the node walk (empty for procedural
     /// scenes and files without cameras).
     pub cameras: Vec<NamedCamera>,
+    /// The sun: shading's direct light and the direction of the sky's sun lobe.
     pub light: DirectionalLight,
     /// Linear RGB ambient light.
     pub ambient: [f32; 3],

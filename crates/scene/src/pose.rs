@@ -95,7 +95,7 @@ impl Instance {
 }
 
 /// The scene's posed, world-space queries: every one walks the instances through their
-/// [`Pose`] at a time.
+/// pose at a time (one matrix, or a skin's palette blended per vertex).
 impl Scene {
     /// World-space bounds at t = 0.
     pub fn bounds(&self) -> Aabb {

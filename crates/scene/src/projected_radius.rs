@@ -23,9 +23,13 @@ use crate::reference::CpuGBuffer;
 /// R in full-resolution pixels across one view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectedRadius {
+    /// R in pixels at the least depth any grid ray hit: the largest on screen.
     pub closest_px: f32,
+    /// R in pixels at the 2nd percentile of the hit depths (ignores a stray near sliver).
     pub nearest_px: f32,
+    /// R in pixels at the median hit depth.
     pub median_px: f32,
+    /// R in pixels at the 98th percentile of the hit depths: the smallest, bar outliers.
     pub farthest_px: f32,
     /// The image's diagonal in pixels.
     pub diagonal_px: f32,

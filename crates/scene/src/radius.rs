@@ -22,7 +22,10 @@ pub const AUTO_RADIUS_DIVISOR: f32 = 9.0;
 /// wherever the radius is reported).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SuggestedRadius {
+    /// The AO radius R in world units: finite and > 0 (1 for a backdrop-only scene).
     pub radius: f32,
+    /// One human-readable line saying how `radius` was computed (the diagonal and box size,
+    /// or why it fell back to 1 unit).
     pub derivation: String,
 }
 

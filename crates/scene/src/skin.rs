@@ -29,6 +29,7 @@ pub struct Joint {
 pub struct Skin {
     /// The glTF skin's name (or "skin N").
     pub name: String,
+    /// The joints, in the order [`JointWeights::joints`] indexes them (glTF `skin.joints`).
     pub joints: Vec<Joint>,
 }
 
@@ -58,12 +59,14 @@ impl Skin {
 /// A vertex's influences: up to four joints (indices into its skin) and their weights.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct JointWeights {
+    /// Indices into [`Skin::joints`] (glTF JOINTS_0); unused slots have weight 0.
     pub joints: [u16; 4],
+    /// The weight of each joint (glTF WEIGHTS_0): finite, non-negative, summing to 1.
     pub weights: [f32; 4],
 }
 
 impl JointWeights {
-    /// The vertex's skinning matrix, sum_k w_k palette[j_k] (glTF §3.7.3.3), summed in k order
+    /// The vertex's skinning matrix, `sum_k w_k palette[j_k]` (glTF §3.7.3.3), summed in k order
     /// as the GPU does; pairs with a joint outside `palette` are skipped.
     pub fn blend(&self, palette: &[Mat4]) -> Mat4 {
         let mut m = Mat4::ZERO;

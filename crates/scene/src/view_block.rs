@@ -9,13 +9,22 @@ use crate::camera::{Camera, Projection};
 /// Per-frame view inputs.
 #[derive(Clone, Copy, Debug)]
 pub struct ViewFrame {
+    /// This frame's camera: the view and projection matrices, near/far and depth convention.
     pub camera: Camera,
+    /// The previous frame's camera, giving `prev_view_proj` for reprojection and motion
+    /// (pass `camera` again when there is no previous frame).
     pub prev_camera: Camera,
+    /// Output size in pixels; also sets the projection's aspect ratio.
     pub output: Extent,
+    /// Frames rendered so far, wrapping; temporal techniques vary their noise with it.
     pub frame_index: u32,
+    /// Whether the previous frame's history textures hold valid data to reuse.
     pub history_valid: bool,
+    /// The camera jumped this frame, so temporal techniques should drop their history.
     pub camera_cut: bool,
+    /// Scene time in seconds.
     pub time: f32,
+    /// This frame's time minus the previous frame's, in seconds.
     pub dt: f32,
 }
 

@@ -48,7 +48,10 @@ pub const ENCLOSED_FRACTION: f32 = 0.9;
 /// A named viewpoint of a scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneView {
+    /// The view's name: the file's camera name, "default", "outside", "outside-2" or
+    /// "interior-N".
     pub name: String,
+    /// The camera at t = 0.
     pub camera: Camera,
     /// How the camera moves, if it does (an animated glTF camera).
     pub motion: Option<CameraMotion>,

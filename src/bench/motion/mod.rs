@@ -28,8 +28,8 @@
 //! Invariant: every technique of a run sees the same frames (time, camera) and the same
 //! references, bit for bit.
 //!
-//! Files: this one (paths, frames, runs), [`reprojection`] (following a pixel into the
-//! previous frame, the moving-object band) and [`report`] (motion.csv, motion.md).
+//! Files: this one (paths, frames, runs), `reprojection.rs` (following a pixel into the
+//! previous frame, the moving-object band) and `report.rs` (motion.csv, motion.md).
 
 mod report;
 mod reprojection;

@@ -15,7 +15,7 @@
 //! a rotated-grid subsample. Level 0 is the caller's linear depth (XeGTAO linearises hardware
 //! depth into its MIP 0; the g-buffer already holds linear depth).
 //!
-//! Sizes and names as [`super::depth_pyramid`]: level l is ceil(size / 2^l), passes
+//! Sizes and names as [`mod@super::depth_pyramid`]: level l is ceil(size / 2^l), passes
 //! `<prefix>.depth_level<l>`. WebGPU allows 4 storage textures per stage by default, so
 //! XeGTAO's single 5-MIP dispatch is one pass per level here (spec §12).
 //! Invariant: every level is finite, >= 0, 0 exactly where its block holds sky; a level is

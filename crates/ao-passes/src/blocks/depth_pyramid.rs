@@ -8,7 +8,7 @@
 //!   (3x + 1 - o, 3y + 1 - o) (spec §7 pseudo-code, with the grid centred): the overhang
 //!   o = (3m - n) / 2 per axis (n texels become m, `aograph_graph::centred_step`) puts the
 //!   same partial block at both edges, so a mirrored image gives the mirrored pyramid. (The
-//!   spec's grid from the top-left corner made `columns`' walls 0.024 apart at 320x180.) Following the spec's [IMPL] notes (§2.2 "Edge texels", §6.3), the
+//!   spec's grid from the top-left corner made `columns`' walls 0.024 apart at 320x180.) Following the spec's \[IMPL\] notes (§2.2 "Edge texels", §6.3), the
 //!   ceil-sized edge windows average only in-bounds texels (no clamp-to-edge duplicates), and
 //!   sky texels (depth 0) never enter a mean, so one sky texel cannot drag a silhouette's mean
 //!   to the far plane; a block of sky only stays sky (0). A block holding both sky and
@@ -44,7 +44,8 @@ pub enum DepthReduction {
     /// Farthest texel of a 2x2 block (factor 2).
     Max2x2,
     /// XeGTAO's far-weighted mean of a 2x2 block (factor 2). Its weights depend on the
-    /// technique's radius, so [`super::depth_prefilter`] builds it; [`depth_pyramid`] refuses it.
+    /// technique's radius, so [`fn@super::depth_prefilter`] builds it; [`depth_pyramid`]
+    /// refuses it.
     FarWeighted2x2,
 }
 
@@ -74,10 +75,12 @@ pub struct DepthPyramid {
     pub levels: Vec<TextureHandle>,
     /// Size class of each level.
     pub sizes: Vec<SizeClass>,
+    /// How each level was reduced from the one before.
     pub reduction: DepthReduction,
 }
 
 impl DepthPyramid {
+    /// Reduction factor per axis and level (3 for [`DepthReduction::Average3x3`], else 2).
     pub fn factor(&self) -> u32 {
         self.reduction.factor()
     }
@@ -85,6 +88,8 @@ impl DepthPyramid {
     pub fn len(&self) -> usize {
         self.levels.len()
     }
+    /// True when there is no level at all (never for a [`depth_pyramid`] result: level 0 is
+    /// the input).
     pub fn is_empty(&self) -> bool {
         self.levels.is_empty()
     }

@@ -2,7 +2,7 @@
 //! `<prefix>.blur_y`, each with the same 1D kernel.
 //!
 //! Weights (Pyramid HBAO spec §3, the paper's denoiser: sigma 1.5, 5 taps, the default):
-//! w[k] = exp(-k^2 / (2 sigma^2)) / sum_{j=-r..r} exp(-j^2 / (2 sigma^2)), k = -r..r,
+//! w\[k\] = exp(-k^2 / (2 sigma^2)) / sum_{j=-r..r} exp(-j^2 / (2 sigma^2)), k = -r..r,
 //! r = (taps - 1) / 2; for sigma 1.5 and 5 taps {0.120078, 0.233881, 0.292082, 0.233881,
 //! 0.120078}. Each pass renormalises by the weights of the taps it used, so taps past the image
 //! border are dropped rather than clamped and a constant image stays constant.
@@ -11,7 +11,7 @@
 //! (depth 0) write accessibility 1 and sky taps are left out (sky is not a surface and has no
 //! AO to average). Depth awareness (a relative depth term, `depth_sigma`, see
 //! shaders/common/blur.wgsl) is optional and off by default, as in the paper; a depth- and
-//! normal-aware filter is [`super::bilateral_blur`].
+//! normal-aware filter is [`fn@super::bilateral_blur`].
 //!
 //! Invariant: the output is R32Float at the input's size; finite for finite input; a convex
 //! combination of input values (sky pixels excepted), so [0, 1] stays [0, 1]. The horizontal

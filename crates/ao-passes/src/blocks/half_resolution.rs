@@ -17,7 +17,7 @@
 //!
 //! Invariant: every half texture has the size class of the full channel divided by 2 (ceil:
 //! an odd size's last half texel covers one column or row), which is what
-//! [`super::bilateral_upsample`] expects of its low-resolution inputs.
+//! [`fn@super::bilateral_upsample`] expects of its low-resolution inputs.
 
 use aograph_frame::{GBufferChannel, GBufferTextures, ReadsView, ViewUniforms};
 use aograph_graph::{BufferDesc, BufferHandle, GraphBuilder, SizeClass, TextureDesc};
@@ -41,8 +41,9 @@ pub struct HalfGBuffer {
     pub gbuffer: GBufferTextures,
     /// The view block of the half-size image (a buffer the graph writes).
     pub view: BufferHandle,
-    /// The half linear depth and normals (also in `gbuffer`), which every half g-buffer has.
+    /// The half linear depth (also in `gbuffer`), which every half g-buffer has.
     pub depth: aograph_graph::TextureHandle,
+    /// The half view-space normals (also in `gbuffer`), which every half g-buffer has.
     pub normals: aograph_graph::TextureHandle,
 }
 

@@ -71,14 +71,14 @@
 //!   Eq. 7 on every grazing surface as soon as the camera moves. Where the plane is edge-on
 //!   (or the correction exceeds 50%) the plain d_new is used.
 //! - The pixel is valid if any tap passes; n_t and the index come from the passing tap with
-//!   the largest bilinear weight (nearest, as §3.3.1 requires for the index; the spec's [I]
+//!   the largest bilinear weight (nearest, as §3.3.1 requires for the index; the spec's \[I\]
 //!   reading for n_t), the value bilinearly from the passing taps only, so no value leaks
 //!   across a depth edge.
 //! - Off-screen in the previous frame (prev_uv outside [0, 1]^2), behind the previous camera,
 //!   sky now or sky then: invalid (TSSAO §3.4.1, §3.6.3; MSSAO Table 5).
 //! - [`TemporalMode::FixedBlend`]'s k is the weight of the *previous* value, as in MSSAO Eq. 14
 //!   (AO_curr = k AO_prev + (1 - k) AO); k = 0 where the history is invalid. MSSAO stores the
-//!   blended value as next frame's AO_prev (an exponential moving average; spec §7 [IMPL]).
+//!   blended value as next frame's AO_prev (an exponential moving average; spec §7 \[IMPL\]).
 //! - [`TemporalMode::Average`] is TSSAO Eqs. 5-6 with one "sample" per frame: a running mean
 //!   over up to n_max frames, then exponential decay with weight 1 / (n_max + 1).
 
@@ -121,6 +121,7 @@ pub struct TemporalAccumulation {
     pub epsilon: f32,
     /// Cap of the per-pixel count n_t (TSSAO Eq. 6; ignored by `FixedBlend`).
     pub n_max: u32,
+    /// How this frame's value is blended with the reprojected history.
     pub mode: TemporalMode,
 }
 
@@ -242,7 +243,11 @@ struct AccumulateUniform {
 /// trails for long (after the mark clears n_t grows by one a frame again).
 #[derive(Clone, Copy, Debug)]
 pub struct ChangeMask {
+    /// Full-size texture whose `.r > 0.5` marks pixels whose value changed in ways
+    /// reprojection cannot see.
     pub mask: TextureHandle,
+    /// Cap of n_t at marked pixels and at pixels whose own surface moves (1 to
+    /// [`MAX_N_MAX`]).
     pub n_max: u32,
 }
 

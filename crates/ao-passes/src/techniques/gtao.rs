@@ -77,6 +77,9 @@ use crate::temporal_option::TemporalOption;
 
 pub use super::slices::{GtaoPreset, MAX_SLICES, MAX_STEPS, SliceCounts};
 
+/// The `gtao` technique (module docs): ground-truth AO as XeGTAO computes it, S slices x T
+/// steps per side with the cosine-weighted slice integral in closed form; parameters
+/// [`GtaoParams`].
 pub struct Gtao;
 
 /// How the slice sum becomes accessibility (module docs).
@@ -111,6 +114,8 @@ pub struct GtaoParams {
     pub depth_mip_offset: f32,
     /// ‖n_p‖ <- mix(‖n_p‖, 1, this) (0.05).
     pub normal_fudge: f32,
+    /// What the slice sum is divided by (G6): its open-hemisphere value (`"unoccluded"`,
+    /// exact on open surfaces) or the slice count S (`"slice-count"`, XeGTAO's rule).
     pub normalization: Normalization,
     /// Edge-aware denoise passes, 0 to 3 (1).
     pub denoise_passes: u32,

@@ -66,6 +66,9 @@ pub const MAX_DIRECTIONS: u32 = 64;
 /// Largest S (Table 1a's largest row is S = 80).
 pub const MAX_STEPS: u32 = 128;
 
+/// The `hbao` technique (module docs): horizon-based AO, D directions x S depth samples with
+/// the horizon's sine weighted by W = 1 - r/R, then the paper's Gaussian; parameters
+/// [`HbaoParams`].
 pub struct Hbao;
 
 /// Named settings of the estimator (module docs).

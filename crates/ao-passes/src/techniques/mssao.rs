@@ -34,7 +34,7 @@
 //! # Errata followed, and choices where the paper is silent (also noted in the WGSL)
 //! - Eq. 5 uses the 0-based level index (spec erratum): the finest level's radius is the full
 //!   projected d_max, r_l = r_0 / 2^l; s / (2 tan(alpha/2)) is the viewport height times
-//!   P[1][1] / 2 (`pixels_per_unit`), so non-square viewports work.
+//!   P\[1\]\[1\] / 2 (`pixels_per_unit`), so non-square viewports work.
 //! - Eq. 6 sums without 1/N (spec erratum: Eq. 10 divides by N itself); samples below the
 //!   hemisphere or beyond d_max still count in N (the paper's "no rejection").
 //! - Coarse levels take the odd offsets (+-1, +-3, +-5) within R (4, 16 or 36 taps at odd R);

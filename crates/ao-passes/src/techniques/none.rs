@@ -8,6 +8,8 @@ use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 
+/// The `none` technique ([`BASELINE`]): writes accessibility 1 everywhere and reads no
+/// channel, the cost floor other techniques are measured above.
 pub struct NoAo;
 
 /// The registry name of the cost floor: what a frame that needs only the g-buffer renders.

@@ -19,7 +19,7 @@
 //! Eq. (6) applied to the hardware depth already (the spec's level 0 is the raw depth buffer
 //! linearised on read: same values). Output: accessibility, 1 = unoccluded, sky exactly 1.
 //!
-//! Values the paper leaves open ([NOT IN PAPER] / [IMPL] in the spec), chosen here:
+//! Values the paper leaves open (\[NOT IN PAPER\] / \[IMPL\] in the spec), chosen here:
 //! - R: the shared world radius `[ao] radius` (W(r) = max(0, 1 - r/R), Eq. 7).
 //! - Initial step s0 = 1 full-resolution pixel (`initial_step`), the spec's suggested start:
 //!   level 0 is then sampled at its texel spacing, and level l at one texel of level l.
@@ -31,8 +31,8 @@
 //!   constant (`STEP_COUNT`): the driver unrolls the march, and each S is its own pipeline.
 //! - L = 4 levels by default (the paper tests 1-5; its Viking Room saturates at 4), 1 to 7:
 //!   levels 6 and 7 (texels of 243 and 729 px) let `auto` reach R at 1920x1080 and 3840x2160.
-//!   L counts level 0 (spec §2.4 [IMPL]): L = 1 marches the full-resolution depth only.
-//! - xi_d in [0.5, 1.5) (spec §2.5 [IMPL]); directions theta_d = 2 pi (phi + (d + u_d)/D):
+//!   L counts level 0 (spec §2.4 \[IMPL\]): L = 1 marches the full-resolution depth only.
+//! - xi_d in [0.5, 1.5) (spec §2.5 \[IMPL\]); directions theta_d = 2 pi (phi + (d + u_d)/D):
 //!   stratified random; the per-pixel rotation phi is the R2 low-discrepancy dither (a
 //!   blue-noise-like pattern computed in the shader) instead of a 32x32 blue-noise texture,
 //!   u_d and xi_d hash the pixel modulo 32. The noise is not animated (deterministic frames).
@@ -55,7 +55,7 @@
 //! from the tangent plane of the normal (spec §1.3: no separate tangent angle). Against the
 //! binary, cosine-weighted reference it under-occludes: W(r) = 1 - r/R fades occluders the
 //! reference counts fully, and a height field cannot see overhangs (measured on
-//! sphere-on-plane, 128x96: MAE 0.045, mean signed error +0.043; a step W(r) = [r < R]
+//! sphere-on-plane, 128x96: MAE 0.045, mean signed error +0.043; a step W(r) = \[r < R\]
 //! would give MAE 0.027, but that is not the paper's method).
 
 use aograph_frame::ReadsView;
@@ -81,6 +81,8 @@ pub const PAPER_LEVELS: u32 = 4;
 /// The smallest step jitter xi (spec §2.5: xi in [0.5, 1.5)): the reach every direction has.
 const MIN_JITTER: f32 = 0.5;
 
+/// The `pyramid-hbao` technique (module docs): horizon-based AO marching a 3x3-average depth
+/// pyramid, the march's step growing by K = 3 per level; parameters [`PyramidHbaoParams`].
 pub struct PyramidHbao;
 
 /// Parameters; defaults are the paper's values where it gives them (module docs for the rest).

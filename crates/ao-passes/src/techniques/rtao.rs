@@ -56,6 +56,8 @@ pub const MAX_RAYS: u32 = 256;
 /// Most frames the temporal block averages.
 pub const MAX_TEMPORAL_FRAMES: u32 = 1024;
 
+/// The `rtao` technique (module docs): N cosine-weighted rays per pixel traced against the
+/// scene's BVH, accumulated over frames and denoised; parameters [`RtaoParams`].
 pub struct Rtao;
 
 /// `[ao.rtao]` parameters.

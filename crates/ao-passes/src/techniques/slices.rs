@@ -20,8 +20,9 @@ use crate::temporal_option::TemporalOption;
 /// Depth MIP levels, level 0 included (XeGTAO: 5).
 pub const DEPTH_MIP_LEVELS: u32 = 5;
 
-/// Largest slice count and step count per side.
+/// Largest slice count S.
 pub const MAX_SLICES: u32 = 32;
+/// Largest step count T per side of a slice.
 pub const MAX_STEPS: u32 = 32;
 
 /// XeGTAO's quality presets (specs/gtao.md §8).
@@ -58,6 +59,7 @@ impl GtaoPreset {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct SliceCounts {
+    /// XeGTAO's quality preset: slices x steps per side, 1x2, 2x2, 3x3 (default) or 9x3.
     pub preset: GtaoPreset,
     /// Overrides the preset's slice count.
     #[serde(skip_serializing_if = "Option::is_none")]

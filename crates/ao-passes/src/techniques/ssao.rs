@@ -58,6 +58,9 @@ use crate::temporal_option::TemporalOption;
 /// Largest sample count (size of the kernel array in the uniform block).
 pub const MAX_SAMPLES: u32 = 64;
 
+/// The `ssao` technique (module docs): the classic sampled SSAO, N points in the
+/// normal-oriented hemisphere of radius R tested against the depth buffer, then a 4x4 box
+/// blur; parameters [`SsaoParams`].
 pub struct Ssao;
 
 /// `[ao.ssao]` parameters.

@@ -88,6 +88,9 @@ pub const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Floa
 /// Blur plane tolerance as a fraction of r_max.
 const BLUR_PLANE_TOLERANCE: f32 = 0.1;
 
+/// The `ssdo` technique (module docs): screen-space directional occlusion, direct radiance
+/// and accessibility from N samples, optionally one indirect bounce; parameters
+/// [`SsdoParams`].
 pub struct Ssdo;
 
 /// `[ao.ssdo]` parameters.

@@ -17,7 +17,7 @@
 //!   Eq. 8 with smooth invalidation (§3.6.1), the blend Eqs. 5-6; writes the AO buffer (the
 //!   history);
 //! - `tssao.filter` (shaders/ao/tssao/filter.wgsl): the convergence-aware spatial filter
-//!   Eqs. 9-10 into the output; the AO buffer keeps the unfiltered values (spec §2 [I]).
+//!   Eqs. 9-10 into the output; the AO buffer keeps the unfiltered values (spec §2 \[I\]).
 //!
 //! Reads linear depth, normals and (for scenes that move) motion. History validity comes from
 //! the view block's `frame.y` and the executor clears invalid history, so a camera cut or a
@@ -40,7 +40,7 @@
 //!   unoccluding. This is the reference's definition (a ray hitting geometry within R)
 //!   evaluated on the depth buffer. steps = 4: on `columns` (96x64) the converged MAE is 0.040,
 //!   0.032, 0.027, 0.027 for 1, 2, 4, 8 steps.
-//! - `visibility = "point"` is the paper's own test instead (§3.1, [RGS09]: "checking whether
+//! - `visibility = "point"` is the paper's own test instead (§3.1, \[RGS09\]: "checking whether
 //!   s_i is visible in the z-buffer"): one depth test per sample, at s_i = p + R (1 - u) w, a
 //!   point placed uniformly along the sample's direction. An occluder at distance d then
 //!   blocks with probability 1 - d/R, the "linear falloff" the paper says its equal weights
@@ -59,7 +59,7 @@
 //!   at a per-pixel hash where it has no history at all (first frame, cut, resize, previously
 //!   off screen: §3.3.1's per-pixel "starting index", so converged neighbours do not share one
 //!   pattern), advances by k each frame, wraps modulo L, and runs on across a disocclusion
-//!   (spec §10.2 [I]). Pattern rotation (§3.6.4) turns the pattern about the normal by a
+//!   (spec §10.2 \[I\]). Pattern rotation (§3.6.4) turns the pattern about the normal by a
 //!   per-pixel angle and shifts the step jitter by a per-pixel offset.
 //! - Eq. 7 epsilon: 0.03 (`depth_epsilon`, the middle of the spec's 0.01-0.05). Eq. 8
 //!   epsilon: 0.02 R (`neighbour_epsilon`, the low end of the spec's 2-10% of R: occluders
@@ -69,7 +69,7 @@
 //!   ones, for motion along the view axis too; exact for static geometry (the test then never
 //!   fires under camera motion, as in the paper). Eq. 8 runs only where the scene has motion vectors and the
 //!   pixel's history is valid.
-//! - Eq. 8 extended to the previous occupant ([I], for spec §12's noted gap: an occluder that
+//! - Eq. 8 extended to the previous occupant (\[I\], for spec §12's noted gap: an occluder that
 //!   left p's kernel is hit by no current sample): at each sample's previous position the AO
 //!   buffer's depth tells what was there last frame; if that was moving geometry (history.w <
 //!   0) at a depth that fails Eq. 7, the neighbourhood changed. So contact shadows do not trail
@@ -142,6 +142,8 @@ pub fn halton_table() -> Vec<[f32; 4]> {
         .collect()
 }
 
+/// The `tssao` technique (module docs): temporal SSAO, each pixel's AO buffer reprojected
+/// and continued with k new samples a frame; parameters [`TssaoParams`].
 pub struct Tssao;
 
 /// `[ao.tssao]` parameters (Table 1 of the paper where it gives them).

@@ -52,6 +52,8 @@ pub const MAX_SECTORS: u32 = 32;
 /// XeGTAO's falloff range, for the depth prefilter's weights only.
 const PREFILTER_FALLOFF_RANGE: f32 = 0.615;
 
+/// The `vbao` technique (module docs): visibility-bitmask AO, GTAO's slices with a 32-bit
+/// sector mask and samples of constant thickness; parameters [`VbaoParams`].
 pub struct Vbao;
 
 /// How set sectors become occlusion.
@@ -91,14 +93,21 @@ pub struct VbaoParams {
     pub radius_multiplier: f32,
     /// Drop taps farther than R' from the receiver.
     pub clip_to_radius: bool,
+    /// What a set sector hides: 1/N (`"uniform"`, V4) or its share of the cosine-weighted
+    /// hemisphere (`"cosine"`, V6, which converges to the reference's measure).
     pub weighting: SectorWeighting,
+    /// Which sectors a tap's interval sets: those whose centre it holds (`"centre"`, unbiased)
+    /// or every one it touches (`"ceil"`, the blog's code: about half a sector more).
     pub rounding: SectorRounding,
     /// XeGTAO's sample distribution power.
     pub sample_distribution_power: f32,
     /// XeGTAO's depth MIP sampling offset.
     pub depth_mip_offset: f32,
+    /// Accessibility^p after the slice average (1: SSRT3's default; bevy applies none).
     pub final_value_power: f32,
+    /// Edge-aware 3x3 denoise passes, 0 to 3 (0: none).
     pub denoise_passes: u32,
+    /// The denoiser's centre weight on its last pass (1.2).
     pub blur_beta: f32,
     /// The size the slice passes run at (crate::Resolution).
     pub resolution: Resolution,

@@ -38,6 +38,7 @@ impl ShaderLibrary {
             cache: Mutex::default(),
         }
     }
+    /// The directory shader files are read from (`None` for an inline-only library).
     pub fn root(&self) -> Option<&Path> {
         self.root.as_deref()
     }

@@ -15,49 +15,71 @@ use crate::sampler::SamplerDesc;
 pub enum ShaderBindingKind {
     /// `texture_2d<T>` (or `texture_depth_2d` when `depth`).
     SampledTexture {
+        /// True for `texture_depth_2d`.
         depth: bool,
+        /// The sample type `T` (float, sint or uint); float for depth textures.
         scalar: naga::ScalarKind,
     },
     /// `texture_storage_2d<format, access>`.
     StorageTexture {
+        /// The texel format the WGSL type names; the bound texture must have it.
         format: wgpu::TextureFormat,
+        /// Read-only, write-only or read-write, from the WGSL access mode.
         access: wgpu::StorageTextureAccess,
     },
     /// `sampler`: its filter and address mode are declared on the pass
     /// (`PassBuilder::sampler`), not read from the shader.
     Sampler,
     /// `var<uniform>` of `size` bytes.
-    Uniform { size: u64 },
+    Uniform {
+        /// Size of the uniform's type in bytes (the minimum binding size).
+        size: u64,
+    },
     /// `var<storage>`.
-    StorageBuffer { read_only: bool, size: u64 },
+    StorageBuffer {
+        /// True for `var<storage, read>`.
+        read_only: bool,
+        /// Size of the global's type in bytes (for a runtime-sized array, of its fixed part).
+        size: u64,
+    },
 }
 
 /// One `@group(g) @binding(b)` global.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShaderBinding {
+    /// The global's WGSL name: what a pass's uses name as their binding.
     pub name: String,
+    /// Its `@group` index.
     pub group: u32,
+    /// Its `@binding` index within the group.
     pub binding: u32,
+    /// What it binds to.
     pub kind: ShaderBindingKind,
 }
 
 /// One entry point.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShaderEntry {
+    /// The entry point's function name.
     pub name: String,
+    /// Vertex, fragment or compute.
     pub stage: naga::ShaderStage,
+    /// `@workgroup_size` (x, y, z) of a compute entry point; zeros for other stages.
     pub workgroup_size: [u32; 3],
 }
 
 /// A validated, reflected WGSL module.
 #[derive(Debug)]
 pub struct ShaderModuleInfo {
+    /// The name the module was loaded by: the file name, variant suffix included.
     pub name: String,
     /// The source after include expansion (what the GPU compiles).
     pub source: String,
     /// A hash of `source`: identifies the module in the executor's pipeline cache.
     pub source_hash: u64,
+    /// Every `@group @binding` global, in declaration order.
     pub bindings: Vec<ShaderBinding>,
+    /// Every entry point, in declaration order.
     pub entries: Vec<ShaderEntry>,
     /// The module's pipeline-overridable constants (`override` declarations), by name.
     pub overrides: Vec<ShaderOverride>,
@@ -66,15 +88,18 @@ pub struct ShaderModuleInfo {
 /// One `override NAME: T [= default];` declaration of a module.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ShaderOverride {
+    /// The constant's WGSL name, which `PassBuilder::constant` sets.
     pub name: String,
     /// Whether the declaration has a default: one without must be set by every pass.
     pub has_default: bool,
 }
 
 impl ShaderModuleInfo {
+    /// The entry point named `name`, if the module has one.
     pub fn entry(&self, name: &str) -> Option<&ShaderEntry> {
         self.entries.iter().find(|e| e.name == name)
     }
+    /// The `@group @binding` global named `name`, if the module has one.
     pub fn binding(&self, name: &str) -> Option<&ShaderBinding> {
         self.bindings.iter().find(|b| b.name == name)
     }

@@ -20,8 +20,13 @@ pub use raster::{GBufferRaster, GBufferStates, raster_pipelines_created};
 /// this frame's camera uses reversed Z (`None`: as the scene's camera does).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GBufferFrame {
+    /// Scene time of this frame, in seconds: where animated instances and skins are drawn.
     pub time: f32,
+    /// Scene time of the previous frame, in seconds: the other end of the motion vectors
+    /// (equal to `time` for no motion).
     pub prev_time: f32,
+    /// `Some(true)` to rasterise with reversed depth (clear 0, test Greater), `Some(false)`
+    /// for standard depth; `None` follows the scene camera's `reversed_z_infinite`.
     pub reversed_z: Option<bool>,
 }
 
@@ -30,11 +35,14 @@ pub struct GBufferFrame {
 pub struct GBufferClock(Arc<Mutex<GBufferFrame>>);
 
 impl GBufferClock {
+    /// Sets the frame the next execution of the g-buffer pass draws (every clone sees it).
     pub fn set(&self, frame: GBufferFrame) {
         if let Ok(mut f) = self.0.lock() {
             *f = frame;
         }
     }
+
+    /// The frame last set (the default, time 0, if none was or the lock is poisoned).
     pub fn get(&self) -> GBufferFrame {
         self.0.lock().map(|f| *f).unwrap_or_default()
     }

@@ -414,7 +414,8 @@ impl GBufferRaster {
 /// the executor's count: a g-buffer pass builds its own pipelines, on its first frame).
 static PIPELINES_CREATED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
-/// See [`PIPELINES_CREATED`].
+/// Raster pipelines every g-buffer node of this process has created so far (a front end adds
+/// them to the executor's pipeline count: a g-buffer pass builds its own, on its first frame).
 pub fn raster_pipelines_created() -> u64 {
     PIPELINES_CREATED.load(std::sync::atomic::Ordering::Relaxed)
 }

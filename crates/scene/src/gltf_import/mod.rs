@@ -47,6 +47,7 @@ use std::path::Path;
 /// A scene read from a glTF file and the warnings met on the way.
 #[derive(Clone, Debug)]
 pub struct GltfImport {
+    /// The imported scene: at least one triangle, finite positions, in-range indices.
     pub scene: Scene,
     /// Things skipped or approximated, one sentence each (without the file name).
     pub warnings: Vec<String>,
@@ -61,6 +62,7 @@ pub struct GltfInfo {
     pub nodes: usize,
     /// glTF meshes (each may hold several primitives).
     pub meshes: usize,
+    /// Every material in the file, in file order, whether used or not.
     pub materials: Vec<MaterialInfo>,
     /// Skins: name and joint count.
     pub skins: Vec<(String, usize)>,
@@ -71,9 +73,11 @@ pub struct GltfInfo {
 /// One extension a file uses, and what aograph does with it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExtensionUse {
+    /// The extension's name as in `extensionsUsed`, e.g. `KHR_mesh_quantization`.
     pub name: String,
     /// Listed in `extensionsRequired` too.
     pub required: bool,
+    /// Whether aograph reads it, ignores it, or does not know it.
     pub handling: ExtensionHandling,
 }
 
@@ -91,6 +95,7 @@ pub enum ExtensionHandling {
 /// One glTF material's properties that matter to AO and shading.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MaterialInfo {
+    /// The material's name, or "material N" (its index) when it has none.
     pub name: String,
     /// Rendered from both sides (aograph draws every surface two-sided either way).
     pub double_sided: bool,

@@ -13,9 +13,14 @@ use crate::primitives::cuboid;
 use crate::scene_builder::SceneBuilder;
 use glam::{Mat4, Vec3};
 
-/// Inner half-extents of the room (x, z) and its height.
+/// Inner half-extent of the room along x: the inside faces of the side walls are at
+/// x = +-`ROOM_HALF_X` (scene units; the room is centred on the origin).
 pub const ROOM_HALF_X: f32 = 5.0;
+/// Inner half-extent of the room along z: the inside faces of the front and back walls are at
+/// z = +-`ROOM_HALF_Z`.
 pub const ROOM_HALF_Z: f32 = 3.0;
+/// Inner height of the room: the floor's top face is at y = 0, the ceiling's underside at
+/// y = `ROOM_HEIGHT`.
 pub const ROOM_HEIGHT: f32 = 3.0;
 const SLAB: f32 = 0.2;
 

@@ -26,9 +26,15 @@ use obvhs::ploc::{PlocBuilder, PlocSearchDistance, SortPrecision};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct FlatNode {
+    /// Minimum corner of the node's box, in the tree's space (world for the instance level,
+    /// object for a mesh level).
     pub min: [f32; 3],
+    /// Inner node: index of the left child (the right one follows it); leaf: index of its
+    /// first primitive in [`FlatBvh::order`]. Local to this tree until placed in a scene BVH.
     pub first: u32,
+    /// Maximum corner of the node's box (below `min` on every axis for [`FlatNode::EMPTY`]).
     pub max: [f32; 3],
+    /// Number of primitives in a leaf; 0 marks an inner node.
     pub count: u32,
 }
 
@@ -68,7 +74,10 @@ pub struct FlatBvh {
 /// instance levels keep one instance per leaf (rebuilt every frame something moves).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BuildQuality {
+    /// A mesh's triangles: PLOC, reinsertion optimisation and SAH leaf collapse (up to four
+    /// triangles a leaf); slower to build, faster to trace.
     Mesh,
+    /// A scene's instances: PLOC only, one instance per leaf; cheap enough to rebuild per frame.
     Instances,
 }
 

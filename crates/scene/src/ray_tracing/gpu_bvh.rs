@@ -23,9 +23,13 @@ pub use aograph_frame::{BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BU
 
 /// The BVH of one scene on one device.
 pub struct GpuSceneBvh {
+    /// The CPU copy, always at the time of the last successful [`GpuSceneBvh::update`].
     pub bvh: SceneBvh,
+    /// Storage buffer of [`SceneBvh::nodes`] (`BvhNode` array), bound as [`BVH_NODES_BUFFER`].
     pub nodes: wgpu::Buffer,
+    /// Storage buffer of [`SceneBvh::instances`], bound as [`BVH_INSTANCES_BUFFER`].
     pub instances: wgpu::Buffer,
+    /// Storage buffer of [`SceneBvh::triangles`], bound as [`BVH_TRIANGLES_BUFFER`].
     pub triangles: wgpu::Buffer,
     gpu: Arc<GpuContext>,
     /// Everything done since creation, the first build included.

@@ -48,6 +48,8 @@ pub struct GpuReferenceTracer {
 }
 
 impl GpuReferenceTracer {
+    /// Compiles the `raytrace/reference.wgsl` pipeline from `shaders`; a shader or pipeline
+    /// failure is a [`SceneError::Gpu`].
     pub fn new(
         gpu: Arc<GpuContext>,
         shaders: &ShaderLibrary,

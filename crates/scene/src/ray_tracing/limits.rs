@@ -8,12 +8,16 @@ use crate::error::SceneError;
 /// Bytes of the BVH's three buffers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BvhSizes {
+    /// Bytes of the node buffer (32 per [`FlatNode`](super::FlatNode)).
     pub nodes: u64,
+    /// Bytes of the instance buffer (64 per [`GpuInstance`](super::GpuInstance)).
     pub instances: u64,
+    /// Bytes of the triangle buffer (48 per [`GpuTriangle`](super::GpuTriangle)).
     pub triangles: u64,
 }
 
 impl BvhSizes {
+    /// Bytes of all three buffers together.
     pub fn total(&self) -> u64 {
         self.nodes + self.instances + self.triangles
     }

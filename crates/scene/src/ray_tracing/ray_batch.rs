@@ -19,15 +19,21 @@ use crate::error::SceneError;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct TraceRay {
+    /// World-space start of the ray.
     pub origin: [f32; 3],
+    /// Nearest parameter t counted as a hit (0 to start at the origin).
     pub t_min: f32,
+    /// World-space direction; t is measured in multiples of its length.
     pub direction: [f32; 3],
+    /// Farthest parameter t counted as a hit (`f32::INFINITY` for an unbounded ray).
     pub t_max: f32,
 }
 
 /// What one ray hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GpuRayHit {
+    /// Ray parameter t of the hit: the distance from the origin in scene units when the
+    /// direction is unit length.
     pub distance: f32,
     /// Index into `Scene::instances`.
     pub instance: u32,
@@ -53,11 +59,15 @@ pub struct GpuRayBatch {
 /// Closest hit or first hit found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HitQuery {
+    /// The nearest hit within [t_min, t_max] (shading, distances).
     Closest,
+    /// Whichever hit traversal finds first: enough for visibility and occlusion, and faster.
     Any,
 }
 
 impl GpuRayBatch {
+    /// Compiles the `raytrace/trace_rays.wgsl` pipeline from `shaders`; a shader or pipeline
+    /// failure is a [`SceneError::Gpu`].
     pub fn new(gpu: Arc<GpuContext>, shaders: &ShaderLibrary) -> Result<GpuRayBatch, SceneError> {
         let pipeline = compute_pipeline(&gpu, shaders, "raytrace/trace_rays.wgsl")?;
         Ok(GpuRayBatch { gpu, pipeline })

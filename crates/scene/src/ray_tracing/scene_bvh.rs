@@ -30,6 +30,8 @@ use crate::reference::is_traceable;
 /// Depth limits of the traversal stacks in shaders/common/bvh.wgsl (`TLAS_STACK`,
 /// `BLAS_STACK`): a tree deeper than these is a build error, never a truncated traversal.
 pub const TLAS_STACK: u32 = 64;
+/// Deepest bottom-level (per-mesh) tree the GPU traversal walks, in nodes; must match
+/// `BLAS_STACK` in shaders/common/bvh.wgsl.
 pub const BLAS_STACK: u32 = 64;
 
 /// One triangle (shaders/common/bvh.wgsl `BvhTriangle`); `primitive` is its index among the
@@ -37,11 +39,19 @@ pub const BLAS_STACK: u32 = 64;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct GpuTriangle {
+    /// First vertex, in its BLAS's space: object space for a rigid mesh, world space for a
+    /// skinned instance.
     pub v0: [f32; 3],
+    /// The triangle's index among its mesh's valid triangles, so a hit can find its normals
+    /// and material.
     pub primitive: u32,
+    /// Second vertex (counter-clockwise from `v0` seen from the front).
     pub v1: [f32; 3],
+    /// Padding to 16 bytes for WGSL's `vec3` alignment; always 0.
     pub _pad0: u32,
+    /// Third vertex.
     pub v2: [f32; 3],
+    /// Padding to 16 bytes; always 0.
     pub _pad1: u32,
 }
 
@@ -52,10 +62,17 @@ pub struct GpuTriangle {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct GpuInstance {
+    /// The first three rows of the inverse of the instance's object-to-world matrix (all
+    /// zeros for a singular transform, which no ray then hits; identity for a skinned
+    /// instance, whose BLAS is already in world space).
     pub world_to_object: [[f32; 4]; 3],
+    /// Global index in [`SceneBvh::nodes`] of the root of the instance's BLAS.
     pub blas_root: u32,
+    /// Index of the instance in [`Scene::instances`](crate::model::Scene::instances).
     pub instance: u32,
+    /// 1 when the instance is animated or has a moving skin, else 0.
     pub moving: u32,
+    /// Padding to a 16-byte multiple; always 0.
     pub _pad: u32,
 }
 
@@ -91,9 +108,14 @@ impl BvhWork {
 /// The element ranges an update rewrote, for the GPU upload.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BvhUpdate {
+    /// What the update did.
     pub work: BvhWork,
+    /// Ranges of [`SceneBvh::nodes`] rewritten: the whole TLAS when anything moved, plus
+    /// each refit skinned BLAS.
     pub nodes: Vec<Range<usize>>,
+    /// The range of [`SceneBvh::instances`] rewritten (all of them when anything moved).
     pub instances: Option<Range<usize>>,
+    /// Ranges of [`SceneBvh::triangles`] rewritten (the triangles of moved skinned instances).
     pub triangles: Vec<Range<usize>>,
 }
 
@@ -122,8 +144,11 @@ struct Placed {
 
 /// The scene's BVH in GPU layout (see the module docs).
 pub struct SceneBvh {
+    /// The TLAS (indices `0..tlas_len()`, root at 0), then every BLAS, with global indices.
     pub nodes: Vec<FlatNode>,
+    /// One record per traced instance, addressed by the TLAS leaves.
     pub instances: Vec<GpuInstance>,
+    /// Every BLAS's triangles, each BLAS's in its leaf order, addressed by the BLAS leaves.
     pub triangles: Vec<GpuTriangle>,
     tlas_len: usize,
     blas: Vec<Blas>,

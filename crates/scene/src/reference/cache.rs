@@ -176,6 +176,8 @@ impl CacheKey {
     }
 }
 
+/// A directory of cached reference images, keyed by [`CacheKey`]: AO references as two
+/// AOREF32 files each, radiance references as two RGB ones. Cheap to clone (just the path).
 #[derive(Clone, Debug)]
 pub struct ReferenceCache {
     dir: PathBuf,
@@ -245,7 +247,7 @@ impl ReferenceCache {
         )
     }
 
-    /// The cached image for `key`, or the result of `trace` (then stored).
+    /// The two files of radiance entry `key`: direct, then indirect.
     fn radiance_paths(&self, key: CacheKey) -> [PathBuf; 2] {
         [
             self.dir.join(format!("{key}.radiance_direct.aoref")),
@@ -321,6 +323,8 @@ impl ReferenceCache {
         Ok(image)
     }
 
+    /// The cached image for `key`, or the result of `trace` (then stored); a corrupt entry
+    /// warns on stderr and is traced again.
     pub fn get_or_trace(
         &self,
         key: CacheKey,

@@ -26,7 +26,9 @@ use rayon::prelude::*;
 /// Per-pixel primary hits of one view, row-major, top row first.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct CpuGBuffer {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// World-space hit points (zero on sky).
     pub points: Vec<Vec3>,
@@ -38,6 +40,8 @@ pub struct CpuGBuffer {
     pub triangles: Vec<u32>,
     /// Distance from the camera's eye (perspective) or image plane (orthographic) to the hit.
     pub distances: Vec<f32>,
+    /// `true` where the pixel's ray hit geometry between the near and far planes; `false`
+    /// is sky.
     pub valid: Vec<bool>,
 }
 

@@ -89,9 +89,13 @@ impl ReferenceNormals {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReferenceTracer {
+    /// The GPU on a hardware device, the CPU on a software one ([`ReferenceTracer::resolve`]).
     #[default]
     Auto,
+    /// The CPU BVH tracer, parallel over rows with rayon; any number of rays per pixel.
     Cpu,
+    /// The GPU ray tracer (`crate::ray_tracing`); at most
+    /// [`GPU_MAX_RAYS_PER_PIXEL`](crate::ray_tracing::GPU_MAX_RAYS_PER_PIXEL) rays per pixel.
     Gpu,
 }
 
@@ -135,6 +139,7 @@ pub struct ReferenceParams {
     pub radius: f32,
     /// Rays per pixel (>= 1; powers of two stratify best).
     pub rays_per_pixel: u32,
+    /// How a hit turns into occlusion: binary within R, or distance-weighted obscurance.
     pub mode: ReferenceMode,
     /// Whether to draw a progress bar on stderr. Not part of the cache key.
     pub progress: ProgressMode,
@@ -155,11 +160,15 @@ impl Default for ReferenceParams {
 /// read back from the GPU or the CPU's ([`CpuGBuffer`]). `valid[i] == false` marks sky.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct SurfaceBuffer {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// World-space surface point of each pixel, where its rays start (ignored on sky).
     pub points: Vec<Vec3>,
     /// Unit normals facing the viewer.
     pub normals: Vec<Vec3>,
+    /// `true` where the pixel sees geometry; `false` marks sky, which gets A = 1 untraced.
     pub valid: Vec<bool>,
 }
 

@@ -17,7 +17,9 @@ const HEADER_LEN: usize = 16;
 /// Per-pixel reference accessibility and its standard error, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReferenceImage {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// Accessibility in [0, 1], 1 = unoccluded (and sky).
     pub accessibility: Vec<f32>,
@@ -28,8 +30,11 @@ pub struct ReferenceImage {
 /// A single-channel f32 image read from a raw AOREF32 file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RawF32Image {
+    /// Width from the header, in values per row (three times the pixels for an RGB file).
     pub width: u32,
+    /// Height from the header, in rows.
     pub height: u32,
+    /// The `width * height` values, row-major, top row first.
     pub values: Vec<f32>,
 }
 

@@ -14,7 +14,9 @@ pub enum ProgressMode {
     /// Only when stderr is a terminal.
     #[default]
     Auto,
+    /// Always, even when stderr is redirected to a file or pipe.
     Always,
+    /// Never.
     Never,
 }
 

@@ -26,16 +26,25 @@ use crate::error::SceneError;
 /// Linear radiance per pixel, split into its direct and one-bounce parts.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RadianceImage {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// Linear RGB radiance from the sky through unoccluded rays, times the pixel's albedo,
+    /// row-major, top row first (0 on sky pixels).
     pub direct: Vec<Vec3>,
+    /// Linear RGB radiance of one diffuse bounce off geometry within R, times the pixel's
+    /// albedo, same layout (0 on sky pixels).
     pub indirect: Vec<Vec3>,
 }
 
 /// What the traced geometry looks like to a bounce: per triangle (the order of
 /// `Scene::world_triangles`), its albedo.
 pub struct BounceSurfaces<'a> {
+    /// World-space triangles, as [`Scene::world_triangles`](crate::model::Scene::world_triangles)
+    /// returns them at the traced time (the triangles the BVH was built from).
     pub triangles: &'a [[Vec3; 3]],
+    /// Linear RGB albedo of each triangle, one per entry of `triangles`.
     pub albedo: &'a [Vec3],
 }
 

@@ -49,6 +49,7 @@ pub struct SsdoUniform {
     pub bounce: u32,
     /// Environment: 0 ambient, 1 sky.
     pub sky: u32,
+    /// Unused; pads the row to 16 bytes.
     pub _pad0: u32,
     /// `[set * 16 + i]` = (x, y, z, cos theta): offset in units of r_max in the frame (t, b, n).
     pub samples: [[f32; 4]; SETS * MAX_SAMPLES as usize],
