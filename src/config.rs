@@ -118,7 +118,7 @@ const REFERENCE_KEYS: &[&str] = &["rays", "mode", "normals", "tracer"];
 const RENDER_KEYS: &[&str] = &["frames", "frame_time"];
 
 /// Largest output side accepted (wgpu's default 2D texture limit).
-pub const MAX_SIDE: u32 = 8192;
+pub use aograph_renderer::MAX_SIDE;
 
 fn err(path: &str, message: String) -> AppError {
     AppError::Config {
@@ -287,16 +287,9 @@ impl AppConfig {
     }
 }
 
-/// Output sides must be 1..=MAX_SIDE.
+/// Output sides must be 1..=MAX_SIDE (aograph_renderer::check_size).
 pub fn check_size(name: &str, v: u32) -> AppResult<()> {
-    if v == 0 || v > MAX_SIDE {
-        return Err(AppError::InvalidArgument {
-            name: name.into(),
-            value: v.to_string(),
-            allowed: format!("1 to {MAX_SIDE} pixels"),
-        });
-    }
-    Ok(())
+    Ok(aograph_renderer::check_size(name, v)?)
 }
 
 pub fn parse_mode(s: &str) -> Result<ReferenceMode, String> {

@@ -13,6 +13,8 @@ pub enum AppError {
     Ao(#[from] aograph_ao::AoError),
     #[error(transparent)]
     Scene(#[from] aograph_scene::SceneError),
+    #[error(transparent)]
+    Render(#[from] aograph_renderer::RenderError),
     #[error("config {path}: {message}")]
     Config { path: String, message: String },
     #[error("invalid value for {name}: {value} (allowed: {allowed})")]

@@ -1,33 +1,35 @@
-//! aograph's application layer: config, the frame graph (g-buffer + technique + shading), the
-//! renderer, image output and the commands behind the `aograph` binary. The viewer
-//! (`aograph view`: winit, egui) is behind the default `viewer` feature; an application that
-//! only wants aograph's AO in its own renderer depends on `aograph-embed`, which needs none of
-//! this crate.
+//! aograph's application layer, behind the `aograph` binary: config files and flags, scenes
+//! prepared for a command (camera, radius), image output, the commands, the bench, tune and
+//! metrics, and the viewer.
+//!
+//! Which crate owns what: the frame graph aograph renders, its `Renderer` and the reference of
+//! its frames are `aograph-renderer` (re-exported here under their old paths); aograph's AO in
+//! an application's own renderer is `aograph-embed`, which needs neither crate; techniques are
+//! `aograph-ao`, scenes and tracers `aograph-scene`, the render graph `aograph-graph`. The
+//! viewer (`aograph view`: winit, egui) is behind the default `viewer` feature.
 
 pub mod bench;
 pub mod camera_spec;
 pub mod commands;
 pub mod config;
 pub mod error;
-pub mod frame_graph;
-pub mod frame_reference;
 pub mod images;
 pub mod metrics;
-pub mod pass_owner;
 pub mod prepared_scene;
 pub mod reach;
-pub mod renderer;
 pub mod runtime_dir;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 
 pub use config::{AppConfig, RadiusSetting, SceneSource};
 pub use error::{AppError, AppResult};
-pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph, build_frame_graph_with};
-pub use frame_reference::{FrameView, ReferenceSettings, frame_reference};
-pub use pass_owner::{PassOwner, PassOwners};
+// aograph's own renderer lives in aograph-renderer; its modules keep their paths here.
+pub use aograph_renderer::{
+    FrameGraph, FrameOutputs, FrameView, PassOwner, PassOwners, ReferenceSettings, RenderError,
+    Renderer, build_frame_graph, build_frame_graph_with, frame_graph, frame_reference, pass_owner,
+    renderer, shader_dir, shader_library,
+};
 pub use prepared_scene::PreparedScene;
-pub use renderer::{Renderer, shader_dir, shader_library};
 
 /// Loads a scene by procedural name or glTF path.
 pub fn load_scene(source: &SceneSource) -> AppResult<aograph_scene::Scene> {

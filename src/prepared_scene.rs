@@ -54,28 +54,7 @@ impl PreparedScene {
     }
 }
 
-/// R and its derivation for `scene` under `setting`.
-pub fn resolve_radius(scene: &Scene, setting: RadiusSetting) -> (Radius, String) {
-    match setting {
-        RadiusSetting::Units(r) => (r, format!("set to {} scene units", short(r.get()))),
-        RadiusSetting::Auto => {
-            let s = aograph_scene::suggested_radius(scene);
-            // The suggestion is a positive diagonal / 9, or 1 for a scene without size; only
-            // an underflow to 0 could fail the check, and one unit is then as good as any.
-            let r = Radius::new("the automatic R", s.radius).unwrap_or(Radius::UNIT);
-            (r, format!("auto: {}", s.derivation))
-        }
-    }
-}
-
-/// A radius printed with four significant digits.
-pub fn short(r: f32) -> String {
-    if r == 0.0 || !r.is_finite() {
-        return format!("{r}");
-    }
-    let digits = (3i64 - r.abs().log10().floor() as i64).clamp(0, 8) as usize;
-    format!("{r:.digits$}")
-}
+pub use aograph_renderer::{resolve_radius, short};
 
 impl AppConfig {
     /// Loads the config's scene, applies `[camera]`/`--camera` and resolves the radius.

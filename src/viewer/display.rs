@@ -90,11 +90,13 @@ pub fn display_uniform(mode: DisplayMode, split: f32, error_scale: f32) -> Vec<u
 /// The display pass as a frame-graph extension (see the module docs).
 pub fn display_extension() -> GraphExtension {
     Arc::new(|b: &mut GraphBuilder, fg: &FrameGraph| {
-        let shaded = fg.shaded.ok_or_else(|| AppError::InvalidArgument {
-            name: "viewer frame graph".into(),
-            value: "no shaded output".into(),
-            allowed: "a frame graph built with FrameOutputs { shaded: true }".into(),
-        })?;
+        let shaded = fg
+            .shaded
+            .ok_or_else(|| aograph_renderer::RenderError::InvalidArgument {
+                name: "viewer frame graph".into(),
+                value: "no shaded output".into(),
+                allowed: "a frame graph built with FrameOutputs { shaded: true }".into(),
+            })?;
         let target = b.import_texture(VIEW_TEXTURE, TextureDesc::new(VIEW_FORMAT, SizeClass::FULL));
         let reference = b.import_texture(
             REFERENCE_TEXTURE,

@@ -12,8 +12,11 @@ use aograph_graph::{GraphBuilder, PassTimings};
 /// The part of the frame a pass belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum PassOwner {
+    /// The g-buffer node (rasterising the scene's channels).
     GBuffer,
+    /// The AO technique's passes, its adapters and blocks included.
     Technique,
+    /// The shading pass behind shaded.png.
     Shading,
 }
 

@@ -16,7 +16,7 @@ use aograph_graph::{
 use aograph_scene::gbuffer::{GBufferClock, GBufferStates, add_gbuffer_shared, required_channels};
 use aograph_scene::{ReferenceNormals, Scene};
 
-use crate::error::{AppError, AppResult};
+use crate::error::{RenderError, RenderResult};
 use crate::pass_owner::{PassOwner, PassOwners};
 
 /// Which outputs besides accessibility a run wants.
@@ -43,17 +43,25 @@ pub struct FrameOutputs {
 
 /// A declared frame graph and the handles a caller reads.
 pub struct FrameGraph {
+    /// The declaration (compile it with `aograph_graph::GraphCompiler`).
     pub decl: GraphDecl,
+    /// The technique's accessibility output (R32Float, 1 = unoccluded).
     pub ao: TextureHandle,
+    /// shaded.png's texture, when `FrameOutputs::shaded` asked for it.
     pub shaded: Option<TextureHandle>,
+    /// The g-buffer channels written (None for those not needed).
     pub gbuffer: GBufferTextures,
+    /// Which channels the g-buffer writes, with its depth format.
     pub channels: GBufferChannels,
+    /// The technique's extra outputs by name (e.g. `per_frame_accessibility`).
     pub extra: Vec<(String, TextureHandle)>,
     /// The technique's radiance outputs, where it computes radiance.
     pub radiance: Option<RadianceOutput>,
     /// Which part of the frame declared each pass (timings total by owner).
     pub owners: PassOwners,
+    /// The g-buffer's per-frame time and depth convention, set by the renderer each frame.
     pub clock: GBufferClock,
+    /// The technique carries history between frames.
     pub temporal: bool,
     /// Frame inputs the technique declared (the scene BVH, for ray-traced AO): the renderer
     /// builds and binds exactly these.
@@ -68,7 +76,7 @@ pub fn build_frame_graph(
     ao: &AoConfig,
     outputs: FrameOutputs,
     size: Extent,
-) -> AppResult<FrameGraph> {
+) -> RenderResult<FrameGraph> {
     build_frame_graph_with(
         registry,
         scene,
@@ -88,10 +96,10 @@ pub fn build_frame_graph_with(
     outputs: FrameOutputs,
     size: Extent,
     gbuffer: &GBufferStates,
-) -> AppResult<FrameGraph> {
+) -> RenderResult<FrameGraph> {
     // Parsed and validated once; everything below asks the configured technique.
     let technique = ao.resolve(registry)?;
-    let radius = crate::prepared_scene::resolve_radius(&scene, ao.radius)
+    let radius = crate::scene_radius::resolve_radius(&scene, ao.radius)
         .0
         .get();
     let mut requested = technique.channels();
@@ -103,7 +111,7 @@ pub fn build_frame_graph_with(
     if outputs.surfaces {
         let face = outputs.surface_normals == ReferenceNormals::Geometric;
         if requested.has_normals() && requested.face_normals != face {
-            return Err(AppError::InvalidArgument {
+            return Err(RenderError::InvalidArgument {
                 name: "surface normals".into(),
                 value: outputs.surface_normals.name().into(),
                 allowed: format!(
@@ -228,7 +236,7 @@ fn add_shading(
     ao: TextureHandle,
     scene: &Scene,
     view: aograph_graph::BufferHandle,
-) -> AppResult<TextureHandle> {
+) -> RenderResult<TextureHandle> {
     let (Some(albedo), Some(direct)) = (g.albedo, g.direct_light) else {
         return Err(aograph_ao::AoError::MissingChannel {
             technique: "shading".into(),

@@ -26,14 +26,14 @@ use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Scene, SurfaceBuffer};
 use glam::{Mat4, Vec3};
 
-use crate::error::{AppError, AppResult};
+use crate::error::{RenderError, RenderResult};
 use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with};
 
 /// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
 pub fn shader_dir() -> PathBuf {
     std::env::var_os("AOGRAPH_SHADERS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders")))
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders")))
 }
 
 /// A shader library over [`shader_dir`].
@@ -43,12 +43,12 @@ pub fn shader_library() -> Arc<ShaderLibrary> {
 
 /// R16Float intermediates are written as r16float storage textures, which core WebGPU does not
 /// guarantee: the device must offer them (through `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`).
-fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
+fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> RenderResult<()> {
     let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
     if ao.intermediate_format == IntermediateFormat::R16Float
         && !gpu.supports(wgpu::TextureFormat::R16Float, usage)
     {
-        return Err(AppError::InvalidArgument {
+        return Err(RenderError::InvalidArgument {
             name: "[ao] intermediate_format".into(),
             value: "\"r16float\"".into(),
             allowed: format!(
@@ -66,7 +66,7 @@ fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> AppResult<()> {
 /// reads ~0.03 ms for a kernel that takes 62 ms, and a dependent pass's interval takes in part
 /// of its producer's time (README, "Performance"). `AOGRAPH_TIMING=gpu|cpu|off` overrides.
 /// A real-time front end sets its own mode (the viewer: timestamps, never waiting).
-pub fn timing_mode(gpu: &GpuContext) -> AppResult<aograph_graph::TimingMode> {
+pub fn timing_mode(gpu: &GpuContext) -> RenderResult<aograph_graph::TimingMode> {
     use aograph_graph::TimingMode;
     let default = if gpu.has_timestamps() && !gpu.is_software() {
         TimingMode::GpuTimestamps
@@ -78,7 +78,7 @@ pub fn timing_mode(gpu: &GpuContext) -> AppResult<aograph_graph::TimingMode> {
         Some("gpu") => Ok(TimingMode::GpuTimestamps),
         Some("cpu") => Ok(TimingMode::CpuWall),
         Some("off") => Ok(TimingMode::Off),
-        Some(other) => Err(AppError::InvalidArgument {
+        Some(other) => Err(RenderError::InvalidArgument {
             name: "AOGRAPH_TIMING".into(),
             value: other.into(),
             allowed: "gpu, cpu or off".into(),
@@ -108,7 +108,7 @@ fn lighting_of(scene: &Scene) -> LightingUniforms {
 /// Passes a front end adds after the frame graph (the viewer's display pass), declared on the
 /// same builder with the frame graph's handles.
 pub type GraphExtension =
-    Arc<dyn Fn(&mut GraphBuilder, &FrameGraph) -> AppResult<()> + Send + Sync>;
+    Arc<dyn Fn(&mut GraphBuilder, &FrameGraph) -> RenderResult<()> + Send + Sync>;
 
 /// Graphs kept for settings seen before (every technique and preset of a session, with room);
 /// beyond that the kept ones are dropped and rebuilt when asked for again.
@@ -116,13 +116,19 @@ const MAX_BUILT_GRAPHS: usize = 32;
 
 /// One scene, one technique at a time, frames on demand.
 pub struct Renderer {
+    /// The device frames render on.
     pub gpu: Arc<GpuContext>,
     /// The shader library the plan was compiled from (a reference g-buffer reuses it).
     pub shaders: Arc<ShaderLibrary>,
+    /// The executor every plan runs on (timings, counters, read-backs).
     pub exec: Executor,
+    /// The plan of the current settings.
     pub plan: Arc<CompiledGraph>,
+    /// The frame graph of the current settings (its handles name what to read back).
     pub graph: FrameGraph,
+    /// The scene rendered.
     pub scene: Arc<Scene>,
+    /// The output size in pixels.
     pub output: Extent,
     /// The settings the current graph was built for.
     pub ao: AoConfig,
@@ -150,6 +156,8 @@ pub struct Renderer {
 }
 
 impl Renderer {
+    /// A renderer of `scene` with the technique of `ao` at `output` pixels, writing the
+    /// read-backs `outputs` asks for; nothing renders until [`Renderer::render`].
     pub fn new(
         gpu: Arc<GpuContext>,
         shaders: Arc<ShaderLibrary>,
@@ -158,7 +166,7 @@ impl Renderer {
         ao: &AoConfig,
         outputs: FrameOutputs,
         output: Extent,
-    ) -> AppResult<Self> {
+    ) -> RenderResult<Self> {
         Self::with_options(
             gpu,
             shaders,
@@ -171,6 +179,7 @@ impl Renderer {
         )
     }
 
+    /// [`Renderer::new`] compiling with `options` (texture reuse on or off).
     #[allow(clippy::too_many_arguments)]
     pub fn with_options(
         gpu: Arc<GpuContext>,
@@ -181,9 +190,9 @@ impl Renderer {
         outputs: FrameOutputs,
         output: Extent,
         options: CompileOptions,
-    ) -> AppResult<Self> {
-        crate::config::check_size("width", output.width)?;
-        crate::config::check_size("height", output.height)?;
+    ) -> RenderResult<Self> {
+        crate::output_size::check_size("width", output.width)?;
+        crate::output_size::check_size("height", output.height)?;
         check_intermediate_format(&gpu, ao)?;
         let gbuffer = GBufferStates::default();
         let graph = build_frame_graph_with(registry, scene.clone(), ao, outputs, output, &gbuffer)?;
@@ -241,7 +250,7 @@ impl Renderer {
 
     /// Passes to add after the frame graph from now on (the current graph is rebuilt with
     /// them).
-    pub fn set_extension(&mut self, extension: GraphExtension) -> AppResult<()> {
+    pub fn set_extension(&mut self, extension: GraphExtension) -> RenderResult<()> {
         self.extension = Some(extension);
         self.built.clear();
         self.rebuild(true)
@@ -250,7 +259,7 @@ impl Renderer {
     /// Switches to the technique and parameters of `ao` from the next frame on. Settings seen
     /// before (same technique, parameters, radius, precision and size) come back as they were
     /// built: same declaration, same plan, nothing created.
-    pub fn set_ao(&mut self, ao: &AoConfig) -> AppResult<()> {
+    pub fn set_ao(&mut self, ao: &AoConfig) -> RenderResult<()> {
         check_intermediate_format(&self.gpu, ao)?;
         ao.validate(&self.registry)?;
         let old = std::mem::replace(&mut self.ao, ao.clone());
@@ -275,7 +284,7 @@ impl Renderer {
 
     /// Makes the graph for the current settings current: the one built before, or a new one
     /// (`force`: always new, e.g. after the extension changed).
-    fn rebuild(&mut self, force: bool) -> AppResult<()> {
+    fn rebuild(&mut self, force: bool) -> RenderResult<()> {
         let key = self.settings_key();
         if !force && key == self.current_key {
             return Ok(());
@@ -318,7 +327,7 @@ impl Renderer {
 
     /// Renders `scene` with `ao` from the next frame on (a camera cut: no history carries over).
     /// On an error the renderer keeps its scene.
-    pub fn set_scene(&mut self, scene: Arc<Scene>, ao: &AoConfig) -> AppResult<()> {
+    pub fn set_scene(&mut self, scene: Arc<Scene>, ao: &AoConfig) -> RenderResult<()> {
         check_intermediate_format(&self.gpu, ao)?;
         ao.validate(&self.registry)?;
         let old_scene = std::mem::replace(&mut self.scene, scene);
@@ -341,7 +350,7 @@ impl Renderer {
 
     /// Builds the scene's BVH on first use (binding its buffers for every plan) and moves it
     /// to `time`: nothing to do for what does not move.
-    fn update_scene_bvh(&mut self, time: f32) -> AppResult<()> {
+    fn update_scene_bvh(&mut self, time: f32) -> RenderResult<()> {
         match &mut self.scene_bvh {
             Some(bvh) => {
                 bvh.update(&self.scene, time)?;
@@ -373,21 +382,21 @@ impl Renderer {
 
     /// Changes the output size (history is invalidated by the executor). The graph is the one
     /// for these settings at this size (automatic level counts depend on it).
-    pub fn resize(&mut self, output: Extent) -> AppResult<()> {
-        crate::config::check_size("width", output.width)?;
-        crate::config::check_size("height", output.height)?;
+    pub fn resize(&mut self, output: Extent) -> RenderResult<()> {
+        crate::output_size::check_size("width", output.width)?;
+        crate::output_size::check_size("height", output.height)?;
         self.output = output;
         self.rebuild(false)
     }
 
     /// Renders the frame at scene time `time` (seconds).
-    pub fn render(&mut self, time: f32) -> AppResult<()> {
+    pub fn render(&mut self, time: f32) -> RenderResult<()> {
         let camera = self.scene.camera_at(time);
         self.render_with_camera(time, camera)
     }
 
     /// Renders the frame at `time` seen from `camera` (overriding the scene's camera path).
-    pub fn render_with_camera(&mut self, time: f32, camera: Camera) -> AppResult<()> {
+    pub fn render_with_camera(&mut self, time: f32, camera: Camera) -> RenderResult<()> {
         let (prev_time, prev_camera) = self.prev.unwrap_or((time, camera));
         let history_valid = self.exec.all_history_valid(&self.plan, self.output);
         let view = view_uniforms(&ViewFrame {
@@ -430,8 +439,8 @@ impl Renderer {
         &self,
         h: Option<TextureHandle>,
         what: &str,
-    ) -> AppResult<aograph_graph::TextureReadback> {
-        let h = h.ok_or_else(|| AppError::InvalidArgument {
+    ) -> RenderResult<aograph_graph::TextureReadback> {
+        let h = h.ok_or_else(|| RenderError::InvalidArgument {
             name: what.into(),
             value: "not requested".into(),
             allowed: "request it in FrameOutputs".into(),
@@ -440,18 +449,18 @@ impl Renderer {
     }
 
     /// Accessibility of the last frame, row-major, top row first.
-    pub fn read_ao(&self) -> AppResult<Vec<f32>> {
+    pub fn read_ao(&self) -> RenderResult<Vec<f32>> {
         Ok(self.read_channel(Some(self.graph.ao), "ao")?.channel(0)?)
     }
 
     /// An extra output of the technique (e.g. SSDO's radiance) as RGBA floats.
-    pub fn read_extra(&self, name: &str) -> AppResult<Vec<f32>> {
+    pub fn read_extra(&self, name: &str) -> RenderResult<Vec<f32>> {
         Ok(self.read_extra_readback(name)?.to_f32()?)
     }
 
     /// An extra output of the technique as read back: its own size (a technique at
     /// `resolution = "half"` leaves its extras at half size) and format.
-    pub fn read_extra_readback(&self, name: &str) -> AppResult<aograph_graph::TextureReadback> {
+    pub fn read_extra_readback(&self, name: &str) -> RenderResult<aograph_graph::TextureReadback> {
         let h = self
             .graph
             .extra
@@ -463,7 +472,7 @@ impl Renderer {
 
     /// The technique's radiance outputs (direct, indirect) as RGBA floats, or an error when
     /// the technique computes no radiance.
-    pub fn read_radiance(&self) -> AppResult<(Vec<f32>, Vec<f32>)> {
+    pub fn read_radiance(&self) -> RenderResult<(Vec<f32>, Vec<f32>)> {
         let r = self.graph.radiance;
         Ok((
             self.read_channel(r.map(|r| r.direct), "radiance (direct)")?
@@ -474,26 +483,26 @@ impl Renderer {
     }
 
     /// shaded.png's pixels (RGBA8, sRGB-encoded).
-    pub fn read_shaded(&self) -> AppResult<Vec<u8>> {
+    pub fn read_shaded(&self) -> RenderResult<Vec<u8>> {
         Ok(self.read_channel(self.graph.shaded, "shaded")?.bytes)
     }
 
     /// A g-buffer channel of the last frame as stored, for the channels [`FrameOutputs`]
     /// keeps readable: with `surfaces`, positions and the normals in whichever encodings the
     /// frame wrote (`normals`, `normals_oct`); with `linear_depth`, linear depth.
-    pub fn read_gbuffer(&self, c: GBufferChannel) -> AppResult<aograph_graph::TextureReadback> {
+    pub fn read_gbuffer(&self, c: GBufferChannel) -> RenderResult<aograph_graph::TextureReadback> {
         self.read_channel(self.graph.gbuffer.get(c), c.name())
     }
 
     /// Linear depth of the last frame (0 = sky).
-    pub fn read_linear_depth(&self) -> AppResult<Vec<f32>> {
+    pub fn read_linear_depth(&self) -> RenderResult<Vec<f32>> {
         Ok(self
             .read_channel(self.graph.gbuffer.linear_depth, "linear_depth")?
             .channel(0)?)
     }
 
     /// World-space points and normals of the last frame from the g-buffer, for the reference.
-    pub fn surfaces(&self) -> AppResult<SurfaceBuffer> {
+    pub fn surfaces(&self) -> RenderResult<SurfaceBuffer> {
         let pos = self
             .read_channel(self.graph.gbuffer.positions, "positions")?
             .to_f32()?;
@@ -529,7 +538,7 @@ impl Renderer {
 
     /// Per-pass times of the last frame. Waits for the GPU to finish it: for one-shot runs and
     /// benchmarks (a real-time loop reads `exec.latest_timings()`, which never waits).
-    pub fn timings(&mut self) -> AppResult<PassTimings> {
+    pub fn timings(&mut self) -> RenderResult<PassTimings> {
         Ok(self.exec.wait_timings()?.clone())
     }
 

@@ -26,7 +26,7 @@ use aograph_scene::{
 };
 use glam::Vec3;
 
-use crate::error::AppResult;
+use crate::error::RenderResult;
 use crate::frame_graph::FrameOutputs;
 use crate::renderer::Renderer;
 
@@ -37,6 +37,7 @@ pub struct ReferenceSettings {
     pub radius: f32,
     /// Rays per pixel.
     pub rays: u32,
+    /// Binary visibility (AO) or distance-weighted obscurance.
     pub mode: ReferenceMode,
     /// Which normal orients each pixel's hemisphere.
     pub normals: ReferenceNormals,
@@ -60,9 +61,13 @@ impl ReferenceSettings {
 /// One frame to trace: what is drawn, when, from where and at what size.
 #[derive(Clone)]
 pub struct FrameView {
+    /// The scene drawn.
     pub scene: Arc<Scene>,
+    /// The camera it is seen from.
     pub camera: Camera,
+    /// Scene time in seconds (animations and moving instances at this time).
     pub time: f32,
+    /// The output size in pixels.
     pub extent: Extent,
 }
 
@@ -85,7 +90,7 @@ pub fn reference_surfaces(
     shaders: Arc<ShaderLibrary>,
     view: &FrameView,
     normals: ReferenceNormals,
-) -> AppResult<(SurfaceBuffer, Vec<f32>)> {
+) -> RenderResult<(SurfaceBuffer, Vec<f32>)> {
     let outputs = FrameOutputs {
         surfaces: true,
         surface_normals: normals,
@@ -103,7 +108,7 @@ fn gbuffer_frame(
     shaders: Arc<ShaderLibrary>,
     view: &FrameView,
     outputs: FrameOutputs,
-) -> AppResult<Renderer> {
+) -> RenderResult<Renderer> {
     let ao = AoConfig {
         technique: aograph_ao::techniques::none::BASELINE.into(),
         ..AoConfig::default()
@@ -128,7 +133,7 @@ pub fn cache_dir() -> PathBuf {
         .unwrap_or_else(|| {
             PathBuf::from(concat!(
                 env!("CARGO_MANIFEST_DIR"),
-                "/target/reference-cache"
+                "/../../target/reference-cache"
             ))
         })
 }
@@ -143,7 +148,7 @@ pub fn trace_surfaces(
     surfaces: &SurfaceBuffer,
     s: &ReferenceSettings,
     progress: bool,
-) -> AppResult<ReferenceImage> {
+) -> RenderResult<ReferenceImage> {
     let tris = scene.world_triangles(time);
     let params = ReferenceParams {
         radius: s.radius,
@@ -193,7 +198,7 @@ pub fn radiance_reference(
     shaders: Arc<ShaderLibrary>,
     view: &FrameView,
     s: &ReferenceSettings,
-) -> AppResult<aograph_scene::RadianceImage> {
+) -> RenderResult<aograph_scene::RadianceImage> {
     let outputs = FrameOutputs {
         surfaces: true,
         surface_normals: s.normals,
@@ -240,7 +245,7 @@ pub fn frame_reference(
     r: &Renderer,
     s: &ReferenceSettings,
     progress: bool,
-) -> AppResult<ReferenceImage> {
+) -> RenderResult<ReferenceImage> {
     let view = FrameView::of(r);
     let (surfaces, _) = reference_surfaces(r.gpu.clone(), r.shaders.clone(), &view, s.normals)?;
     trace_surfaces(&r.gpu, &view.scene, view.time, &surfaces, s, progress)
