@@ -21,6 +21,9 @@ pub type BilinearTaps = ([u32; 4], [f32; 4]);
 /// Where each pixel's surface was in the previous frame (`None`: no history there).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Reprojection {
+    /// Per pixel of the current frame, row-major: the four previous-frame texels its surface
+    /// lands among and their bilinear weights; `None` where it has no history (sky, off screen,
+    /// disoccluded, or across a silhouette).
     pub taps: Vec<Option<BilinearTaps>>,
 }
 

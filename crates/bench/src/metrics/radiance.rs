@@ -14,13 +14,17 @@ use super::nonfinite;
 /// The scores of one run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RadianceScores {
+    /// RMSE of the technique's direct radiance against the reference's direct term, in linear
+    /// radiance over the R, G and B channels of every measured pixel.
     #[serde(with = "nonfinite")]
     pub direct_rmse: f64,
+    /// PSNR in dB of `direct_rmse` against `peak`; +inf for an exact match.
     #[serde(with = "nonfinite")]
     pub direct_psnr: f64,
     /// Direct + indirect against the reference's direct + bounce.
     #[serde(with = "nonfinite")]
     pub full_rmse: f64,
+    /// PSNR in dB of `full_rmse` against the same `peak`; +inf for an exact match.
     #[serde(with = "nonfinite")]
     pub full_psnr: f64,
     /// The PSNR peak (brightest reference channel).

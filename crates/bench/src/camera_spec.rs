@@ -22,6 +22,7 @@ use crate::error::{AppError, AppResult};
 /// Where the camera looks.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Look {
+    /// Looks at this world-space point (`target`); it must differ from the position.
     Target(Vec3),
     /// Yaw and pitch in degrees.
     YawPitch(f32, f32),
@@ -30,11 +31,19 @@ pub enum Look {
 /// A camera written out in a config or on the command line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraParams {
+    /// Camera position in world space, scene units (`position` or `pos`).
     pub position: Vec3,
+    /// Where the camera looks: a target point, or yaw and pitch from -Z.
     pub look: Look,
+    /// World-space up vector, normalized (`up`; default +Y).
     pub up: Vec3,
+    /// Vertical field of view in degrees, 0 < fov < 180 (`fov`; default 60); unused by an
+    /// orthographic camera.
     pub fov_degrees: f32,
+    /// Near plane distance in scene units (> 0); `None`: 1e-3 times the scene's diagonal.
     pub near: Option<f32>,
+    /// Far plane distance in scene units (> near when both are given); `None`: 100 times the
+    /// scene's diagonal. The camera raises it to at least twice the near distance.
     pub far: Option<f32>,
     /// The orthographic view height; `None` for perspective.
     pub orthographic: Option<f32>,
@@ -43,14 +52,21 @@ pub struct CameraParams {
 /// A camera choice: a name to look up or a camera written out.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CameraSpec {
+    /// A name looked up by [`CameraSpec::resolve`]: a config `[[views]]` entry first, then a
+    /// view of the scene or a glTF camera (by name or index).
     Named(String),
+    /// A camera written out: inline `pos=x,y,z target=x,y,z fov=60` or a `[camera]` table.
     Inline(CameraParams),
 }
 
 /// A `[[views]]` entry.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NamedView {
+    /// The view's name: non-empty and unique among the config's views; `--camera` and
+    /// `--views` pick it by this name (picked by name, it wins over a scene view of the same
+    /// name).
     pub name: String,
+    /// The camera the entry writes out.
     pub params: CameraParams,
 }
 

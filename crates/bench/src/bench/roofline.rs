@@ -44,17 +44,27 @@ pub struct DevicePeaks {
 /// One pass's place under the peaks.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PassRoofline {
+    /// The pass's name in the render graph.
     pub pass: String,
+    /// Its median time over the measured frames, in ms.
     pub ms: f64,
+    /// Invocations per frame: threads of a compute pass, fragments of a full-screen pass (0 for
+    /// copies and custom passes).
     pub invocations: u64,
     /// Declared loads per invocation.
     pub loads_per_invocation: Option<f32>,
+    /// Bytes of the textures the pass reads and writes per frame, each counted once (a lower
+    /// bound of its memory traffic).
     pub bytes: u64,
-    /// Achieved texel loads per second and its share of the peak.
+    /// Achieved texel loads per second: declared loads x invocations over the median time;
+    /// `None` when the pass declares no loads.
     pub loads_per_s: Option<f64>,
+    /// `loads_per_s` over the device's load peak (1 = at the peak); `None` when the pass
+    /// declares no loads.
     pub load_fraction: Option<f64>,
-    /// Achieved bytes per second and its share of the peak.
+    /// Achieved bytes per second: `bytes` over the median time.
     pub bytes_per_s: f64,
+    /// `bytes_per_s` over the device's byte peak (1 = at the peak).
     pub byte_fraction: f64,
 }
 

@@ -12,6 +12,7 @@ pub struct FlickerMeter {
 }
 
 impl FlickerMeter {
+    /// An empty meter: no frame pushed yet, so [`FlickerMeter::value`] is `None`.
     pub fn new() -> Self {
         Self::default()
     }

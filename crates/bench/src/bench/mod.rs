@@ -51,10 +51,14 @@ use aograph_scene::views::SceneView;
 /// What to run.
 #[derive(Clone, Debug)]
 pub struct BenchPlan {
+    /// The scenes to run, in order; each is loaded once and run in every view the plan picks.
     pub scenes: Vec<SceneSource>,
     /// Which views of each scene: one row per scene, view and parameter set.
     pub views: ViewChoice,
+    /// The parameter sets run on every scene, view and size (see [`plan_param_sets`]).
     pub sets: Vec<ParamSet>,
+    /// Output size, frame counts, radius, reference and metric settings every run shares
+    /// (with `sizes`, each size replaces the width and height).
     pub settings: BenchSettings,
     /// `--sizes`: every run at each of these output sizes, each against its own reference;
     /// empty: the settings' width and height only.

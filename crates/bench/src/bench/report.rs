@@ -30,17 +30,23 @@ fn shading() -> String {
 pub struct BenchMeta {
     /// `GpuContext::describe()`: "name (backend, device type)".
     pub device: String,
+    /// The wgpu backend as `Debug` prints it: `Vulkan`, `Metal`, `Dx12`, `Gl`.
     pub backend: String,
     /// A CPU device (lavapipe): its times are CPU times.
     pub software: bool,
     /// Whether the adapter has timestamp queries (else times are CPU wall time per pass).
     pub timestamps: bool,
+    /// Output width in pixels (with `--sizes`, the first size; each row has its own).
     pub width: u32,
+    /// Output height in pixels (with `--sizes`, the first size; each row has its own).
     pub height: u32,
+    /// Measured frames per run.
     pub frames: u32,
+    /// Warm-up frames per run, rendered and discarded before the measured ones.
     pub warmup: u32,
     /// The radius in scene units, or `None` for `auto` (per scene; each row has its own).
     pub radius: Option<f32>,
+    /// Reference rays per pixel.
     pub rays: u32,
     /// "binary" or "obscurance".
     #[serde(default = "binary")]
@@ -48,8 +54,11 @@ pub struct BenchMeta {
     /// The normal that orients the reference's hemisphere: "geometric" or "shading".
     #[serde(default = "shading")]
     pub normals: String,
+    /// The SSIM settings in words (window, k1, k2, L), as report.md prints them.
     pub ssim: String,
+    /// Half-width in pixels of the depth-edge band that edge MAE is taken over.
     pub edge_band: u32,
+    /// Relative depth jump between neighbouring pixels that marks a depth edge (0.1 = 10%).
     pub edge_jump: f32,
     /// The device's peaks measured in the run (the roofline's ceilings).
     #[serde(default)]
@@ -105,10 +114,16 @@ impl BenchMeta {
 /// results.json.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ResultsFile {
+    /// The device and settings every run shares.
     pub meta: BenchMeta,
+    /// One record per finished run, in the order they finished.
     pub runs: Vec<RunRecord>,
 }
 
+/// results.csv's header: one column per value of a [`csv_row`] line. Times are in ms
+/// (`total_ms_*`: the technique's passes; `frame_ms_median`: the whole frame), texture sizes in
+/// bytes, errors in accessibility units (0..1) except PSNR (dB); `passes` holds
+/// `name=median ms` and `roofline` `pass=load fraction/byte fraction`, `;`-separated.
 pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image,radiance_direct_rmse,radiance_direct_psnr,radiance_full_rmse,radiance_full_psnr,signed_error_left,signed_error_right";
 
 fn csv_field(s: &str) -> String {
@@ -200,6 +215,7 @@ pub fn csv_row(r: &RunRecord) -> String {
 /// Writes results.csv and results.json as runs finish.
 pub struct ResultsWriter {
     dir: PathBuf,
+    /// Everything written so far: the meta and every appended run (what results.json holds).
     pub file: ResultsFile,
 }
 
@@ -217,9 +233,11 @@ impl ResultsWriter {
         w.write_json()?;
         Ok(w)
     }
+    /// The path of results.csv in the output directory.
     pub fn csv_path(&self) -> PathBuf {
         self.dir.join("results.csv")
     }
+    /// The path of results.json in the output directory.
     pub fn json_path(&self) -> PathBuf {
         self.dir.join("results.json")
     }

@@ -10,7 +10,9 @@ pub const PEAK: f64 = 1.0;
 pub struct ErrorStats {
     /// Pixels measured.
     pub count: usize,
+    /// Mean absolute error: mean of |a - b|.
     pub mae: f64,
+    /// Root mean square error: sqrt(mean of (a - b)^2).
     pub rmse: f64,
     /// Decibels; `f64::INFINITY` when the images are identical.
     pub psnr: f64,

@@ -24,7 +24,10 @@ pub enum SsimWindow {
     /// Every pixel of the window weighs the same (the paper).
     Uniform,
     /// Gaussian weights with this sigma in pixels (Wang et al. 2004: 1.5).
-    Gaussian { sigma: f64 },
+    Gaussian {
+        /// Standard deviation of the weights, in pixels.
+        sigma: f64,
+    },
 }
 
 /// SSIM constants and window.
@@ -32,8 +35,11 @@ pub enum SsimWindow {
 pub struct SsimParams {
     /// Window side in pixels (odd).
     pub window: u32,
+    /// Window weighting: uniform (the paper) or Gaussian (Wang et al.).
     pub shape: SsimWindow,
+    /// Luminance constant: c1 = (k1 L)^2 (0.001 as printed in the paper; 0.01 in Wang et al.).
     pub k1: f64,
+    /// Contrast-structure constant: c2 = (k2 L)^2 (0.03 in both).
     pub k2: f64,
     /// Dynamic range L of the values.
     pub dynamic_range: f64,
@@ -57,9 +63,11 @@ impl SsimParams {
         dynamic_range: 1.0,
     };
 
+    /// The luminance stabiliser c1 = (k1 L)^2.
     pub fn c1(&self) -> f64 {
         (self.k1 * self.dynamic_range).powi(2)
     }
+    /// The contrast-structure stabiliser c2 = (k2 L)^2.
     pub fn c2(&self) -> f64 {
         (self.k2 * self.dynamic_range).powi(2)
     }

@@ -15,6 +15,8 @@ use crate::prepared_scene::short;
 /// R in pixels in a view and the technique's reach.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadiusReach {
+    /// R projected to pixels in the view: at its closest, nearest (2nd percentile), median and
+    /// farthest hit depths, with the image diagonal.
     pub needed: ProjectedRadius,
     /// `None`: the technique samples R in view space, wherever it projects.
     pub reach_px: Option<f32>,

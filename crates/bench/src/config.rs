@@ -17,7 +17,10 @@ use crate::error::{AppError, AppResult};
 /// Where the scene comes from: a procedural name or a glTF file.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
+    /// A built-in scene by name (`aograph_scene::procedural_scene`), e.g. `columns` or `room`.
     Procedural(String),
+    /// A glTF file (.gltf or .glb). A path from a config file is relative to that file's
+    /// directory; one from the command line, to the working directory.
     File(PathBuf),
 }
 
@@ -36,6 +39,8 @@ impl SceneSource {
             SceneSource::Procedural(s.to_string())
         }
     }
+    /// The name reports and progress messages show: the procedural name, or the file's path as
+    /// given.
     pub fn label(&self) -> String {
         match self {
             SceneSource::Procedural(n) => n.clone(),
@@ -62,8 +67,11 @@ pub use aograph_ao::RadiusSetting;
 /// Everything `aograph render` and friends need.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AppConfig {
+    /// The scene to render (`[scene] name` or `file`; default [`DEFAULT_SCENE`]).
     pub scene: SceneSource,
+    /// Output width in pixels (`[output] width`, 1 to `MAX_SIDE`; default 1280).
     pub width: u32,
+    /// Output height in pixels (`[output] height`, 1 to `MAX_SIDE`; default 720).
     pub height: u32,
     /// Technique, parameters and how R is chosen (`ao.radius`: `auto` unless the config or
     /// `--radius` gives a number; the prepared scene holds the number).
@@ -72,7 +80,10 @@ pub struct AppConfig {
     pub camera: Option<CameraSpec>,
     /// Named viewpoints (`[[views]]`).
     pub views: Vec<NamedView>,
+    /// Rays per pixel of the ray-traced reference (`[reference] rays`, 1 to 2^20; default 256).
     pub reference_rays: u32,
+    /// How a reference ray's hit becomes occlusion (`[reference] mode`): `binary` (a hit
+    /// within R occludes fully; the default) or `obscurance` (weighted by distance).
     pub reference_mode: ReferenceMode,
     /// The normal that orients the reference's hemisphere (geometric unless set).
     pub reference_normals: ReferenceNormals,
@@ -292,6 +303,7 @@ pub fn check_size(name: &str, v: u32) -> AppResult<()> {
     Ok(aograph_renderer::check_size(name, v)?)
 }
 
+/// Parses a reference mode name, `binary` or `obscurance`; the error message lists both.
 pub fn parse_mode(s: &str) -> Result<ReferenceMode, String> {
     match s {
         "binary" => Ok(ReferenceMode::Binary),

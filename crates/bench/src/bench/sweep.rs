@@ -30,11 +30,15 @@ use crate::error::{AppError, AppResult};
 /// One technique with one set of parameters (empty = the technique's defaults).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamSet {
+    /// The technique's registry name.
     pub technique: String,
+    /// Parameter values by name, as the technique's parameter table in a config takes them;
+    /// empty: the technique's defaults.
     pub params: toml::Table,
 }
 
 impl ParamSet {
+    /// `technique` with no parameter set: its defaults (labelled `defaults`).
     pub fn defaults(technique: &str) -> Self {
         Self {
             technique: technique.into(),
@@ -72,6 +76,9 @@ impl ParamSet {
 /// A parsed sweep file: technique name to its grids, in file order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sweep {
+    /// Technique name to its grids, each a table of parameter to value or array of values to
+    /// try: one grid for a `[technique]` table, one per entry for `[[technique]]`, in file
+    /// order.
     pub grids: BTreeMap<String, Vec<toml::Table>>,
     /// Where it came from, for messages.
     pub source: String,
@@ -85,12 +92,15 @@ fn err(source: &str, message: String) -> AppError {
 }
 
 impl Sweep {
+    /// Reads and parses the sweep file at `path`; errors name the path.
     pub fn load(path: &Path) -> AppResult<Self> {
         let text =
             std::fs::read_to_string(path).map_err(|e| AppError::io("read sweep", path, e))?;
         Self::parse(&text, &path.display().to_string())
     }
 
+    /// Parses sweep text; `source` names it in errors. Technique names and parameters are not
+    /// checked here: [`Sweep::registered_techniques`] and [`plan_param_sets`] do that.
     pub fn parse(text: &str, source: &str) -> AppResult<Self> {
         let doc: toml::Table = text
             .parse()
@@ -259,7 +269,7 @@ mod tests {
         let registry = TechniqueRegistry::with_builtins();
         for f in ["pyramid-hbao-paper.toml", "quick.toml"] {
             let s = Sweep::load(
-                &Path::new(env!("CARGO_MANIFEST_DIR"))
+                &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
                     .join("configs/sweeps")
                     .join(f),
             )
@@ -269,7 +279,8 @@ mod tests {
             plan_param_sets(&registry, &known, Some(&s)).unwrap();
         }
         let paper = Sweep::load(
-            &Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/sweeps/pyramid-hbao-paper.toml"),
+            &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+                .join("configs/sweeps/pyramid-hbao-paper.toml"),
         )
         .unwrap();
         assert_eq!(paper.expand("hbao").len(), 4, "the paper's four D x S rows");

@@ -6,12 +6,17 @@ use serde::{Deserialize, Serialize};
 /// Median and spread of a set of samples (milliseconds).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
+    /// Median of the finite samples; NaN when there are none.
     pub median: f64,
+    /// Smallest finite sample; NaN when there are none.
     pub min: f64,
+    /// Largest finite sample; NaN when there are none.
     pub max: f64,
     /// First and third quartiles (linear interpolation between order statistics).
     pub q1: f64,
+    /// Third quartile, interpolated the same way.
     pub q3: f64,
+    /// Number of finite samples the statistics are over.
     pub samples: usize,
 }
 
@@ -44,7 +49,9 @@ impl Spread {
 /// Median and spread of one pass's time.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PassTime {
+    /// The pass's name in the render graph.
     pub name: String,
+    /// Its time in milliseconds over the measured frames.
     pub ms: Spread,
 }
 
@@ -55,6 +62,7 @@ pub struct PowerFit {
     pub exponents: Vec<f64>,
     /// Coefficient of determination of the log-log fit.
     pub r2: f64,
+    /// Points used by the fit (those with positive, finite values everywhere).
     pub points: usize,
 }
 

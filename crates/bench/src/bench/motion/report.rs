@@ -14,26 +14,44 @@ use crate::images::write_atomic;
 /// One row of motion.csv: a technique and parameter set over a motion run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MotionRecord {
+    /// The scene's label: the procedural name or the glTF path as given.
     pub scene: String,
+    /// The view's name ("default": the scene's own camera).
     pub view: String,
+    /// How the camera moved: `orbit`, `path` or `scene`.
     pub motion: String,
+    /// The technique's registry name.
     pub technique: String,
+    /// The parameter set's label (`ParamSet::label`).
     pub label: String,
+    /// The parameter set's values by name (empty: the technique's defaults).
     pub params: BTreeMap<String, toml::Value>,
+    /// Output width in pixels.
     pub width: u32,
+    /// Output height in pixels.
     pub height: u32,
+    /// The AO radius R in scene units.
     pub radius: f32,
+    /// Rays per pixel of each frame's reference (`--motion-rays`).
     pub rays: u32,
+    /// Frames per second of scene time.
     pub fps: f32,
+    /// Measured frames, each scored against its own reference.
     pub frames: u32,
+    /// Warm-up frames rendered (moving) and discarded first.
     pub warmup: u32,
     /// The technique's passes ("total", g-buffer excluded), the whole frame ("frame", what a
     /// frame rate is made of) and each pass, over the measured frames.
     #[serde(flatten)]
     pub times: FrameTimes,
+    /// Mean over the measured frames of each frame's MAE against its own reference (non-sky
+    /// pixels, 0..1).
     pub mae_mean: f64,
+    /// The largest per-frame MAE.
     pub mae_worst: f64,
+    /// Mean edge-band MAE over the frames that have a depth edge; `None` when none has.
     pub edge_mae_mean: Option<f64>,
+    /// Mean over the measured frames of each frame's SSIM against its own reference.
     pub ssim_mean: f64,
     /// MAE near surfaces that move on their own (`None`: nothing moves on its own).
     pub moving_mae_mean: Option<f64>,
@@ -43,12 +61,17 @@ pub struct MotionRecord {
     pub flicker_coverage: Option<f64>,
     /// Per measured frame: MAE.
     pub frame_mae: Vec<f64>,
+    /// The last frame's side-by-side image, relative to the output directory; `None` when no
+    /// output directory was given.
     pub image: Option<String>,
 }
 
 impl MotionRecord {
+    /// motion.csv's header; times in ms, errors 0..1.
     pub const CSV_HEADER: &'static str = "scene,view,motion,technique,label,width,height,radius,rays,fps,frames,warmup,timing_source,total_ms_median,total_ms_q1,total_ms_q3,frame_ms_median,mae_mean,mae_worst,edge_mae_mean,ssim_mean,moving_mae_mean,flicker,flicker_coverage";
 
+    /// This record as one motion.csv line (no newline), in [`MotionRecord::CSV_HEADER`]'s
+    /// column order; the label is quoted.
     pub fn csv_row(&self) -> String {
         let opt = |v: Option<f64>| v.map(|v| format!("{v:.6}")).unwrap_or_default();
         format!(

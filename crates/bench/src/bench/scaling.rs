@@ -22,8 +22,9 @@ use serde::{Deserialize, Serialize};
 use super::stats::{Spread, fit_power_law};
 use crate::metrics::nonfinite::format as num;
 
-/// Default sides (square outputs) and radius multipliers of the shared radius.
+/// Default sides in pixels of the square outputs a scaling run times.
 pub const DEFAULT_SIDES: [u32; 4] = [128, 256, 512, 1024];
+/// Default multipliers of each scene's automatic radius.
 pub const DEFAULT_RADIUS_FACTORS: [f32; 4] = [0.5, 1.0, 2.0, 4.0];
 
 /// The radii a scaling run times.
@@ -61,37 +62,63 @@ impl ScalingRadii {
 /// One timed configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ScalingPoint {
+    /// The scene's label: the procedural name or the glTF path as given.
     pub scene: String,
+    /// The technique's registry name.
     pub technique: String,
+    /// The parameter set's label (`ParamSet::label`).
     pub label: String,
+    /// Side in pixels of the square output.
     pub side: u32,
+    /// Pixels of the output, side x side: the fit's first regressor.
     pub pixels: u64,
+    /// The world radius R in scene units.
     pub radius: f32,
+    /// R in pixels at the frame's median non-sky depth ([`radius_in_pixels`]): the fit's second
+    /// regressor; NaN when the frame shows no geometry.
     pub radius_px: f64,
+    /// Where the times come from: `gpu-timestamps`, `cpu-wall` or `none`.
     pub timing_source: String,
+    /// The technique's time (its passes, g-buffer excluded) over the measured frames, in ms.
     pub total_ms: Spread,
 }
 
 /// The fitted exponents of one parameter set on one scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ScalingFit {
+    /// The scene's label.
     pub scene: String,
+    /// The technique's registry name.
     pub technique: String,
+    /// The parameter set's label (`ParamSet::label`).
     pub label: String,
+    /// a in time ∝ pixels^a at a fixed radius in pixels (1 = linear); `None` when the pixel
+    /// count did not vary or the fit failed.
     pub pixel_exponent: Option<f64>,
+    /// b in time ∝ (radius in pixels)^b at a fixed pixel count; `None` when the radius in
+    /// pixels did not vary or the fit failed.
     pub radius_exponent: Option<f64>,
+    /// Coefficient of determination of the log-log fit; `None` without a fit.
     pub r2: Option<f64>,
+    /// Points of the group (timed points of this scene, technique and parameter set).
     pub points: usize,
 }
 
 /// Every point and fit of a scaling study (scaling.json).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ScalingResults {
+    /// The sides in pixels of the square outputs timed.
     pub sides: Vec<u32>,
+    /// The world radii timed, in scene units (the first scene's when they are multiples of each
+    /// scene's automatic radius).
     pub radii: Vec<f32>,
+    /// Measured frames per point.
     pub frames: u32,
+    /// Warm-up frames per point, rendered and discarded first.
     pub warmup: u32,
+    /// Every timed point, in the order timed.
     pub points: Vec<ScalingPoint>,
+    /// One fit per (scene, technique, parameter set), redone by [`ScalingResults::refit`].
     pub fits: Vec<ScalingFit>,
 }
 
@@ -179,8 +206,10 @@ impl ScalingResults {
             .collect();
     }
 
+    /// scaling.csv's header: one row per [`ScalingFit`].
     pub const FITS_HEADER: &'static str =
         "scene,technique,params,pixel_exponent,radius_exponent,r2,points";
+    /// scaling_points.csv's header: one row per [`ScalingPoint`], times in ms.
     pub const POINTS_HEADER: &'static str = "scene,technique,params,side,pixels,radius,radius_px,timing_source,total_ms_median,total_ms_min,total_ms_max";
 
     /// scaling.csv: one row per fit.

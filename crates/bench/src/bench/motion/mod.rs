@@ -73,14 +73,21 @@ pub const DEFAULT_MOTION_RAYS: u32 = 64;
 /// How the camera moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionKind {
+    /// Turns the view's camera about its target's vertical axis at
+    /// [`ORBIT_DEGREES_PER_SECOND`].
     Orbit,
+    /// Moves the view's camera forward and to the right without turning it
+    /// ([`PATH_FORWARD_PER_SECOND`], [`PATH_SIDEWAYS_PER_SECOND`]).
     Path,
+    /// Follows the view's own camera path (and the scene's animation).
     Scene,
 }
 
 impl MotionKind {
+    /// The `--motion` names, in variant order ([`MotionKind::name`] indexes it by variant).
     pub const NAMES: [&'static str; 3] = ["orbit", "path", "scene"];
 
+    /// Parses a `--motion` value; an unknown name is an error listing [`MotionKind::NAMES`].
     pub fn parse(s: &str) -> AppResult<Self> {
         match s.trim() {
             "orbit" => Ok(Self::Orbit),
@@ -94,6 +101,7 @@ impl MotionKind {
         }
     }
 
+    /// The kind's `--motion` name.
     pub fn name(self) -> &'static str {
         Self::NAMES[self as usize]
     }
@@ -132,7 +140,9 @@ impl MotionKind {
 /// The motion flags.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MotionSettings {
+    /// How the camera moves.
     pub kind: MotionKind,
+    /// Frames per second of scene time (`--fps`): frame i is at i / fps seconds.
     pub fps: f32,
     /// Reference rays per pixel (one reference per measured frame).
     pub rays: u32,
@@ -147,10 +157,15 @@ impl MotionSettings {
 
 /// One measured frame: where it is seen from and its reference.
 pub struct MotionFrame {
+    /// Scene time of the frame in seconds.
     pub time: f32,
+    /// The camera the frame is seen through.
     pub camera: Camera,
+    /// The frame's reference accessibility per pixel, row-major, 0..1.
     pub accessibility: Vec<f32>,
+    /// Linear view depth per pixel, row-major (0 = sky).
     pub depth: Vec<f32>,
+    /// `depth > 0` per pixel: the non-sky pixels the frame's metrics are taken over.
     pub valid: Vec<bool>,
     /// From the previous frame (the last warm-up frame for the first measured one).
     pub reprojection: Option<Reprojection>,

@@ -42,7 +42,9 @@ use crate::renderer::Renderer;
 /// The run-wide settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchSettings {
+    /// Output width in pixels; the reference is traced at the same size.
     pub width: u32,
+    /// Output height in pixels; the reference is traced at the same size.
     pub height: u32,
     /// Measured frames.
     pub frames: u32,
@@ -58,10 +60,12 @@ pub struct BenchSettings {
     pub normals: ReferenceNormals,
     /// Reference tracer: auto (the GPU on hardware), cpu or gpu.
     pub tracer: aograph_scene::ReferenceTracer,
+    /// Metric knobs (edge band, edge jump, SSIM window and constants).
     pub metrics: MetricOptions,
 }
 
 impl BenchSettings {
+    /// The output size, `width` x `height`.
     pub fn extent(&self) -> Extent {
         Extent::new(self.width, self.height)
     }
@@ -80,8 +84,11 @@ impl BenchSettings {
 
 /// What every run on one device shares.
 pub struct BenchContext {
+    /// The device every renderer, reference tracer and peak measurement of the bench runs on.
     pub gpu: Arc<GpuContext>,
+    /// The shader library every renderer compiles from, shared so it is loaded once.
     pub shaders: Arc<ShaderLibrary>,
+    /// The techniques the bench's parameter sets can name.
     pub registry: TechniqueRegistry,
     /// The device's peaks, measured at the start of the run, when the run reports a roofline.
     pub peaks: Option<DevicePeaks>,
@@ -99,14 +106,19 @@ pub fn timing_source_name(s: Option<TimingSource>) -> &'static str {
 /// A scene seen from one view, with the reference of its still frame and the frame's linear
 /// depth.
 pub struct SceneReference {
+    /// The scene's label as rows report it: the procedural name or the glTF path as given.
     pub label: String,
     /// The view's name ("default": the scene's own camera).
     pub view: String,
     /// The scene with the view's camera, and the radius in use.
     pub prepared: PreparedScene,
+    /// The reference's accessibility per pixel, row-major, 0..1 (1 = unoccluded).
     pub accessibility: Vec<f32>,
+    /// Linear view depth per pixel from the reference's own g-buffer, row-major (0 = sky).
     pub depth: Vec<f32>,
+    /// `depth > 0` per pixel: the non-sky pixels every metric is taken over.
     pub valid: Vec<bool>,
+    /// The size the reference was traced at (the runs' output size).
     pub extent: Extent,
     /// Mean reference accessibility over geometry pixels (1 when nothing is occluded: then R
     /// reaches nothing in this view and the measurement says little).
@@ -172,6 +184,8 @@ pub fn scene_reference(
 /// Times of N frames.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameTimes {
+    /// Where the times come from: `gpu-timestamps`, `cpu-wall` or `none` (see
+    /// [`timing_source_name`]).
     pub timing_source: String,
     /// The technique's passes.
     pub total_ms: Spread,
@@ -248,10 +262,12 @@ pub fn time_frames(
 /// One row of the results.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
+    /// The scene's label: the procedural name or the glTF path as given.
     pub scene: String,
     /// The view (`--views`): "default" is the scene's own camera.
     #[serde(default = "default_view")]
     pub view: String,
+    /// The technique's registry name (e.g. `hbao`, `none`).
     pub technique: String,
     /// The technique is the cost floor the others are compared with (`none`): reports show
     /// the others' MAE against it.
@@ -259,28 +275,43 @@ pub struct RunRecord {
     pub baseline: bool,
     /// `ParamSet::label`: "directions=8 steps=10" or "defaults".
     pub label: String,
+    /// The parameter set's values by name (empty: the technique's defaults).
     pub params: BTreeMap<String, toml::Value>,
+    /// Output width in pixels (the reference's too).
     pub width: u32,
+    /// Output height in pixels (the reference's too).
     pub height: u32,
+    /// The AO radius R in scene units, as resolved for this scene (shared by the technique and
+    /// the reference).
     pub radius: f32,
-    /// R in pixels at the view's nearest geometry, and how far the technique samples (`None`:
-    /// R in view space, uncapped).
+    /// R in pixels that a kernel must reach to sample all of R everywhere in the view: R
+    /// projected at the closest depth the probe rays hit, capped at the image's diagonal
+    /// (`ProjectedRadius::reach_needed_px`); `None` when the view shows no geometry.
     #[serde(default)]
     pub radius_px: Option<f32>,
+    /// How far the technique samples, in pixels (`reach_pixels`); `None` for the baseline or
+    /// a technique that samples R in view space, uncapped.
     #[serde(default)]
     pub reach_px: Option<f32>,
     /// Mean reference accessibility over the view's geometry pixels.
     #[serde(default)]
     pub reference_mean: Option<f32>,
+    /// Reference rays per pixel.
     pub rays: u32,
+    /// Measured frames: the times' median and spread are over these.
     pub frames: u32,
+    /// Warm-up frames rendered and discarded before the measured ones.
     pub warmup: u32,
+    /// Timing over the measured frames: the technique's passes, the whole frame and each pass
+    /// (ms). Its fields sit at the record's top level in results.json.
     #[serde(flatten)]
     pub times: FrameTimes,
     /// Bytes of the technique's plan (g-buffer included) with texture reuse as planned...
     pub texture_bytes: u64,
     /// ...and if every transient texture had its own allocation.
     pub texture_bytes_unshared: u64,
+    /// The last frame's errors against the reference over the non-sky pixels (MAE, RMSE, PSNR,
+    /// SSIM, signed and edge-band errors), with the flicker over every measured frame.
     pub metrics: Metrics,
     /// The side-by-side image, relative to the output directory.
     pub image: Option<String>,
@@ -319,7 +350,9 @@ impl RunRecord {
 
 /// A finished run: its record and its last frame's accessibility.
 pub struct RunOutput {
+    /// The run's row of the results.
     pub record: RunRecord,
+    /// The last measured frame's accessibility, row-major, 0..1 (for the side-by-side image).
     pub ao: Vec<f32>,
 }
 

@@ -19,8 +19,11 @@ pub const SHRINK: f64 = 0.6;
 /// One searched parameter and its bounds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axis {
+    /// The parameter's name, as the technique's parameter table takes it.
     pub name: String,
+    /// Lower bound, included in the search.
     pub lo: f64,
+    /// Upper bound (greater than `lo`), included in the search.
     pub hi: f64,
 }
 
@@ -28,6 +31,7 @@ pub struct Axis {
 /// `[technique] parameter = [lo, hi]`.
 #[derive(Clone, Debug, Default)]
 pub struct SearchSpaces {
+    /// Technique name to its searched parameters (at least one each).
     pub techniques: BTreeMap<String, Vec<Axis>>,
 }
 
@@ -80,6 +84,7 @@ impl SearchSpaces {
 pub struct SearchResult {
     /// The best point, one value per axis.
     pub best: Vec<f64>,
+    /// The objective's score at `best` (lower is better; +inf when every point scored NaN).
     pub score: f64,
     /// Points evaluated over all passes.
     pub evaluations: usize,

@@ -36,6 +36,7 @@ pub struct MetricOptions {
     pub edge_band: u32,
     /// Relative depth jump between 4-neighbours that counts as an edge (0.1 = 10%).
     pub edge_jump: f32,
+    /// The SSIM window and constants (default: the Pyramid HBAO paper's, [`SsimParams::PAPER`]).
     pub ssim: SsimParams,
 }
 
@@ -54,13 +55,18 @@ impl Default for MetricOptions {
 pub struct Metrics {
     /// Non-sky pixels measured.
     pub pixels: usize,
+    /// Mean absolute error |technique - reference| over the non-sky pixels, in accessibility
+    /// units (0..1); NaN with no non-sky pixel.
     #[serde(with = "nonfinite")]
     pub mae: f64,
+    /// Root mean square error over the non-sky pixels, 0..1; weighs large errors more than MAE.
     #[serde(with = "nonfinite")]
     pub rmse: f64,
     /// dB with peak 1.0; `inf` for identical images.
     #[serde(with = "nonfinite")]
     pub psnr: f64,
+    /// Mean SSIM over windows centred on the non-sky pixels (1 = identical; see
+    /// [`ssim`](mod@ssim) for the window and constants); NaN with no non-sky pixel.
     #[serde(with = "nonfinite")]
     pub ssim: f64,
     /// Mean of technique - reference: negative = over-darkening.
@@ -71,6 +77,7 @@ pub struct Metrics {
     /// left/right bias of the technique (README, "At every output size").
     #[serde(default)]
     pub signed_error_left: Option<f64>,
+    /// The signed error over the image's right fifth; see `signed_error_left`.
     #[serde(default)]
     pub signed_error_right: Option<f64>,
     /// MAE over the non-sky pixels of the depth-edge band; `None` when the frame has no edge.

@@ -6,6 +6,8 @@
 use serde::Serializer;
 use serde::de::{self, Deserializer, Visitor};
 
+/// Writes `v` as a number when it is finite, else as the string `"inf"`, `"-inf"` or
+/// `"nan"` (use with `#[serde(with = "nonfinite")]`).
 pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
     if v.is_finite() {
         s.serialize_f64(*v)
@@ -14,6 +16,7 @@ pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
     }
 }
 
+/// Reads a number, or one of the strings `"inf"`, `"-inf"` and `"nan"`, as an f64.
 pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     struct V;
     impl Visitor<'_> for V {
