@@ -1111,3 +1111,51 @@ fn mae_lost_with_normals_rebuilt_from_depth() {
         }
     }
 }
+
+#[test]
+fn a_resize_builds_a_plan_for_the_new_size_and_going_back_builds_nothing() {
+    let Some(gpu) = test_gpu() else { return };
+    let (depth, proj, view, config) = plane_frame(&gpu);
+    let scene = aograph_scene::procedural_scene("plane").unwrap();
+    let camera = scene.camera_at(0.0);
+    // The same view at 64x48 (another aspect: its own projection).
+    let small_proj =
+        Mat4::perspective_infinite_reverse_rh(camera.fov_y().unwrap(), 64.0 / 48.0, camera.near());
+    let small = depth_buffer(
+        &gpu.device,
+        &gpu.queue,
+        &vec![5.0f32; 64 * 48],
+        (64, 48),
+        small_proj,
+        true,
+        wgpu::TextureFormat::Depth32Float,
+    );
+    let mut ao = embedding(&gpu, &config);
+    let frame = |ao: &mut AmbientOcclusion, depth: &wgpu::Texture, proj: Mat4| {
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let out = ao
+            .encode(
+                &mut enc,
+                &AoInputs::new(DepthInput::Hardware(depth), proj, view),
+            )
+            .unwrap();
+        gpu.queue.submit([enc.finish()]);
+        let ao_values = aograph_graph::read_texture(&gpu.device, &gpu.queue, &out.texture, 0)
+            .unwrap()
+            .bytes;
+        (out.texture.width(), out.texture.height(), ao_values)
+    };
+    let (w, h, full) = frame(&mut ao, &depth, proj);
+    assert_eq!((w, h), (SIZE.width, SIZE.height));
+    let (w, h, resized) = frame(&mut ao, &small, small_proj);
+    assert_eq!((w, h, resized.len()), (64, 48, 64 * 48));
+    let (_, _, again) = frame(&mut ao, &depth, proj);
+    // A plane facing the camera at one depth is unoccluded at any size.
+    assert!(full.iter().chain(&resized).chain(&again).all(|&a| a == 255));
+    assert_eq!(ao.plan_count(), 2, "one plan per size, kept");
+    let pipelines = ao.pipelines_created();
+    frame(&mut ao, &small, small_proj);
+    frame(&mut ao, &depth, proj);
+    assert_eq!(ao.pipelines_created(), pipelines);
+    assert!(gpu.take_errors().is_empty());
+}
