@@ -333,7 +333,7 @@ fn radii(args: &BenchArgs, base: RadiusSetting) -> AppResult<scaling::ScalingRad
                     .map(|f| f * r.get())
                     .collect(),
             ),
-            RadiusSetting::Auto => {
+            RadiusSetting::Auto | RadiusSetting::AutoView => {
                 scaling::ScalingRadii::Factors(scaling::DEFAULT_RADIUS_FACTORS.to_vec())
             }
         });

@@ -5,6 +5,7 @@
 
 use std::fmt::Write as _;
 
+use aograph_ao::RadiusSetting;
 use aograph_scene::views::scene_views;
 use aograph_scene::{Projection, Scene, import_gltf, procedural_scene, suggested_radius};
 use glam::{Mat3, Vec3};
@@ -175,6 +176,10 @@ pub fn scene_info_text(source: &SceneSource) -> AppResult<String> {
     let _ = writeln!(s, "views (for --camera and bench --views):");
     for v in scene_views(&scene) {
         let _ = writeln!(s, "  {}: {}", v.name, camera_line(&v.camera));
+        // The R `radius = "auto"` gives this view (the view rule where it is an interior).
+        let viewed = crate::camera_spec::apply_view(&scene, &v);
+        let (r, note) = crate::prepared_scene::resolve_radius(&viewed, RadiusSetting::Auto);
+        let _ = writeln!(s, "    R = {} ({note})", short(r.get()));
     }
     match &gltf {
         Some(info) if !info.materials.is_empty() => {
@@ -202,7 +207,12 @@ pub fn scene_info_text(source: &SceneSource) -> AppResult<String> {
         write_extensions(&mut s, &info.extensions);
     }
     let r = suggested_radius(&scene);
-    let _ = writeln!(s, "suggested R: {} ({})", short(r.radius), r.derivation);
+    let _ = writeln!(
+        s,
+        "suggested R: {} ({}; interior views use what they see, as listed above)",
+        short(r.radius),
+        r.derivation
+    );
     Ok(s)
 }
 

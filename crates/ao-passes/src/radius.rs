@@ -8,8 +8,9 @@
 use crate::error::{AoError, AoResult};
 
 /// What R allows, as every message says it.
-pub const RADIUS_ALLOWED: &str =
-    "\"auto\" (a fraction of the scene's size) or a finite number greater than 0 (world units)";
+pub const RADIUS_ALLOWED: &str = "\"auto\" (a fraction of the scene's size; of what the view \
+     sees for an interior view), \"auto-view\" (a fraction of what the view sees) or a finite \
+     number greater than 0 (world units)";
 
 /// A world-space radius: finite and greater than 0.
 #[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
@@ -39,9 +40,13 @@ impl Radius {
 /// How R is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum RadiusSetting {
-    /// A fraction of the scene's size (`aograph_scene::suggested_radius`), the default.
+    /// A fraction of the scene's size (`aograph_scene::suggested_radius`), the default; for an
+    /// interior view (an eye enclosed by geometry) the view rule of [`RadiusSetting::AutoView`].
     #[default]
     Auto,
+    /// A fraction of the median depth the view sees (`aograph_scene::view_radius`), whatever
+    /// the view.
+    AutoView,
     /// A number of world units.
     Units(Radius),
 }
@@ -52,6 +57,9 @@ impl RadiusSetting {
         let text = text.trim();
         if text == "auto" {
             return Ok(RadiusSetting::Auto);
+        }
+        if text == "auto-view" {
+            return Ok(RadiusSetting::AutoView);
         }
         match text.parse::<f32>() {
             Ok(r) => Radius::new(name, r).map(RadiusSetting::Units),
@@ -78,7 +86,7 @@ impl RadiusSetting {
     /// The number of world units, when the setting is one.
     pub fn units(self) -> Option<f32> {
         match self {
-            RadiusSetting::Auto => None,
+            RadiusSetting::Auto | RadiusSetting::AutoView => None,
             RadiusSetting::Units(r) => Some(r.get()),
         }
     }

@@ -1,6 +1,7 @@
 //! A scene made ready for a command: loaded, seen through the chosen camera, with the radius
-//! R resolved. Every command that renders goes through [`AppConfig::prepare_scene`], so the
-//! camera (`[camera]`, `--camera`) and the radius (`auto` or a number) mean the same thing in
+//! R resolved for that view. Every command that renders goes through
+//! [`AppConfig::prepare_scene`], so the camera (`[camera]`, `--camera`) and the radius (`auto`,
+//! `auto-view` or a number) mean the same thing in
 //! `render`, `reference`, `montage`, `graph`, `bench` and `tune`, and every one can print the R
 //! it used and where it came from.
 
@@ -30,9 +31,11 @@ pub struct PreparedScene {
 impl PreparedScene {
     /// `scene` through `view` with R from `setting`.
     pub fn new(scene: &Scene, view: &SceneView, setting: RadiusSetting) -> Self {
-        let (radius, radius_note) = resolve_radius(scene, setting);
+        // R of what this view sees (`auto` is the view rule for an interior view).
+        let viewed = apply_view(scene, view);
+        let (radius, radius_note) = resolve_radius(&viewed, setting);
         PreparedScene {
-            scene: Arc::new(apply_view(scene, view)),
+            scene: Arc::new(viewed),
             view: view.name.clone(),
             radius,
             radius_note,

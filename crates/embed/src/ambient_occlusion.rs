@@ -462,12 +462,17 @@ fn resolve(
     config.validate(registry)?;
     let radius = match config.radius {
         RadiusSetting::Units(r) => r.get(),
-        RadiusSetting::Auto => {
+        setting @ (RadiusSetting::Auto | RadiusSetting::AutoView) => {
             return Err(EmbedError::InvalidSetting {
                 name: "radius".into(),
-                value: "\"auto\"".into(),
-                allowed: "a positive number in the view matrix's units (\"auto\" sizes R from \
-                          aograph's own scene, which an application's frame does not have)"
+                value: if setting == RadiusSetting::Auto {
+                    "\"auto\"".into()
+                } else {
+                    "\"auto-view\"".into()
+                },
+                allowed: "a positive number in the view matrix's units (the automatic radii \
+                          size R from aograph's own scene, which an application's frame does \
+                          not have)"
                     .into(),
             });
         }

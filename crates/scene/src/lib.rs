@@ -67,6 +67,7 @@ pub mod reference;
 pub mod scene_builder;
 pub mod skin;
 pub mod view_block;
+pub mod view_radius;
 pub mod views;
 
 pub use animation::{AnimatedTransform, Animation, Interpolation, Track, TrsKeyframes};
@@ -91,3 +92,4 @@ pub use reference::{
 };
 pub use scene_builder::SceneBuilder;
 pub use skin::{Joint, JointWeights, Skin};
+pub use view_radius::{ViewRadius, is_interior_view, view_radius};

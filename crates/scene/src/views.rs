@@ -337,6 +337,14 @@ pub fn is_enclosed(scene: &Scene) -> bool {
     !interior_eyes(scene, &Tracer::new(scene)).is_empty()
 }
 
+/// Whether an eye at `p` is enclosed (the module docs' rule: geometry in at least 90% of 64
+/// directions over the sphere, at most a quarter of those hits on back faces): an interior
+/// viewpoint, not one in the open or inside a solid.
+pub fn is_enclosed_at(scene: &Scene, p: Vec3) -> bool {
+    let tracer = Tracer::new(scene);
+    tracer.enclosed(&tracer.surroundings(p, &sphere_directions(64)))
+}
+
 /// The interior views of an enclosed scene (none for an open one), see the module docs.
 pub fn interior_views(scene: &Scene) -> Vec<Camera> {
     interior_views_with(scene, &Tracer::new(scene))

@@ -150,7 +150,7 @@ pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
         frames: s.frames,
         warmup: s.warmup,
         radius: match s.radius {
-            RadiusSetting::Auto => None,
+            RadiusSetting::Auto | RadiusSetting::AutoView => None,
             RadiusSetting::Units(r) => Some(r.get()),
         },
         rays: s.rays,

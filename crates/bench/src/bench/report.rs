@@ -280,8 +280,10 @@ fn settings_line(m: &BenchMeta) -> String {
         m.frames,
         m.radius.map_or_else(
             || format!(
-                "auto (each scene's content diagonal / {}; per row below)",
-                aograph_scene::radius::AUTO_RADIUS_DIVISOR
+                "auto (each scene's content diagonal / {}, or for an interior view its median \
+                 depth / {}; per row below)",
+                aograph_scene::radius::AUTO_RADIUS_DIVISOR,
+                aograph_scene::view_radius::VIEW_RADIUS_DIVISOR
             ),
             |r| r.to_string()
         ),

@@ -50,7 +50,8 @@ pub struct BenchSettings {
     pub frames: u32,
     /// Frames rendered and discarded first.
     pub warmup: u32,
-    /// The shared radius: `auto` (per scene: its size / 9) or world units.
+    /// The shared radius: `auto` (per scene: its size / 9; per interior view: what it sees),
+    /// `auto-view` or world units.
     pub radius: RadiusSetting,
     /// Reference rays per pixel.
     pub rays: u32,

@@ -32,7 +32,8 @@ pub const DEFAULT_RADIUS_FACTORS: [f32; 4] = [0.5, 1.0, 2.0, 4.0];
 pub enum ScalingRadii {
     /// World units, the same for every scene.
     Units(Vec<f32>),
-    /// Multiples of each scene's automatic radius.
+    /// Multiples of each scene's automatic radius (`auto`: the scene rule, or the view rule
+    /// for an interior view).
     Factors(Vec<f32>),
 }
 
@@ -42,7 +43,10 @@ impl ScalingRadii {
         match self {
             ScalingRadii::Units(r) => r.clone(),
             ScalingRadii::Factors(f) => {
-                let r = aograph_scene::suggested_radius(scene).radius;
+                let r =
+                    crate::prepared_scene::resolve_radius(scene, aograph_ao::RadiusSetting::Auto)
+                        .0
+                        .get();
                 f.iter().map(|k| k * r).collect()
             }
         }
