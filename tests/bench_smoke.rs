@@ -417,12 +417,22 @@ fn bench_runs_each_view_as_a_row_with_its_radius_and_reach() {
             assert!(rows.contains(&(view.into(), technique.into())), "{rows:?}");
         }
     }
-    let auto = aograph_scene::suggested_radius(&aograph_scene::procedural_scene("room").unwrap());
+    // Both views stand inside the room: `auto` is each view's own R (what it sees), not the
+    // room's diagonal / 9.
+    let room = aograph_scene::procedural_scene("room").unwrap();
+    let scene_rule = aograph_scene::suggested_radius(&room).radius;
     for r in &json.runs {
+        let view = aograph_scene::views::find_view(&room, &r.view).unwrap();
+        let viewed = aograph::camera_spec::apply_view(&room, &view);
+        let (auto, note) =
+            aograph::prepared_scene::resolve_radius(&viewed, aograph_ao::RadiusSetting::Auto);
+        assert!(note.contains("an interior view"), "{}: {note}", r.view);
         assert_eq!(
-            r.radius, auto.radius,
-            "every row uses the scene's automatic R"
+            r.radius,
+            auto.get(),
+            "every row uses its view's automatic R"
         );
+        assert_ne!(r.radius, scene_rule);
         assert!(r.radius_px.is_some_and(|p| p > 0.0) && r.reference_mean.is_some());
         let expect_reach = r.technique == "mssao";
         assert_eq!(r.reach_px.is_some(), expect_reach, "{}", r.technique);

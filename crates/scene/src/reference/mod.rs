@@ -12,6 +12,7 @@
 mod brute_force;
 mod bvh;
 mod cache;
+mod ceilings;
 mod cpu_gbuffer;
 mod output;
 mod progress;
@@ -23,6 +24,10 @@ pub use brute_force::BruteForceTracer;
 pub(crate) use bvh::is_traceable;
 pub use bvh::{RayHitRecord, TriangleBvh};
 pub use cache::{CacheKey, ReferenceCache};
+pub use ceilings::{
+    Ceilings, DEPTH_BREAK_RATIO, SEEN_SUPERSAMPLING, gbuffer_surface_mesh, seen_triangles,
+    trace_ceilings,
+};
 pub use cpu_gbuffer::{CpuGBuffer, primary_hits, surface_normals};
 pub use output::{
     RAW_MAGIC, RawF32Image, ReferenceImage, read_raw_f32, write_png16, write_raw_f32,
