@@ -240,6 +240,58 @@ pub fn radiance_reference(
     )
 }
 
+/// The two ceilings of the reference of `surfaces` (a frame of `scene` at `time` seen by
+/// `camera`; `aograph_scene::reference::trace_ceilings`): the reference re-traced against the
+/// g-buffer's surfaces and against the triangles the frame sees. Always traced on the CPU with
+/// the CPU reference's rays (where the reference itself was traced on the GPU, the two agree
+/// statistically, not ray for ray); cached on disk like the reference, by each ceiling's own
+/// triangles.
+pub fn trace_ceilings(
+    scene: &Scene,
+    camera: &aograph_scene::Camera,
+    time: f32,
+    surfaces: &SurfaceBuffer,
+    s: &ReferenceSettings,
+) -> RenderResult<aograph_scene::reference::Ceilings> {
+    use aograph_scene::reference::{
+        SECOND_LAYER_SEPARATION, gbuffer_surface_mesh, guard_band_mesh, second_layer_mesh,
+        seen_triangles,
+    };
+    let params = ReferenceParams {
+        radius: s.radius,
+        rays_per_pixel: s.rays,
+        mode: s.mode,
+        progress: ProgressMode::Never,
+    };
+    let cache = ReferenceCache::new(cache_dir());
+    let traced = |tris: Vec<[Vec3; 3]>| {
+        cache.get_or_trace(CacheKey::new(&tris, surfaces, &params), || {
+            aograph_scene::trace_reference(&TriangleBvh::new(&tris), surfaces, &params)
+        })
+    };
+    let mesh = gbuffer_surface_mesh(surfaces, camera.position, camera.forward());
+    let mut layered = mesh.clone();
+    layered.extend(second_layer_mesh(
+        scene,
+        camera,
+        surfaces.width,
+        surfaces.height,
+        time,
+        SECOND_LAYER_SEPARATION * s.radius,
+    ));
+    let gbuffer_surfaces = traced(mesh)?;
+    let two_layers = traced(layered)?;
+    let seen = seen_triangles(scene, camera, surfaces.width, surfaces.height, time);
+    let seen_triangles = traced(seen)?;
+    let guard_band = traced(guard_band_mesh(scene, camera, surfaces, time))?;
+    Ok(aograph_scene::reference::Ceilings {
+        gbuffer_surfaces,
+        seen_triangles,
+        guard_band,
+        two_layers,
+    })
+}
+
 /// The reference of the last frame `r` rendered, whatever normals `r`'s technique reads.
 pub fn frame_reference(
     r: &Renderer,

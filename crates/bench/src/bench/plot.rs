@@ -335,6 +335,7 @@ pub(crate) mod tests {
             texture_bytes_unshared: 0,
             roofline: Vec::new(),
             radiance: None,
+            ceilings: None,
             metrics: crate::metrics::Metrics {
                 pixels: 1,
                 mae,

@@ -124,7 +124,7 @@ pub struct ResultsFile {
 /// (`total_ms_*`: the technique's passes; `frame_ms_median`: the whole frame), texture sizes in
 /// bytes, errors in accessibility units (0..1) except PSNR (dB); `passes` holds
 /// `name=median ms` and `roofline` `pass=load fraction/byte fraction`, `;`-separated.
-pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image,radiance_direct_rmse,radiance_direct_psnr,radiance_full_rmse,radiance_full_psnr,signed_error_left,signed_error_right";
+pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image,radiance_direct_rmse,radiance_direct_psnr,radiance_full_rmse,radiance_full_psnr,signed_error_left,signed_error_right,ceiling_gbuffer_mae,ceiling_gbuffer_ssim,ceiling_seen_mae,ceiling_seen_ssim,ceiling_guard_mae,ceiling_guard_ssim,ceiling_two_layer_mae,ceiling_two_layer_ssim";
 
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -208,6 +208,14 @@ pub fn csv_row(r: &RunRecord) -> String {
         opt(r.radiance.map(|x| x.full_psnr), 3),
         opt(m.signed_error_left, 6),
         opt(m.signed_error_right, 6),
+        opt(r.ceilings.map(|c| c.gbuffer_mae), 6),
+        opt(r.ceilings.map(|c| c.gbuffer_ssim), 6),
+        opt(r.ceilings.map(|c| c.seen_mae), 6),
+        opt(r.ceilings.map(|c| c.seen_ssim), 6),
+        opt(r.ceilings.map(|c| c.guard_mae), 6),
+        opt(r.ceilings.map(|c| c.guard_ssim), 6),
+        opt(r.ceilings.map(|c| c.two_layer_mae), 6),
+        opt(r.ceilings.map(|c| c.two_layer_ssim), 6),
     ]
     .join(",")
 }
@@ -418,7 +426,7 @@ fn reached(r: &RunRecord) -> String {
 fn views_section(s: &mut String, runs: &[RunRecord]) {
     let _ = writeln!(
         s,
-        "\n## Scenes and views\n\nR in pixels at the view's nearest geometry (2nd percentile depth); the reference's mean accessibility over geometry pixels (1 means R reaches nothing in this view and the measurement says little). Techniques that cannot reach R are marked in the R reached column above.\n\n| scene | view | R | R px (nearest) | reference mean accessibility |\n|---|---|---:|---:|---:|"
+        "\n## Scenes and views\n\nR in pixels at the view's nearest geometry (2nd percentile depth); the reference's mean accessibility over geometry pixels (1 means R reaches nothing in this view and the measurement says little). Techniques that cannot reach R are marked in the R reached column above.\n\nThe two ceilings re-trace the reference's own rays against less geometry: (a) the surfaces the g-buffer holds (a mesh through neighbouring pixels' points, broken where depth jumps by over 10 %), (b) the scene's triangles some pixel sees (2 x 2 samples a pixel). Reference against (b) is what no screen-space technique can see; (b) against (a) the thickness and connectivity of what it sees; (a) against a technique its estimator (a thickness heuristic can beat (a)).\n\n| scene | view | R | R px (nearest) | reference mean accessibility | ceiling (a) MAE / SSIM | (a) with a guard band | (a) with two layers | ceiling (b) MAE / SSIM |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
     );
     let mut seen: Vec<String> = Vec::new();
     for r in runs {
@@ -428,9 +436,13 @@ fn views_section(s: &mut String, runs: &[RunRecord]) {
         }
         seen.push(key);
         let mean = r.reference_mean.map(f64::from);
+        let ceiling = |mae: Option<f64>, ssim: Option<f64>| match (mae, ssim) {
+            (Some(m), Some(s)) => format!("{} / {}", num(m, 4), num(s, 4)),
+            _ => "-".into(),
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {}{} |",
+            "| {} | {} | {} | {} | {}{} | {} | {} | {} | {} |",
             r.scene,
             r.view,
             crate::prepared_scene::short(r.radius),
@@ -442,7 +454,23 @@ fn views_section(s: &mut String, runs: &[RunRecord]) {
                 " (little occlusion)"
             } else {
                 ""
-            }
+            },
+            ceiling(
+                r.ceilings.map(|c| c.gbuffer_mae),
+                r.ceilings.map(|c| c.gbuffer_ssim)
+            ),
+            ceiling(
+                r.ceilings.map(|c| c.guard_mae),
+                r.ceilings.map(|c| c.guard_ssim)
+            ),
+            ceiling(
+                r.ceilings.map(|c| c.two_layer_mae),
+                r.ceilings.map(|c| c.two_layer_ssim)
+            ),
+            ceiling(
+                r.ceilings.map(|c| c.seen_mae),
+                r.ceilings.map(|c| c.seen_ssim)
+            ),
         );
     }
 }

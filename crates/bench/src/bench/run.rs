@@ -126,6 +126,50 @@ pub struct SceneReference {
     pub mean_accessibility: f32,
     /// R projected to pixels in this view (`None` when it sees no geometry).
     pub projected: Option<ProjectedRadius>,
+    /// The view's two ceilings against the reference (what the g-buffer's surfaces and what the
+    /// seen triangles would give).
+    pub ceilings: CeilingScores,
+}
+
+/// How close a screen-space technique could come at best in one view: the reference re-traced
+/// against less geometry (`aograph_scene::reference::ceilings`), scored against the reference
+/// with the bench's metrics over the same pixels. A technique's error splits into unseen
+/// geometry (1 - the seen ceiling), the thickness and connectivity of what it sees (seen - g-buffer
+/// ceiling) and its estimator (g-buffer ceiling - technique); a thickness heuristic can beat the
+/// g-buffer ceiling.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CeilingScores {
+    /// MAE of ceiling (a), the g-buffer's surfaces (a mesh through neighbouring pixels' points,
+    /// broken at depth jumps over 10 %), against the reference; 0..1.
+    #[serde(with = "crate::metrics::nonfinite")]
+    pub gbuffer_mae: f64,
+    /// SSIM of ceiling (a) against the reference (1 = identical).
+    #[serde(with = "crate::metrics::nonfinite")]
+    pub gbuffer_ssim: f64,
+    /// MAE of ceiling (b), the scene's triangles some pixel sees (2 x 2 samples a pixel).
+    #[serde(with = "crate::metrics::nonfinite")]
+    pub seen_mae: f64,
+    /// SSIM of ceiling (b) against the reference.
+    #[serde(with = "crate::metrics::nonfinite")]
+    pub seen_ssim: f64,
+    /// MAE of ceiling (a) with a guard band (the g-buffer over a field a quarter of the image's
+    /// height wider on every side): what rendering one would gain.
+    #[serde(with = "crate::metrics::nonfinite", default = "f64_nan")]
+    pub guard_mae: f64,
+    /// SSIM of ceiling (a) with a guard band.
+    #[serde(with = "crate::metrics::nonfinite", default = "f64_nan")]
+    pub guard_ssim: f64,
+    /// MAE of ceiling (a) with a second depth layer (the next surface at least 0.05 R behind
+    /// the first): what a two-layer g-buffer could give at best.
+    #[serde(with = "crate::metrics::nonfinite", default = "f64_nan")]
+    pub two_layer_mae: f64,
+    /// SSIM of ceiling (a) with a second depth layer.
+    #[serde(with = "crate::metrics::nonfinite", default = "f64_nan")]
+    pub two_layer_ssim: f64,
+}
+
+fn f64_nan() -> f64 {
+    f64::NAN
 }
 
 /// Traces the reference of `prepared` (a scene through a view; from the disk cache when it is
@@ -169,6 +213,39 @@ pub fn scene_reference(
         s.height,
         prepared.radius.get(),
     );
+    let c = aograph_renderer::frame_reference::trace_ceilings(
+        &scene,
+        &view.camera,
+        0.0,
+        &surfaces,
+        &s.reference(prepared.radius.get()),
+    )?;
+    let score = |ceiling: &[f32]| {
+        compare(
+            ceiling,
+            &image.accessibility,
+            &depth,
+            s.width,
+            s.height,
+            &s.metrics,
+        )
+    };
+    let (a, b, guard) = (
+        score(&c.gbuffer_surfaces.accessibility)?,
+        score(&c.seen_triangles.accessibility)?,
+        score(&c.guard_band.accessibility)?,
+    );
+    let two = score(&c.two_layers.accessibility)?;
+    let ceilings = CeilingScores {
+        gbuffer_mae: a.mae,
+        gbuffer_ssim: a.ssim,
+        seen_mae: b.mae,
+        seen_ssim: b.ssim,
+        guard_mae: guard.mae,
+        guard_ssim: guard.ssim,
+        two_layer_mae: two.mae,
+        two_layer_ssim: two.ssim,
+    };
     Ok(SceneReference {
         label: label.to_string(),
         view: prepared.view.clone(),
@@ -179,6 +256,7 @@ pub fn scene_reference(
         extent: s.extent(),
         mean_accessibility: if n > 0 { (sum / n as f64) as f32 } else { 1.0 },
         projected,
+        ceilings,
     })
 }
 
@@ -323,6 +401,10 @@ pub struct RunRecord {
     /// reference; `None` for every other run.
     #[serde(default)]
     pub radiance: Option<RadianceScores>,
+    /// The view's ceilings (the same for every row of the view); `None` in results written
+    /// before they existed.
+    #[serde(default)]
+    pub ceilings: Option<CeilingScores>,
 }
 
 fn default_view() -> String {
@@ -471,6 +553,7 @@ pub fn run_technique(
         image: None,
         roofline,
         radiance,
+        ceilings: Some(reference.ceilings),
     };
     Ok(RunOutput { record, ao: last })
 }

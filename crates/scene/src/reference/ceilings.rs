@@ -9,6 +9,15 @@
 //!   [`SEEN_SUPERSAMPLING`] x [`SEEN_SUPERSAMPLING`] grid per pixel sees. What any technique
 //!   limited to visible geometry can know at best.
 //!
+//! - (a) with a guard band ([`GUARD_BAND`]): the g-buffer rendered over a wider field (the
+//!   same pixel pitch, [`guard_band_camera`]), so surfaces just outside the frame count; scored
+//!   on the frame's own pixels. What rendering a guard band would gain a technique.
+//!
+//! - (a) with a second depth layer ([`second_layer_mesh`]): the frame's mesh plus one through
+//!   each pixel's next surface at least [`SECOND_LAYER_SEPARATION`] R behind the first (Mara,
+//!   McGuire, Nowrouzezahrai and Luebke, "Deep G-Buffers for Stable Global Illumination
+//!   Approximation", 2016). What a two-layer g-buffer could give at best.
+//!
 //! A technique's error then splits three ways: geometry it never sees (reference vs b), the
 //! thickness and connectivity of what it sees (b vs a), and its estimator (a vs the
 //! technique); a thickness heuristic can beat (a). Invariant: both ceilings trace the very rays
@@ -29,8 +38,17 @@ use crate::reference::{
 /// the next at any resolution aograph measures, and a silhouette by more.
 pub const DEPTH_BREAK_RATIO: f32 = 1.1;
 
-/// Samples per pixel side for finding the triangles a frame sees (2 x 2 per pixel).
-pub const SEEN_SUPERSAMPLING: u32 = 2;
+/// Samples per pixel side for finding the triangles a frame sees (4 x 4 per pixel: dense
+/// meshes put several triangles in a pixel, and 2 x 2 samples left holes in suzanne, 15,744
+/// triangles in about 900 pixels at 128x72, through which rays escaped).
+pub const SEEN_SUPERSAMPLING: u32 = 4;
+
+/// The guard band on every side, as a share of the image's height (a quarter).
+pub const GUARD_BAND: f32 = 0.25;
+
+/// The second layer's minimum separation behind the first, in units of R (the deep g-buffer
+/// paper's Delta, as a share of the AO radius).
+pub const SECOND_LAYER_SEPARATION: f32 = 0.05;
 
 /// The reference re-traced against both ceilings' geometry.
 #[derive(Clone, Debug)]
@@ -39,12 +57,87 @@ pub struct Ceilings {
     pub gbuffer_surfaces: ReferenceImage,
     /// (b): against the triangles some pixel sees.
     pub seen_triangles: ReferenceImage,
+    /// (a) with a guard band: against the g-buffer's surfaces over a wider field.
+    pub guard_band: ReferenceImage,
+    /// (a) with a second depth layer.
+    pub two_layers: ReferenceImage,
+}
+
+/// A mesh through each pixel's second surface: along the pixel's primary ray, the nearest
+/// hit whose depth lies at least `separation` (world units, along the view direction) behind
+/// the first hit's; connected as [`gbuffer_surface_mesh`] connects the first layer.
+pub fn second_layer_mesh(
+    scene: &Scene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    t: f32,
+    separation: f32,
+) -> Vec<[Vec3; 3]> {
+    let triangles = scene.world_triangles(t);
+    let bvh = TriangleBvh::new(&triangles);
+    let aspect = width as f32 / height.max(1) as f32;
+    let forward = camera.forward();
+    let (w, h) = (width as usize, height as usize);
+    let mut points = vec![Vec3::ZERO; w * h];
+    let mut valid = vec![false; w * h];
+    for i in 0..w * h {
+        let ndc = Vec2::new(
+            ((i % w) as f32 + 0.5) / width as f32 * 2.0 - 1.0,
+            1.0 - ((i / w) as f32 + 0.5) / height as f32 * 2.0,
+        );
+        let ray = camera.primary_ray(ndc, aspect);
+        let Some(first) = bvh.closest_hit(ray.origin, ray.direction, ray.t_min, ray.t_max) else {
+            continue;
+        };
+        // Depth along the view direction grows by `cos` per unit of ray length.
+        let cos = ray.direction.dot(forward).max(1e-6);
+        let t_min = first.distance + separation / cos;
+        if let Some(second) = bvh.closest_hit(ray.origin, ray.direction, t_min, ray.t_max) {
+            points[i] = ray.origin + ray.direction * second.distance;
+            valid[i] = true;
+        }
+    }
+    let layer = SurfaceBuffer {
+        width,
+        height,
+        normals: vec![Vec3::ZERO; w * h],
+        points,
+        valid,
+    };
+    gbuffer_surface_mesh(&layer, camera.position, forward)
+}
+
+/// `camera` widened by `pad` pixels on every side of a `width` x `height` image, keeping the
+/// pixel pitch, so pixel (x, y) of the frame is pixel (x + pad, y + pad) of the wider image;
+/// with that image's size.
+pub fn guard_band_camera(camera: &Camera, width: u32, height: u32, pad: u32) -> (Camera, u32, u32) {
+    use crate::camera::Projection;
+    let grow = (height + 2 * pad) as f32 / height.max(1) as f32;
+    let mut wide = *camera;
+    match &mut wide.projection {
+        Projection::Perspective { fov_y, .. } => {
+            *fov_y = 2.0 * ((0.5 * *fov_y).tan() * grow).atan();
+        }
+        Projection::Orthographic { height: h, .. } => *h *= grow,
+    }
+    (wide, width + 2 * pad, height + 2 * pad)
 }
 
 /// Triangles through the points of `surfaces`: each 2 x 2 block of pixels gives two triangles,
 /// each kept when its three pixels are geometry whose linear depths (along `forward` from
 /// `eye`) lie within [`DEPTH_BREAK_RATIO`] of each other.
 pub fn gbuffer_surface_mesh(surfaces: &SurfaceBuffer, eye: Vec3, forward: Vec3) -> Vec<[Vec3; 3]> {
+    surface_mesh_where(surfaces, eye, forward, |_, _| true)
+}
+
+/// [`gbuffer_surface_mesh`] of the 2 x 2 blocks whose top-left pixel passes `keep(x, y)`.
+fn surface_mesh_where(
+    surfaces: &SurfaceBuffer,
+    eye: Vec3,
+    forward: Vec3,
+    keep: impl Fn(usize, usize) -> bool,
+) -> Vec<[Vec3; 3]> {
     let (w, h) = (surfaces.width as usize, surfaces.height as usize);
     let depth = |i: usize| (surfaces.points[i] - eye).dot(forward);
     let connected = |ids: [usize; 3]| {
@@ -58,6 +151,9 @@ pub fn gbuffer_surface_mesh(surfaces: &SurfaceBuffer, eye: Vec3, forward: Vec3) 
     let mut mesh = Vec::new();
     for y in 0..h.saturating_sub(1) {
         for x in 0..w.saturating_sub(1) {
+            if !keep(x, y) {
+                continue;
+            }
             let (p00, p10, p01, p11) = (
                 y * w + x,
                 y * w + x + 1,
@@ -120,8 +216,45 @@ pub fn trace_ceilings(
 ) -> Result<Ceilings, SceneError> {
     let mesh = gbuffer_surface_mesh(surfaces, camera.position, camera.forward());
     let seen = seen_triangles(scene, camera, surfaces.width, surfaces.height, t);
+    let guarded = guard_band_mesh(scene, camera, surfaces, t);
+    let mut layered = mesh.clone();
+    layered.extend(second_layer_mesh(
+        scene,
+        camera,
+        surfaces.width,
+        surfaces.height,
+        t,
+        SECOND_LAYER_SEPARATION * params.radius,
+    ));
     Ok(Ceilings {
         gbuffer_surfaces: trace_reference(&TriangleBvh::new(&mesh), surfaces, params)?,
         seen_triangles: trace_reference(&TriangleBvh::new(&seen), surfaces, params)?,
+        guard_band: trace_reference(&TriangleBvh::new(&guarded), surfaces, params)?,
+        two_layers: trace_reference(&TriangleBvh::new(&layered), surfaces, params)?,
     })
+}
+
+/// Ceiling (a)'s mesh with a guard band: the frame's own mesh from `surfaces`, plus the ring
+/// of a [`GUARD_BAND`]-wide g-buffer (traced on the CPU at the same pixel pitch) outside it.
+pub fn guard_band_mesh(
+    scene: &Scene,
+    camera: &Camera,
+    surfaces: &SurfaceBuffer,
+    t: f32,
+) -> Vec<[Vec3; 3]> {
+    let (w, h) = (surfaces.width as usize, surfaces.height as usize);
+    let pad = (GUARD_BAND * h as f32).ceil() as usize;
+    let (wide, ww, wh) = guard_band_camera(camera, surfaces.width, surfaces.height, pad as u32);
+    let wide_surfaces = CpuGBuffer::trace(scene, &wide, ww, wh, t)
+        .surfaces(crate::reference::ReferenceNormals::Geometric);
+    // Blocks not wholly inside the frame (the frame's own come from `surfaces`).
+    let inside = |x: usize, y: usize| x >= pad && y >= pad && x + 1 < pad + w && y + 1 < pad + h;
+    let mut mesh = gbuffer_surface_mesh(surfaces, camera.position, camera.forward());
+    mesh.extend(surface_mesh_where(
+        &wide_surfaces,
+        camera.position,
+        camera.forward(),
+        |x, y| !inside(x, y),
+    ));
+    mesh
 }

@@ -25,7 +25,8 @@ pub(crate) use bvh::is_traceable;
 pub use bvh::{RayHitRecord, TriangleBvh};
 pub use cache::{CacheKey, ReferenceCache};
 pub use ceilings::{
-    Ceilings, DEPTH_BREAK_RATIO, SEEN_SUPERSAMPLING, gbuffer_surface_mesh, seen_triangles,
+    Ceilings, DEPTH_BREAK_RATIO, GUARD_BAND, SECOND_LAYER_SEPARATION, SEEN_SUPERSAMPLING,
+    gbuffer_surface_mesh, guard_band_camera, guard_band_mesh, second_layer_mesh, seen_triangles,
     trace_ceilings,
 };
 pub use cpu_gbuffer::{CpuGBuffer, primary_hits, surface_normals};
