@@ -961,6 +961,20 @@ fn wrong_inputs_and_settings_are_named_errors() {
         &AoInputs::new(DepthInput::Hardware(&depth), proj, view),
     ));
     assert!(m.contains("multibounce = false"), "{m}");
+    // A second depth layer is aograph's own g-buffer's; an application's depth holds one.
+    for technique in ["gtao", "vbao"] {
+        ao.set_config(&common::ao_config(technique, 0.5, "layers = 2"))
+            .unwrap();
+        let m = err(embed_frame(
+            &gpu,
+            &mut ao,
+            &AoInputs::new(DepthInput::Hardware(&depth), proj, view),
+        ));
+        assert!(
+            m.contains("second_layer_depth") && m.contains("layers = 1"),
+            "{technique}: {m}"
+        );
+    }
     let m = ao
         .set_config_toml("technique = \"gtoa\"\nradius = 0.5")
         .unwrap_err()

@@ -26,6 +26,8 @@ struct Settings {
     mip_offset: f32,
     fudge: f32,
     unoccluded: bool,
+    /// Depth layers (2: each tap's second-layer surface is a horizon candidate too).
+    layers: u32,
 }
 
 const DEFAULTS: Settings = Settings {
@@ -39,6 +41,7 @@ const DEFAULTS: Settings = Settings {
     mip_offset: 3.30,
     fudge: 0.05,
     unoccluded: true,
+    layers: 1,
 };
 
 /// The g-buffer as the shader sees it.
@@ -49,6 +52,8 @@ struct Frame {
     mips: Vec<(Vec<f32>, u32)>,
     /// View-space normals (xyz, w = 1 where valid).
     normals: Vec<[f32; 4]>,
+    /// The second depth layer's linear depth (0: none), when the technique reads it.
+    second: Option<Vec<f32>>,
     proj: Mat4,
 }
 
@@ -172,19 +177,28 @@ fn gtao_cpu(f: &Frame, s: &Settings, radius: f32, px: (i32, i32)) -> f32 {
                 if q.0 < 0 || q.1 < 0 || q.0 >= f.w || q.1 >= f.h {
                     continue;
                 }
-                let (zs, ps) = f.tap(mip, q);
-                if !positive(zs) {
-                    continue;
+                // The first layer's MIP tap, then (two layers) the second layer's surface
+                // at the tap's own pixel centre.
+                let mut taps = vec![f.tap(mip, q)];
+                if let Some(second) = &f.second {
+                    let z2 = second[(q.1 * f.w + q.0) as usize];
+                    let uv = f.uv(Vec2::new(q.0 as f32 + 0.5, q.1 as f32 + 0.5));
+                    taps.push((z2, f.view_position(uv, z2)));
                 }
-                let delta = ps - pos;
-                let dist = delta.length();
-                if !positive(dist) || n.dot(delta) / dist - 1e-3 <= 0.0 {
-                    continue;
+                for (zs, ps) in taps {
+                    if !positive(zs) {
+                        continue;
+                    }
+                    let delta = ps - pos;
+                    let dist = delta.length();
+                    if !positive(dist) || n.dot(delta) / dist - 1e-3 <= 0.0 {
+                        continue;
+                    }
+                    let fd = Vec3::new(delta.x, delta.y, delta.z * (1.0 + s.thin)).length();
+                    let w = (fd * mul + add).clamp(0.0, 1.0);
+                    let cs = (delta / dist).dot(v);
+                    c[side] = c[side].max(low[side] + (cs - low[side]) * w);
                 }
-                let fd = Vec3::new(delta.x, delta.y, delta.z * (1.0 + s.thin)).length();
-                let w = (fd * mul + add).clamp(0.0, 1.0);
-                let cs = (delta / dist).dot(v);
-                c[side] = c[side].max(low[side] + (cs - low[side]) * w);
             }
         }
         let weight = n_len + (1.0 - n_len) * s.fudge;
@@ -217,7 +231,7 @@ fn toml_of(s: &Settings) -> String {
         "slices = {}\nsteps = {}\nradius_multiplier = {}\nfalloff_range = {}\n\
          sample_distribution_power = {}\nthin_occluder_compensation = {}\n\
          final_value_power = {}\ndepth_mip_offset = {}\nnormal_fudge = {}\n\
-         normalization = \"{}\"\ndenoise_passes = 0",
+         normalization = \"{}\"\ndenoise_passes = 0\nlayers = {}",
         s.slices,
         s.steps,
         s.radius_multiplier,
@@ -231,7 +245,8 @@ fn toml_of(s: &Settings) -> String {
             "unoccluded"
         } else {
             "slice-count"
-        }
+        },
+        s.layers
     )
 }
 
@@ -293,6 +308,15 @@ fn compare(scene: &str, s: &Settings, radius: f32, size: Extent) -> Option<(f64,
             .chunks(4)
             .map(|c| [c[0], c[1], c[2], c[3]])
             .collect(),
+        second: (s.layers == 2).then(|| {
+            let h = r.graph.gbuffer.second_layer_depth;
+            let h = h.expect("layers = 2 draws the second layer");
+            let t = r
+                .exec
+                .read_texture(&r.plan, h)
+                .expect("second layer reads back");
+            t.to_f32().expect("R32Float")
+        }),
         proj: camera.projection(w as f32 / h as f32),
     };
     let (mut close, mut worst, mut sum) = (0usize, 0.0f32, 0.0f64);
@@ -382,4 +406,26 @@ fn estimator_matches_its_cpu_recomputation_under_every_option() {
             );
         }
     }
+}
+
+#[test]
+fn estimator_with_two_layers_matches_its_cpu_recomputation_and_darkens_where_a_layer_is_hidden() {
+    // columns: the floor behind each column and the columns' backs are the second layer.
+    let two = Settings {
+        layers: 2,
+        ..DEFAULTS
+    };
+    let size = Extent::new(96, 64);
+    let Some((close, worst, mean)) = compare("columns", &two, 3.0, size) else {
+        return;
+    };
+    assert!(
+        close >= MIN_CLOSE && worst < 0.05,
+        "{close} within {CLOSE}, worst {worst}"
+    );
+    // The second layer only adds horizon candidates, so the frame can only darken; it must
+    // darken here, or the comparison above would not reach the second layer at all
+    // (measured: mean 0.8773 with one layer, 0.8602 with two).
+    let (_, _, one) = compare("columns", &DEFAULTS, 3.0, size).unwrap();
+    assert!(mean < one - 1e-3, "two layers {mean} against one {one}");
 }

@@ -6,7 +6,7 @@
 // What the slice-based techniques (ao/gtao, ao/vbao) share (specs/gtao.md §1.2, §2, §5; vbao.md
 // §2 takes them unchanged): their inputs, the receiver's set-up, XeGTAO's noise and sample
 // placement, depth taps on the prefiltered MIPs (blocks/depth_prefilter.wgsl) and the slice
-// geometry. Bindings 0 and 2-7 are declared here; the including file declares 1 (its
+// geometry. Bindings 0, 2-7 and 11 are declared here; the including file declares 1 (its
 // parameters), 8 (the raw accessibility) and 9 (the denoiser's edges).
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -17,6 +17,11 @@
 @group(0) @binding(5) var depth3: texture_2d<f32>;
 @group(0) @binding(6) var depth4: texture_2d<f32>;
 @group(0) @binding(7) var normals: texture_2d<f32>;
+// The second depth layer (GBufferChannel::SecondLayerDepth: the nearest surface at least Δ
+// behind the first; Mara, McGuire, Nowrouzezahrai, Luebke 2016), read only when SECOND_LAYER
+// is set (`layers = 2`); a one-layer plan binds depth0 here and never reads it.
+@group(0) @binding(11) var second_layer: texture_2d<f32>;
+override SECOND_LAYER: bool = false;
 
 const PI: f32 = 3.14159265;
 const HALF_PI: f32 = 1.57079633;
@@ -184,7 +189,13 @@ fn sample_of(c: Centre, st: Step, side: u32) -> Sample {
     if (any(q < vec2<i32>(0)) || any(q >= size)) {
         return smp;
     }
-    let tap = depth_tap(st.mip, q);
+    return sample_from(c, depth_tap(st.mip, q));
+}
+
+// A tap's point as a sample of receiver c (invalid on sky, or on the tangent plane or below).
+fn sample_from(c: Centre, tap: Tap) -> Sample {
+    var smp: Sample;
+    smp.valid = false;
     if (!(tap.z > 0.0) || !is_finite_f32(tap.z)) {
         return smp;
     }
@@ -192,4 +203,24 @@ fn sample_of(c: Centre, st: Step, side: u32) -> Sample {
     smp.dist = length(smp.delta);
     smp.valid = smp.dist > 0.0 && sin_elevation(c.n, smp.delta, smp.dist) > 0.0;
     return smp;
+}
+
+// The second layer under step `st`'s tap on `side`, at the tap's own full-resolution pixel;
+// z = 0 off screen and where the layer holds no surface.
+fn second_layer_tap(c: Centre, st: Step, side: u32) -> Tap {
+    var t: Tap;
+    t.z = 0.0;
+    t.p = vec3<f32>(0.0);
+    let size = vec2<i32>(textureDimensions(second_layer));
+    let q = c.p + select(-st.offset, st.offset, side == 0u);
+    if (any(q < vec2<i32>(0)) || any(q >= size)) {
+        return t;
+    }
+    let z = textureLoad(second_layer, q, 0).r;
+    if (!(z > 0.0) || !is_finite_f32(z)) {
+        return t;
+    }
+    t.z = z;
+    t.p = view_position(pixel_uv(q, view), z, view);
+    return t;
 }

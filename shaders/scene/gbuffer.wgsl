@@ -177,6 +177,25 @@ fn fs_face(in: VsOut) -> GBuffer {
     return shade(in, geometric_normal(in.view_pos));
 }
 
+// The second depth layer (gbuffer.second_layer; Mara, McGuire, Nowrouzezahrai, Luebke 2016,
+// "Deep G-Buffers", §2): the first layer's linear depth this frame, and the minimum separation
+// Δ (view units) a second-layer surface keeps behind it.
+@group(1) @binding(0) var first_layer: texture_2d<f32>;
+override SECOND_LAYER_SEPARATION: f32 = 0.0;
+
+// Keeps a fragment only at least Δ behind the first layer (more than the first layer itself
+// when Δ = 0); the depth test then leaves the nearest such surface. Its linear depth is
+// computed as `shade` computes the first layer's, so Δ = 0 compares like with like.
+@fragment
+fn fs_second_layer(in: VsOut) -> @location(0) f32 {
+    let first = textureLoad(first_layer, vec2<i32>(in.clip.xy), 0).r;
+    let z = max(-in.view_pos.z, 1e-30);
+    if (!(first > 0.0) || z <= first + SECOND_LAYER_SEPARATION) {
+        discard;
+    }
+    return z;
+}
+
 fn normalize_safe_or_zero(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);
     if (l > 1e-30) {

@@ -439,6 +439,11 @@ fn unsupported_fix(technique: &str, c: GBufferChannel) -> String {
         ("gtao", GBufferChannel::Albedo) => {
             "set multibounce = false (the multi-bounce fit needs the surface colour)".into()
         }
+        (_, GBufferChannel::SecondLayerDepth) => {
+            "set layers = 1 (a second depth layer is drawn by aograph's own g-buffer; a depth \
+             buffer holds one)"
+                .into()
+        }
         _ => "choose a technique that reads depth, normals and motion only (gtao, vbao, mssao, \
               hbao, pyramid-hbao, ssao, tssao)"
             .into(),

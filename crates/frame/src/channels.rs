@@ -30,11 +30,17 @@ pub enum GBufferChannel {
     /// shaders/common/normal_oct.wgsl). 4 bytes against `Normals`' 8 and finer (error below
     /// 1e-4 rad); sky is where linear depth is 0 (a cleared texel decodes to +z).
     NormalsOct,
+    /// The second depth layer (R32Float): the linear depth of the nearest surface at least
+    /// the set's [`GBufferChannels::second_layer_separation`] behind the first layer's
+    /// (Mara, McGuire, Nowrouzezahrai, Luebke 2016, "Deep G-Buffers", §2: the minimum
+    /// separation Δ); 0 where no surface lies that far behind (and on sky). Written by a
+    /// second raster pass only when a technique asks for it.
+    SecondLayerDepth,
 }
 
 impl GBufferChannel {
     /// Every channel, in the order [`GBufferChannels::iter`] yields them.
-    pub const ALL: [GBufferChannel; 8] = [
+    pub const ALL: [GBufferChannel; 9] = [
         Self::Depth,
         Self::LinearDepth,
         Self::Normals,
@@ -43,6 +49,7 @@ impl GBufferChannel {
         Self::DirectLight,
         Self::Motion,
         Self::NormalsOct,
+        Self::SecondLayerDepth,
     ];
     /// The channel's default format (`Depth`: [`DepthFormat::default`]; a set may choose
     /// another depth format, see [`GBufferChannels::depth_format`]).
@@ -57,6 +64,7 @@ impl GBufferChannel {
             Self::DirectLight => F::Rgba16Float,
             Self::Motion => F::Rgba32Float,
             Self::NormalsOct => F::R32Uint,
+            Self::SecondLayerDepth => F::R32Float,
         }
     }
     /// The channel's name (`"linear_depth"`, `"normals_oct"`, ...): the g-buffer names its
@@ -71,9 +79,10 @@ impl GBufferChannel {
             Self::DirectLight => "direct_light",
             Self::Motion => "motion",
             Self::NormalsOct => "normals_oct",
+            Self::SecondLayerDepth => "second_layer_depth",
         }
     }
-    fn bit(self) -> u8 {
+    fn bit(self) -> u16 {
         1 << (self as u8)
     }
 }
@@ -101,11 +110,14 @@ impl DepthFormat {
 /// A set of channels, plus whether normals are flat (face) normals and the depth format.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct GBufferChannels {
-    bits: u8,
+    bits: u16,
     /// Normals are per-face (MSSAO needs them) rather than interpolated.
     pub face_normals: bool,
     /// Format of the hardware depth buffer the g-buffer rasterises into.
     pub depth_format: DepthFormat,
+    /// Δ of [`GBufferChannel::SecondLayerDepth`] as `f32` bits (0: none asked): in units of R
+    /// as a technique states it, in view units after [`Self::with_radius`].
+    second_layer_separation: u32,
 }
 
 impl GBufferChannels {
@@ -147,6 +159,39 @@ impl GBufferChannels {
         self.depth_format = depth_format;
         self
     }
+    /// The same set with [`GBufferChannel::SecondLayerDepth`] (and the first layer's
+    /// [`GBufferChannel::LinearDepth`], which the second pass reads), its surfaces at least
+    /// Δ = `separation` x R behind the first layer's. A technique states Δ in units of the AO
+    /// radius R, as it states every length (a scene in centimetres keeps its Δ); whoever
+    /// declares the g-buffer and knows R turns it into view units with
+    /// [`Self::with_radius`]. A non-finite or negative separation is taken as 0 (the next
+    /// surface strictly behind).
+    pub fn with_second_layer(mut self, separation: f32) -> Self {
+        let separation = if separation.is_finite() {
+            separation.max(0.0)
+        } else {
+            0.0
+        };
+        self.second_layer_separation = separation.to_bits();
+        self.with(GBufferChannel::LinearDepth)
+            .with(GBufferChannel::SecondLayerDepth)
+    }
+    /// The same set with the second layer's Δ, stated in units of R, multiplied by `radius`
+    /// (view units): what the g-buffer's second pass compares against.
+    pub fn with_radius(mut self, radius: f32) -> Self {
+        let separation = self.second_layer_separation() * radius;
+        self.second_layer_separation = if separation.is_finite() {
+            separation.max(0.0).to_bits()
+        } else {
+            0
+        };
+        self
+    }
+    /// Δ of the second layer: in units of R as a technique states it, in view units after
+    /// [`Self::with_radius`] (0 when the set has none).
+    pub fn second_layer_separation(&self) -> f32 {
+        f32::from_bits(self.second_layer_separation)
+    }
     /// Whether `c` is in the set.
     pub fn contains(&self, c: GBufferChannel) -> bool {
         self.bits & c.bit() != 0
@@ -162,6 +207,12 @@ impl GBufferChannels {
             bits: self.bits | o.bits,
             face_normals: self.face_normals || o.face_normals,
             depth_format,
+            // Two techniques asking for different separations get the larger: the nearer
+            // one's surfaces are then found by neither (both read the same channel).
+            second_layer_separation: self
+                .second_layer_separation()
+                .max(o.second_layer_separation())
+                .to_bits(),
         }
     }
     /// The channels in the set, in [`GBufferChannel::ALL`] order.
@@ -192,6 +243,8 @@ pub struct GBufferTextures {
     pub motion: Option<TextureHandle>,
     /// Octahedral view-space normals, R32Uint ([`GBufferChannel::NormalsOct`]).
     pub normals_oct: Option<TextureHandle>,
+    /// The second depth layer's linear depth, R32Float ([`GBufferChannel::SecondLayerDepth`]).
+    pub second_layer_depth: Option<TextureHandle>,
 }
 
 impl GBufferTextures {
@@ -206,6 +259,7 @@ impl GBufferTextures {
             GBufferChannel::DirectLight => self.direct_light,
             GBufferChannel::Motion => self.motion,
             GBufferChannel::NormalsOct => self.normals_oct,
+            GBufferChannel::SecondLayerDepth => self.second_layer_depth,
         }
     }
     /// Records `h` as the handle of channel `c`, replacing any previous one.
@@ -219,6 +273,7 @@ impl GBufferTextures {
             GBufferChannel::DirectLight => &mut self.direct_light,
             GBufferChannel::Motion => &mut self.motion,
             GBufferChannel::NormalsOct => &mut self.normals_oct,
+            GBufferChannel::SecondLayerDepth => &mut self.second_layer_depth,
         };
         *slot = Some(h);
     }

@@ -30,7 +30,8 @@ pub struct FrameOutputs {
     /// technique that reads the other kind cannot share the g-buffer: build the reference's
     /// surfaces with their own renderer (`frame_reference`).
     pub surface_normals: ReferenceNormals,
-    /// Linear depth, read back (depth image, edge bands).
+    /// Linear depth, read back (depth image, edge bands); with it the second depth layer,
+    /// where the technique reads one (`layers = 2`).
     pub linear_depth: bool,
     /// The g-buffer's motion vectors (previous uv - current uv), read back, where the scene
     /// moves (a static scene has none: `read_gbuffer(Motion)` is then an error).
@@ -140,7 +141,10 @@ pub fn build_frame_graph_with(
     if outputs.albedo {
         requested = requested.with(GBufferChannel::Albedo);
     }
-    let channels = required_channels(requested, &scene).with_depth_format(outputs.depth_format);
+    // The second layer's Δ, stated in units of R, in view units for the g-buffer.
+    let channels = required_channels(requested, &scene)
+        .with_depth_format(outputs.depth_format)
+        .with_radius(radius);
     let mut b = GraphBuilder::new();
     let view = b.import_buffer(
         VIEW_BUFFER,
@@ -206,7 +210,9 @@ pub fn build_frame_graph_with(
             .for_each(|h| b.export(h));
     }
     if outputs.linear_depth {
-        gbuffer.linear_depth.into_iter().for_each(|h| b.export(h));
+        (gbuffer.linear_depth.into_iter())
+            .chain(gbuffer.second_layer_depth)
+            .for_each(|h| b.export(h));
     }
     if outputs.motion {
         gbuffer.motion.into_iter().for_each(|h| b.export(h));

@@ -83,19 +83,30 @@ fn estimate(p: vec2<i32>) -> Estimate {
             let st = step_of(
                 c, s, k, j, steps, params.sample_distribution_power, params.depth_mip_offset);
             for (var side = 0u; side < 2u; side = side + 1u) {
-                let smp = sample_of(c, st, side);
-                if (!smp.valid) {
-                    continue;
-                }
-                // Horizon cosine, pulled towards the tangent horizon by the falloff (G3).
-                let delta = smp.delta;
-                let falloff_dist = length(vec3<f32>(delta.xy, delta.z * (1.0 + thin)));
-                let w = saturate(falloff_dist * falloff_mul + falloff_add);
-                let cs = dot(delta / smp.dist, c.v);
-                if (side == 0u) {
-                    c_pos = max(c_pos, mix(s.low_pos, cs, w));
-                } else {
-                    c_neg = max(c_neg, mix(s.low_neg, cs, w));
+                // With two layers (`layers = 2`) the tap's second-layer surface is a horizon
+                // candidate too: where the first layer lies far in front (falloff weight
+                // near 0), the surface it hides may still occlude (Mara et al. 2016's AO takes
+                // each tap's stronger layer).
+                for (var layer = 0u; layer < select(1u, 2u, SECOND_LAYER); layer = layer + 1u) {
+                    var smp: Sample;
+                    if (layer == 0u) {
+                        smp = sample_of(c, st, side);
+                    } else {
+                        smp = sample_from(c, second_layer_tap(c, st, side));
+                    }
+                    if (!smp.valid) {
+                        continue;
+                    }
+                    // Horizon cosine, pulled towards the tangent horizon by the falloff (G3).
+                    let delta = smp.delta;
+                    let falloff_dist = length(vec3<f32>(delta.xy, delta.z * (1.0 + thin)));
+                    let w = saturate(falloff_dist * falloff_mul + falloff_add);
+                    let cs = dot(delta / smp.dist, c.v);
+                    if (side == 0u) {
+                        c_pos = max(c_pos, mix(s.low_pos, cs, w));
+                    } else {
+                        c_neg = max(c_neg, mix(s.low_neg, cs, w));
+                    }
                 }
             }
         }

@@ -85,6 +85,29 @@ fn sector_weight(k: u32, n: u32, s: Slice) -> f32 {
     return max(w, 0.0);
 }
 
+// V2-V3: the sectors the arc between a tap's front and back covers (both as offsets from
+// the receiver; v towards the viewer, sigma the side, gamma the slice's normal angle).
+fn interval_bits(front: vec3<f32>, back: vec3<f32>, v: vec3<f32>, sigma: f32, gamma: f32,
+                 n: u32, centres: bool) -> u32 {
+    let cos_front = dot(front / max(length(front), 1e-30), v);
+    let cos_back = dot(back, v) / max(length(back), 1e-30);
+    let t_front = sector_coordinate(sigma, cos_front, gamma);
+    let t_back = sector_coordinate(sigma, cos_back, gamma);
+    let t_min = min(t_front, t_back);
+    let t_max = max(t_front, t_back);
+    // V3: the sectors the interval covers.
+    var start: u32;
+    var count: u32;
+    if (centres) {
+        start = u32(round(f32(n) * t_min));
+        count = u32(max(round(f32(n) * t_max) - f32(start), 0.0));
+    } else {
+        start = u32(floor(f32(n) * t_min));
+        count = u32(ceil(f32(n) * (t_max - t_min)));
+    }
+    return sector_mask(start, count);
+}
+
 fn accessibility(p: vec2<i32>) -> f32 {
     let effect_radius = params.effect_radius;
     let c = centre_of(p, effect_radius);
@@ -113,26 +136,24 @@ fn accessibility(p: vec2<i32>) -> f32 {
                 if (!smp.valid || (clip && smp.dist > effect_radius)) {
                     continue;
                 }
-                // V1: the tap's front and back (T further from the viewer along V).
-                let back = smp.delta - thickness * c.v;
-                let cos_front = dot(smp.delta / smp.dist, c.v);
-                let cos_back = dot(back, c.v) / max(length(back), 1e-30);
+                // V1: the tap's front and back (T further from the viewer along V). With two
+                // layers (`layers = 2`) the back is the second layer's front under the tap
+                // (the first layer's real thickness), and the second layer's own surface
+                // occludes its arc of thickness T too; without a second layer there, T.
                 let sigma = select(-1.0, 1.0, side == 0u);
-                let t_front = sector_coordinate(sigma, cos_front, s.gamma);
-                let t_back = sector_coordinate(sigma, cos_back, s.gamma);
-                let t_min = min(t_front, t_back);
-                let t_max = max(t_front, t_back);
-                // V3: the sectors the interval covers.
-                var start: u32;
-                var count: u32;
-                if (centres) {
-                    start = u32(round(f32(n) * t_min));
-                    count = u32(max(round(f32(n) * t_max) - f32(start), 0.0));
-                } else {
-                    start = u32(floor(f32(n) * t_min));
-                    count = u32(ceil(f32(n) * (t_max - t_min)));
+                var back = smp.delta - thickness * c.v;
+                if (SECOND_LAYER) {
+                    let t2 = second_layer_tap(c, st, side);
+                    if (t2.z > 0.0) {
+                        back = t2.p - c.pos;
+                        let s2 = sample_from(c, t2);
+                        if (s2.valid && !(clip && s2.dist > effect_radius)) {
+                            bits = bits | interval_bits(s2.delta, s2.delta - thickness * c.v,
+                                c.v, sigma, s.gamma, n, centres);
+                        }
+                    }
                 }
-                bits = bits | sector_mask(start, count);
+                bits = bits | interval_bits(smp.delta, back, c.v, sigma, s.gamma, n, centres);
             }
         }
         set_bits = set_bits + countOneBits(bits);

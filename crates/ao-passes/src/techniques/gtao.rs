@@ -52,6 +52,12 @@
 //!   65², 0.865 at 129², 0.874 at 257² against cos² β = 0.883: the bias shrinks with
 //!   resolution and with fewer steps per side.
 //!
+//! - `layers = 2`: each tap's second-layer surface (the g-buffer's nearest surface 0.05 R
+//!   behind the first, a second raster pass; Mara et al. 2016) is a horizon candidate too,
+//!   under the same falloff: where the first layer lies in front of a gap, beyond R', the
+//!   surface it hides can still raise the horizon (the deep g-buffer paper's AO keeps each
+//!   tap's stronger layer). Only candidates are added, so the frame can only darken.
+//!
 //! Tests: closed forms (plane, pit) in tests/technique_gtao.rs; the estimator against a CPU
 //! recomputation of every pixel in tests/gtao_golden.rs; the blocks in tests/blocks.rs.
 //! Optional outputs: `bent_normals = true` runs ao/gtao/ao_bent.wgsl, the same estimator
@@ -67,7 +73,7 @@ use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
 use super::depth_and_normals;
-use super::slices::{ExtraOutput, SlicePasses, slice_passes};
+use super::slices::{DepthLayers, ExtraOutput, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
@@ -130,6 +136,9 @@ pub struct GtaoParams {
     /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
     #[serde(flatten)]
     pub accumulation: TemporalOption,
+    /// `layers`: 1, or 2 with the g-buffer's second depth layer (crate module docs).
+    #[serde(flatten)]
+    pub depth_layers: DepthLayers,
 }
 
 impl Default for GtaoParams {
@@ -150,6 +159,7 @@ impl Default for GtaoParams {
             multibounce: false,
             resolution: Resolution::Full,
             accumulation: TemporalOption::default(),
+            depth_layers: DepthLayers::default(),
         }
     }
 }
@@ -227,13 +237,19 @@ impl AoTechnique for Gtao {
                 "also output gtao_multibounce: max(A, ((a A + b) A + c) A) per channel from the albedo (GTAO's fit); the reference comparison uses A",
             ),
         ]);
+        d.push(DepthLayers::param());
         d.push(Resolution::param());
         d.extend(TemporalOption::params());
         d
     }
+    fn validate(&self, p: &GtaoParams) -> AoResult<()> {
+        p.depth_layers.validate(Self::NAME, p.resolution)
+    }
     fn channels(&self, p: &GtaoParams) -> GBufferChannels {
         // The multi-bounce fit reads the albedo at the output size, after the slices.
-        let slices = p.resolution.channels(depth_and_normals());
+        let slices = p
+            .depth_layers
+            .channels(p.resolution.channels(depth_and_normals()));
         let c = if p.multibounce {
             slices.with(GBufferChannel::Albedo)
         } else {
@@ -284,6 +300,7 @@ impl AoTechnique for Gtao {
                 format: wgpu::TextureFormat::Rgba16Float,
             }),
             accumulation: p.accumulation,
+            layers: p.depth_layers,
         };
         let out = p
             .resolution

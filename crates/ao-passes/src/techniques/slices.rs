@@ -12,10 +12,12 @@ use aograph_graph::{SizeClass, TextureDesc};
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::{EdgeDenoise, depth_prefilter, edge_denoise};
-use crate::error::AoResult;
+use crate::error::{AoError, AoResult};
 use crate::param::ParamDesc;
+use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput};
 use crate::temporal_option::TemporalOption;
+use aograph_frame::GBufferChannels;
 
 /// Depth MIP levels, level 0 included (XeGTAO: 5).
 pub const DEPTH_MIP_LEVELS: u32 = 5;
@@ -91,6 +93,62 @@ impl SliceCounts {
     }
 }
 
+/// Δ of the second depth layer, in units of R: the nearest surface at least 0.05 R behind the
+/// first (the separation the two-layer ceiling of `aograph_scene::reference::ceilings` uses,
+/// so the techniques read the layer the ceiling measured; Mara et al. 2016 §2 leave Δ to the
+/// scene).
+pub const SECOND_LAYER_SEPARATION: f32 = 0.05;
+
+/// `layers = 1 | 2` of the slice techniques (gtao, vbao): with 2 they also read the g-buffer's
+/// second depth layer (`GBufferChannel::SecondLayerDepth`, Mara, McGuire, Nowrouzezahrai,
+/// Luebke 2016), which the g-buffer then draws in a second raster pass; each technique's docs
+/// say what it does with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct DepthLayers {
+    /// 1 (the depth buffer alone) or 2 (and the second layer).
+    pub layers: u32,
+}
+
+impl Default for DepthLayers {
+    fn default() -> Self {
+        Self { layers: 1 }
+    }
+}
+
+impl DepthLayers {
+    /// Whether the second layer is read.
+    pub fn two(&self) -> bool {
+        self.layers == 2
+    }
+    /// The parameter's description.
+    pub fn param() -> ParamDesc {
+        ParamDesc::int("layers", 1, 2).doc(
+            "depth layers read: 1, or 2 with the second layer (the nearest surface 0.05 R behind the first, drawn in a second g-buffer pass)",
+        )
+    }
+    /// `channels` with the second layer when two are read.
+    pub fn channels(&self, channels: GBufferChannels) -> GBufferChannels {
+        if self.two() {
+            channels.with_second_layer(SECOND_LAYER_SEPARATION)
+        } else {
+            channels
+        }
+    }
+    /// The rule across parameters: the half-resolution g-buffer has no second layer.
+    pub fn validate(&self, technique: &str, resolution: Resolution) -> AoResult<()> {
+        if self.two() && resolution != Resolution::Full {
+            return Err(AoError::ParameterRule {
+                technique: technique.into(),
+                rule: "layers = 2 needs resolution = \"full\": the half-resolution g-buffer \
+                       has no second layer"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// A further storage output of a slice technique's AO pass.
 pub(crate) struct ExtraOutput {
     /// The shader's binding name.
@@ -120,6 +178,8 @@ pub(crate) struct SlicePasses<'a> {
     pub loads_per_pixel: f32,
     /// The technique's temporal option: its noise follows the frame when it accumulates.
     pub accumulation: TemporalOption,
+    /// Depth layers read (`layers = 2`: the second layer too, binding 11, `SECOND_LAYER`).
+    pub layers: DepthLayers,
 }
 
 /// The passes every slice-based technique runs: `<prefix>.depth_level1..4` (XeGTAO's depth
@@ -131,6 +191,12 @@ pub(crate) fn slice_passes(
 ) -> AoResult<AoOutput> {
     let depth = ctx.channel(GBufferChannel::LinearDepth)?;
     let normals = ctx.channel(GBufferChannel::Normals)?;
+    // One-layer plans bind the first layer in the second's place and never read it.
+    let second_layer = if s.layers.two() {
+        Some(ctx.channel(GBufferChannel::SecondLayerDepth)?)
+    } else {
+        None
+    };
     let mips = depth_prefilter(
         ctx.builder,
         s.prefix,
@@ -175,6 +241,10 @@ pub(crate) fn slice_passes(
     }
     pass.sample("normals", normals)
         .loads_per_invocation(s.loads_per_pixel);
+    pass.sample("second_layer", second_layer.unwrap_or(mips.level(0)));
+    if s.layers.two() {
+        pass.constant("SECOND_LAYER", 1.0);
+    }
     s.accumulation.vary_noise(&mut pass);
     let raw = pass.write_storage("ao", raw);
     let edges = pass.write_storage("edges", edges);

@@ -32,6 +32,12 @@
 //! - Final power 1 (SSRT3's AOIntensity default; bevy applies none), then bevy's 0.03 floor.
 //! - Taps within the g-buffer normals' rounding of the tangent plane set nothing
 //!   (common/horizon.wgsl), as gtao and hbao; precise acos for θ and γ alike (spec §10).
+//! - `layers = 2` reads the g-buffer's second depth layer (the nearest surface 0.05 R behind
+//!   the first; Mara et al. 2016): a tap's back is the second layer's front under it, its real
+//!   thickness where the surface is a closed solid (a plate with the floor far behind it reads
+//!   as solid down to the floor), and the second layer's own surface sets its arc of thickness
+//!   T; where no second layer lies behind a tap, T as before. The g-buffer then draws a second
+//!   raster pass (R32Float + a depth buffer: 8 bytes a pixel). Not at `resolution = "half"`.
 //! - Not yet: indirect light and the ambient fallback (V5), which need radiance inputs.
 
 use aograph_frame::GBufferChannels;
@@ -39,7 +45,7 @@ use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
 use super::depth_and_normals;
-use super::slices::{SliceCounts, SlicePasses, slice_passes};
+use super::slices::{DepthLayers, SliceCounts, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
@@ -114,6 +120,9 @@ pub struct VbaoParams {
     /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
     #[serde(flatten)]
     pub accumulation: TemporalOption,
+    /// `layers`: 1, or 2 with the g-buffer's second depth layer (crate module docs).
+    #[serde(flatten)]
+    pub depth_layers: DepthLayers,
 }
 
 impl Default for VbaoParams {
@@ -133,6 +142,7 @@ impl Default for VbaoParams {
             blur_beta: 1.2,
             resolution: Resolution::Full,
             accumulation: TemporalOption::default(),
+            depth_layers: DepthLayers::default(),
         }
     }
 }
@@ -204,13 +214,19 @@ impl AoTechnique for Vbao {
             ParamDesc::float("blur_beta", 0.01, 1e4)
                 .doc("the denoiser's centre weight on its last pass"),
         ]);
+        d.push(DepthLayers::param());
         d.push(Resolution::param());
         d.extend(TemporalOption::params());
         d
     }
+    fn validate(&self, p: &VbaoParams) -> AoResult<()> {
+        p.depth_layers.validate(Self::NAME, p.resolution)
+    }
     fn channels(&self, p: &VbaoParams) -> GBufferChannels {
-        p.accumulation
-            .channels(p.resolution.channels(depth_and_normals()))
+        p.accumulation.channels(
+            p.depth_layers
+                .channels(p.resolution.channels(depth_and_normals())),
+        )
     }
     fn is_temporal(&self, p: &VbaoParams) -> bool {
         p.accumulation.temporal
@@ -245,6 +261,7 @@ impl AoTechnique for Vbao {
             },
             extra_output: None,
             accumulation: p.accumulation,
+            layers: p.depth_layers,
         };
         let spatial = p
             .resolution

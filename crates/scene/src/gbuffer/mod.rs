@@ -4,6 +4,12 @@
 //! when asked for, so a depth-only technique's plan has no normal, colour or motion attachment.
 //! Motion vectors are requested only for scenes that move. The depth buffer's format is the
 //! channel set's `depth_format` (Depth32Float by default, or Depth24Plus).
+//!
+//! The second depth layer (`GBufferChannel::SecondLayerDepth`, Mara et al. 2016's deep
+//! g-buffer) is a second raster pass, `gbuffer.second_layer`, declared only when asked: it
+//! draws the scene again into its own depth buffer and keeps, per pixel, the nearest fragment
+//! at least Δ behind the first layer's linear depth (their "two-pass" construction, with this
+//! frame's first layer rather than the previous frame's, so it is exact under motion).
 
 mod raster;
 
@@ -14,7 +20,7 @@ use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
 use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc};
 
 use crate::model::Scene;
-pub use raster::{GBufferRaster, GBufferStates, raster_pipelines_created};
+pub use raster::{GBufferRaster, GBufferStates, SecondLayerRaster, raster_pipelines_created};
 
 /// Per-frame inputs of the g-buffer: scene time now and at the previous frame, and whether
 /// this frame's camera uses reversed Z (`None`: as the scene's camera does).
@@ -100,7 +106,17 @@ pub fn add_gbuffer_shared(
         depth_desc,
     );
     let mut targets = Vec::new();
-    for c in channels.iter().filter(|c| *c != GBufferChannel::Depth) {
+    let second_layer = channels.contains(GBufferChannel::SecondLayerDepth);
+    // The second layer reads the first layer's linear depth, so asking for it writes that too.
+    let channels = if second_layer {
+        channels.with(GBufferChannel::LinearDepth)
+    } else {
+        channels
+    };
+    for c in channels
+        .iter()
+        .filter(|c| *c != GBufferChannel::Depth && *c != GBufferChannel::SecondLayerDepth)
+    {
         let h = builder.create_texture(
             &format!("gbuffer.{}", c.name()),
             TextureDesc::new(c.format(), SizeClass::FULL),
@@ -108,7 +124,15 @@ pub fn add_gbuffer_shared(
         targets.push((c, h));
     }
     let state = states.state(&scene, channels);
-    let raster = GBufferRaster::new(scene, channels, targets.clone(), depth, view, clock, state);
+    let raster = GBufferRaster::new(
+        scene.clone(),
+        channels,
+        targets.clone(),
+        depth,
+        view,
+        clock.clone(),
+        state.clone(),
+    );
     let mut pass = builder.custom_pass("gbuffer", raster);
     pass.read_view(view);
     let depth = pass.depth_attachment(depth);
@@ -117,6 +141,28 @@ pub fn add_gbuffer_shared(
     }
     if channels.contains(GBufferChannel::Depth) {
         out.depth = Some(depth);
+    }
+    if let (true, Some(first)) = (second_layer, out.linear_depth) {
+        let layer_depth = builder.create_texture("gbuffer.second_layer_zbuffer", depth_desc);
+        let target = builder.create_texture(
+            "gbuffer.second_layer_depth",
+            TextureDesc::new(GBufferChannel::SecondLayerDepth.format(), SizeClass::FULL),
+        );
+        let raster = SecondLayerRaster::new(
+            scene,
+            channels,
+            first,
+            target,
+            layer_depth,
+            view,
+            clock,
+            state,
+        );
+        let mut pass = builder.custom_pass("gbuffer.second_layer", raster);
+        pass.read_view(view);
+        pass.read_texture(aograph_graph::TextureAccess::Sampled, first);
+        pass.depth_attachment(layer_depth);
+        out.second_layer_depth = Some(pass.color_attachment(target));
     }
     out
 }

@@ -101,6 +101,19 @@ pub(super) struct GpuState {
     layout: wgpu::BindGroupLayout,
     bind_group: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     staging: Vec<InstanceGpu>,
+    /// The second layer's pipelines and bindings, made on its first frame.
+    second_layer: Option<SecondLayerGpu>,
+}
+
+/// What `gbuffer.second_layer` adds to the shared state: the first layer's linear depth as
+/// group 1, and pipelines writing one R32Float target with `fs_second_layer`.
+struct SecondLayerGpu {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    /// [skinned][reversed], as `GpuState::pipelines`.
+    pipelines: [[Option<wgpu::RenderPipeline>; 2]; 2],
+    /// The bind group of the first layer's view it was made for.
+    bind_group: Option<(wgpu::TextureView, wgpu::BindGroup)>,
 }
 
 /// A g-buffer node's GPU state, made on its first frame.
@@ -276,6 +289,7 @@ impl GBufferRaster {
             layout,
             bind_group: None,
             staging: Vec::with_capacity(n),
+            second_layer: None,
         })
     }
 
@@ -286,61 +300,93 @@ impl GBufferRaster {
         skinned: bool,
         reversed: bool,
     ) -> wgpu::RenderPipeline {
-        PIPELINES_CREATED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let (module, pipeline_layout, targets) =
-            (&state.module, &state.pipeline_layout, &state.color_targets);
-        let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: 24,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+        let fragment = if self.channels.face_normals {
+            "fs_face"
+        } else {
+            "fs_smooth"
         };
-        let skin_layout = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<SkinVertexGpu>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![2 => Uint32x4, 3 => Float32x4],
+        let shape = PipelineShape {
+            layout: &state.pipeline_layout,
+            fragment,
+            targets: &state.color_targets,
+            constants: &[],
         };
-        let buffers = [Some(vertex_layout), Some(skin_layout)];
-        let buffers = if skinned { &buffers[..] } else { &buffers[..1] };
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("gbuffer"),
-            layout: Some(pipeline_layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some(if skinned { "vs_skinned" } else { "vs" }),
-                compilation_options: Default::default(),
-                buffers,
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
+        raster_pipeline(device, state, self.channels, &shape, skinned, reversed)
+    }
+}
+
+/// What differs between the first layer's pipelines and the second's.
+struct PipelineShape<'a> {
+    layout: &'a wgpu::PipelineLayout,
+    fragment: &'a str,
+    targets: &'a [Option<wgpu::ColorTargetState>],
+    constants: &'a [(&'a str, f64)],
+}
+
+/// A g-buffer raster pipeline: the scene's vertex layout (rigid or skinned), no culling (two-
+/// sided surfaces), depth test Less or Greater (reversed Z) with writes, `shape`'s fragment.
+fn raster_pipeline(
+    device: &wgpu::Device,
+    state: &GpuState,
+    channels: GBufferChannels,
+    shape: &PipelineShape<'_>,
+    skinned: bool,
+    reversed: bool,
+) -> wgpu::RenderPipeline {
+    PIPELINES_CREATED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let module = &state.module;
+    let vertex_layout = wgpu::VertexBufferLayout {
+        array_stride: 24,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+    };
+    let skin_layout = wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<SkinVertexGpu>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &wgpu::vertex_attr_array![2 => Uint32x4, 3 => Float32x4],
+    };
+    let buffers = [Some(vertex_layout), Some(skin_layout)];
+    let buffers = if skinned { &buffers[..] } else { &buffers[..1] };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("gbuffer"),
+        layout: Some(shape.layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(if skinned { "vs_skinned" } else { "vs" }),
+            compilation_options: Default::default(),
+            buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: channels.depth_format.format(),
+            depth_write_enabled: Some(true),
+            depth_compare: Some(if reversed {
+                wgpu::CompareFunction::Greater
+            } else {
+                wgpu::CompareFunction::Less
+            }),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(shape.fragment),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: shape.constants,
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: self.channels.depth_format.format(),
-                depth_write_enabled: Some(true),
-                depth_compare: Some(if reversed {
-                    wgpu::CompareFunction::Greater
-                } else {
-                    wgpu::CompareFunction::Less
-                }),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(if self.channels.face_normals {
-                    "fs_face"
-                } else {
-                    "fs_smooth"
-                }),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    }
+            targets: shape.targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
 
+impl GBufferRaster {
     fn upload_meshes(&self, device: &wgpu::Device) -> Vec<MeshGpu> {
         self.scene
             .meshes
@@ -555,12 +601,9 @@ impl CustomPass for GBufferRaster {
         let depth_view = ctx.view(self.depth)?.clone();
         let reversed = frame.reversed_z.unwrap_or_else(|| self.reversed_z());
         for skinned in [false, true] {
-            let needed = if skinned {
-                state.palette_offsets.iter().any(Option::is_some)
-            } else {
-                state.palette_offsets.iter().any(Option::is_none)
-            };
-            if needed && state.pipelines[skinned as usize][reversed as usize].is_none() {
+            if draws(state, skinned)
+                && state.pipelines[skinned as usize][reversed as usize].is_none()
+            {
                 let pipeline = self.create_pipeline(ctx.device, state, skinned, reversed);
                 state.pipelines[skinned as usize][reversed as usize] = Some(pipeline);
             }
@@ -584,32 +627,235 @@ impl CustomPass for GBufferRaster {
         if let Some((_, bg)) = &state.bind_group {
             rp.set_bind_group(0, bg, &[]);
         }
-        let mut bound = None;
-        for (i, (inst, offset)) in (self.scene.instances.iter())
-            .zip(&state.palette_offsets)
-            .enumerate()
-        {
-            let Some(mesh) = state.meshes.get(inst.mesh) else {
-                continue;
-            };
-            if mesh.index_count == 0 {
-                continue;
-            }
-            let skin = offset.and(mesh.skin.as_ref());
-            let skinned = skin.is_some();
-            if bound != Some(skinned) {
-                if let Some(pipeline) = &state.pipelines[skinned as usize][reversed as usize] {
-                    rp.set_pipeline(pipeline);
-                }
-                bound = Some(skinned);
-            }
-            if let Some(skin) = skin {
-                rp.set_vertex_buffer(1, skin.slice(..));
-            }
-            rp.set_vertex_buffer(0, mesh.vertices.slice(..));
-            rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            rp.draw_indexed(0..mesh.index_count, 0, i as u32..i as u32 + 1);
+        draw_instances(&mut rp, &self.scene, state, &state.pipelines, reversed);
+        Ok(())
+    }
+}
+
+/// Whether some instance is drawn by the skinned (`true`) or the rigid pipeline.
+fn draws(state: &GpuState, skinned: bool) -> bool {
+    if skinned {
+        state.palette_offsets.iter().any(Option::is_some)
+    } else {
+        state.palette_offsets.iter().any(Option::is_none)
+    }
+}
+
+/// Draws every instance of `scene` (uploaded in `state`) with `pipelines[skinned][reversed]`;
+/// instance `i` is drawn as instance index `i`, which selects its row of transforms.
+fn draw_instances(
+    rp: &mut wgpu::RenderPass<'_>,
+    scene: &Scene,
+    state: &GpuState,
+    pipelines: &[[Option<wgpu::RenderPipeline>; 2]; 2],
+    reversed: bool,
+) {
+    let mut bound = None;
+    for (i, (inst, offset)) in (scene.instances.iter())
+        .zip(&state.palette_offsets)
+        .enumerate()
+    {
+        let Some(mesh) = state.meshes.get(inst.mesh) else {
+            continue;
+        };
+        if mesh.index_count == 0 {
+            continue;
         }
+        let skin = offset.and(mesh.skin.as_ref());
+        let skinned = skin.is_some();
+        if bound != Some(skinned) {
+            if let Some(pipeline) = &pipelines[skinned as usize][reversed as usize] {
+                rp.set_pipeline(pipeline);
+            }
+            bound = Some(skinned);
+        }
+        if let Some(skin) = skin {
+            rp.set_vertex_buffer(1, skin.slice(..));
+        }
+        rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+        rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+        rp.draw_indexed(0..mesh.index_count, 0, i as u32..i as u32 + 1);
+    }
+}
+
+/// The custom pass behind the g-buffer's second layer (`gbuffer.second_layer`, declared by
+/// `add_gbuffer_shared` when `GBufferChannel::SecondLayerDepth` is asked for). It runs after
+/// `gbuffer` in the same frame and draws with that pass's uploaded meshes and this frame's
+/// instance rows; `fs_second_layer` discards every fragment less than Δ behind the first
+/// layer's linear depth, so the depth test keeps the nearest surface at least Δ behind.
+pub struct SecondLayerRaster {
+    scene: Arc<Scene>,
+    channels: GBufferChannels,
+    first_layer: TextureHandle,
+    target: TextureHandle,
+    depth: TextureHandle,
+    view: BufferHandle,
+    clock: GBufferClock,
+    state: SharedState,
+}
+
+impl SecondLayerRaster {
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn new(
+        scene: Arc<Scene>,
+        channels: GBufferChannels,
+        first_layer: TextureHandle,
+        target: TextureHandle,
+        depth: TextureHandle,
+        view: BufferHandle,
+        clock: GBufferClock,
+        state: SharedState,
+    ) -> Self {
+        Self {
+            scene,
+            channels,
+            first_layer,
+            target,
+            depth,
+            view,
+            clock,
+            state,
+        }
+    }
+
+    fn reversed_z(&self) -> bool {
+        matches!(
+            self.scene.camera.projection,
+            Projection::Perspective {
+                reversed_z_infinite: true,
+                ..
+            }
+        )
+    }
+
+    fn create(device: &wgpu::Device, state: &GpuState) -> SecondLayerGpu {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gbuffer.second_layer"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gbuffer.second_layer"),
+            bind_group_layouts: &[Some(&state.layout), Some(&layout)],
+            immediate_size: 0,
+        });
+        SecondLayerGpu {
+            layout,
+            pipeline_layout,
+            pipelines: Default::default(),
+            bind_group: None,
+        }
+    }
+}
+
+impl CustomPass for SecondLayerRaster {
+    fn kind_name(&self) -> &str {
+        "gbuffer second layer raster"
+    }
+    fn cache_key(&self) -> u64 {
+        let s = &*self.scene as *const Scene as u64;
+        s ^ ((self.reversed_z() as u64) << 62)
+            ^ ((self.channels.depth_format as u64) << 60)
+            ^ u64::from(self.channels.second_layer_separation().to_bits())
+    }
+    fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
+        let mut guard = self
+            .state
+            .lock()
+            .map_err(|_| GraphError::Gpu("g-buffer state poisoned by an earlier panic".into()))?;
+        let Some(state) = guard.as_mut() else {
+            return Err(GraphError::Gpu(
+                "the g-buffer's second layer ran before its first layer".into(),
+            ));
+        };
+        let frame = self.clock.get();
+        let reversed = frame.reversed_z.unwrap_or_else(|| self.reversed_z());
+        let mut layer = match state.second_layer.take() {
+            Some(layer) => layer,
+            None => Self::create(ctx.device, state),
+        };
+        let separation = f64::from(self.channels.second_layer_separation());
+        let targets = [Some(wgpu::ColorTargetState {
+            format: GBufferChannel::SecondLayerDepth.format(),
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        for skinned in [false, true] {
+            let slot = &mut layer.pipelines[skinned as usize][reversed as usize];
+            if draws(state, skinned) && slot.is_none() {
+                let shape = PipelineShape {
+                    layout: &layer.pipeline_layout,
+                    fragment: "fs_second_layer",
+                    targets: &targets,
+                    constants: &[("SECOND_LAYER_SEPARATION", separation)],
+                };
+                *slot = Some(raster_pipeline(
+                    ctx.device,
+                    state,
+                    self.channels,
+                    &shape,
+                    skinned,
+                    reversed,
+                ));
+            }
+        }
+        let first = ctx.view(self.first_layer)?.clone();
+        if layer.bind_group.as_ref().is_none_or(|(v, _)| *v != first) {
+            let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("gbuffer.second_layer"),
+                layout: &layer.layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&first),
+                }],
+            });
+            layer.bind_group = Some((first, bg));
+        }
+        // The view block is the one the first pass bound (same buffer, same frame).
+        let _ = ctx.buffer(self.view)?;
+        let target = ctx.view(self.target)?.clone();
+        let depth_view = ctx.view(self.depth)?.clone();
+        {
+            let mut rp = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("gbuffer.second_layer"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(if reversed { 0.0 } else { 1.0 }),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            if let Some((_, bg)) = &state.bind_group {
+                rp.set_bind_group(0, bg, &[]);
+            }
+            if let Some((_, bg)) = &layer.bind_group {
+                rp.set_bind_group(1, bg, &[]);
+            }
+            draw_instances(&mut rp, &self.scene, state, &layer.pipelines, reversed);
+        }
+        state.second_layer = Some(layer);
         Ok(())
     }
 }
