@@ -308,6 +308,27 @@ fn display_section(ui: &mut egui::Ui, s: &mut Session) {
                         .text("full colour at |error|"),
                 );
                 ui.small("red: the technique is too bright; blue: too dark");
+                // What no screen-space technique can reach here (README: "two ceilings in
+                // every bench row"): the reference re-traced with its own rays against less.
+                match &s.reference_ceilings {
+                    Some(c) => {
+                        ui.small(format!(
+                            "ceilings at {} rays, MAE / SSIM against the reference:",
+                            c.rays
+                        ));
+                        ui.small(format!(
+                            "(a) the g-buffer's surfaces {:.4} / {:.3}",
+                            c.gbuffer.0, c.gbuffer.1
+                        ));
+                        ui.small(format!(
+                            "(b) the triangles the frame sees {:.4} / {:.3}",
+                            c.seen.0, c.seen.1
+                        ));
+                    }
+                    None => {
+                        ui.small("ceilings: traced after the reference's last pass");
+                    }
+                }
             }
             ui.checkbox(&mut s.settings.animate, "animate the scene");
         });

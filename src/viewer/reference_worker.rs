@@ -9,6 +9,12 @@
 //! are traced by `ray_tracing::GpuReferenceTracer` against the scene's GPU BVH instead, the
 //! same rays.
 //!
+//! After the last pass the worker traces the two ceilings of the bench (`trace_ceilings`:
+//! the reference's own rays against (a) the g-buffer's surfaces and (b) the triangles the
+//! frame sees) at the middle pass's ray count, and publishes their MAE and SSIM against the
+//! middle pass's reference (same rays, so the noise cancels): the error display says how
+//! much of a technique's error any screen-space technique would keep.
+//!
 //! Invariant: the published image belongs to the newest job (`generation`); a band of an
 //! older job is never published. Rays run on a thread pool of their own, one thread fewer than
 //! the machine has (at least one), so the render loop keeps a core.
@@ -73,6 +79,20 @@ pub struct ReferenceState {
     pub dirty: bool,
     /// The last error (a tracing failure), shown in the panel.
     pub error: Option<String>,
+    /// The ceilings of this view, once traced after the last pass.
+    pub ceilings: Option<CeilingSummary>,
+}
+
+/// The bench's ceilings for the viewer's view, scored against the reference traced with the
+/// same rays.
+#[derive(Clone, Copy, Debug)]
+pub struct CeilingSummary {
+    /// Rays per pixel they were traced with.
+    pub rays: u32,
+    /// (a) the g-buffer's surfaces: MAE and SSIM against the reference.
+    pub gbuffer: (f64, f64),
+    /// (b) the triangles the frame sees: MAE and SSIM against the reference.
+    pub seen: (f64, f64),
 }
 
 struct Shared {
@@ -202,6 +222,8 @@ fn trace_job(shared: &Shared, generation: u64, job: &ReferenceJob, current: &dyn
     };
     let total: u64 = PASSES.iter().map(|&r| r as u64).sum::<u64>() * job.height as u64;
     let mut done: u64 = 0;
+    // The middle pass's image, which the ceilings are scored against.
+    let mut middle = Vec::new();
     for &rays in &PASSES {
         let params = ReferenceParams {
             radius: job.radius,
@@ -241,9 +263,65 @@ fn trace_job(shared: &Shared, generation: u64, job: &ReferenceJob, current: &dyn
         if let Ok(mut st) = shared.state.lock() {
             if st.generation == generation {
                 st.rays_complete = rays;
+                if rays == CEILING_RAYS {
+                    middle = st.values.clone();
+                }
             }
         }
     }
+    if !current() || middle.is_empty() {
+        return;
+    }
+    let summary = ceilings(job, &surfaces, &middle);
+    if let Ok(mut st) = shared.state.lock() {
+        if st.generation == generation {
+            match summary {
+                Ok(c) => st.ceilings = Some(c),
+                Err(e) => st.error = Some(e),
+            }
+        }
+    }
+}
+
+/// Rays per pixel of the ceilings: the middle pass's, so the four traces cost about one
+/// last pass.
+const CEILING_RAYS: u32 = PASSES[1];
+
+/// Traces the ceilings of `job` with the reference's rays at [`CEILING_RAYS`] and scores them
+/// against `reference`, that pass's image.
+fn ceilings(
+    job: &ReferenceJob,
+    surfaces: &SurfaceBuffer,
+    reference: &[f32],
+) -> Result<CeilingSummary, String> {
+    let settings = crate::ReferenceSettings::new(job.radius, CEILING_RAYS);
+    let c = crate::frame_reference::trace_ceilings(
+        &job.scene,
+        &job.camera,
+        job.time,
+        surfaces,
+        &settings,
+    )
+    .map_err(|e| e.to_string())?;
+    // Sky pixels (no surface) are left out of the scores, as the bench leaves them out.
+    let depth: Vec<f32> = surfaces.valid.iter().map(|&v| v as u32 as f32).collect();
+    let score = |image: &[f32]| {
+        crate::metrics::compare(
+            image,
+            reference,
+            &depth,
+            job.width,
+            job.height,
+            &crate::metrics::MetricOptions::default(),
+        )
+        .map(|m| (m.mae, m.ssim))
+        .map_err(|e| e.to_string())
+    };
+    Ok(CeilingSummary {
+        rays: CEILING_RAYS,
+        gbuffer: score(&c.gbuffer_surfaces.accessibility)?,
+        seen: score(&c.seen_triangles.accessibility)?,
+    })
 }
 
 /// The CPU BVH or the GPU tracer and its BVH, for one job.
@@ -281,5 +359,46 @@ impl BandTracer {
             }
             BandTracer::Gpu(tracer, bvh) => tracer.trace_rows(bvh, surfaces, params, rows),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_open_corners_seen_triangle_ceiling_is_its_reference_and_a_wrong_size_is_an_error() {
+        // The corner: every occluder is seen, so (b) traces the reference's rays against the
+        // reference's own occluders and scores exactly 0 MAE and SSIM 1 (same rays, so no
+        // noise: tests/ceilings.rs checks the images pixel by pixel).
+        let scene = Arc::new(aograph_scene::procedural_scene("corner").unwrap());
+        let job = ReferenceJob {
+            scene: scene.clone(),
+            camera: scene.camera,
+            time: 0.0,
+            width: 33,
+            height: 21,
+            radius: 1.0,
+        };
+        let surfaces = CpuGBuffer::trace(&scene, &job.camera, job.width, job.height, 0.0)
+            .surfaces(ReferenceNormals::Geometric);
+        let params = ReferenceParams {
+            radius: job.radius,
+            rays_per_pixel: CEILING_RAYS,
+            progress: ProgressMode::Never,
+            ..Default::default()
+        };
+        let reference = aograph_scene::trace_reference(
+            &TriangleBvh::new(&scene.world_triangles(0.0)),
+            &surfaces,
+            &params,
+        )
+        .unwrap();
+        let c = ceilings(&job, &surfaces, &reference.accessibility).unwrap();
+        assert_eq!(c.rays, CEILING_RAYS);
+        assert_eq!(c.seen.0, 0.0, "(b) MAE");
+        assert!((c.seen.1 - 1.0).abs() < 1e-9, "(b) SSIM {}", c.seen.1);
+        // A reference of another view's size is an error the panel shows, not a panic.
+        assert!(ceilings(&job, &surfaces, &reference.accessibility[1..]).is_err());
     }
 }

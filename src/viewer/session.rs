@@ -109,6 +109,8 @@ pub struct Session {
     /// Rays per pixel of the reference now shown (0: none yet).
     pub reference_rays: u32,
     pub reference_progress: f32,
+    /// The bench's two ceilings for this view, once the worker has traced them.
+    pub reference_ceilings: Option<super::reference_worker::CeilingSummary>,
     /// The reference worker's last failure, for the panel.
     pub reference_error: Option<String>,
 }
@@ -191,6 +193,7 @@ impl Session {
             window_shot: None,
             reference_rays: 0,
             reference_progress: 0.0,
+            reference_ceilings: None,
             reference_error: None,
         })
     }
@@ -383,11 +386,12 @@ impl Session {
                 textures.write_reference(gpu, &st.values);
                 st.dirty = false;
             }
-            (st.rays_complete, st.progress, st.error.take())
+            (st.rays_complete, st.progress, st.error.take(), st.ceilings)
         });
-        if let Some((rays, progress, error)) = taken {
+        if let Some((rays, progress, error, ceilings)) = taken {
             self.reference_rays = rays;
             self.reference_progress = progress;
+            self.reference_ceilings = ceilings;
             if error.is_some() {
                 self.reference_error = error;
             }
