@@ -199,6 +199,31 @@ pub fn radiance_reference(
     view: &FrameView,
     s: &ReferenceSettings,
 ) -> RenderResult<aograph_scene::RadianceImage> {
+    radiance_traced(gpu, shaders, view, s, false)
+}
+
+/// The radiance reference's ceiling (b) (`aograph_scene::reference::seen_triangle_mask`):
+/// [`radiance_reference`] re-traced with the same rays against only the triangles some pixel
+/// sees, so that both its occluders and its bounce's senders are what the frame shows. What
+/// it lacks against the reference is what a screen-space bounce (SSDO's) cannot see; what a
+/// technique lacks against it is its estimator's. Cached like the reference.
+pub fn radiance_seen_ceiling(
+    gpu: Arc<GpuContext>,
+    shaders: Arc<ShaderLibrary>,
+    view: &FrameView,
+    s: &ReferenceSettings,
+) -> RenderResult<aograph_scene::RadianceImage> {
+    radiance_traced(gpu, shaders, view, s, true)
+}
+
+/// [`radiance_reference`], against every triangle or (`seen_only`) the seen ones.
+fn radiance_traced(
+    gpu: Arc<GpuContext>,
+    shaders: Arc<ShaderLibrary>,
+    view: &FrameView,
+    s: &ReferenceSettings,
+    seen_only: bool,
+) -> RenderResult<aograph_scene::RadianceImage> {
     let outputs = FrameOutputs {
         surfaces: true,
         surface_normals: s.normals,
@@ -213,8 +238,25 @@ pub fn radiance_reference(
         .chunks_exact(4)
         .map(|c| Vec3::new(c[0], c[1], c[2]))
         .collect();
-    let tris = view.scene.world_triangles(view.time);
-    let tri_albedo = view.scene.world_triangle_albedo(view.time);
+    let mut tris = view.scene.world_triangles(view.time);
+    let mut tri_albedo = view.scene.world_triangle_albedo(view.time);
+    if seen_only {
+        let seen = aograph_scene::reference::seen_triangle_mask(
+            &view.scene,
+            &view.camera,
+            view.extent.width,
+            view.extent.height,
+            view.time,
+        );
+        fn keep<T>(v: Vec<T>, seen: &[bool]) -> Vec<T> {
+            v.into_iter()
+                .zip(seen)
+                .filter_map(|(x, s)| s.then_some(x))
+                .collect()
+        }
+        tris = keep(tris, &seen);
+        tri_albedo = keep(tri_albedo, &seen);
+    }
     let params = ReferenceParams {
         radius: s.radius,
         rays_per_pixel: s.rays,

@@ -179,6 +179,25 @@ pub fn seen_triangles(
     height: u32,
     t: f32,
 ) -> Vec<[Vec3; 3]> {
+    let seen = seen_triangle_mask(scene, camera, width, height, t);
+    scene
+        .world_triangles(t)
+        .into_iter()
+        .zip(seen)
+        .filter_map(|(tri, s)| s.then_some(tri))
+        .collect()
+}
+
+/// Per triangle of `scene.world_triangles(t)`, whether some sample of a
+/// [`SEEN_SUPERSAMPLING`]^2 grid per pixel of the view hits it first ([`seen_triangles`]
+/// keeps those; a caller with per-triangle data, such as albedo, filters it the same way).
+pub fn seen_triangle_mask(
+    scene: &Scene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    t: f32,
+) -> Vec<bool> {
     let triangles = scene.world_triangles(t);
     let normals = scene.world_vertex_normals(t);
     let bvh = TriangleBvh::new(&triangles);
@@ -198,11 +217,7 @@ pub fn seen_triangles(
             }
         }
     }
-    triangles
-        .into_iter()
-        .zip(seen)
-        .filter_map(|(tri, s)| s.then_some(tri))
-        .collect()
+    seen
 }
 
 /// Both ceilings for the reference of `surfaces` (a frame of `scene` at `t` seen by `camera`)

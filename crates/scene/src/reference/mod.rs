@@ -26,8 +26,8 @@ pub use bvh::{RayHitRecord, TriangleBvh};
 pub use cache::{CacheKey, ReferenceCache};
 pub use ceilings::{
     Ceilings, DEPTH_BREAK_RATIO, GUARD_BAND, SECOND_LAYER_SEPARATION, SEEN_SUPERSAMPLING,
-    gbuffer_surface_mesh, guard_band_camera, guard_band_mesh, second_layer_mesh, seen_triangles,
-    trace_ceilings,
+    gbuffer_surface_mesh, guard_band_camera, guard_band_mesh, second_layer_mesh,
+    seen_triangle_mask, seen_triangles, trace_ceilings,
 };
 pub use cpu_gbuffer::{CpuGBuffer, primary_hits, surface_normals};
 pub use output::{
