@@ -417,12 +417,7 @@ fn band(
     ours: impl Fn(usize) -> f32,
     truth: impl Fn(usize) -> f32,
 ) -> (f64, f64, f64) {
-    let picked: Vec<usize> = (0..s.points.len())
-        .filter(|&i| {
-            let (p, n) = (s.points[i], s.normals[i]);
-            s.valid[i] && p.y.abs() < 0.02 && n.y > 0.95 && xs.contains(&p.x) && p.z > -0.6
-        })
-        .collect();
+    let picked = common::cornell_floor_pixels(s, xs.clone());
     assert!(
         picked.len() >= 20,
         "{} floor pixels in {xs:?}",

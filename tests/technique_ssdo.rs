@@ -234,14 +234,10 @@ fn floor_indirect(run: &common::AoRun, xs: std::ops::Range<f32>) -> (f32, f32, u
     let s = common::surfaces(run);
     let rgba = run.renderer.read_extra("ssdo_indirect").unwrap();
     let (mut r, mut g, mut n) = (0.0f64, 0.0f64, 0usize);
-    for i in 0..s.points.len() {
-        let (p, nrm) = (s.points[i], s.normals[i]);
-        // The floor is y = 0, facing +Y; keep away from the back wall's crease.
-        if s.valid[i] && p.y.abs() < 0.02 && nrm.y > 0.95 && xs.contains(&p.x) && p.z > -0.6 {
-            r += rgba[i * 4] as f64;
-            g += rgba[i * 4 + 1] as f64;
-            n += 1;
-        }
+    for i in common::cornell_floor_pixels(&s, xs) {
+        r += rgba[i * 4] as f64;
+        g += rgba[i * 4 + 1] as f64;
+        n += 1;
     }
     (
         (r / n.max(1) as f64) as f32,
@@ -571,12 +567,7 @@ fn floor_mean(
     xs: std::ops::Range<f32>,
     rgb: impl Fn(usize) -> glam::Vec3,
 ) -> glam::Vec3 {
-    let picked: Vec<usize> = (0..s.points.len())
-        .filter(|&i| {
-            let (p, n) = (s.points[i], s.normals[i]);
-            s.valid[i] && p.y.abs() < 0.02 && n.y > 0.95 && xs.contains(&p.x) && p.z > -0.6
-        })
-        .collect();
+    let picked = common::cornell_floor_pixels(s, xs.clone());
     assert!(
         picked.len() >= 20,
         "{} floor pixels in {xs:?}",

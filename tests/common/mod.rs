@@ -241,3 +241,17 @@ pub fn push_triangle(mesh: &mut aograph_scene::Mesh, mut p: [glam::Vec3; 3], nor
 pub fn centre_value(ao: &[f32], size: Extent) -> f32 {
     ao[(size.height / 2 * size.width + size.width / 2) as usize]
 }
+
+/// The Cornell box's floor pixels (y = 0, facing +Y) with x in `xs`, kept away from the back
+/// wall's crease (z > -0.6): the bands SSDO's bounce is measured in.
+pub fn cornell_floor_pixels(
+    s: &aograph_scene::SurfaceBuffer,
+    xs: std::ops::Range<f32>,
+) -> Vec<usize> {
+    (0..s.points.len())
+        .filter(|&i| {
+            let (p, n) = (s.points[i], s.normals[i]);
+            s.valid[i] && p.y.abs() < 0.02 && n.y > 0.95 && xs.contains(&p.x) && p.z > -0.6
+        })
+        .collect()
+}

@@ -20,6 +20,7 @@ use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
 use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc};
 
 use crate::model::Scene;
+use raster::RasterSource;
 pub use raster::{GBufferRaster, GBufferStates, SecondLayerRaster, raster_pipelines_created};
 
 /// Per-frame inputs of the g-buffer: scene time now and at the previous frame, and whether
@@ -124,15 +125,14 @@ pub fn add_gbuffer_shared(
         targets.push((c, h));
     }
     let state = states.state(&scene, channels);
-    let raster = GBufferRaster::new(
-        scene.clone(),
+    let source = RasterSource {
+        scene,
         channels,
-        targets.clone(),
-        depth,
         view,
-        clock.clone(),
-        state.clone(),
-    );
+        clock,
+        state,
+    };
+    let raster = GBufferRaster::new(source.clone(), targets.clone(), depth);
     let mut pass = builder.custom_pass("gbuffer", raster);
     pass.read_view(view);
     let depth = pass.depth_attachment(depth);
@@ -148,16 +148,7 @@ pub fn add_gbuffer_shared(
             "gbuffer.second_layer_depth",
             TextureDesc::new(GBufferChannel::SecondLayerDepth.format(), SizeClass::FULL),
         );
-        let raster = SecondLayerRaster::new(
-            scene,
-            channels,
-            first,
-            target,
-            layer_depth,
-            view,
-            clock,
-            state,
-        );
+        let raster = SecondLayerRaster::new(source, first, target, layer_depth);
         let mut pass = builder.custom_pass("gbuffer.second_layer", raster);
         pass.read_view(view);
         pass.read_texture(aograph_graph::TextureAccess::Sampled, first);

@@ -146,36 +146,25 @@ impl GBufferStates {
 
 /// The custom pass behind `add_gbuffer`.
 pub struct GBufferRaster {
-    scene: Arc<Scene>,
-    channels: GBufferChannels,
+    source: RasterSource,
     targets: Vec<(GBufferChannel, TextureHandle)>,
     depth: TextureHandle,
-    view: BufferHandle,
-    clock: GBufferClock,
-    state: SharedState,
 }
 
-impl GBufferRaster {
-    pub(super) fn new(
-        scene: Arc<Scene>,
-        channels: GBufferChannels,
-        targets: Vec<(GBufferChannel, TextureHandle)>,
-        depth: TextureHandle,
-        view: BufferHandle,
-        clock: GBufferClock,
-        state: SharedState,
-    ) -> Self {
-        Self {
-            scene,
-            channels,
-            targets,
-            depth,
-            view,
-            clock,
-            state,
-        }
-    }
+/// What both raster passes of a g-buffer node draw and share: the scene, the channel set, the
+/// view block, the frame's clock and the GPU state (uploaded meshes, instance rows).
+#[derive(Clone)]
+pub(super) struct RasterSource {
+    pub(super) scene: Arc<Scene>,
+    pub(super) channels: GBufferChannels,
+    pub(super) view: BufferHandle,
+    pub(super) clock: GBufferClock,
+    pub(super) state: SharedState,
+}
 
+impl RasterSource {
+    /// Whether the scene's own camera rasterises with reversed Z (an infinite reversed-Z
+    /// perspective), the depth test both layers use unless the frame says otherwise.
     fn reversed_z(&self) -> bool {
         matches!(
             self.scene.camera.projection,
@@ -184,6 +173,20 @@ impl GBufferRaster {
                 ..
             }
         )
+    }
+}
+
+impl GBufferRaster {
+    pub(super) fn new(
+        source: RasterSource,
+        targets: Vec<(GBufferChannel, TextureHandle)>,
+        depth: TextureHandle,
+    ) -> Self {
+        Self {
+            source,
+            targets,
+            depth,
+        }
     }
 
     fn create_state(&self, ctx: &PassContext<'_>) -> GraphResult<GpuState> {
@@ -235,10 +238,11 @@ impl GBufferRaster {
             })
             .collect();
         let meshes = self.upload_meshes(device);
-        let mut palette_offsets = Vec::with_capacity(self.scene.instances.len());
+        let mut palette_offsets = Vec::with_capacity(self.source.scene.instances.len());
         let mut joints = 0u32;
-        for inst in &self.scene.instances {
-            let skin = (self.scene.meshes.get(inst.mesh)).and_then(|mesh| inst.skin_for(mesh));
+        for inst in &self.source.scene.instances {
+            let skin =
+                (self.source.scene.meshes.get(inst.mesh)).and_then(|mesh| inst.skin_for(mesh));
             palette_offsets.push(skin.map(|skin| {
                 let first = joints;
                 joints += skin.joints.len() as u32;
@@ -251,14 +255,14 @@ impl GBufferRaster {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let n = self.scene.instances.len().max(1);
+        let n = self.source.scene.instances.len().max(1);
         let instances = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("gbuffer instances"),
             size: (n * std::mem::size_of::<InstanceGpu>()) as u64,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let l = &self.scene.light;
+        let l = &self.source.scene.light;
         let dir = l.direction.try_normalize().unwrap_or(glam::Vec3::NEG_Y);
         let light = LightGpu {
             direction: [dir.x, dir.y, dir.z],
@@ -300,7 +304,7 @@ impl GBufferRaster {
         skinned: bool,
         reversed: bool,
     ) -> wgpu::RenderPipeline {
-        let fragment = if self.channels.face_normals {
+        let fragment = if self.source.channels.face_normals {
             "fs_face"
         } else {
             "fs_smooth"
@@ -311,7 +315,14 @@ impl GBufferRaster {
             targets: &state.color_targets,
             constants: &[],
         };
-        raster_pipeline(device, state, self.channels, &shape, skinned, reversed)
+        raster_pipeline(
+            device,
+            state,
+            self.source.channels,
+            &shape,
+            skinned,
+            reversed,
+        )
     }
 }
 
@@ -388,7 +399,8 @@ fn raster_pipeline(
 
 impl GBufferRaster {
     fn upload_meshes(&self, device: &wgpu::Device) -> Vec<MeshGpu> {
-        self.scene
+        self.source
+            .scene
             .meshes
             .iter()
             .map(|m| {
@@ -472,31 +484,39 @@ impl CustomPass for GBufferRaster {
     }
     fn cache_key(&self) -> u64 {
         // The plan depends on which scene is drawn and how.
-        let s = &*self.scene as *const Scene as u64;
-        s ^ ((self.channels.face_normals as u64) << 63)
-            ^ ((self.reversed_z() as u64) << 62)
-            ^ ((self.channels.depth_format as u64) << 60)
+        let s = &*self.source.scene as *const Scene as u64;
+        s ^ ((self.source.channels.face_normals as u64) << 63)
+            ^ ((self.source.reversed_z() as u64) << 62)
+            ^ ((self.source.channels.depth_format as u64) << 60)
     }
     fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        let mut guard = self
-            .state
-            .lock()
-            .map_err(|_| GraphError::Gpu("g-buffer state poisoned by an earlier panic".into()))?;
+        let mut guard =
+            self.source.state.lock().map_err(|_| {
+                GraphError::Gpu("g-buffer state poisoned by an earlier panic".into())
+            })?;
         if guard.is_none() {
             *guard = Some(self.create_state(ctx)?);
         }
         let Some(state) = guard.as_mut() else {
             return Ok(());
         };
-        let frame = self.clock.get();
+        let frame = self.source.clock.get();
         state.staging.clear();
         state.palette_staging.clear();
-        for (inst, offset) in self.scene.instances.iter().zip(&state.palette_offsets) {
+        for (inst, offset) in self
+            .source
+            .scene
+            .instances
+            .iter()
+            .zip(&state.palette_offsets)
+        {
             let color = self
+                .source
                 .scene
                 .materials
                 .get(
-                    self.scene
+                    self.source
+                        .scene
                         .meshes
                         .get(inst.mesh)
                         .map(|m| m.material)
@@ -538,7 +558,7 @@ impl CustomPass for GBufferRaster {
                 bytemuck::cast_slice(&state.palette_staging),
             );
         }
-        let view_buffer = ctx.buffer(self.view)?.clone();
+        let view_buffer = ctx.buffer(self.source.view)?.clone();
         if state
             .bind_group
             .as_ref()
@@ -599,7 +619,7 @@ impl CustomPass for GBufferRaster {
             })
             .collect();
         let depth_view = ctx.view(self.depth)?.clone();
-        let reversed = frame.reversed_z.unwrap_or_else(|| self.reversed_z());
+        let reversed = frame.reversed_z.unwrap_or_else(|| self.source.reversed_z());
         for skinned in [false, true] {
             if draws(state, skinned)
                 && state.pipelines[skinned as usize][reversed as usize].is_none()
@@ -627,7 +647,13 @@ impl CustomPass for GBufferRaster {
         if let Some((_, bg)) = &state.bind_group {
             rp.set_bind_group(0, bg, &[]);
         }
-        draw_instances(&mut rp, &self.scene, state, &state.pipelines, reversed);
+        draw_instances(
+            &mut rp,
+            &self.source.scene,
+            state,
+            &state.pipelines,
+            reversed,
+        );
         Ok(())
     }
 }
@@ -684,48 +710,25 @@ fn draw_instances(
 /// instance rows; `fs_second_layer` discards every fragment less than Δ behind the first
 /// layer's linear depth, so the depth test keeps the nearest surface at least Δ behind.
 pub struct SecondLayerRaster {
-    scene: Arc<Scene>,
-    channels: GBufferChannels,
+    source: RasterSource,
     first_layer: TextureHandle,
     target: TextureHandle,
     depth: TextureHandle,
-    view: BufferHandle,
-    clock: GBufferClock,
-    state: SharedState,
 }
 
 impl SecondLayerRaster {
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
-        scene: Arc<Scene>,
-        channels: GBufferChannels,
+        source: RasterSource,
         first_layer: TextureHandle,
         target: TextureHandle,
         depth: TextureHandle,
-        view: BufferHandle,
-        clock: GBufferClock,
-        state: SharedState,
     ) -> Self {
         Self {
-            scene,
-            channels,
+            source,
             first_layer,
             target,
             depth,
-            view,
-            clock,
-            state,
         }
-    }
-
-    fn reversed_z(&self) -> bool {
-        matches!(
-            self.scene.camera.projection,
-            Projection::Perspective {
-                reversed_z_infinite: true,
-                ..
-            }
-        )
     }
 
     fn create(device: &wgpu::Device, state: &GpuState) -> SecondLayerGpu {
@@ -761,28 +764,28 @@ impl CustomPass for SecondLayerRaster {
         "gbuffer second layer raster"
     }
     fn cache_key(&self) -> u64 {
-        let s = &*self.scene as *const Scene as u64;
-        s ^ ((self.reversed_z() as u64) << 62)
-            ^ ((self.channels.depth_format as u64) << 60)
-            ^ u64::from(self.channels.second_layer_separation().to_bits())
+        let s = &*self.source.scene as *const Scene as u64;
+        s ^ ((self.source.reversed_z() as u64) << 62)
+            ^ ((self.source.channels.depth_format as u64) << 60)
+            ^ u64::from(self.source.channels.second_layer_separation().to_bits())
     }
     fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        let mut guard = self
-            .state
-            .lock()
-            .map_err(|_| GraphError::Gpu("g-buffer state poisoned by an earlier panic".into()))?;
+        let mut guard =
+            self.source.state.lock().map_err(|_| {
+                GraphError::Gpu("g-buffer state poisoned by an earlier panic".into())
+            })?;
         let Some(state) = guard.as_mut() else {
             return Err(GraphError::Gpu(
                 "the g-buffer's second layer ran before its first layer".into(),
             ));
         };
-        let frame = self.clock.get();
-        let reversed = frame.reversed_z.unwrap_or_else(|| self.reversed_z());
+        let frame = self.source.clock.get();
+        let reversed = frame.reversed_z.unwrap_or_else(|| self.source.reversed_z());
         let mut layer = match state.second_layer.take() {
             Some(layer) => layer,
             None => Self::create(ctx.device, state),
         };
-        let separation = f64::from(self.channels.second_layer_separation());
+        let separation = f64::from(self.source.channels.second_layer_separation());
         let targets = [Some(wgpu::ColorTargetState {
             format: GBufferChannel::SecondLayerDepth.format(),
             blend: None,
@@ -800,7 +803,7 @@ impl CustomPass for SecondLayerRaster {
                 *slot = Some(raster_pipeline(
                     ctx.device,
                     state,
-                    self.channels,
+                    self.source.channels,
                     &shape,
                     skinned,
                     reversed,
@@ -820,7 +823,7 @@ impl CustomPass for SecondLayerRaster {
             layer.bind_group = Some((first, bg));
         }
         // The view block is the one the first pass bound (same buffer, same frame).
-        let _ = ctx.buffer(self.view)?;
+        let _ = ctx.buffer(self.source.view)?;
         let target = ctx.view(self.target)?.clone();
         let depth_view = ctx.view(self.depth)?.clone();
         {
@@ -853,7 +856,13 @@ impl CustomPass for SecondLayerRaster {
             if let Some((_, bg)) = &layer.bind_group {
                 rp.set_bind_group(1, bg, &[]);
             }
-            draw_instances(&mut rp, &self.scene, state, &layer.pipelines, reversed);
+            draw_instances(
+                &mut rp,
+                &self.source.scene,
+                state,
+                &layer.pipelines,
+                reversed,
+            );
         }
         state.second_layer = Some(layer);
         Ok(())
