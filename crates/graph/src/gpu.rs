@@ -1,8 +1,11 @@
 //! The wgpu device the graph executes on, and how to get one.
 //!
 //! Only the Vulkan backend is compiled in (a real GPU or Mesa's lavapipe). Optional features
-//! (timestamps, filterable 32-bit floats, adapter-specific storage formats) are requested when
-//! the adapter has them. Validation errors raised outside an error scope are collected, so a
+//! (timestamps, filterable 32-bit floats, adapter-specific storage formats, ray queries) are
+//! requested when the adapter has them. Ray queries (`EXPERIMENTAL_RAY_QUERY`: acceleration
+//! structures and WGSL's `ray_query`) are one of wgpu's experimental features, which a device
+//! must opt into; aograph opts in only when the adapter offers them, and uses them only in the
+//! hardware ray tracer (`aograph_scene::ray_tracing::hardware`). Validation errors raised outside an error scope are collected, so a
 //! test can assert that a whole run produced none.
 
 use std::sync::{Arc, Mutex};
@@ -73,8 +76,18 @@ impl GpuContext {
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
             | wgpu::Features::FLOAT32_FILTERABLE
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
-            | wgpu::Features::CLEAR_TEXTURE;
+            | wgpu::Features::CLEAR_TEXTURE
+            | wgpu::Features::EXPERIMENTAL_RAY_QUERY;
         let features = adapter.features() & wanted;
+        let experimental_features = if features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
+            // SAFETY: wgpu asks a device to opt into features it marks experimental. The only
+            // experimental feature requested is ray queries, which only the hardware tracer
+            // uses (acceleration structures built from validated scene geometry, read by ray
+            // queries in compute shaders); nothing else changes with the opt-in.
+            unsafe { wgpu::ExperimentalFeatures::enabled() }
+        } else {
+            wgpu::ExperimentalFeatures::disabled()
+        };
         let mut limits = wgpu::Limits::default().using_resolution(adapter.limits());
         // A full g-buffer (positions, normals, albedo, direct light, linear depth, motion: 52
         // bytes per sample by WebGPU's cost table) exceeds the default limit of 32; use what
@@ -82,11 +95,16 @@ impl GpuContext {
         limits.max_color_attachment_bytes_per_sample = limits
             .max_color_attachment_bytes_per_sample
             .max(adapter.limits().max_color_attachment_bytes_per_sample);
+        if features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
+            // Acceleration structures' limits are 0 unless asked for: the adapter's own.
+            limits = limits.using_acceleration_structure_values(adapter.limits());
+        }
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("aograph"),
                 required_features: features,
                 required_limits: limits,
+                experimental_features,
                 ..Default::default()
             })
             .await
@@ -130,6 +148,13 @@ impl GpuContext {
             errors: Arc::default(),
             debug_groups,
         }
+    }
+
+    /// True when the device can build acceleration structures and run ray queries (wgpu's
+    /// `EXPERIMENTAL_RAY_QUERY`: hardware ray tracing, or lavapipe from Mesa 24.1).
+    pub fn has_ray_queries(&self) -> bool {
+        self.features
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
     }
 
     /// True when textures of `format` can have `usage` on this device: the adapter's own

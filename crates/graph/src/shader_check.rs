@@ -317,5 +317,9 @@ fn check_binding_supplied(
             ))),
             None => Err(missing()),
         },
+        ShaderBindingKind::AccelerationStructure => Err(invalid(format!(
+            "`{name}` is an acceleration structure, which graph passes cannot bind yet (the \
+             hardware ray tracer binds its own)"
+        ))),
     }
 }

@@ -8,8 +8,14 @@
 //! `_gpu`) when a device exists, so CPU and GPU rays per second come from one run; then the
 //! GPU BVH's build and per-frame update (a static scene: nothing; `dynamic`: the top level;
 //! CesiumMan: the skinned bottom level's refit and the top level).
+//! Then the three tracers on one batch of AO-like rays (`ray_batch`, any-hit, t_max = R: from
+//! the tile's surface points, cosine-distributed): the CPU BVH, the GPU compute BVH and, where
+//! the device has ray queries, the hardware acceleration structures (rays per second each).
 
-use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh, SceneBvh};
+use aograph_scene::ray_tracing::{
+    GpuRayBatch, GpuReferenceTracer, GpuSceneBvh, HardwareRayBatch, HardwareSceneAs, HitQuery,
+    SceneBvh, TraceRay,
+};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     ReferenceMode, ReferenceParams, TriangleBvh, primary_hits, procedural_scene, trace_reference,
@@ -67,6 +73,7 @@ fn reference_throughput(c: &mut Criterion) {
         }
     }
     group.finish();
+    ray_batch(c, &scene, &surfaces);
     c.bench_function("bvh_build_columns", |b| {
         b.iter(|| TriangleBvh::new(black_box(&triangles)))
     });
@@ -92,6 +99,75 @@ fn reference_throughput(c: &mut Criterion) {
             })
         });
     }
+}
+
+/// AO-like rays of R = 1 from every valid surface point of the tile, four per point in fixed
+/// directions around its normal (a deterministic, cosine-leaning set).
+fn ao_rays(surfaces: &aograph_scene::SurfaceBuffer) -> Vec<TraceRay> {
+    let mut rays = Vec::new();
+    for i in 0..surfaces.points.len() {
+        if !surfaces.valid[i] {
+            continue;
+        }
+        let (p, n) = (surfaces.points[i], surfaces.normals[i].normalize_or_zero());
+        let t = n.any_orthonormal_vector();
+        let b = n.cross(t);
+        for k in 0..4 {
+            let phi = std::f32::consts::FRAC_PI_2 * k as f32 + 0.3;
+            let d = (n * 0.8 + (t * phi.cos() + b * phi.sin()) * 0.6).normalize();
+            rays.push(TraceRay {
+                origin: (p + n * 1e-4).to_array(),
+                t_min: 0.0,
+                direction: d.to_array(),
+                t_max: 1.0,
+            });
+        }
+    }
+    rays
+}
+
+/// The three tracers on the same any-hit rays: CPU (obvhs, rayon), GPU compute, hardware.
+fn ray_batch(
+    c: &mut Criterion,
+    scene: &aograph_scene::Scene,
+    surfaces: &aograph_scene::SurfaceBuffer,
+) {
+    use rayon::prelude::*;
+    let rays = ao_rays(surfaces);
+    let triangles = scene.world_triangles(0.0);
+    let cpu = TriangleBvh::new(&triangles);
+    let mut group = c.benchmark_group("ray_batch");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(rays.len() as u64));
+    group.bench_function("columns_any_hit_cpu", |b| {
+        b.iter(|| {
+            rays.par_iter()
+                .filter(|r| cpu.any_hit(r.origin.into(), r.direction.into(), r.t_min, r.t_max))
+                .count()
+        })
+    });
+    if let Some(gpu) = aograph_graph::test_gpu() {
+        let shaders = aograph_graph::ShaderLibrary::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shaders"
+        ));
+        let compute = GpuRayBatch::new(gpu.clone(), &shaders).expect("pipeline");
+        let bvh = GpuSceneBvh::new(gpu.clone(), scene, 0.0).expect("BVH fits");
+        group.bench_function("columns_any_hit_compute", |b| {
+            b.iter(|| compute.trace(&bvh, black_box(&rays), HitQuery::Any, 1))
+        });
+        if gpu.has_ray_queries() {
+            let hardware = HardwareRayBatch::new(gpu.clone(), &shaders).expect("pipeline");
+            let accel = HardwareSceneAs::build(&gpu, scene, 0.0).expect("builds");
+            group.bench_function("columns_any_hit_hardware", |b| {
+                b.iter(|| hardware.trace(&accel, black_box(&rays), HitQuery::Any, 1))
+            });
+            group.bench_function("columns_as_build_hardware", |b| {
+                b.iter(|| HardwareSceneAs::build(&gpu, black_box(scene), 0.0))
+            });
+        }
+    }
+    group.finish();
 }
 
 criterion_group!(benches, reference_throughput);

@@ -141,6 +141,16 @@ pub enum SceneError {
         message: String,
     },
 
+    /// A device feature the request needs is missing (e.g. ray queries for the hardware
+    /// tracer).
+    #[error("{what} cannot run on this device: {detail}")]
+    Unsupported {
+        /// What was asked for, e.g. "the hardware ray tracer".
+        what: String,
+        /// What the device lacks and has, and what to do instead.
+        detail: String,
+    },
+
     /// The scene's BVH does not fit one of the device's storage-buffer limits.
     #[error(
         "the scene's BVH does not fit this device: its {buffer} buffer is {size} bytes (the whole \

@@ -14,7 +14,8 @@ use std::sync::Arc;
 
 use aograph_graph::{GpuContext, ShaderLibrary};
 use aograph_scene::ray_tracing::{
-    GpuRayBatch, GpuReferenceTracer, GpuSceneBvh, HitQuery, TraceRay,
+    GpuRayBatch, GpuRayHit, GpuReferenceTracer, GpuSceneBvh, HardwareRayBatch, HardwareSceneAs,
+    HitQuery, TraceRay,
 };
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
@@ -126,10 +127,22 @@ fn compare(
     rays: &[TraceRay],
     label: &str,
 ) -> Agreement {
-    let cpu = TriangleBvh::new(&scene.world_triangles(t));
     let _ = gpu;
-    let closest = batch.trace(bvh, rays, HitQuery::Closest, 1).unwrap();
-    let any = batch.trace(bvh, rays, HitQuery::Any, 1).unwrap();
+    let trace = |query| batch.trace(bvh, rays, query, 1).unwrap();
+    compare_traced(&trace, scene, t, rays, label)
+}
+
+/// [`compare`] for any GPU tracer: `trace` answers `rays` for a query.
+fn compare_traced(
+    trace: &dyn Fn(HitQuery) -> Vec<Option<GpuRayHit>>,
+    scene: &Scene,
+    t: f32,
+    rays: &[TraceRay],
+    label: &str,
+) -> Agreement {
+    let cpu = TriangleBvh::new(&scene.world_triangles(t));
+    let closest = trace(HitQuery::Closest);
+    let any = trace(HitQuery::Any);
     let mut a = Agreement {
         rays: rays.len() * 2,
         hits: 0,
@@ -199,21 +212,12 @@ fn assert_agrees(a: &Agreement, label: &str) {
     );
 }
 
-fn gpu_and_batch() -> Option<(Arc<GpuContext>, GpuRayBatch)> {
-    let gpu = aograph_graph::test_gpu()?;
-    let batch = GpuRayBatch::new(gpu.clone(), &shaders()).unwrap();
-    Some((gpu, batch))
-}
-
-#[test]
-fn gpu_agrees_with_cpu_on_random_soups_under_instance_transforms() {
-    let Some((gpu, batch)) = gpu_and_batch() else {
-        return;
-    };
-    let mut rng = Rng(7);
+/// Two random triangle soups placed five times: identity, rotation with non-uniform scale, a
+/// mirror, a tiny and a large copy.
+fn instanced_soups(rng: &mut Rng) -> Scene {
     let mut b = SceneBuilder::new();
-    let dense = b.mesh(soup(&mut rng, 3000, 2.0, 0.3));
-    let sparse = b.mesh(soup(&mut rng, 400, 5.0, 1.0));
+    let dense = b.mesh(soup(rng, 3000, 2.0, 0.3));
+    let sparse = b.mesh(soup(rng, 400, 5.0, 1.0));
     // Identity, rotation + non-uniform scale, a mirror, a tiny and a large copy.
     b.place(dense, Mat4::IDENTITY);
     b.place(
@@ -234,13 +238,28 @@ fn gpu_agrees_with_cpu_on_random_soups_under_instance_transforms() {
         sparse,
         Mat4::from_translation(Vec3::new(0.0, 8.0, 0.0)) * Mat4::from_scale(Vec3::splat(3.0)),
     );
-    let scene = b.build(aograph_scene::Camera::perspective(
+    b.build(aograph_scene::Camera::perspective(
         Vec3::new(0.0, 2.0, 12.0),
         Vec3::ZERO,
         0.8,
         0.1,
         100.0,
-    ));
+    ))
+}
+
+fn gpu_and_batch() -> Option<(Arc<GpuContext>, GpuRayBatch)> {
+    let gpu = aograph_graph::test_gpu()?;
+    let batch = GpuRayBatch::new(gpu.clone(), &shaders()).unwrap();
+    Some((gpu, batch))
+}
+
+#[test]
+fn gpu_agrees_with_cpu_on_random_soups_under_instance_transforms() {
+    let Some((gpu, batch)) = gpu_and_batch() else {
+        return;
+    };
+    let mut rng = Rng(7);
+    let scene = instanced_soups(&mut rng);
     let bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).unwrap();
     assert_eq!(
         bvh.work.blas_builds, 2,
@@ -471,4 +490,61 @@ fn the_gpu_reference_refuses_more_rays_than_its_f32_sums_hold_naming_the_limit()
         e.contains("rays_per_pixel = 4097") && e.contains("1 to 4096"),
         "{e}"
     );
+}
+
+/// The device and the hardware ray batch, when the device has ray queries; without them the
+/// hardware tests skip (saying so), unless AOGRAPH_REQUIRE_RAY_QUERY=1 (CI) makes that a failure.
+fn hardware_batch() -> Option<(Arc<GpuContext>, HardwareRayBatch)> {
+    let gpu = aograph_graph::test_gpu()?;
+    if !gpu.has_ray_queries() {
+        let why = format!(
+            "{} ({}) has no ray queries: scripts/ensure-vulkan.sh installs a lavapipe with them",
+            gpu.info.name, gpu.info.driver_info
+        );
+        assert!(
+            std::env::var("AOGRAPH_REQUIRE_RAY_QUERY").as_deref() != Ok("1"),
+            "AOGRAPH_REQUIRE_RAY_QUERY=1 but {why}"
+        );
+        eprintln!("skipping the hardware tracer: {why}");
+        return None;
+    }
+    let batch = HardwareRayBatch::new(gpu.clone(), &shaders()).unwrap();
+    Some((gpu, batch))
+}
+
+#[test]
+fn hardware_agrees_with_cpu_on_random_soups_under_instance_transforms() {
+    let Some((gpu, batch)) = hardware_batch() else {
+        return;
+    };
+    let mut rng = Rng(7);
+    let scene = instanced_soups(&mut rng);
+    let accel = HardwareSceneAs::build(&gpu, &scene, 0.0).unwrap();
+    assert_eq!(
+        accel.blas_builds, 2,
+        "one BLAS per mesh, shared by its instances"
+    );
+    let bounds = scene.bounds();
+    let rays = random_rays(&mut rng, bounds.min, bounds.max, 20_000);
+    let trace = |query| batch.trace(&accel, &rays, query, 1).unwrap();
+    let a = compare_traced(&trace, &scene, 0.0, &rays, "hardware soups");
+    assert_agrees(&a, "hardware soups");
+}
+
+#[test]
+fn hardware_agrees_with_cpu_on_every_procedural_scene() {
+    let Some((gpu, batch)) = hardware_batch() else {
+        return;
+    };
+    let mut rng = Rng(11);
+    for name in PROCEDURAL_SCENE_NAMES {
+        let scene = procedural_scene(name).unwrap();
+        let accel = HardwareSceneAs::build(&gpu, &scene, 0.0).unwrap();
+        let bounds = scene.bounds();
+        let rays = random_rays(&mut rng, bounds.min, bounds.max, 5_000);
+        let label = format!("hardware {name}");
+        let trace = |query| batch.trace(&accel, &rays, query, 1).unwrap();
+        let a = compare_traced(&trace, &scene, 0.0, &rays, &label);
+        assert_agrees(&a, &label);
+    }
 }

@@ -35,6 +35,8 @@ pub enum ShaderBindingKind {
         /// Size of the uniform's type in bytes (the minimum binding size).
         size: u64,
     },
+    /// `acceleration_structure` (WGSL's `enable wgpu_ray_query;`): a TLAS.
+    AccelerationStructure,
     /// `var<storage>`.
     StorageBuffer {
         /// True for `var<storage, read>`.
@@ -206,6 +208,9 @@ pub(crate) fn binding_type(
             has_dynamic_offset: false,
             min_binding_size: None,
         },
+        ShaderBindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure {
+            vertex_return: false,
+        },
     }
 }
 
@@ -330,6 +335,12 @@ fn reflect_bindings(name: &str, module: &naga::Module) -> GraphResult<Vec<Shader
                 return Err(unsupported("a texture other than a plain texture_2d"));
             }
             (naga::TypeInner::Sampler { comparison: false }, _) => ShaderBindingKind::Sampler,
+            (
+                naga::TypeInner::AccelerationStructure {
+                    vertex_return: false,
+                },
+                _,
+            ) => ShaderBindingKind::AccelerationStructure,
             (naga::TypeInner::Sampler { comparison: true }, _) => {
                 return Err(unsupported("a comparison sampler"));
             }

@@ -4,7 +4,8 @@
 //! level per mesh (per skinned instance), one top level over instances ([`scene_bvh`]); only
 //! what moves is refit or rebuilt per frame; a BVH over the device's limits is an error
 //! ([`limits`]) before any buffer is made ([`gpu_bvh`]). [`ray_batch`] traces arbitrary rays;
-//! [`gpu_reference`] traces the reference's rays.
+//! [`gpu_reference`] traces the reference's rays. [`hardware`] is the second backend: the same
+//! rays against Vulkan acceleration structures with ray queries, where the device has them.
 //!
 //! Invariant: the GPU answers the CPU tracer's questions with the CPU tracer's triangle test
 //! (`obvhs::triangle::Triangle::intersect`), so the two agree ray by ray up to float rounding
@@ -14,6 +15,7 @@ pub mod flat_bvh;
 pub mod gpu_bvh;
 mod gpu_io;
 pub mod gpu_reference;
+pub mod hardware;
 pub mod limits;
 pub mod ray_batch;
 pub mod scene_bvh;
@@ -21,6 +23,7 @@ pub mod scene_bvh;
 pub use flat_bvh::{FlatBvh, FlatNode};
 pub use gpu_bvh::GpuSceneBvh;
 pub use gpu_reference::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer};
+pub use hardware::{HardwareRayBatch, HardwareSceneAs};
 pub use limits::{BvhSizes, check_bvh_fits};
 pub use ray_batch::{GpuRayBatch, GpuRayHit, HitQuery, TraceRay};
 pub use scene_bvh::{BvhUpdate, BvhWork, GpuInstance, GpuTriangle, SceneBvh};

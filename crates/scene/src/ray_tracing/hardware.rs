@@ -1,0 +1,341 @@
+//! The hardware backend of the GPU ray tracer: the scene as Vulkan acceleration structures,
+//! traversed by WGSL ray queries (wgpu's `EXPERIMENTAL_RAY_QUERY`: a ray-tracing GPU, or
+//! lavapipe from Mesa 24.1), answering the same questions as the compute BVH of
+//! [`super::GpuSceneBvh`] through the same [`TraceRay`] / [`GpuRayHit`] types.
+//!
+//! Layout, as the compute tracer's: one BLAS per mesh in object space, shared by every rigid
+//! instance of it; one world-space BLAS per skinned instance; one TLAS over the placed instances
+//! with their transforms. Each BLAS holds the mesh's valid, traceable triangles in
+//! `Mesh::valid_triangles` order, and a primitive table maps the BLAS's primitive index back to
+//! that order, so a hit names the same (instance, primitive) as the compute tracer's.
+//!
+//! Invariant: built only on a device with ray queries ([`SceneError::Unsupported`] names what the
+//! adapter has otherwise); every placed instance's TLAS custom index is its row in the
+//! instance table, below 2^24.
+
+use std::sync::Arc;
+
+use aograph_graph::{GpuContext, ShaderLibrary};
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use wgpu::util::DeviceExt;
+
+use super::gpu_io::{
+    buffer_of, check_gpu_errors, check_storage, compute_pipeline, dispatch_grid, read_back,
+};
+use super::ray_batch::{GpuRayHit, HitQuery, TraceRay};
+use crate::error::SceneError;
+use crate::model::Scene;
+use crate::reference::is_traceable;
+
+/// Largest TLAS custom index (24 bits).
+const MAX_CUSTOM_INDEX: usize = 1 << 24;
+
+/// One placed instance's row: its scene instance and where its BLAS's primitive table starts.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct HardwareInstance {
+    instance: u32,
+    primitive_offset: u32,
+}
+
+/// A BLAS and what it was built from.
+struct BottomLevel {
+    blas: wgpu::Blas,
+    vertices: wgpu::Buffer,
+    size: wgpu::BlasTriangleGeometrySizeDescriptor,
+    /// Offset of its primitives in the primitive table.
+    primitive_offset: u32,
+}
+
+/// The scene's acceleration structures at one time, built on the device.
+pub struct HardwareSceneAs {
+    /// The top level, bound to the shaders as `acceleration_structure`.
+    pub tlas: wgpu::Tlas,
+    /// Per placed instance: (scene instance, primitive offset).
+    pub instances: wgpu::Buffer,
+    /// Per BLAS primitive: its index among the mesh's valid triangles.
+    pub primitives: wgpu::Buffer,
+    /// BLAS builds the last build or update ran.
+    pub blas_builds: u32,
+    _bottom: Vec<BottomLevel>,
+}
+
+/// The named error for a device without ray queries.
+fn unsupported(gpu: &GpuContext) -> SceneError {
+    SceneError::Unsupported {
+        what: "the hardware ray tracer".into(),
+        detail: format!(
+            "adapter '{}' ({:?}, driver '{} {}') has no ray queries (wgpu's EXPERIMENTAL_RAY_QUERY); \
+             use the compute tracer, or a ray-tracing GPU, or lavapipe from Mesa 24.1 \
+             (scripts/ensure-vulkan.sh installs one on Debian 12)",
+            gpu.info.name, gpu.info.device_type, gpu.info.driver, gpu.info.driver_info
+        ),
+    }
+}
+
+/// A TLAS transform: the first three rows of `m`, row-major.
+fn rows_3x4(m: Mat4) -> [f32; 12] {
+    let r = m.transpose().to_cols_array();
+    let mut out = [0.0; 12];
+    out.copy_from_slice(&r[..12]);
+    out
+}
+
+impl HardwareSceneAs {
+    /// Builds the acceleration structures of `scene` posed at time `t` and waits for the build.
+    pub fn build(gpu: &GpuContext, scene: &Scene, t: f32) -> Result<HardwareSceneAs, SceneError> {
+        if !gpu.has_ray_queries() {
+            return Err(unsupported(gpu));
+        }
+        let device = &gpu.device;
+        let mut bottom: Vec<BottomLevel> = Vec::new();
+        let mut primitives: Vec<u32> = Vec::new();
+        let mut mesh_blas: Vec<Option<Option<usize>>> = vec![None; scene.meshes.len()];
+        let mut placed: Vec<(usize, usize, Mat4)> = Vec::new();
+        let mut add_blas = |tris: Vec<(u32, [Vec3; 3])>| -> usize {
+            let vertices: Vec<[f32; 3]> = tris
+                .iter()
+                .flat_map(|(_, t)| t.map(|v| v.to_array()))
+                .collect();
+            let primitive_offset = primitives.len() as u32;
+            primitives.extend(tris.iter().map(|(p, _)| *p));
+            let size = wgpu::BlasTriangleGeometrySizeDescriptor {
+                vertex_format: wgpu::VertexFormat::Float32x3,
+                vertex_count: vertices.len() as u32,
+                index_format: None,
+                index_count: None,
+                flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+            };
+            let blas = device.create_blas(
+                &wgpu::CreateBlasDescriptor {
+                    label: Some("scene blas"),
+                    flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+                    update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+                },
+                wgpu::BlasGeometrySizeDescriptors::Triangles {
+                    descriptors: vec![size.clone()],
+                },
+            );
+            let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("blas vertices"),
+                contents: bytemuck::cast_slice(&vertices),
+                usage: wgpu::BufferUsages::BLAS_INPUT,
+            });
+            bottom.push(BottomLevel {
+                blas,
+                vertices,
+                size,
+                primitive_offset,
+            });
+            bottom.len() - 1
+        };
+        for (index, instance) in scene.instances.iter().enumerate() {
+            let Some(mesh) = scene.meshes.get(instance.mesh) else {
+                continue;
+            };
+            if instance.skin_for(mesh).is_some() {
+                let world = instance.pose(mesh, t).positions(mesh);
+                let tris: Vec<(u32, [Vec3; 3])> = mesh
+                    .valid_triangles()
+                    .enumerate()
+                    .map(|(p, tri)| (p as u32, tri.map(|i| world[i])))
+                    .filter(|(_, t)| is_traceable(t))
+                    .collect();
+                if !tris.is_empty() {
+                    placed.push((index, add_blas(tris), Mat4::IDENTITY));
+                }
+            } else {
+                let b = *mesh_blas[instance.mesh].get_or_insert_with(|| {
+                    let tris: Vec<(u32, [Vec3; 3])> = mesh
+                        .valid_triangles()
+                        .enumerate()
+                        .map(|(p, tri)| (p as u32, tri.map(|i| mesh.positions[i])))
+                        .filter(|(_, t)| is_traceable(t))
+                        .collect();
+                    (!tris.is_empty()).then(|| add_blas(tris))
+                });
+                let m = instance.transform_at(t);
+                if let Some(b) = b
+                    && m.is_finite()
+                {
+                    placed.push((index, b, m));
+                }
+            }
+        }
+        if placed.len() >= MAX_CUSTOM_INDEX {
+            return Err(SceneError::InvalidParameter {
+                name: "instances",
+                value: placed.len().to_string(),
+                allowed: "fewer than 2^24 placed instances for the hardware tracer",
+            });
+        }
+        check_storage(gpu, "primitive table", primitives.len() as u64 * 4)?;
+        let mut tlas = device.create_tlas(&wgpu::CreateTlasDescriptor {
+            label: Some("scene tlas"),
+            max_instances: placed.len().max(1) as u32,
+            flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+            update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+        });
+        let mut rows = Vec::with_capacity(placed.len());
+        for (k, (index, b, m)) in placed.iter().enumerate() {
+            tlas[k] = Some(wgpu::TlasInstance::new(
+                &bottom[*b].blas,
+                rows_3x4(*m),
+                k as u32,
+                0xff,
+            ));
+            rows.push(HardwareInstance {
+                instance: *index as u32,
+                primitive_offset: bottom[*b].primitive_offset,
+            });
+        }
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("acceleration structure build"),
+        });
+        let entries: Vec<wgpu::BlasBuildEntry> = bottom
+            .iter()
+            .map(|b| wgpu::BlasBuildEntry {
+                blas: &b.blas,
+                geometry: wgpu::BlasGeometries::TriangleGeometries(vec![
+                    wgpu::BlasTriangleGeometry {
+                        size: &b.size,
+                        vertex_buffer: &b.vertices,
+                        first_vertex: 0,
+                        vertex_stride: 12,
+                        index_buffer: None,
+                        first_index: None,
+                        transform_buffer: None,
+                        transform_buffer_offset: None,
+                    },
+                ]),
+            })
+            .collect();
+        enc.build_acceleration_structures(entries.iter(), [&tlas]);
+        gpu.queue.submit([enc.finish()]);
+        check_gpu_errors(gpu, "building acceleration structures")?;
+        let blas_builds = bottom.len() as u32;
+        Ok(HardwareSceneAs {
+            tlas,
+            instances: buffer_of(
+                gpu,
+                "hardware instances",
+                &rows,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            primitives: buffer_of(
+                gpu,
+                "hardware primitives",
+                &primitives,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            blas_builds,
+            _bottom: bottom,
+        })
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct TraceParams {
+    count: u32,
+    any_hit: u32,
+    row: u32,
+    pad: u32,
+}
+
+/// Arbitrary rays against [`HardwareSceneAs`] (shaders/raytrace/trace_rays_hardware.wgsl): the
+/// hardware twin of [`super::GpuRayBatch`], same rays in, same answers out.
+pub struct HardwareRayBatch {
+    gpu: Arc<GpuContext>,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl HardwareRayBatch {
+    /// Compiles the ray-query pipeline; a device without ray queries is a named error.
+    pub fn new(gpu: Arc<GpuContext>, shaders: &ShaderLibrary) -> Result<Self, SceneError> {
+        if !gpu.has_ray_queries() {
+            return Err(unsupported(&gpu));
+        }
+        let pipeline = compute_pipeline(&gpu, shaders, "raytrace/trace_rays_hardware.wgsl")?;
+        Ok(Self { gpu, pipeline })
+    }
+
+    /// Traces `rays` `repeat` times over (for timing) and reads the answers back.
+    pub fn trace(
+        &self,
+        scene: &HardwareSceneAs,
+        rays: &[TraceRay],
+        query: HitQuery,
+        repeat: u32,
+    ) -> Result<Vec<Option<GpuRayHit>>, SceneError> {
+        let count = u32::try_from(rays.len()).map_err(|_| SceneError::InvalidParameter {
+            name: "rays",
+            value: rays.len().to_string(),
+            allowed: "at most 2^32 - 1 rays per batch",
+        })?;
+        check_storage(&self.gpu, "rays", rays.len() as u64 * 32)?;
+        let (x, y, row) = dispatch_grid(count);
+        let params = TraceParams {
+            count,
+            any_hit: (query == HitQuery::Any) as u32,
+            row,
+            pad: 0,
+        };
+        let gpu = &self.gpu;
+        let uniform = buffer_of(gpu, "trace params", &[params], wgpu::BufferUsages::UNIFORM);
+        let ray_buffer = buffer_of(gpu, "rays", rays, wgpu::BufferUsages::STORAGE);
+        let result_size = (rays.len().max(1) * 16) as u64;
+        let results = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ray results"),
+            size: result_size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hardware rays"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: ray_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: results.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: scene.tlas.as_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: scene.instances.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: scene.primitives.as_entire_binding(),
+                },
+            ],
+        });
+        for _ in 0..repeat.max(1) {
+            super::gpu_io::submit_dispatch(gpu, &self.pipeline, &group, (x, y));
+        }
+        let bytes = read_back(gpu, &results, result_size)?;
+        let words: &[[u32; 4]] = bytemuck::cast_slice(&bytes);
+        Ok(words[..rays.len()]
+            .iter()
+            .map(|w| {
+                (w[3] == 1).then(|| GpuRayHit {
+                    distance: f32::from_bits(w[0]),
+                    instance: w[1],
+                    primitive: w[2],
+                })
+            })
+            .collect())
+    }
+}
