@@ -10,7 +10,8 @@
 //! CesiumMan: the skinned bottom level's refit and the top level).
 //! Then the three tracers on one batch of AO-like rays (`ray_batch`, any-hit, t_max = R: from
 //! the tile's surface points, cosine-distributed): the CPU BVH, the GPU compute BVH and, where
-//! the device has ray queries, the hardware acceleration structures (rays per second each).
+//! the device has ray queries, the hardware acceleration structures (rays per second each),
+//! and their per-frame update on `dynamic` and CesiumMan.
 
 use aograph_scene::ray_tracing::{
     GpuRayBatch, GpuReferenceTracer, GpuSceneBvh, HardwareRayBatch, HardwareSceneAs, HitQuery,
@@ -89,6 +90,7 @@ fn reference_throughput(c: &mut Criterion) {
     if let Ok(man) = man {
         moving.push(("cesium_man", man));
     }
+    let gpu = aograph_graph::test_gpu().filter(|g| g.has_ray_queries());
     for (name, s) in moving {
         let (mut bvh, _) = SceneBvh::build(&s, 0.0).expect("builds");
         let mut t = 0.0f32;
@@ -98,6 +100,18 @@ fn reference_throughput(c: &mut Criterion) {
                 bvh.update(black_box(&s), t).expect("updates")
             })
         });
+        // The hardware structures' per-frame work: the TLAS rebuilt, skins' BLAS rebuilt
+        // (recorded and submitted; the device builds them before the next trace).
+        if let Some(gpu) = &gpu {
+            let mut accel = HardwareSceneAs::build(gpu, &s, 0.0).expect("builds");
+            let mut t = 0.0f32;
+            c.bench_function(&format!("hardware_as_update_{name}"), |b| {
+                b.iter(|| {
+                    t += 1.0 / 60.0;
+                    accel.update(gpu, black_box(&s), t).expect("updates")
+                })
+            });
+        }
     }
 }
 

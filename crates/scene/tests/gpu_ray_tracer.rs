@@ -521,7 +521,7 @@ fn hardware_agrees_with_cpu_on_random_soups_under_instance_transforms() {
     let scene = instanced_soups(&mut rng);
     let accel = HardwareSceneAs::build(&gpu, &scene, 0.0).unwrap();
     assert_eq!(
-        accel.blas_builds, 2,
+        accel.work.blas_builds, 2,
         "one BLAS per mesh, shared by its instances"
     );
     let bounds = scene.bounds();
@@ -546,5 +546,66 @@ fn hardware_agrees_with_cpu_on_every_procedural_scene() {
         let trace = |query| batch.trace(&accel, &rays, query, 1).unwrap();
         let a = compare_traced(&trace, &scene, 0.0, &rays, &label);
         assert_agrees(&a, &label);
+    }
+}
+
+#[test]
+fn hardware_static_scene_builds_once_moving_instances_rebuild_the_tlas_skins_their_blas() {
+    let Some((gpu, batch)) = hardware_batch() else {
+        return;
+    };
+    use aograph_scene::ray_tracing::hardware::AsWork;
+    // Static: the build, then nothing, whatever the time.
+    let columns = procedural_scene("columns").unwrap();
+    let mut accel = HardwareSceneAs::build(&gpu, &columns, 0.0).unwrap();
+    assert_eq!(accel.work.tlas_builds, 1);
+    assert!(accel.work.blas_builds >= 1);
+    for t in [0.5, 1.0, 7.25] {
+        assert_eq!(
+            accel.update(&gpu, &columns, t).unwrap(),
+            AsWork::default(),
+            "a static scene does nothing at t = {t}"
+        );
+    }
+    // Rigid motion: the top level rebuilt, no bottom level; then it answers at the new time.
+    let mut rng = Rng(5);
+    let dynamic = procedural_scene("dynamic").unwrap();
+    let mut accel = HardwareSceneAs::build(&gpu, &dynamic, 0.0).unwrap();
+    for t in [0.3, 0.9] {
+        let w = accel.update(&gpu, &dynamic, t).unwrap();
+        assert_eq!(
+            w,
+            AsWork {
+                blas_builds: 0,
+                tlas_builds: 1
+            },
+            "dynamic at t = {t}"
+        );
+        let b = dynamic.bounds_at(t);
+        let rays = random_rays(&mut rng, b.min, b.max, 4_000);
+        let trace = |query| batch.trace(&accel, &rays, query, 1).unwrap();
+        let label = format!("hardware dynamic at t = {t}");
+        assert_agrees(&compare_traced(&trace, &dynamic, t, &rays, &label), &label);
+    }
+    // A skinned mesh: its own BLAS rebuilt from the posed vertices, and the top level.
+    let man = aograph_scene::load_scene(shared_scene("CesiumMan.glb")).unwrap();
+    let mut accel = HardwareSceneAs::build(&gpu, &man, 0.0).unwrap();
+    let skinned = man.instances.iter().filter(|i| i.skin.is_some()).count() as u32;
+    assert!(skinned >= 1);
+    for t in [0.4, 1.1] {
+        let w = accel.update(&gpu, &man, t).unwrap();
+        assert_eq!(
+            w,
+            AsWork {
+                blas_builds: skinned,
+                tlas_builds: 1
+            },
+            "CesiumMan at t = {t}"
+        );
+        let b = man.bounds_at(t);
+        let rays = random_rays(&mut rng, b.min, b.max, 4_000);
+        let trace = |query| batch.trace(&accel, &rays, query, 1).unwrap();
+        let label = format!("hardware CesiumMan at t = {t}");
+        assert_agrees(&compare_traced(&trace, &man, t, &rays, &label), &label);
     }
 }

@@ -9,6 +9,12 @@
 //! `Mesh::valid_triangles` order, and a primitive table maps the BLAS's primitive index back to
 //! that order, so a hit names the same (instance, primitive) as the compute tracer's.
 //!
+//! Per frame ([`HardwareSceneAs::update`]): wgpu 30 cannot refit an acceleration structure, so
+//! a static scene builds once and updates nothing; moving rigid instances rebuild the TLAS
+//! only; a moving skin rewrites its world-space vertices and rebuilds its own BLAS (its
+//! triangle count is fixed at build: triangles that are not finite become degenerate ones at
+//! the origin, which no ray hits), then the TLAS.
+//!
 //! Invariant: built only on a device with ray queries ([`SceneError::Unsupported`] names what the
 //! adapter has otherwise); every placed instance's TLAS custom index is its row in the
 //! instance table, below 2^24.
@@ -48,6 +54,42 @@ struct BottomLevel {
     primitive_offset: u32,
 }
 
+impl BottomLevel {
+    fn build_entry(&self) -> wgpu::BlasBuildEntry<'_> {
+        wgpu::BlasBuildEntry {
+            blas: &self.blas,
+            geometry: wgpu::BlasGeometries::TriangleGeometries(vec![wgpu::BlasTriangleGeometry {
+                size: &self.size,
+                vertex_buffer: &self.vertices,
+                first_vertex: 0,
+                vertex_stride: 12,
+                index_buffer: None,
+                first_index: None,
+                transform_buffer: None,
+                transform_buffer_offset: None,
+            }]),
+        }
+    }
+}
+
+/// One TLAS instance: which scene instance, which BLAS, and how it moves.
+#[derive(Clone, Copy)]
+struct Placed {
+    instance: usize,
+    bottom: usize,
+    skinned: bool,
+    moving: bool,
+}
+
+/// What one build or update did (counted by the tests, timed by the bench).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AsWork {
+    /// Bottom levels built (meshes, and skins that moved).
+    pub blas_builds: u32,
+    /// Top-level builds (0 or 1).
+    pub tlas_builds: u32,
+}
+
 /// The scene's acceleration structures at one time, built on the device.
 pub struct HardwareSceneAs {
     /// The top level, bound to the shaders as `acceleration_structure`.
@@ -56,9 +98,10 @@ pub struct HardwareSceneAs {
     pub instances: wgpu::Buffer,
     /// Per BLAS primitive: its index among the mesh's valid triangles.
     pub primitives: wgpu::Buffer,
-    /// BLAS builds the last build or update ran.
-    pub blas_builds: u32,
-    _bottom: Vec<BottomLevel>,
+    /// What the last build or update did.
+    pub work: AsWork,
+    bottom: Vec<BottomLevel>,
+    placed: Vec<Placed>,
 }
 
 /// The named error for a device without ray queries.
@@ -120,7 +163,7 @@ impl HardwareSceneAs {
             let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("blas vertices"),
                 contents: bytemuck::cast_slice(&vertices),
-                usage: wgpu::BufferUsages::BLAS_INPUT,
+                usage: wgpu::BufferUsages::BLAS_INPUT | wgpu::BufferUsages::COPY_DST,
             });
             bottom.push(BottomLevel {
                 blas,
@@ -135,12 +178,10 @@ impl HardwareSceneAs {
                 continue;
             };
             if instance.skin_for(mesh).is_some() {
-                let world = instance.pose(mesh, t).positions(mesh);
-                let tris: Vec<(u32, [Vec3; 3])> = mesh
-                    .valid_triangles()
+                let tris: Vec<(u32, [Vec3; 3])> = skinned_triangles(scene, index, t)
+                    .into_iter()
                     .enumerate()
-                    .map(|(p, tri)| (p as u32, tri.map(|i| world[i])))
-                    .filter(|(_, t)| is_traceable(t))
+                    .map(|(p, t)| (p as u32, t))
                     .collect();
                 if !tris.is_empty() {
                     placed.push((index, add_blas(tris), Mat4::IDENTITY));
@@ -193,28 +234,30 @@ impl HardwareSceneAs {
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("acceleration structure build"),
         });
-        let entries: Vec<wgpu::BlasBuildEntry> = bottom
-            .iter()
-            .map(|b| wgpu::BlasBuildEntry {
-                blas: &b.blas,
-                geometry: wgpu::BlasGeometries::TriangleGeometries(vec![
-                    wgpu::BlasTriangleGeometry {
-                        size: &b.size,
-                        vertex_buffer: &b.vertices,
-                        first_vertex: 0,
-                        vertex_stride: 12,
-                        index_buffer: None,
-                        first_index: None,
-                        transform_buffer: None,
-                        transform_buffer_offset: None,
-                    },
-                ]),
-            })
-            .collect();
+        let entries: Vec<wgpu::BlasBuildEntry> =
+            bottom.iter().map(BottomLevel::build_entry).collect();
         enc.build_acceleration_structures(entries.iter(), [&tlas]);
         gpu.queue.submit([enc.finish()]);
         check_gpu_errors(gpu, "building acceleration structures")?;
-        let blas_builds = bottom.len() as u32;
+        let work = AsWork {
+            blas_builds: bottom.len() as u32,
+            tlas_builds: 1,
+        };
+        let placed = placed
+            .iter()
+            .map(|(index, b, _)| {
+                let instance = &scene.instances[*index];
+                Placed {
+                    instance: *index,
+                    bottom: *b,
+                    skinned: scene
+                        .meshes
+                        .get(instance.mesh)
+                        .is_some_and(|m| instance.skin_for(m).is_some()),
+                    moving: instance.is_moving(),
+                }
+            })
+            .collect();
         Ok(HardwareSceneAs {
             tlas,
             instances: buffer_of(
@@ -229,10 +272,96 @@ impl HardwareSceneAs {
                 &primitives,
                 wgpu::BufferUsages::STORAGE,
             ),
-            blas_builds,
-            _bottom: bottom,
+            work,
+            bottom,
+            placed,
         })
     }
+
+    /// Moves the structures to time `t` doing only what motion requires (module docs), and
+    /// records what it did in [`Self::work`].
+    pub fn update(
+        &mut self,
+        gpu: &GpuContext,
+        scene: &Scene,
+        t: f32,
+    ) -> Result<AsWork, SceneError> {
+        let mut work = AsWork::default();
+        let mut rebuilt = Vec::new();
+        for (k, p) in self.placed.iter().enumerate() {
+            if !p.moving {
+                continue;
+            }
+            if p.skinned {
+                let vertices: Vec<[f32; 3]> = skinned_triangles(scene, p.instance, t)
+                    .iter()
+                    .flat_map(|t| t.map(|v| v.to_array()))
+                    .collect();
+                let b = &self.bottom[p.bottom];
+                if vertices.len() as u32 != b.size.vertex_count {
+                    return Err(SceneError::InvalidParameter {
+                        name: "scene",
+                        value: "a skinned instance whose triangle count changed".into(),
+                        allowed: "the scene the structures were built from",
+                    });
+                }
+                gpu.queue
+                    .write_buffer(&b.vertices, 0, bytemuck::cast_slice(&vertices));
+                rebuilt.push(p.bottom);
+            } else if let Some(inst) = scene.instances.get(p.instance) {
+                let m = inst.transform_at(t);
+                // A singular or non-finite transform places the instance nowhere.
+                let m = if m.is_finite() { m } else { Mat4::ZERO };
+                if let Some(slot) = self.tlas.get_mut_single(k)
+                    && let Some(instance) = slot.as_mut()
+                {
+                    instance.transform = rows_3x4(m);
+                }
+            }
+            work.tlas_builds = 1;
+        }
+        if work.tlas_builds == 0 {
+            self.work = work;
+            return Ok(work);
+        }
+        work.blas_builds = rebuilt.len() as u32;
+        let mut enc = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("acceleration structure update"),
+            });
+        let entries: Vec<wgpu::BlasBuildEntry> = rebuilt
+            .iter()
+            .map(|&b| self.bottom[b].build_entry())
+            .collect();
+        enc.build_acceleration_structures(entries.iter(), [&self.tlas]);
+        gpu.queue.submit([enc.finish()]);
+        check_gpu_errors(gpu, "updating acceleration structures")?;
+        self.work = work;
+        Ok(work)
+    }
+}
+
+/// Skinned instance `index`'s world-space triangles at `t`, one per valid triangle of its
+/// mesh; a triangle that is not finite (or out of the tracer's range) becomes a degenerate one
+/// at the origin, so the count never changes.
+fn skinned_triangles(scene: &Scene, index: usize, t: f32) -> Vec<[Vec3; 3]> {
+    let Some(instance) = scene.instances.get(index) else {
+        return Vec::new();
+    };
+    let Some(mesh) = scene.meshes.get(instance.mesh) else {
+        return Vec::new();
+    };
+    let world = instance.pose(mesh, t).positions(mesh);
+    mesh.valid_triangles()
+        .map(|tri| {
+            let t = tri.map(|i| world[i]);
+            let finite = t
+                .iter()
+                .all(|v| v.is_finite() && v.abs().max_element() <= 1e15);
+            if finite { t } else { [Vec3::ZERO; 3] }
+        })
+        .collect()
 }
 
 #[repr(C)]
