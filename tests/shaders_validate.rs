@@ -35,7 +35,7 @@ fn every_shader_file_validates_with_naga() {
         "the ssao AO pass has an r16float variant: {variants:?}"
     );
     println!(
-        "{} shader files and {} r16float variants validated: {}",
+        "{} shader files and {} variants (r16float storage, hardware ray tracer) validated: {}",
         files.len(),
         variants.len(),
         variants.join(", ")
@@ -58,4 +58,23 @@ fn example_shaders_validate_with_naga() {
         lib.add_inline(name, src);
         lib.load(name).unwrap_or_else(|e| panic!("{e}"));
     }
+}
+
+#[test]
+fn a_ray_tracer_variant_of_a_shader_without_ao_rays_is_a_named_error() {
+    let lib = aograph_graph::ShaderLibrary::new(aograph::shader_dir());
+    let e = match lib.load("ao/ssao/ao.wgsl?RayTracer=hardware") {
+        Ok(_) => panic!("ssao traces no rays: its hardware variant must be refused"),
+        Err(e) => e.to_string(),
+    };
+    assert!(e.contains("common/ao_rays.wgsl"), "{e}");
+    // And the reference's variant is a ray-query module at the compute BVH's bindings.
+    let m = lib
+        .load("raytrace/reference.wgsl?RayTracer=hardware")
+        .expect("validates");
+    assert!(m.source.starts_with("enable wgpu_ray_query;"));
+    assert!(
+        m.bindings.iter().any(|b| b.binding == 12
+            && b.kind == aograph_graph::ShaderBindingKind::AccelerationStructure)
+    );
 }

@@ -105,7 +105,7 @@ pub use resource::{
 pub use sampler::SamplerDesc;
 pub use shader::{
     ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo, ShaderOverride,
-    storage_precision_variant,
+    ray_tracer_variant, storage_precision_variant,
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};

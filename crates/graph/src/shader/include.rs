@@ -13,6 +13,13 @@ pub(super) struct Segment {
     file: String,
 }
 
+impl Segment {
+    /// The file this piece of the expansion came from.
+    pub(super) fn file(&self) -> &str {
+        &self.file
+    }
+}
+
 /// The expanded source being built, with where each piece came from.
 struct Expansion {
     source: String,

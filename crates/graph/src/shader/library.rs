@@ -10,7 +10,10 @@ use std::sync::{Arc, Mutex};
 
 use super::include::expand;
 use super::reflect::{ShaderModuleInfo, parse_and_reflect};
-use super::variant::{half_precision_variants, halve_aliases, parse_variant};
+use super::variant::{
+    AO_RAYS, AO_RAYS_HARDWARE, half_precision_variants, halve_aliases, hoist_enables,
+    parse_variant, ray_tracer_variant,
+};
 use crate::error::{GraphError, GraphResult};
 
 /// Loads shaders from a root directory (and inline sources registered by name), caching the
@@ -81,9 +84,26 @@ impl ShaderLibrary {
         if let Some(m) = lock(&self.cache).get(name) {
             return Ok(m.clone());
         }
-        let (file, halved) = parse_variant(name)?;
-        let (source, segments) = expand(file, &|n| self.read(n))?;
-        let source = halve_aliases(name, file, source, &halved)?;
+        let (file, variant) = parse_variant(name)?;
+        let (source, segments) = if variant.hardware_rays {
+            let (source, segments) = expand(file, &|n| {
+                self.read(if n == AO_RAYS { AO_RAYS_HARDWARE } else { n })
+            })?;
+            let (_, plain) = expand(file, &|n| self.read(n))?;
+            if !plain.iter().any(|s| s.file() == AO_RAYS) {
+                return Err(GraphError::ShaderFile {
+                    file: name.into(),
+                    message: format!(
+                        "variant `RayTracer=hardware`: the file does not include `{AO_RAYS}`, \
+                         so it traces no AO rays to move to the hardware tracer"
+                    ),
+                });
+            }
+            (source, segments)
+        } else {
+            expand(file, &|n| self.read(n))?
+        };
+        let source = hoist_enables(halve_aliases(name, file, source, &variant.halved)?);
         let info = Arc::new(parse_and_reflect(name, source, &segments)?);
         lock(&self.cache).insert(name.to_string(), info.clone());
         Ok(info)
@@ -92,8 +112,12 @@ impl ShaderLibrary {
     /// The variant names file `name` supports besides itself: `name?Alias=f16` for each alias
     /// it declares at a 32-bit float storage format (see `variant.rs`).
     pub fn variants(&self, name: &str) -> GraphResult<Vec<String>> {
-        let (source, _) = expand(name, &|n| self.read(n))?;
-        Ok(half_precision_variants(name, &source))
+        let (source, segments) = expand(name, &|n| self.read(n))?;
+        let mut out = half_precision_variants(name, &source);
+        if name != AO_RAYS && segments.iter().any(|s| s.file() == AO_RAYS) {
+            out.push(ray_tracer_variant(name, true));
+        }
+        Ok(out)
     }
 }
 

@@ -16,4 +16,4 @@ pub use reflect::{
     ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderModuleInfo, ShaderOverride,
 };
 pub(crate) use reflect::{binding_type, grouped_entries};
-pub use variant::storage_precision_variant;
+pub use variant::{ray_tracer_variant, storage_precision_variant};

@@ -14,9 +14,16 @@
 //! lists the variants a file has (the naga test validates each). The graph gives the alias no
 //! meaning: a crate above it chooses which alias follows which setting.
 //!
-//! Invariant: a variant changes nothing in the file but the format on its alias lines, line
-//! numbers included; naming an alias the file does not declare (at a 32-bit float format) is
-//! an error, since the suffix would silently do nothing.
+//! Ray-tracer variants: `file.wgsl?RayTracer=hardware` is a file that includes
+//! `common/ao_rays.wgsl` (the reference's AO rays against the compute BVH) with
+//! `common/ao_rays_hardware.wgsl` (the same functions with ray queries) included in its place;
+//! `?RayTracer=compute` is the file as written. The hardware file's `enable wgpu_ray_query;`
+//! is hoisted to the first line ([`hoist_enables`]), since WGSL wants directives first.
+//!
+//! Invariant: a variant changes nothing in the file but the format on its alias lines (or the
+//! one include it swaps), line numbers of the file's own lines included; naming an alias the
+//! file does not declare (at a 32-bit float format), or a ray-tracer variant of a file that
+//! does not include the AO rays, is an error, since the suffix would silently do nothing.
 
 use crate::error::{GraphError, GraphResult};
 
@@ -30,29 +37,88 @@ pub fn storage_precision_variant(file: &str, alias: &str, half: bool) -> String 
     }
 }
 
-/// The file name and the aliases to halve, from `file?A=f16&B=f32`.
-pub(super) fn parse_variant(name: &str) -> GraphResult<(&str, Vec<&str>)> {
-    let Some((file, suffix)) = name.split_once('?') else {
-        return Ok((name, Vec::new()));
+/// The include a `RayTracer=hardware` variant swaps, and what it includes instead.
+pub const AO_RAYS: &str = "common/ao_rays.wgsl";
+/// See [`AO_RAYS`].
+pub const AO_RAYS_HARDWARE: &str = "common/ao_rays_hardware.wgsl";
+
+/// The variant key of the ray-tracer choice.
+const RAY_TRACER: &str = "RayTracer";
+
+/// The name of `file`'s variant that traces its AO rays with ray queries (`hardware`) or with
+/// the compute BVH (the file itself).
+pub fn ray_tracer_variant(file: &str, hardware: bool) -> String {
+    if hardware {
+        format!("{file}?{RAY_TRACER}=hardware")
+    } else {
+        file.to_string()
+    }
+}
+
+/// What a variant suffix asks for.
+pub(super) struct Variant<'a> {
+    /// Storage aliases to halve.
+    pub halved: Vec<&'a str>,
+    /// Trace the AO rays with ray queries.
+    pub hardware_rays: bool,
+}
+
+/// The file name and the variant, from `file?A=f16&B=f32&RayTracer=hardware`.
+pub(super) fn parse_variant(name: &str) -> GraphResult<(&str, Variant<'_>)> {
+    let mut variant = Variant {
+        halved: Vec::new(),
+        hardware_rays: false,
     };
-    let mut halved = Vec::new();
+    let Some((file, suffix)) = name.split_once('?') else {
+        return Ok((name, variant));
+    };
     for pair in suffix.split('&') {
         match pair.split_once('=') {
-            Some((alias, "f16")) if is_identifier(alias) => halved.push(alias),
+            Some((RAY_TRACER, "hardware")) => variant.hardware_rays = true,
+            Some((RAY_TRACER, "compute")) => {}
+            Some((alias, "f16")) if is_identifier(alias) => variant.halved.push(alias),
             Some((alias, "f32")) if is_identifier(alias) => {}
             _ => {
                 return Err(GraphError::ShaderFile {
                     file: name.into(),
                     message: format!(
                         "unknown shader variant `{pair}`; a variant is `Alias=f16` or \
-                         `Alias=f32`, naming a storage alias the file declares (pairs joined \
-                         with `&`)"
+                         `Alias=f32`, naming a storage alias the file declares, or \
+                         `RayTracer=hardware` / `RayTracer=compute` (pairs joined with `&`)"
                     ),
                 });
             }
         }
     }
-    Ok((file, halved))
+    Ok((file, variant))
+}
+
+/// `source` with every `enable ...;` line moved to the front of the first line, the line it
+/// stood on left empty: WGSL wants directives before any declaration, and an included file's
+/// directive lands mid-module. Line numbers are unchanged.
+pub(super) fn hoist_enables(source: String) -> String {
+    let is_enable = |l: &str| {
+        let t = l.trim();
+        t.starts_with("enable ") && t.ends_with(';')
+    };
+    if !source.lines().skip(1).any(is_enable) {
+        return source;
+    }
+    let mut directives = String::new();
+    let mut rest = String::with_capacity(source.len());
+    for line in source.split_inclusive('\n') {
+        if is_enable(line) {
+            let d = line.trim();
+            if !directives.contains(d) {
+                directives.push_str(d);
+                directives.push(' ');
+            }
+            rest.push_str(if line.ends_with('\n') { "\n" } else { "" });
+        } else {
+            rest.push_str(line);
+        }
+    }
+    directives + &rest
 }
 
 /// `source` (of `file`, loaded as variant `name`) with every alias of `halved` at 16-bit
@@ -142,4 +208,43 @@ fn half_storage(source: &str, alias: &str) -> Option<String> {
         }
     }
     found.then_some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_included_enable_moves_to_the_first_line_and_no_line_number_changes() {
+        let source = "// a\nstruct S { x: f32 }\nenable wgpu_ray_query;\nfn f() {}\n".to_string();
+        let hoisted = hoist_enables(source.clone());
+        assert_eq!(
+            hoisted,
+            "enable wgpu_ray_query; // a\nstruct S { x: f32 }\n\nfn f() {}\n"
+        );
+        assert_eq!(hoisted.lines().count(), source.lines().count());
+        // Already first: unchanged.
+        let first = "enable wgpu_ray_query;\nfn f() {}\n".to_string();
+        assert_eq!(hoist_enables(first.clone()), first);
+    }
+
+    #[test]
+    fn the_ray_tracer_variant_parses_and_an_unknown_one_is_named() {
+        let (file, v) = parse_variant("raytrace/reference.wgsl?RayTracer=hardware").unwrap();
+        assert_eq!(file, "raytrace/reference.wgsl");
+        assert!(v.hardware_rays && v.halved.is_empty());
+        let (_, v) = parse_variant("a.wgsl?RayTracer=compute&Out=f16").unwrap();
+        assert!(!v.hardware_rays);
+        assert_eq!(v.halved, ["Out"]);
+        let e = parse_variant("a.wgsl?RayTracer=rtx")
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("RayTracer=hardware"), "{e}");
+        assert_eq!(
+            ray_tracer_variant("a.wgsl", true),
+            "a.wgsl?RayTracer=hardware"
+        );
+        assert_eq!(ray_tracer_variant("a.wgsl", false), "a.wgsl");
+    }
 }

@@ -4,6 +4,11 @@
 //! at most [`RAYS_PER_DISPATCH`] rays, so no single dispatch runs long enough to trip a
 //! driver's watchdog. Same inputs and errors as `reference::trace_reference`.
 //!
+//! The same shader runs on either backend of the tracer: against the compute BVH
+//! ([`GpuSceneBvh`]) as written, against the hardware acceleration structures
+//! ([`HardwareSceneAs`], ray queries) as its `RayTracer=hardware` variant, which swaps the AO
+//! rays' include (`aograph_graph::ray_tracer_variant`): the same rays and estimator either way.
+//!
 //! Invariant: sky and unusable pixels are exactly (1, 0), as on the CPU; every other pixel's
 //! estimate is the CPU's up to float rounding (its rays are the same rays), so the two agree
 //! within their standard errors (tests/gpu_ray_tracer.rs).
@@ -14,9 +19,8 @@ use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::{Pod, Zeroable};
 
 use super::gpu_bvh::GpuSceneBvh;
-use super::gpu_io::{
-    bind_group, buffer_of, check_storage, compute_pipeline, read_back, submit_dispatch,
-};
+use super::gpu_io::{buffer_of, check_storage, compute_pipeline, read_back, submit_dispatch};
+use super::hardware::HardwareSceneAs;
 use crate::error::SceneError;
 use crate::reference::{
     ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer, check_inputs,
@@ -41,10 +45,36 @@ struct ReferenceUniform {
     pad: u32,
 }
 
-/// The GPU reference pipeline.
+/// The scene a GPU trace runs against: the compute BVH or the hardware acceleration
+/// structures (the two backends of the GPU tracer).
+#[derive(Clone, Copy)]
+pub enum GpuTraceScene<'a> {
+    /// The two-level BVH in storage buffers, traversed by compute shaders.
+    Compute(&'a GpuSceneBvh),
+    /// BLAS and TLAS, traversed by ray queries.
+    Hardware(&'a HardwareSceneAs),
+}
+
+impl<'a> From<&'a GpuSceneBvh> for GpuTraceScene<'a> {
+    fn from(b: &'a GpuSceneBvh) -> Self {
+        Self::Compute(b)
+    }
+}
+
+impl<'a> From<&'a HardwareSceneAs> for GpuTraceScene<'a> {
+    fn from(a: &'a HardwareSceneAs) -> Self {
+        Self::Hardware(a)
+    }
+}
+
+const SHADER: &str = "raytrace/reference.wgsl";
+
+/// The GPU reference pipeline (one per backend the device has).
 pub struct GpuReferenceTracer {
     gpu: Arc<GpuContext>,
     pipeline: wgpu::ComputePipeline,
+    /// The `RayTracer=hardware` variant, on a device with ray queries.
+    hardware: Option<wgpu::ComputePipeline>,
 }
 
 impl GpuReferenceTracer {
@@ -54,30 +84,56 @@ impl GpuReferenceTracer {
         gpu: Arc<GpuContext>,
         shaders: &ShaderLibrary,
     ) -> Result<GpuReferenceTracer, SceneError> {
-        let pipeline = compute_pipeline(&gpu, shaders, "raytrace/reference.wgsl")?;
-        Ok(GpuReferenceTracer { gpu, pipeline })
+        let pipeline = compute_pipeline(&gpu, shaders, SHADER)?;
+        let hardware = if gpu.has_ray_queries() {
+            let variant = aograph_graph::ray_tracer_variant(SHADER, true);
+            Some(compute_pipeline(&gpu, shaders, &variant)?)
+        } else {
+            None
+        };
+        Ok(GpuReferenceTracer {
+            gpu,
+            pipeline,
+            hardware,
+        })
     }
 
-    /// Traces the reference of every pixel of `surfaces` against `bvh`.
-    pub fn trace(
+    /// Traces the reference of every pixel of `surfaces` against `scene` (the compute BVH or
+    /// the hardware acceleration structures).
+    pub fn trace<'a>(
         &self,
-        bvh: &GpuSceneBvh,
+        scene: impl Into<GpuTraceScene<'a>>,
         surfaces: &SurfaceBuffer,
         params: &ReferenceParams,
     ) -> Result<ReferenceImage, SceneError> {
-        self.trace_rows(bvh, surfaces, params, 0..surfaces.height)
+        self.trace_rows(scene, surfaces, params, 0..surfaces.height)
     }
 
     /// Traces rows `rows` of `surfaces` only (a band of a progressive trace, as
     /// `reference::trace_reference_rows`): each pixel's rays are the ones [`Self::trace`]
     /// gives it, so bands make exactly the whole image. The result is `rows.len()` rows tall.
-    pub fn trace_rows(
+    pub fn trace_rows<'a>(
         &self,
-        bvh: &GpuSceneBvh,
+        scene: impl Into<GpuTraceScene<'a>>,
         surfaces: &SurfaceBuffer,
         params: &ReferenceParams,
         rows: std::ops::Range<u32>,
     ) -> Result<ReferenceImage, SceneError> {
+        let scene = scene.into();
+        let pipeline = match scene {
+            GpuTraceScene::Compute(_) => &self.pipeline,
+            GpuTraceScene::Hardware(_) => {
+                self.hardware
+                    .as_ref()
+                    .ok_or_else(|| SceneError::Unsupported {
+                        what: "the hardware reference".into(),
+                        detail: format!(
+                            "adapter '{}' has no ray queries; trace against the compute BVH",
+                            self.gpu.info.name
+                        ),
+                    })?
+            }
+        };
         check_inputs(surfaces, params)?;
         if params.rays_per_pixel > GPU_MAX_RAYS_PER_PIXEL {
             return Err(SceneError::InvalidParameter {
@@ -144,22 +200,35 @@ impl GpuReferenceTracer {
                 &[uniform],
                 wgpu::BufferUsages::UNIFORM,
             );
-            let group = bind_group(
-                gpu,
-                &self.pipeline,
-                &[
-                    (0, &uniform),
-                    (1, &point_buffer),
-                    (2, &normal_buffer),
-                    (3, &result),
-                    (12, &bvh.nodes),
-                    (13, &bvh.instances),
-                    (14, &bvh.triangles),
-                ],
-            );
+            let mut entries = vec![
+                (0, uniform.as_entire_binding()),
+                (1, point_buffer.as_entire_binding()),
+                (2, normal_buffer.as_entire_binding()),
+                (3, result.as_entire_binding()),
+            ];
+            match scene {
+                GpuTraceScene::Compute(bvh) => entries.extend([
+                    (12, bvh.nodes.as_entire_binding()),
+                    (13, bvh.instances.as_entire_binding()),
+                    (14, bvh.triangles.as_entire_binding()),
+                ]),
+                GpuTraceScene::Hardware(a) => entries.extend([
+                    (12, a.tlas.as_binding()),
+                    (13, a.instances.as_entire_binding()),
+                ]),
+            }
+            let entries: Vec<wgpu::BindGroupEntry> = entries
+                .into_iter()
+                .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
+                .collect();
+            let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("reference"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
             submit_dispatch(
                 gpu,
-                &self.pipeline,
+                pipeline,
                 &group,
                 (width.div_ceil(8), band_rows.div_ceil(8)),
             );

@@ -43,6 +43,9 @@ const MAX_CUSTOM_INDEX: usize = 1 << 24;
 struct HardwareInstance {
     instance: u32,
     primitive_offset: u32,
+    /// 1 when the instance moves (animated or a moving skin).
+    moving: u32,
+    pad: u32,
 }
 
 /// A BLAS and what it was built from.
@@ -229,6 +232,8 @@ impl HardwareSceneAs {
             rows.push(HardwareInstance {
                 instance: *index as u32,
                 primitive_offset: bottom[*b].primitive_offset,
+                moving: scene.instances[*index].is_moving() as u32,
+                pad: 0,
             });
         }
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -438,15 +443,15 @@ impl HardwareRayBatch {
                     resource: results.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
-                    binding: 3,
+                    binding: 12,
                     resource: scene.tlas.as_binding(),
                 },
                 wgpu::BindGroupEntry {
-                    binding: 4,
+                    binding: 13,
                     resource: scene.instances.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
-                    binding: 5,
+                    binding: 14,
                     resource: scene.primitives.as_entire_binding(),
                 },
             ],

@@ -22,7 +22,7 @@ pub mod scene_bvh;
 
 pub use flat_bvh::{FlatBvh, FlatNode};
 pub use gpu_bvh::GpuSceneBvh;
-pub use gpu_reference::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer};
+pub use gpu_reference::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuTraceScene};
 pub use hardware::{HardwareRayBatch, HardwareSceneAs};
 pub use limits::{BvhSizes, check_bvh_fits};
 pub use ray_batch::{GpuRayBatch, GpuRayHit, HitQuery, TraceRay};
