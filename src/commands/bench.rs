@@ -130,8 +130,8 @@ pub struct RunFlags {
     /// The normal that orients the reference's hemisphere: geometric or shading.
     #[arg(long, default_value = "geometric")]
     pub normals: String,
-    /// Reference tracer: auto (the GPU on a hardware device, the CPU on a software one), cpu
-    /// or gpu.
+    /// Reference tracer: auto (hardware on a GPU with ray queries, compute on one without, the
+    /// CPU on a software device), cpu, gpu (or compute) or hardware.
     #[arg(long, default_value = "auto")]
     pub tracer: String,
     /// No progress bar.

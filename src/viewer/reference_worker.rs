@@ -23,7 +23,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 
 use aograph_graph::{GpuContext, ShaderLibrary};
-use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh};
+use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::{
     Camera, CpuGBuffer, ReferenceImage, ReferenceNormals, ReferenceParams, Scene, SceneError,
     SurfaceBuffer, TriangleBvh, reference::ProgressMode,
@@ -34,6 +34,9 @@ use aograph_scene::{
 pub struct GpuReferenceDevice {
     pub gpu: Arc<GpuContext>,
     pub shaders: Arc<ShaderLibrary>,
+    /// Trace on the hardware backend (acceleration structures, ray queries) rather than the
+    /// compute BVH.
+    pub hardware: bool,
 }
 
 /// Rays per pixel of each refinement pass.
@@ -324,10 +327,12 @@ fn ceilings(
     })
 }
 
-/// The CPU BVH or the GPU tracer and its BVH, for one job.
+/// The CPU BVH or the GPU tracer and its scene (compute BVH or acceleration structures), for
+/// one job.
 enum BandTracer {
     Cpu(TriangleBvh),
     Gpu(GpuReferenceTracer, GpuSceneBvh),
+    Hardware(GpuReferenceTracer, HardwareSceneAs),
 }
 
 impl BandTracer {
@@ -336,6 +341,13 @@ impl BandTracer {
         let Some(d) = device else {
             return Ok(cpu());
         };
+        if d.hardware {
+            let accel = HardwareSceneAs::build(&d.gpu, &job.scene, job.time)?;
+            return Ok(BandTracer::Hardware(
+                GpuReferenceTracer::new(d.gpu.clone(), &d.shaders)?,
+                accel,
+            ));
+        }
         match GpuSceneBvh::new(d.gpu.clone(), &job.scene, job.time) {
             Ok(bvh) => Ok(BandTracer::Gpu(
                 GpuReferenceTracer::new(d.gpu.clone(), &d.shaders)?,
@@ -358,6 +370,7 @@ impl BandTracer {
                 aograph_scene::trace_reference_rows(bvh, surfaces, params, rows)
             }
             BandTracer::Gpu(tracer, bvh) => tracer.trace_rows(bvh, surfaces, params, rows),
+            BandTracer::Hardware(tracer, accel) => tracer.trace_rows(accel, surfaces, params, rows),
         }
     }
 }

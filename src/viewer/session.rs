@@ -157,11 +157,12 @@ impl Session {
         let views = scene_views(&scene, config);
         // The progressive reference on the GPU where `[reference] tracer` says so (auto: a
         // hardware device), on the CPU's other cores otherwise.
-        let reference_device = (config.reference_tracer.resolve(gpu.is_software())
-            == aograph_scene::ReferenceTracer::Gpu)
-            .then(|| GpuReferenceDevice {
+        let tracer = (config.reference_tracer).resolve(gpu.is_software(), gpu.has_ray_queries());
+        let reference_device =
+            (tracer != aograph_scene::ReferenceTracer::Cpu).then(|| GpuReferenceDevice {
                 gpu: gpu.clone(),
                 shaders: renderer.shaders.clone(),
+                hardware: tracer == aograph_scene::ReferenceTracer::Hardware,
             });
         let stats = FrameStats {
             cpu_times: gpu.is_software(),

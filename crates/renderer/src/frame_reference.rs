@@ -18,7 +18,9 @@ use std::sync::Arc;
 use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary};
 use aograph_scene::SceneError;
-use aograph_scene::ray_tracing::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuSceneBvh};
+use aograph_scene::ray_tracing::{
+    GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs,
+};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     CacheKey, Camera, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals,
@@ -41,7 +43,7 @@ pub struct ReferenceSettings {
     pub mode: ReferenceMode,
     /// Which normal orients each pixel's hemisphere.
     pub normals: ReferenceNormals,
-    /// CPU or GPU tracer (`[reference] tracer`; auto: the GPU on hardware).
+    /// CPU, GPU compute or GPU hardware tracer (`[reference] tracer`; `ReferenceTracer::resolve`).
     pub tracer: ReferenceTracer,
 }
 
@@ -164,12 +166,21 @@ pub fn trace_surfaces(
     let cache = ReferenceCache::new(cache_dir());
     let auto = s.tracer == ReferenceTracer::Auto;
     let gpu_takes_it = !auto || s.rays <= GPU_MAX_RAYS_PER_PIXEL;
-    if s.tracer.resolve(gpu.is_software()) == ReferenceTracer::Gpu && gpu_takes_it {
-        let traced = cache.get_or_trace(key.gpu_traced(), || {
-            let bvh = GpuSceneBvh::new(gpu.clone(), scene, time)?;
-            GpuReferenceTracer::new(gpu.clone(), &crate::renderer::shader_library())?
-                .trace(&bvh, surfaces, &params)
-        });
+    let tracer = s.tracer.resolve(gpu.is_software(), gpu.has_ray_queries());
+    if tracer != ReferenceTracer::Cpu && gpu_takes_it {
+        let traced = if tracer == ReferenceTracer::Hardware {
+            cache.get_or_trace(key.hardware_traced(), || {
+                let accel = HardwareSceneAs::build(gpu, scene, time)?;
+                GpuReferenceTracer::new(gpu.clone(), &crate::renderer::shader_library())?
+                    .trace(&accel, surfaces, &params)
+            })
+        } else {
+            cache.get_or_trace(key.gpu_traced(), || {
+                let bvh = GpuSceneBvh::new(gpu.clone(), scene, time)?;
+                GpuReferenceTracer::new(gpu.clone(), &crate::renderer::shader_library())?
+                    .trace(&bvh, surfaces, &params)
+            })
+        };
         match traced {
             Ok(image) => return Ok(image),
             // `auto` falls back to the CPU where the scene or image is over the device's

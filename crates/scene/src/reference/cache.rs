@@ -122,10 +122,20 @@ impl CacheKey {
     /// tracer's name and its shaders' sources (a CPU-traced entry is never taken for a GPU one,
     /// nor one from older shaders).
     pub fn gpu_traced(self) -> CacheKey {
+        self.traced_by(b"gpu", GPU_TRACER_SOURCES)
+    }
+
+    /// The key of the same reference traced by the GPU tracer's hardware backend (its own
+    /// name and shaders: its results agree with the others statistically, not bit for bit).
+    pub fn hardware_traced(self) -> CacheKey {
+        self.traced_by(b"hardware", HARDWARE_TRACER_SOURCES)
+    }
+
+    fn traced_by(self, tracer: &[u8], sources: &[&str]) -> CacheKey {
         let mut h = Fnv1a128::new();
         h.bytes(&self.0.to_le_bytes());
-        h.bytes(b"gpu");
-        for source in GPU_TRACER_SOURCES {
+        h.bytes(tracer);
+        for source in sources {
             h.u32(source.len() as u32);
             h.bytes(source.as_bytes());
         }
@@ -136,7 +146,16 @@ impl CacheKey {
 /// The GPU tracer's shaders, hashed into its keys.
 const GPU_TRACER_SOURCES: &[&str] = &[
     include_str!("../../../../shaders/common/bvh.wgsl"),
+    include_str!("../../../../shaders/common/ao_ray_dirs.wgsl"),
     include_str!("../../../../shaders/common/ao_rays.wgsl"),
+    include_str!("../../../../shaders/raytrace/reference.wgsl"),
+];
+
+/// The hardware backend's shaders, hashed into its keys.
+const HARDWARE_TRACER_SOURCES: &[&str] = &[
+    include_str!("../../../../shaders/common/hardware_scene.wgsl"),
+    include_str!("../../../../shaders/common/ao_ray_dirs.wgsl"),
+    include_str!("../../../../shaders/common/ao_rays_hardware.wgsl"),
     include_str!("../../../../shaders/raytrace/reference.wgsl"),
 ];
 
@@ -386,10 +405,35 @@ mod tests {
         let base = CacheKey::new(&tris, &surfaces(), &ReferenceParams::default());
         assert_ne!(base, base.gpu_traced());
         assert_eq!(base.gpu_traced(), base.gpu_traced());
-        assert_eq!(ReferenceTracer::Auto.resolve(true), ReferenceTracer::Cpu);
-        assert_eq!(ReferenceTracer::Auto.resolve(false), ReferenceTracer::Gpu);
-        assert_eq!(ReferenceTracer::Cpu.resolve(false), ReferenceTracer::Cpu);
-        assert_eq!(ReferenceTracer::Gpu.resolve(true), ReferenceTracer::Gpu);
+        assert_eq!(
+            ReferenceTracer::Auto.resolve(true, true),
+            ReferenceTracer::Cpu
+        );
+        assert_eq!(
+            ReferenceTracer::Auto.resolve(false, false),
+            ReferenceTracer::Gpu
+        );
+        assert_eq!(
+            ReferenceTracer::Auto.resolve(false, true),
+            ReferenceTracer::Hardware
+        );
+        assert_eq!(
+            ReferenceTracer::Cpu.resolve(false, true),
+            ReferenceTracer::Cpu
+        );
+        assert_eq!(
+            ReferenceTracer::Gpu.resolve(true, true),
+            ReferenceTracer::Gpu
+        );
+        assert_eq!(
+            ReferenceTracer::Hardware.resolve(true, false),
+            ReferenceTracer::Hardware
+        );
+        assert_eq!(ReferenceTracer::parse("compute"), Ok(ReferenceTracer::Gpu));
+        assert_eq!(
+            ReferenceTracer::parse("hardware"),
+            Ok(ReferenceTracer::Hardware)
+        );
         let e = ReferenceTracer::parse("embree").unwrap_err();
         assert!(e.contains("auto, cpu, gpu"), "{e}");
     }

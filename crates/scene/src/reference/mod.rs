@@ -88,49 +88,59 @@ impl ReferenceNormals {
     }
 }
 
-/// Which tracer traces the reference: the CPU's BVH (rayon over cores) or the GPU ray tracer
-/// (`crate::ray_tracing`), the same rays either way. `Auto` is the GPU on a hardware device and
-/// the CPU on a software one (lavapipe runs compute on the same cores, slower than the CPU
-/// tracer's SIMD BVH).
+/// Which tracer traces the reference: the CPU's BVH (rayon over cores), the GPU ray tracer's
+/// compute BVH, or its hardware backend (acceleration structures and ray queries;
+/// `crate::ray_tracing::hardware`), the same rays every way. `Auto` is the hardware backend on
+/// a hardware device with ray queries, the compute BVH on one without, and the CPU on a
+/// software device (lavapipe runs compute and its software ray queries on the same cores,
+/// slower than the CPU tracer's SIMD BVH).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReferenceTracer {
-    /// The GPU on a hardware device, the CPU on a software one ([`ReferenceTracer::resolve`]).
+    /// Chosen for the device ([`ReferenceTracer::resolve`]).
     #[default]
     Auto,
     /// The CPU BVH tracer, parallel over rows with rayon; any number of rays per pixel.
     Cpu,
-    /// The GPU ray tracer (`crate::ray_tracing`); at most
-    /// [`GPU_MAX_RAYS_PER_PIXEL`](crate::ray_tracing::GPU_MAX_RAYS_PER_PIXEL) rays per pixel.
+    /// The GPU ray tracer's compute BVH (`crate::ray_tracing`; spelled "gpu" or "compute");
+    /// at most [`GPU_MAX_RAYS_PER_PIXEL`](crate::ray_tracing::GPU_MAX_RAYS_PER_PIXEL) rays per
+    /// pixel.
     Gpu,
+    /// The GPU ray tracer's hardware backend (ray queries); a device without them is a named
+    /// error. Same ray limit as [`ReferenceTracer::Gpu`].
+    Hardware,
 }
 
 impl ReferenceTracer {
-    /// The config spelling: "auto", "cpu" or "gpu".
+    /// The config spelling: "auto", "cpu", "gpu" or "hardware".
     pub fn name(self) -> &'static str {
         match self {
             ReferenceTracer::Auto => "auto",
             ReferenceTracer::Cpu => "cpu",
             ReferenceTracer::Gpu => "gpu",
+            ReferenceTracer::Hardware => "hardware",
         }
     }
 
-    /// Parses the config spelling, naming the allowed values on error.
+    /// Parses the config spelling ("compute" is "gpu"), naming the allowed values on error.
     pub fn parse(s: &str) -> Result<Self, String> {
         match s {
             "auto" => Ok(ReferenceTracer::Auto),
             "cpu" => Ok(ReferenceTracer::Cpu),
-            "gpu" => Ok(ReferenceTracer::Gpu),
+            "gpu" | "compute" => Ok(ReferenceTracer::Gpu),
+            "hardware" => Ok(ReferenceTracer::Hardware),
             _ => Err(format!(
-                "reference tracer `{s}` is not known (allowed: auto, cpu, gpu)"
+                "reference tracer `{s}` is not known (allowed: auto, cpu, gpu or compute, hardware)"
             )),
         }
     }
 
-    /// `Auto` made concrete for a device (`software`: `GpuContext::is_software`).
-    pub fn resolve(self, software: bool) -> ReferenceTracer {
+    /// `Auto` made concrete for a device (`software`: `GpuContext::is_software`;
+    /// `ray_queries`: `GpuContext::has_ray_queries`).
+    pub fn resolve(self, software: bool, ray_queries: bool) -> ReferenceTracer {
         match self {
             ReferenceTracer::Auto if software => ReferenceTracer::Cpu,
+            ReferenceTracer::Auto if ray_queries => ReferenceTracer::Hardware,
             ReferenceTracer::Auto => ReferenceTracer::Gpu,
             t => t,
         }
