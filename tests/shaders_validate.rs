@@ -61,13 +61,13 @@ fn example_shaders_validate_with_naga() {
 }
 
 #[test]
-fn a_ray_tracer_variant_of_a_shader_without_ao_rays_is_a_named_error() {
+fn a_ray_tracer_variant_of_a_shader_that_traces_no_rays_is_a_named_error() {
     let lib = aograph_graph::ShaderLibrary::new(aograph::shader_dir());
     let e = match lib.load("ao/ssao/ao.wgsl?RayTracer=hardware") {
         Ok(_) => panic!("ssao traces no rays: its hardware variant must be refused"),
         Err(e) => e.to_string(),
     };
-    assert!(e.contains("common/ao_rays.wgsl"), "{e}");
+    assert!(e.contains("common/scene_trace.wgsl"), "{e}");
     // And the reference's variant is a ray-query module at the compute BVH's bindings.
     let m = lib
         .load("raytrace/reference.wgsl?RayTracer=hardware")

@@ -1,7 +1,8 @@
 // The reference's AO rays without a tracer (mirror of crates/scene/src/reference/sampling.rs
 // and tracer.rs): per-pixel scramble, the scrambled 2D Sobol point, Malley's cosine-weighted
 // hemisphere in Duff et al.'s tangent frame, the origin offset. common/ao_rays.wgsl traces them
-// against the compute BVH, common/ao_rays_hardware.wgsl with ray queries.
+// against the scene with common/scene_trace.wgsl (the compute BVH, or ray queries in a shader's
+// `RayTracer=hardware` variant).
 fn rays_hash(x_in: u32) -> u32 {
     var x = x_in;
     x ^= x >> 16u;

@@ -6,8 +6,10 @@
 //   Malley's method (cosine-weighted) in Duff et al.'s tangent frame;
 //   occlusion: binary, 1 for any hit in [0, R]; obscurance, 1 - min(1, (d/R)^2) for the
 //   nearest hit within R.
+// Traced by common/scene_trace.wgsl: the compute BVH, or ray queries in a shader's
+// `RayTracer=hardware` variant.
 #include "common/ao_ray_dirs.wgsl"
-#include "common/bvh.wgsl"
+#include "common/scene_trace.wgsl"
 
 // Occlusion of ray `index` of a pixel (scrambled by `scramble`) from surface point p with
 // unit normal n, mode 0 binary, 1 obscurance; and 1 in y when the occluder moves.
@@ -15,11 +17,11 @@ fn rays_sample(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radi
                mode: u32) -> vec2<f32> {
     let origin = p + n * rays_offset_epsilon(p, radius);
     let d = rays_to_world(n, rays_cosine_hemisphere(rays_sobol_2d(index, scramble)));
-    let hit = bvh_trace(origin, d, 0.0, radius, mode == 0u);
-    if (hit.triangle == BVH_MISS_INDEX) {
+    let hit = scene_trace(origin, d, 0.0, radius, mode == 0u);
+    if (!hit.hit) {
         return vec2<f32>(0.0);
     }
-    let moving = f32(bvh_instances[hit.instance].moving);
+    let moving = f32(hit.moving);
     if (mode == 0u) {
         return vec2<f32>(1.0, moving);
     }

@@ -1,7 +1,8 @@
-// A batch of arbitrary rays against the scene BVH (crates/scene/src/ray_tracing/ray_batch.rs):
+// A batch of arbitrary rays against the scene (crates/scene/src/ray_tracing/ray_batch.rs): the
+// compute BVH, or the acceleration structures in the `RayTracer=hardware` variant;
 // what the GPU-vs-CPU tests and the rays-per-second bench run. One invocation per ray; the
 // batch is laid out over a 2D dispatch when it exceeds 65535 workgroups in x.
-#include "common/bvh.wgsl"
+#include "common/scene_trace.wgsl"
 
 struct TraceRay {
     origin: vec3<f32>,
@@ -32,15 +33,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let ray = rays[i];
-    let hit = bvh_trace(ray.origin, ray.direction, ray.t_min, ray.t_max, params.any_hit != 0u);
-    if (hit.triangle == BVH_MISS_INDEX) {
+    let hit = scene_trace(ray.origin, ray.direction, ray.t_min, ray.t_max, params.any_hit != 0u);
+    if (!hit.hit) {
         results[i] = vec4<u32>(0u);
         return;
     }
-    results[i] = vec4<u32>(
-        bitcast<u32>(hit.t),
-        bvh_instances[hit.instance].instance,
-        bvh_triangles[hit.triangle].primitive,
-        1u,
-    );
+    results[i] = vec4<u32>(bitcast<u32>(hit.t), hit.instance, hit.primitive, 1u);
 }

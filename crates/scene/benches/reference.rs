@@ -14,8 +14,7 @@
 //! and their per-frame update on `dynamic` and CesiumMan.
 
 use aograph_scene::ray_tracing::{
-    GpuRayBatch, GpuReferenceTracer, GpuSceneBvh, HardwareRayBatch, HardwareSceneAs, HitQuery,
-    SceneBvh, TraceRay,
+    GpuRayBatch, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs, HitQuery, SceneBvh, TraceRay,
 };
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
@@ -171,10 +170,9 @@ fn ray_batch(
             b.iter(|| compute.trace(&bvh, black_box(&rays), HitQuery::Any, 1))
         });
         if gpu.has_ray_queries() {
-            let hardware = HardwareRayBatch::new(gpu.clone(), &shaders).expect("pipeline");
             let accel = HardwareSceneAs::build(&gpu, scene, 0.0).expect("builds");
             group.bench_function("columns_any_hit_hardware", |b| {
-                b.iter(|| hardware.trace(&accel, black_box(&rays), HitQuery::Any, 1))
+                b.iter(|| compute.trace(&accel, black_box(&rays), HitQuery::Any, 1))
             });
             group.bench_function("columns_as_build_hardware", |b| {
                 b.iter(|| HardwareSceneAs::build(&gpu, black_box(scene), 0.0))

@@ -14,8 +14,7 @@ use std::sync::Arc;
 
 use aograph_graph::{GpuContext, ShaderLibrary};
 use aograph_scene::ray_tracing::{
-    GpuRayBatch, GpuRayHit, GpuReferenceTracer, GpuSceneBvh, HardwareRayBatch, HardwareSceneAs,
-    HitQuery, TraceRay,
+    GpuRayBatch, GpuRayHit, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs, HitQuery, TraceRay,
 };
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
@@ -514,9 +513,10 @@ fn the_gpu_reference_refuses_more_rays_than_its_f32_sums_hold_naming_the_limit()
     );
 }
 
-/// The device and the hardware ray batch, when the device has ray queries; without them the
-/// hardware tests skip (saying so), unless AOGRAPH_REQUIRE_RAY_QUERY=1 (CI) makes that a failure.
-fn hardware_batch() -> Option<(Arc<GpuContext>, HardwareRayBatch)> {
+/// The device and the ray batch, when the device has ray queries (the batch then has its
+/// hardware pipeline); without them the hardware tests skip (saying so), unless
+/// AOGRAPH_REQUIRE_RAY_QUERY=1 (CI) makes that a failure.
+fn hardware_batch() -> Option<(Arc<GpuContext>, GpuRayBatch)> {
     let gpu = aograph_graph::test_gpu()?;
     if !gpu.has_ray_queries() {
         let why = format!(
@@ -530,7 +530,7 @@ fn hardware_batch() -> Option<(Arc<GpuContext>, HardwareRayBatch)> {
         eprintln!("skipping the hardware tracer: {why}");
         return None;
     }
-    let batch = HardwareRayBatch::new(gpu.clone(), &shaders()).unwrap();
+    let batch = GpuRayBatch::new(gpu.clone(), &shaders()).unwrap();
     Some((gpu, batch))
 }
 

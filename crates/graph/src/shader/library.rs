@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 use super::include::expand;
 use super::reflect::{ShaderModuleInfo, parse_and_reflect};
 use super::variant::{
-    AO_RAYS, AO_RAYS_HARDWARE, half_precision_variants, halve_aliases, hoist_enables,
+    SCENE_TRACE, SCENE_TRACE_HARDWARE, half_precision_variants, halve_aliases, hoist_enables,
     parse_variant, ray_tracer_variant,
 };
 use crate::error::{GraphError, GraphResult};
@@ -87,15 +87,19 @@ impl ShaderLibrary {
         let (file, variant) = parse_variant(name)?;
         let (source, segments) = if variant.hardware_rays {
             let (source, segments) = expand(file, &|n| {
-                self.read(if n == AO_RAYS { AO_RAYS_HARDWARE } else { n })
+                self.read(if n == SCENE_TRACE {
+                    SCENE_TRACE_HARDWARE
+                } else {
+                    n
+                })
             })?;
             let (_, plain) = expand(file, &|n| self.read(n))?;
-            if !plain.iter().any(|s| s.file() == AO_RAYS) {
+            if !plain.iter().any(|s| s.file() == SCENE_TRACE) {
                 return Err(GraphError::ShaderFile {
                     file: name.into(),
                     message: format!(
-                        "variant `RayTracer=hardware`: the file does not include `{AO_RAYS}`, \
-                         so it traces no AO rays to move to the hardware tracer"
+                        "variant `RayTracer=hardware`: the file does not include `{SCENE_TRACE}`, \
+                         so it traces no rays to move to the hardware tracer"
                     ),
                 });
             }
@@ -114,7 +118,7 @@ impl ShaderLibrary {
     pub fn variants(&self, name: &str) -> GraphResult<Vec<String>> {
         let (source, segments) = expand(name, &|n| self.read(n))?;
         let mut out = half_precision_variants(name, &source);
-        if name != AO_RAYS && segments.iter().any(|s| s.file() == AO_RAYS) {
+        if name != SCENE_TRACE && segments.iter().any(|s| s.file() == SCENE_TRACE) {
             out.push(ray_tracer_variant(name, true));
         }
         Ok(out)

@@ -15,15 +15,16 @@
 //! meaning: a crate above it chooses which alias follows which setting.
 //!
 //! Ray-tracer variants: `file.wgsl?RayTracer=hardware` is a file that includes
-//! `common/ao_rays.wgsl` (the reference's AO rays against the compute BVH) with
-//! `common/ao_rays_hardware.wgsl` (the same functions with ray queries) included in its place;
-//! `?RayTracer=compute` is the file as written. The hardware file's `enable wgpu_ray_query;`
-//! is hoisted to the first line ([`hoist_enables`]), since WGSL wants directives first.
+//! `common/scene_trace.wgsl` (one ray against the compute BVH) with
+//! `common/scene_trace_hardware.wgsl` (the same function with ray queries) included in its
+//! place; `?RayTracer=compute` is the file as written. The hardware file's
+//! `enable wgpu_ray_query;` is hoisted to the first line ([`hoist_enables`]), since WGSL wants
+//! directives first.
 //!
 //! Invariant: a variant changes nothing in the file but the format on its alias lines (or the
 //! one include it swaps), line numbers of the file's own lines included; naming an alias the
 //! file does not declare (at a 32-bit float format), or a ray-tracer variant of a file that
-//! does not include the AO rays, is an error, since the suffix would silently do nothing.
+//! traces no rays (does not include the scene trace), is an error, since the suffix would silently do nothing.
 
 use crate::error::{GraphError, GraphResult};
 
@@ -38,9 +39,9 @@ pub fn storage_precision_variant(file: &str, alias: &str, half: bool) -> String 
 }
 
 /// The include a `RayTracer=hardware` variant swaps, and what it includes instead.
-pub const AO_RAYS: &str = "common/ao_rays.wgsl";
-/// See [`AO_RAYS`].
-pub const AO_RAYS_HARDWARE: &str = "common/ao_rays_hardware.wgsl";
+pub const SCENE_TRACE: &str = "common/scene_trace.wgsl";
+/// See [`SCENE_TRACE`].
+pub const SCENE_TRACE_HARDWARE: &str = "common/scene_trace_hardware.wgsl";
 
 /// The variant key of the ray-tracer choice.
 const RAY_TRACER: &str = "RayTracer";
@@ -59,7 +60,7 @@ pub fn ray_tracer_variant(file: &str, hardware: bool) -> String {
 pub(super) struct Variant<'a> {
     /// Storage aliases to halve.
     pub halved: Vec<&'a str>,
-    /// Trace the AO rays with ray queries.
+    /// Trace the scene with ray queries.
     pub hardware_rays: bool,
 }
 

@@ -57,18 +57,15 @@ pub(crate) fn compute_pipeline(
     Ok(pipeline)
 }
 
-/// A bind group of `pipeline`'s group 0 with `(binding, buffer)` entries.
-pub(crate) fn bind_group(
+/// A bind group of `pipeline`'s group 0 with `(binding, resource)` entries.
+pub(crate) fn bind_group<'a>(
     gpu: &GpuContext,
     pipeline: &wgpu::ComputePipeline,
-    entries: &[(u32, &wgpu::Buffer)],
+    entries: impl IntoIterator<Item = (u32, wgpu::BindingResource<'a>)>,
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = entries
-        .iter()
-        .map(|(binding, buffer)| wgpu::BindGroupEntry {
-            binding: *binding,
-            resource: buffer.as_entire_binding(),
-        })
+        .into_iter()
+        .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
         .collect();
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,

@@ -18,9 +18,11 @@ use std::sync::Arc;
 use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::{Pod, Zeroable};
 
-use super::gpu_bvh::GpuSceneBvh;
-use super::gpu_io::{buffer_of, check_storage, compute_pipeline, read_back, submit_dispatch};
-use super::hardware::HardwareSceneAs;
+use super::gpu_io::{
+    bind_group, buffer_of, check_storage, compute_pipeline, read_back, submit_dispatch,
+};
+use super::trace_scene::GpuTraceScene;
+use super::trace_scene::hardware_pipeline;
 use crate::error::SceneError;
 use crate::reference::{
     ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer, check_inputs,
@@ -45,28 +47,6 @@ struct ReferenceUniform {
     pad: u32,
 }
 
-/// The scene a GPU trace runs against: the compute BVH or the hardware acceleration
-/// structures (the two backends of the GPU tracer).
-#[derive(Clone, Copy)]
-pub enum GpuTraceScene<'a> {
-    /// The two-level BVH in storage buffers, traversed by compute shaders.
-    Compute(&'a GpuSceneBvh),
-    /// BLAS and TLAS, traversed by ray queries.
-    Hardware(&'a HardwareSceneAs),
-}
-
-impl<'a> From<&'a GpuSceneBvh> for GpuTraceScene<'a> {
-    fn from(b: &'a GpuSceneBvh) -> Self {
-        Self::Compute(b)
-    }
-}
-
-impl<'a> From<&'a HardwareSceneAs> for GpuTraceScene<'a> {
-    fn from(a: &'a HardwareSceneAs) -> Self {
-        Self::Hardware(a)
-    }
-}
-
 const SHADER: &str = "raytrace/reference.wgsl";
 
 /// The GPU reference pipeline (one per backend the device has).
@@ -85,12 +65,7 @@ impl GpuReferenceTracer {
         shaders: &ShaderLibrary,
     ) -> Result<GpuReferenceTracer, SceneError> {
         let pipeline = compute_pipeline(&gpu, shaders, SHADER)?;
-        let hardware = if gpu.has_ray_queries() {
-            let variant = aograph_graph::ray_tracer_variant(SHADER, true);
-            Some(compute_pipeline(&gpu, shaders, &variant)?)
-        } else {
-            None
-        };
+        let hardware = hardware_pipeline(&gpu, shaders, SHADER)?;
         Ok(GpuReferenceTracer {
             gpu,
             pipeline,
@@ -206,26 +181,8 @@ impl GpuReferenceTracer {
                 (2, normal_buffer.as_entire_binding()),
                 (3, result.as_entire_binding()),
             ];
-            match scene {
-                GpuTraceScene::Compute(bvh) => entries.extend([
-                    (12, bvh.nodes.as_entire_binding()),
-                    (13, bvh.instances.as_entire_binding()),
-                    (14, bvh.triangles.as_entire_binding()),
-                ]),
-                GpuTraceScene::Hardware(a) => entries.extend([
-                    (12, a.tlas.as_binding()),
-                    (13, a.instances.as_entire_binding()),
-                ]),
-            }
-            let entries: Vec<wgpu::BindGroupEntry> = entries
-                .into_iter()
-                .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
-                .collect();
-            let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("reference"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
+            entries.extend(scene.bindings());
+            let group = bind_group(gpu, pipeline, entries);
             submit_dispatch(
                 gpu,
                 pipeline,

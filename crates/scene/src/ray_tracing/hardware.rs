@@ -19,17 +19,12 @@
 //! adapter has otherwise); every placed instance's TLAS custom index is its row in the
 //! instance table, below 2^24.
 
-use std::sync::Arc;
-
-use aograph_graph::{GpuContext, ShaderLibrary};
+use aograph_graph::GpuContext;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
-use super::gpu_io::{
-    buffer_of, check_gpu_errors, check_storage, compute_pipeline, dispatch_grid, read_back,
-};
-use super::ray_batch::{GpuRayHit, HitQuery, TraceRay};
+use super::gpu_io::{buffer_of, check_gpu_errors, check_storage};
 use crate::error::SceneError;
 use crate::model::Scene;
 use crate::reference::is_traceable;
@@ -367,109 +362,4 @@ fn skinned_triangles(scene: &Scene, index: usize, t: f32) -> Vec<[Vec3; 3]> {
             if finite { t } else { [Vec3::ZERO; 3] }
         })
         .collect()
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct TraceParams {
-    count: u32,
-    any_hit: u32,
-    row: u32,
-    pad: u32,
-}
-
-/// Arbitrary rays against [`HardwareSceneAs`] (shaders/raytrace/trace_rays_hardware.wgsl): the
-/// hardware twin of [`super::GpuRayBatch`], same rays in, same answers out.
-pub struct HardwareRayBatch {
-    gpu: Arc<GpuContext>,
-    pipeline: wgpu::ComputePipeline,
-}
-
-impl HardwareRayBatch {
-    /// Compiles the ray-query pipeline; a device without ray queries is a named error.
-    pub fn new(gpu: Arc<GpuContext>, shaders: &ShaderLibrary) -> Result<Self, SceneError> {
-        if !gpu.has_ray_queries() {
-            return Err(unsupported(&gpu));
-        }
-        let pipeline = compute_pipeline(&gpu, shaders, "raytrace/trace_rays_hardware.wgsl")?;
-        Ok(Self { gpu, pipeline })
-    }
-
-    /// Traces `rays` `repeat` times over (for timing) and reads the answers back.
-    pub fn trace(
-        &self,
-        scene: &HardwareSceneAs,
-        rays: &[TraceRay],
-        query: HitQuery,
-        repeat: u32,
-    ) -> Result<Vec<Option<GpuRayHit>>, SceneError> {
-        let count = u32::try_from(rays.len()).map_err(|_| SceneError::InvalidParameter {
-            name: "rays",
-            value: rays.len().to_string(),
-            allowed: "at most 2^32 - 1 rays per batch",
-        })?;
-        check_storage(&self.gpu, "rays", rays.len() as u64 * 32)?;
-        let (x, y, row) = dispatch_grid(count);
-        let params = TraceParams {
-            count,
-            any_hit: (query == HitQuery::Any) as u32,
-            row,
-            pad: 0,
-        };
-        let gpu = &self.gpu;
-        let uniform = buffer_of(gpu, "trace params", &[params], wgpu::BufferUsages::UNIFORM);
-        let ray_buffer = buffer_of(gpu, "rays", rays, wgpu::BufferUsages::STORAGE);
-        let result_size = (rays.len().max(1) * 16) as u64;
-        let results = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ray results"),
-            size: result_size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hardware rays"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: ray_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: results.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 12,
-                    resource: scene.tlas.as_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 13,
-                    resource: scene.instances.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 14,
-                    resource: scene.primitives.as_entire_binding(),
-                },
-            ],
-        });
-        for _ in 0..repeat.max(1) {
-            super::gpu_io::submit_dispatch(gpu, &self.pipeline, &group, (x, y));
-        }
-        let bytes = read_back(gpu, &results, result_size)?;
-        let words: &[[u32; 4]] = bytemuck::cast_slice(&bytes);
-        Ok(words[..rays.len()]
-            .iter()
-            .map(|w| {
-                (w[3] == 1).then(|| GpuRayHit {
-                    distance: f32::from_bits(w[0]),
-                    instance: w[1],
-                    primitive: w[2],
-                })
-            })
-            .collect())
-    }
 }

@@ -19,11 +19,13 @@ pub mod hardware;
 pub mod limits;
 pub mod ray_batch;
 pub mod scene_bvh;
+pub mod trace_scene;
 
 pub use flat_bvh::{FlatBvh, FlatNode};
 pub use gpu_bvh::GpuSceneBvh;
-pub use gpu_reference::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuTraceScene};
-pub use hardware::{HardwareRayBatch, HardwareSceneAs};
+pub use gpu_reference::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer};
+pub use hardware::HardwareSceneAs;
 pub use limits::{BvhSizes, check_bvh_fits};
 pub use ray_batch::{GpuRayBatch, GpuRayHit, HitQuery, TraceRay};
 pub use scene_bvh::{BvhUpdate, BvhWork, GpuInstance, GpuTriangle, SceneBvh};
+pub use trace_scene::GpuTraceScene;

@@ -1,17 +1,18 @@
-//! Arbitrary rays traced on the GPU against a [`GpuSceneBvh`] (shaders/raytrace/trace_rays.wgsl):
-//! what the tests compare with the CPU tracer ray by ray, and what the bench times in rays per
-//! second. Closest-hit or any-hit, one invocation per ray.
+//! Arbitrary rays traced on the GPU (shaders/raytrace/trace_rays.wgsl) against either backend
+//! ([`GpuTraceScene`]: the compute BVH, or the acceleration structures through the shader's
+//! `RayTracer=hardware` variant): what the tests compare with the CPU tracer ray by ray, and
+//! what the bench times in rays per second. Closest-hit or any-hit, one invocation per ray.
 
 use std::sync::Arc;
 
 use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::{Pod, Zeroable};
 
-use super::gpu_bvh::GpuSceneBvh;
 use super::gpu_io::{
     bind_group, buffer_of, check_storage, compute_pipeline, dispatch_grid, read_back,
     submit_dispatch,
 };
+use super::trace_scene::{GpuTraceScene, hardware_pipeline};
 use crate::error::SceneError;
 
 /// One ray: `origin + t direction`, t in [t_min, t_max] (direction unit length for distances in
@@ -50,11 +51,14 @@ struct TraceParams {
     pad: u32,
 }
 
-/// The ray batch pipeline.
+/// The ray batch pipelines (the hardware one on a device with ray queries).
 pub struct GpuRayBatch {
     gpu: Arc<GpuContext>,
     pipeline: wgpu::ComputePipeline,
+    hardware: Option<wgpu::ComputePipeline>,
 }
+
+const SHADER: &str = "raytrace/trace_rays.wgsl";
 
 /// Closest hit or first hit found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,22 +70,30 @@ pub enum HitQuery {
 }
 
 impl GpuRayBatch {
-    /// Compiles the `raytrace/trace_rays.wgsl` pipeline from `shaders`; a shader or pipeline
-    /// failure is a [`SceneError::Gpu`].
+    /// Compiles the `raytrace/trace_rays.wgsl` pipeline from `shaders` (and its hardware
+    /// variant where the device has ray queries); a shader or pipeline failure is a
+    /// [`SceneError::Gpu`].
     pub fn new(gpu: Arc<GpuContext>, shaders: &ShaderLibrary) -> Result<GpuRayBatch, SceneError> {
-        let pipeline = compute_pipeline(&gpu, shaders, "raytrace/trace_rays.wgsl")?;
-        Ok(GpuRayBatch { gpu, pipeline })
+        let pipeline = compute_pipeline(&gpu, shaders, SHADER)?;
+        let hardware = hardware_pipeline(&gpu, shaders, SHADER)?;
+        Ok(GpuRayBatch {
+            gpu,
+            pipeline,
+            hardware,
+        })
     }
 
     /// Traces `rays`, `repeat` times over (for timing; every repeat gives the same answer), and
     /// reads the answers back.
-    pub fn trace(
+    pub fn trace<'a>(
         &self,
-        bvh: &GpuSceneBvh,
+        scene: impl Into<GpuTraceScene<'a>>,
         rays: &[TraceRay],
         query: HitQuery,
         repeat: u32,
     ) -> Result<Vec<Option<GpuRayHit>>, SceneError> {
+        let scene = scene.into();
+        let pipeline = scene.pick(&self.gpu, &self.pipeline, self.hardware.as_ref())?;
         let count = u32::try_from(rays.len()).map_err(|_| SceneError::InvalidParameter {
             name: "rays",
             value: rays.len().to_string(),
@@ -105,20 +117,15 @@ impl GpuRayBatch {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let group = bind_group(
-            gpu,
-            &self.pipeline,
-            &[
-                (0, &uniform),
-                (1, &ray_buffer),
-                (2, &results),
-                (12, &bvh.nodes),
-                (13, &bvh.instances),
-                (14, &bvh.triangles),
-            ],
-        );
+        let mut entries = vec![
+            (0, uniform.as_entire_binding()),
+            (1, ray_buffer.as_entire_binding()),
+            (2, results.as_entire_binding()),
+        ];
+        entries.extend(scene.bindings());
+        let group = bind_group(gpu, pipeline, entries);
         for _ in 0..repeat.max(1) {
-            submit_dispatch(gpu, &self.pipeline, &group, (x, y));
+            submit_dispatch(gpu, pipeline, &group, (x, y));
         }
         let bytes = read_back(gpu, &results, result_size)?;
         let words: &[[u32; 4]] = bytemuck::cast_slice(&bytes);
