@@ -4,17 +4,7 @@
 // `RayTracer=hardware` variant (crates/graph/src/shader/variant.rs) includes that one in this
 // one's place, so a shader is written once for both backends.
 #include "common/bvh.wgsl"
-
-// A ray's answer: `hit` false on a miss (the rest unused); else its distance along the
-// direction, the scene instance (index into Scene::instances), the primitive (index among the
-// mesh's valid triangles) and 1 in `moving` when that instance moves.
-struct SceneHit {
-    hit: bool,
-    t: f32,
-    instance: u32,
-    primitive: u32,
-    moving: u32,
-}
+#include "common/scene_hit.wgsl"
 
 // The nearest hit in [t_min, t_max], or any hit when `any` (visibility).
 fn scene_trace(origin: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any: bool) -> SceneHit {

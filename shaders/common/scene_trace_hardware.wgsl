@@ -2,14 +2,7 @@
 // common/scene_trace.wgsl's question answered with ray queries against the scene's
 // acceleration structures (crates/scene/src/ray_tracing/hardware.rs): the same SceneHit for
 // the same ray. Included in scene_trace.wgsl's place by a shader's `RayTracer=hardware` variant.
-
-struct SceneHit {
-    hit: bool,
-    t: f32,
-    instance: u32,
-    primitive: u32,
-    moving: u32,
-}
+#include "common/scene_hit.wgsl"
 
 // The nearest hit in [t_min, t_max], or any hit when `any` (visibility).
 fn scene_trace(origin: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any: bool) -> SceneHit {

@@ -146,6 +146,7 @@ impl CacheKey {
 /// The GPU tracer's shaders, hashed into its keys.
 const GPU_TRACER_SOURCES: &[&str] = &[
     include_str!("../../../../shaders/common/bvh.wgsl"),
+    include_str!("../../../../shaders/common/scene_hit.wgsl"),
     include_str!("../../../../shaders/common/scene_trace.wgsl"),
     include_str!("../../../../shaders/common/ao_ray_dirs.wgsl"),
     include_str!("../../../../shaders/common/ao_rays.wgsl"),
@@ -155,6 +156,7 @@ const GPU_TRACER_SOURCES: &[&str] = &[
 /// The hardware backend's shaders, hashed into its keys.
 const HARDWARE_TRACER_SOURCES: &[&str] = &[
     include_str!("../../../../shaders/common/hardware_scene.wgsl"),
+    include_str!("../../../../shaders/common/scene_hit.wgsl"),
     include_str!("../../../../shaders/common/scene_trace_hardware.wgsl"),
     include_str!("../../../../shaders/common/ao_ray_dirs.wgsl"),
     include_str!("../../../../shaders/common/ao_rays.wgsl"),
