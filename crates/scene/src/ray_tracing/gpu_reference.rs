@@ -1,13 +1,14 @@
 //! The AO reference traced on the GPU (shaders/raytrace/reference.wgsl): the CPU reference's
 //! rays (same Sobol points, scramble, hemisphere, origin offset and occlusion rule) and its
-//! estimator, against a [`GpuSceneBvh`] instead of the CPU BVH. Rows are traced in bands of
+//! estimator, against the GPU ray tracer instead of the CPU BVH. Rows are traced in bands of
 //! at most [`RAYS_PER_DISPATCH`] rays, so no single dispatch runs long enough to trip a
 //! driver's watchdog. Same inputs and errors as `reference::trace_reference`.
 //!
 //! The same shader runs on either backend of the tracer: against the compute BVH
-//! ([`GpuSceneBvh`]) as written, against the hardware acceleration structures
-//! ([`HardwareSceneAs`], ray queries) as its `RayTracer=hardware` variant, which swaps the AO
-//! rays' include (`aograph_graph::ray_tracer_variant`): the same rays and estimator either way.
+//! ([`super::GpuSceneBvh`]) as written, against the hardware acceleration structures
+//! ([`super::HardwareSceneAs`], ray queries) as its `RayTracer=hardware` variant, which swaps
+//! the scene trace's include (`aograph_graph::ray_tracer_variant`): the same rays and estimator
+//! either way.
 //!
 //! Invariant: sky and unusable pixels are exactly (1, 0), as on the CPU; every other pixel's
 //! estimate is the CPU's up to float rounding (its rays are the same rays), so the two agree

@@ -1,7 +1,7 @@
 //! The hardware backend of the GPU ray tracer: the scene as Vulkan acceleration structures,
 //! traversed by WGSL ray queries (wgpu's `EXPERIMENTAL_RAY_QUERY`: a ray-tracing GPU, or
 //! lavapipe from Mesa 24.1), answering the same questions as the compute BVH of
-//! [`super::GpuSceneBvh`] through the same [`TraceRay`] / [`GpuRayHit`] types.
+//! [`super::GpuSceneBvh`]: every GPU tracer takes either ([`super::GpuTraceScene`]).
 //!
 //! Layout, as the compute tracer's: one BLAS per mesh in object space, shared by every rigid
 //! instance of it; one world-space BLAS per skinned instance; one TLAS over the placed instances
