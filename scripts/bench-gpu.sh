@@ -6,8 +6,10 @@
 # and <out>/device.txt.
 #
 # Then rtao converged: 1, 2, 4 and 8 rays a frame accumulated over 64 frames
-# (<out>/<size>-rtao-converged), and the GPU against the CPU reference tracer in rays per
-# second (<out>/ray-throughput.txt, criterion's reference bench).
+# (<out>/<size>-rtao-converged), on both backends of the ray tracer where the device has ray
+# queries (configs/sweeps/ray-tracers.toml; the compute backend only otherwise), and the CPU,
+# compute and hardware tracers in rays per second (<out>/ray-throughput.txt, criterion's
+# reference bench).
 #
 #   bash scripts/bench-gpu.sh [OUT]            # default OUT: bench-gpu
 #   SIZES="96x64" FRAMES=1 WARMUP=0 RAYS=4 SCENES=columns PROFILE=debug RTAO_FRAMES=1 \
@@ -32,9 +34,18 @@ else
     cargo build --locked --quiet
 fi
 mkdir -p "$out"
+# Which backends rtao can take here: `aograph render` says which one `tracer = "auto"` chose.
+rtao_sweep=configs/sweeps/presets.toml
+probe=$("./target/$profile/aograph" render --config configs/rtao.toml --width 8 --height 8 \
+    --frames 1 --out "$out/tracer-probe")
+if grep -q "^ray tracer: hardware" <<<"$probe"; then
+    rtao_sweep=configs/sweeps/ray-tracers.toml
+fi
+rm -rf "$out/tracer-probe"
 {
     echo "aograph bench-gpu, $(date -u +%Y-%m-%dT%H:%M:%SZ)"
     echo "sizes: $sizes; scenes: $scenes; frames $frames after $warmup warm-up; reference $rays rays"
+    echo "rtao sweep: $rtao_sweep"
     command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader || true
 } > "$out/device.txt"
 for size in $sizes; do
@@ -46,12 +57,14 @@ for size in $sizes; do
         --quiet --out "$out/$size"
     grep -m1 "^Device:" "$out/$size/report.md" >> "$out/device.txt"
     "./target/$profile/aograph" bench \
-        --scenes "$scenes" --techniques rtao --sweep configs/sweeps/presets.toml \
+        --scenes "$scenes" --techniques rtao --sweep "$rtao_sweep" \
         --width "$w" --height "$h" --frames "$rtao_frames" --warmup 2 --rays "$rays" \
         --quiet --out "$out/$size-rtao-converged"
 done
 if [ "$profile" = release ]; then
     cargo bench --locked -p aograph-scene --bench reference -- reference/ 2>&1 \
         | grep -E "^reference|thrpt" > "$out/ray-throughput.txt" || true
+    cargo bench --locked -p aograph-scene --bench reference -- ray_batch 2>&1 \
+        | grep -E "^ray_batch|thrpt" >> "$out/ray-throughput.txt" || true
 fi
 echo "bench-gpu: wrote $out/ ($(echo $sizes | wc -w) sizes)"

@@ -218,6 +218,7 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
             technique: technique.name(),
             radius_pixels: None,
             declared: Default::default(),
+            tracing: Default::default(),
         };
         let out = technique.build(&mut ctx).expect("builds");
         let declared = ctx.declared;

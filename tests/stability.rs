@@ -478,7 +478,7 @@ impl<'a> Rig<'a> {
             self.variant.label(),
             self.scene_name
         );
-        let traces = r.graph.declared.scene_bvh.is_some();
+        let traces = r.graph.declared.trace_backend().is_some();
         let expect = match expect {
             Expect::Occluded if !occludes(&self.variant.technique) => Expect::Valid,
             Expect::Flat if traces => Expect::FlatBesideCreases,
@@ -546,11 +546,11 @@ impl<'a> Rig<'a> {
         out
     }
 
-    /// True when the variant's graph traces the real geometry (it declared the scene BVH).
+    /// True when the variant's graph traces the real geometry (it declared the scene BVH or acceleration structures).
     fn traces_geometry(&self) -> bool {
         self.renderer
             .as_ref()
-            .is_some_and(|r| r.graph.declared.scene_bvh.is_some())
+            .is_some_and(|r| r.graph.declared.trace_backend().is_some())
     }
 
     fn cut(&mut self) {

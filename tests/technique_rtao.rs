@@ -3,14 +3,17 @@
 //! reference's own 256 rays, so the two agree within 4 standard errors on >= 99% of pixels;
 //! 1 ray per frame accumulated over 64 still frames is the 64-ray reference (the same rays,
 //! averaged), and so within 0.01 MAE of the 256-ray reference wherever the 64-ray reference
-//! itself is. And the BVH is built only for rtao,
-//! once for a static scene.
+//! itself is. Both backends of the ray tracer (`tracer = "compute"`, `"hardware"`) meet the
+//! reference so, and each other within 4 standard errors on >= 99% of pixels. And the scene's
+//! BVH or acceleration structures are built only for rtao, once for a static scene; moving
+//! instances rebuild only the TLAS each frame.
 
 mod common;
 
 use aograph::ReferenceSettings;
 use aograph_graph::Extent;
 use aograph_scene::Scene;
+use aograph_scene::ray_tracing::AsWork;
 
 fn shared_scene(name: &str) -> Scene {
     let path = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenes"))
@@ -29,48 +32,106 @@ fn scenes() -> Vec<(&'static str, Scene)> {
 
 #[test]
 fn rtao_with_256_rays_in_one_frame_matches_the_reference_within_four_standard_errors() {
+    let Some(gpu) = aograph_graph::test_gpu() else {
+        return;
+    };
+    for tracer in common::ray_tracers(&gpu) {
+        for (name, scene) in scenes() {
+            let (run, reference) = rtao_256(scene, tracer);
+            let name = format!("{name} ({tracer})");
+            common::assert_valid_ao(&run.ao, &run.depth, &name);
+            assert_eq!(
+                run.renderer
+                    .graph
+                    .declared
+                    .trace_backend()
+                    .map(|b| b.name()),
+                Some(tracer)
+            );
+            let (mut geometry, mut beyond) = (0, 0);
+            for i in 0..run.ao.len() {
+                if run.depth[i] <= 0.0 {
+                    assert_eq!(run.ao[i], 1.0, "{name}: sky is exactly 1");
+                    continue;
+                }
+                geometry += 1;
+                // 4 SE of the reference; rtao's own estimate from the same rays has the same
+                // error, so the difference of two near-identical estimates is far inside it.
+                // The 1e-3 floor covers pixels the reference sees fully open or closed (SE
+                // 0), where the g-buffer's f16 normals may tip one ray of 256 (0.004) only
+                // rarely.
+                let tolerance = 4.0 * reference.std_error[i] + 1e-3;
+                if (run.ao[i] - reference.accessibility[i]).abs() > tolerance {
+                    beyond += 1;
+                    if std::env::var_os("AOGRAPH_TEST_VERBOSE").is_some() {
+                        eprintln!(
+                            "  pixel ({}, {}): rtao {} reference {} se {} depth {}",
+                            i % 61,
+                            i / 61,
+                            run.ao[i],
+                            reference.accessibility[i],
+                            reference.std_error[i],
+                            run.depth[i]
+                        );
+                    }
+                }
+            }
+            eprintln!("{name}: {beyond} of {geometry} pixels beyond 4 SE");
+            assert!(geometry > 200, "{name}: the view sees geometry");
+            assert!(
+                beyond * 100 <= geometry,
+                "{name}: {beyond} of {geometry} pixels beyond 4 SE"
+            );
+        }
+    }
+}
+
+/// One frame of 256 rays a pixel (no temporal, no denoise) on backend `tracer` at 61x37, and
+/// the 256-ray reference on the same surfaces.
+fn rtao_256(scene: Scene, tracer: &str) -> (common::AoRun, aograph_scene::ReferenceImage) {
+    let radius = aograph_scene::suggested_radius(&scene).radius;
+    let config = common::ao_config(
+        "rtao",
+        radius,
+        &format!("rays = 256\ntemporal = false\ndenoise_passes = 0\ntracer = \"{tracer}\""),
+    );
+    let run = common::render_ao(scene, &config, Extent::new(61, 37), 1).expect("a GPU");
+    let reference =
+        aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, 256), false)
+            .unwrap();
+    (run, reference)
+}
+
+#[test]
+fn the_hardware_and_compute_backends_agree_within_four_standard_errors() {
+    let Some(gpu) = aograph_graph::test_gpu() else {
+        return;
+    };
+    if common::ray_tracers(&gpu).len() < 2 {
+        return;
+    }
     for (name, scene) in scenes() {
-        let radius = aograph_scene::suggested_radius(&scene).radius;
-        let config = common::ao_config(
-            "rtao",
-            radius,
-            "rays = 256\ntemporal = false\ndenoise_passes = 0",
-        );
-        let Some(run) = common::render_ao(scene, &config, Extent::new(61, 37), 1) else {
-            return;
-        };
-        common::assert_valid_ao(&run.ao, &run.depth, name);
-        let reference =
-            aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, 256), false)
-                .unwrap();
-        let (mut geometry, mut beyond) = (0, 0);
-        for i in 0..run.ao.len() {
-            if run.depth[i] <= 0.0 {
-                assert_eq!(run.ao[i], 1.0, "{name}: sky is exactly 1");
+        let (compute, reference) = rtao_256(scene.clone(), "compute");
+        let (hardware, _) = rtao_256(scene, "hardware");
+        let (mut geometry, mut beyond, mut differing) = (0, 0, 0);
+        for i in 0..compute.ao.len() {
+            if compute.depth[i] <= 0.0 {
+                assert_eq!(hardware.ao[i], 1.0, "{name}: sky is exactly 1 on both");
                 continue;
             }
             geometry += 1;
-            // 4 SE of the reference; rtao's own estimate from the same rays has the same
-            // error, so the difference of two near-identical estimates is far inside it. The
-            // 1e-3 floor covers pixels the reference sees fully open or closed (SE 0), where
-            // the g-buffer's f16 normals may tip one ray of 256 (0.004) only rarely.
-            let tolerance = 4.0 * reference.std_error[i] + 1e-3;
-            if (run.ao[i] - reference.accessibility[i]).abs() > tolerance {
+            let d = (hardware.ao[i] - compute.ao[i]).abs();
+            differing += (d > 0.0) as u32;
+            // Two estimates of the same rays: the SE of either (the reference's, same rays)
+            // bounds them; the 1e-3 floor as above.
+            if d > 4.0 * reference.std_error[i] + 1e-3 {
                 beyond += 1;
-                if std::env::var_os("AOGRAPH_TEST_VERBOSE").is_some() {
-                    eprintln!(
-                        "  pixel ({}, {}): rtao {} reference {} se {} depth {}",
-                        i % 61,
-                        i / 61,
-                        run.ao[i],
-                        reference.accessibility[i],
-                        reference.std_error[i],
-                        run.depth[i]
-                    );
-                }
             }
         }
-        eprintln!("{name}: {beyond} of {geometry} pixels beyond 4 SE");
+        eprintln!(
+            "{name}: hardware vs compute: {differing} of {geometry} pixels differ, {beyond} \
+             beyond 4 SE"
+        );
         assert!(geometry > 200, "{name}: the view sees geometry");
         assert!(
             beyond * 100 <= geometry,
@@ -148,8 +209,13 @@ fn only_rtao_builds_the_bvh_and_a_static_scene_builds_it_once() {
         return;
     };
     assert!(run.renderer.scene_bvh().is_none(), "gtao declares no BVH");
+    assert!(run.renderer.acceleration_work().is_none());
     run.renderer
-        .set_ao(&common::ao_config("rtao", 1.0, "rays = 1"))
+        .set_ao(&common::ao_config(
+            "rtao",
+            1.0,
+            "rays = 1\ntracer = \"compute\"",
+        ))
         .unwrap();
     for t in [0.0, 0.5, 1.0] {
         run.renderer.render(t).unwrap();
@@ -157,6 +223,47 @@ fn only_rtao_builds_the_bvh_and_a_static_scene_builds_it_once() {
     let bvh = run.renderer.scene_bvh().expect("rtao declares the BVH");
     assert_eq!(bvh.work.tlas_builds, 1, "columns is static: built once");
     assert_eq!(bvh.work.blas_refits, 0);
+    assert!(
+        run.renderer.acceleration_work().is_none(),
+        "the compute backend builds no acceleration structures"
+    );
+}
+
+#[test]
+fn on_the_hardware_backend_a_static_scene_builds_once_and_moving_instances_rebuild_the_tlas() {
+    let Some(gpu) = aograph_graph::test_gpu() else {
+        return;
+    };
+    if common::ray_tracers(&gpu).len() < 2 {
+        return;
+    }
+    let config = common::ao_config("rtao", 1.0, "rays = 1\ntracer = \"hardware\"");
+    let frames = |name: &str| {
+        let scene = aograph_scene::procedural_scene(name).unwrap();
+        let mut r = common::renderer(scene, &config, Extent::new(33, 21)).unwrap();
+        let mut work = Vec::new();
+        for f in 0..3 {
+            r.render(f as f32 / 30.0).unwrap();
+            work.push(r.acceleration_work().expect("hardware rtao declares them"));
+        }
+        assert!(r.scene_bvh().is_none(), "{name}: no compute BVH is built");
+        work
+    };
+    let nothing = AsWork {
+        blas_builds: 0,
+        tlas_builds: 0,
+    };
+    // columns is static: the build (reported as the first frame's work) and nothing after.
+    let columns = frames("columns");
+    assert!(columns[0].tlas_builds == 1 && columns[0].blas_builds >= 1);
+    assert_eq!(columns[1..], [nothing, nothing]);
+    // dynamic's rigid instances move: the TLAS is rebuilt every frame, no BLAS.
+    let dynamic = frames("dynamic");
+    let tlas_only = AsWork {
+        blas_builds: 0,
+        tlas_builds: 1,
+    };
+    assert_eq!(dynamic[1..], [tlas_only, tlas_only]);
 }
 
 #[test]

@@ -48,6 +48,22 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
         },
         size,
     )?;
+    // Which backend of the GPU ray tracer the technique's rays take, for a technique that
+    // traces (rtao): said before any frame, and in timings.txt.
+    let tracer_line = r.graph.declared.trace_backend().map(|b| {
+        format!(
+            "ray tracer: {} ({}) on {}",
+            b.name(),
+            match b {
+                aograph_ao::TraceBackend::Hardware => "ray queries on acceleration structures",
+                aograph_ao::TraceBackend::Compute => "BVH traversal in a compute shader",
+            },
+            r.gpu.describe()
+        )
+    });
+    if let Some(line) = &tracer_line {
+        println!("{line}");
+    }
     for f in 0..frames {
         r.render(f as f32 * config.frame_time)?;
         if args.every {
@@ -122,6 +138,9 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
             ""
         }
     );
+    if let Some(line) = &tracer_line {
+        text.push_str(&format!("# {line}\n"));
+    }
     text.push_str(&timing_line);
     text.push_str(&timings.table());
     let tpath = args.out.join("timings.txt");

@@ -255,3 +255,22 @@ pub fn cornell_floor_pixels(
         })
         .collect()
 }
+
+/// The GPU ray tracer's backends `gpu` runs, as rtao's `tracer` spells them: compute always,
+/// hardware where the device has ray queries. Without them the hardware path is skipped
+/// (saying so), unless AOGRAPH_REQUIRE_RAY_QUERY=1 (CI) makes that a failure.
+pub fn ray_tracers(gpu: &aograph_graph::GpuContext) -> Vec<&'static str> {
+    if gpu.has_ray_queries() {
+        return vec!["compute", "hardware"];
+    }
+    assert!(
+        std::env::var("AOGRAPH_REQUIRE_RAY_QUERY").as_deref() != Ok("1"),
+        "AOGRAPH_REQUIRE_RAY_QUERY=1 but {} has no ray queries",
+        gpu.describe()
+    );
+    eprintln!(
+        "skipping the hardware tracer: {} has no ray queries",
+        gpu.describe()
+    );
+    vec!["compute"]
+}

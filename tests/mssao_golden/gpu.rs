@@ -65,6 +65,7 @@ impl Mssao {
                 technique: "mssao",
                 radius_pixels: None,
                 declared: Default::default(),
+                tracing: Default::default(),
             })
             .expect("mssao builds");
         b.export(out.accessibility);

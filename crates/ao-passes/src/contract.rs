@@ -53,6 +53,7 @@ pub fn compile_plan(
         technique: technique.name(),
         radius_pixels: None,
         declared: Default::default(),
+        tracing: Default::default(),
     };
     let out = technique.build(&mut ctx)?;
     b.export(out.accessibility);

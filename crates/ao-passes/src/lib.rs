@@ -53,6 +53,7 @@ mod resolution;
 mod technique;
 pub mod techniques;
 mod temporal_option;
+mod tracer;
 
 pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat, nearest, unknown_key};
 pub use error::{AoError, AoResult, check_one_of, check_param};
@@ -68,3 +69,4 @@ pub use technique::{
 pub use temporal_option::{
     DEFAULT_TEMPORAL_FRAMES, PER_FRAME_OUTPUT, TEMPORAL_NOISE, TemporalOption,
 };
+pub use tracer::{RayTracer, TraceBackend, TracingSupport};

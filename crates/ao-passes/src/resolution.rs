@@ -110,6 +110,7 @@ impl Resolution {
             technique: ctx.technique,
             radius_pixels: ctx.radius_pixels.map(|r| r * 0.5),
             declared: ctx.declared,
+            tracing: ctx.tracing.clone(),
         };
         let out = spatial(&mut inner);
         ctx.declared = inner.declared;

@@ -13,7 +13,9 @@
 
 use aograph_frame::{
     BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, GBufferChannel, GBufferChannels,
-    GBufferTextures, LIGHTING_BUFFER, LightingUniforms, SceneBvhInputs, intermediate_shader,
+    GBufferTextures, LIGHTING_BUFFER, LightingUniforms, SCENE_AS_INSTANCES_BUFFER,
+    SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS, SceneAccelerationInputs, SceneBvhInputs,
+    SceneTraceInputs, intermediate_shader,
 };
 use aograph_graph::{
     BufferDesc, BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle,
@@ -26,6 +28,7 @@ use std::sync::Arc;
 use crate::config::unknown_key;
 use crate::error::{AoError, AoResult};
 use crate::param::ParamDesc;
+use crate::tracer::{RayTracer, TraceBackend, TracingSupport};
 
 /// Format of every technique's accessibility output.
 pub const ACCESSIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -56,6 +59,9 @@ pub struct AoBuildContext<'a> {
     /// Frame inputs the build declared beyond the view block (filled in by the build: whoever
     /// runs the graph provides what is declared here, and nothing else is built).
     pub declared: DeclaredInputs,
+    /// What the device the graph is built for offers ray tracing (`tracer = "auto"` resolves
+    /// against it); the default has no ray queries.
+    pub tracing: TracingSupport,
 }
 
 /// The optional frame inputs a technique's build declared.
@@ -63,6 +69,20 @@ pub struct AoBuildContext<'a> {
 pub struct DeclaredInputs {
     /// The scene's ray-tracing BVH ([`AoBuildContext::scene_bvh`]).
     pub scene_bvh: Option<SceneBvhInputs>,
+    /// The scene's acceleration structures ([`AoBuildContext::scene_trace`] on the hardware
+    /// backend).
+    pub scene_acceleration: Option<SceneAccelerationInputs>,
+}
+
+impl DeclaredInputs {
+    /// The backend of the GPU ray tracer the build's passes trace on, if any traces rays.
+    pub fn trace_backend(&self) -> Option<TraceBackend> {
+        if self.scene_acceleration.is_some() {
+            Some(TraceBackend::Hardware)
+        } else {
+            self.scene_bvh.map(|_| TraceBackend::Compute)
+        }
+    }
 }
 
 impl AoBuildContext<'_> {
@@ -100,6 +120,32 @@ impl AoBuildContext<'_> {
         };
         self.declared.scene_bvh = Some(bvh);
         bvh
+    }
+    /// The scene as the ray tracer `tracer` resolves to on this device (`tracer.rs`): the BVH
+    /// buffers or the acceleration structures, declared as frame inputs (imported once) that
+    /// whoever runs the graph builds and binds (`DeclaredInputs`). Hardware on a device
+    /// without ray queries is a named error.
+    pub fn scene_trace(&mut self, tracer: RayTracer) -> AoResult<SceneTraceInputs> {
+        Ok(match tracer.resolve(&self.tracing, self.technique)? {
+            TraceBackend::Compute => SceneTraceInputs::Compute(self.scene_bvh()),
+            TraceBackend::Hardware => {
+                SceneTraceInputs::Hardware(match self.declared.scene_acceleration {
+                    Some(a) => a,
+                    None => {
+                        let desc = BufferDesc { size: 16 };
+                        let a = SceneAccelerationInputs {
+                            tlas: self.builder.import_acceleration_structure(SCENE_TLAS),
+                            instances: self.builder.import_buffer(SCENE_AS_INSTANCES_BUFFER, desc),
+                            primitives: self
+                                .builder
+                                .import_buffer(SCENE_AS_PRIMITIVES_BUFFER, desc),
+                        };
+                        self.declared.scene_acceleration = Some(a);
+                        a
+                    }
+                })
+            }
+        })
     }
     /// A new full-size accessibility texture.
     pub fn accessibility_texture(&mut self, name: &str) -> TextureHandle {

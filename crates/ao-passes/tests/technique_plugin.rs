@@ -133,6 +133,7 @@ fn build_and_compile(
         technique: technique.name(),
         radius_pixels: None,
         declared: Default::default(),
+        tracing: Default::default(),
     };
     let out = technique.build(&mut ctx)?;
     b.export(out.accessibility);

@@ -13,7 +13,9 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph_ao::{AoBuildContext, AoConfig, ConfiguredTechnique, RadiusSetting, TechniqueRegistry};
+use aograph_ao::{
+    AoBuildContext, AoConfig, ConfiguredTechnique, RadiusSetting, TechniqueRegistry, TracingSupport,
+};
 use aograph_frame::{GBufferChannel, VIEW_BUFFER, ViewMatrices, ViewUniforms};
 use aograph_graph::{
     BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder,
@@ -414,12 +416,13 @@ impl AmbientOcclusion {
             technique: technique.name(),
             radius_pixels: technique.needs_radius_pixels().then_some(diagonal),
             declared: Default::default(),
+            tracing: TracingSupport::of(&self.gpu),
         };
         let out = technique.build(&mut ctx)?;
-        if ctx.declared.scene_bvh.is_some() {
+        if ctx.declared.trace_backend().is_some() {
             return Err(EmbedError::UnsupportedTechnique {
                 technique: technique.name().into(),
-                what: "the scene's triangles (it traces rays through a BVH)".into(),
+                what: "the scene's triangles (it traces rays through a BVH or acceleration structures)".into(),
                 fix: "choose a screen-space technique (gtao, vbao, mssao, hbao, pyramid-hbao, \
                       ssao, tssao)"
                     .into(),

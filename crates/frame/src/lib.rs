@@ -56,11 +56,17 @@ mod channels;
 mod lighting;
 pub mod normal_oct;
 mod precision;
+mod scene_acceleration;
 mod scene_bvh;
+mod scene_trace;
 mod view;
 
 pub use channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
 pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
 pub use precision::{INTERMEDIATE_ALIAS, intermediate_shader};
+pub use scene_acceleration::{
+    SCENE_AS_INSTANCES_BUFFER, SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS, SceneAccelerationInputs,
+};
 pub use scene_bvh::{BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, SceneBvhInputs};
+pub use scene_trace::SceneTraceInputs;
 pub use view::{Mat4Cols, ReadsView, VIEW_BINDING, VIEW_BUFFER, ViewMatrices, ViewUniforms};

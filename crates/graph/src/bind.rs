@@ -62,12 +62,19 @@ pub(crate) fn bind_resources(
     }
     state.textures.fill(None);
     state.frame_buffers.fill(None);
+    state.frame_acceleration_structures.fill(None);
     for (r, res) in decl.resources.iter().enumerate() {
         if plan.lifetimes[r].is_none() {
             continue;
         }
         let desc = match &res.kind {
             ResourceKind::Texture(d) => *d,
+            ResourceKind::AccelerationStructure => {
+                // Imported only (the builder offers no other origin).
+                state.frame_acceleration_structures[r] =
+                    Some(src.imports.acceleration_structure(res)?.clone());
+                continue;
+            }
             ResourceKind::Buffer(_) => {
                 state.frame_buffers[r] = match res.origin {
                     ResourceOrigin::Imported => {
@@ -139,6 +146,11 @@ pub(crate) fn bind_groups(
                 BindingSource::Buffer { resource, .. } => state.frame_buffers[resource]
                     .as_ref()
                     .map_or(0, buffer_identity),
+                // Likewise an acceleration structure (a new scene's TLAS).
+                BindingSource::AccelerationStructure { resource, .. } => state
+                    .frame_acceleration_structures[resource]
+                    .as_deref()
+                    .map_or(0, buffer_identity),
                 _ => slot
                     .source
                     .texture_resource()
@@ -176,9 +188,10 @@ pub(crate) fn bind_groups(
     Ok(())
 }
 
-/// A hash of `buffer`'s identity (wgpu orders and hashes buffers by their id); no allocation.
-fn buffer_identity(buffer: &wgpu::Buffer) -> u64 {
-    use std::hash::{Hash, Hasher};
+/// A hash of a buffer's (or acceleration structure's) identity (wgpu orders and hashes both by
+/// their id); no allocation.
+fn buffer_identity(buffer: &impl std::hash::Hash) -> u64 {
+    use std::hash::Hasher;
     let mut h = std::collections::hash_map::DefaultHasher::new();
     buffer.hash(&mut h);
     // Never 0, which stands for "nothing bound".
@@ -216,6 +229,13 @@ fn slot_resource<'s>(
             .as_ref()
             .ok_or_else(|| missing(resource))?
             .as_entire_binding(),
+        BindingSource::AccelerationStructure { resource, .. } => {
+            wgpu::BindingResource::AccelerationStructure(
+                state.frame_acceleration_structures[resource]
+                    .as_deref()
+                    .ok_or_else(|| missing(resource))?,
+            )
+        }
         BindingSource::Sampler { sampler } => {
             wgpu::BindingResource::Sampler(&state.samplers[sampler])
         }

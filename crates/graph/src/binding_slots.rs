@@ -53,6 +53,14 @@ pub enum BindingSource {
         /// Index of the buffer in `GraphDecl::resources`.
         resource: usize,
     },
+    /// `PassDecl::buffers[buffer_use]`, an imported top-level acceleration structure, resource
+    /// `resource`.
+    AccelerationStructure {
+        /// Index of the use in the pass's `PassDecl::buffers`.
+        buffer_use: usize,
+        /// Index of the structure in `GraphDecl::resources`.
+        resource: usize,
+    },
     /// `CompiledGraph::samplers[sampler]`.
     Sampler {
         /// Index into `CompiledGraph::samplers`.

@@ -102,6 +102,19 @@ impl GraphBuilder {
             0,
         )
     }
+    /// A top-level acceleration structure provided by the caller at execution
+    /// (`Executor::import_acceleration_structure`), for passes that trace rays with ray queries
+    /// (`PassBuilder::read_acceleration_structure`).
+    pub fn import_acceleration_structure(&mut self, name: &str) -> AccelerationStructureHandle {
+        Handle::new(
+            self.add_resource(
+                name,
+                ResourceKind::AccelerationStructure,
+                ResourceOrigin::Imported,
+            ),
+            0,
+        )
+    }
     /// A persistent texture: `previous` holds last frame's value (check
     /// `Executor::history_valid`), `current` must be written this frame and becomes next
     /// frame's `previous`.

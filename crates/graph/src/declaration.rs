@@ -48,13 +48,15 @@ pub enum ResourceOrigin {
     },
 }
 
-/// Texture or buffer, with its descriptor.
+/// Texture, buffer or acceleration structure, with its descriptor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ResourceKind {
     /// A 2D texture.
     Texture(TextureDesc),
     /// A GPU buffer.
     Buffer(BufferDesc),
+    /// A top-level acceleration structure (imported only: the caller builds and updates it).
+    AccelerationStructure,
 }
 
 /// One virtual resource and the passes that wrote each of its versions.
@@ -77,7 +79,7 @@ impl ResourceDecl {
     pub fn texture_desc(&self) -> Option<&TextureDesc> {
         match &self.kind {
             ResourceKind::Texture(d) => Some(d),
-            ResourceKind::Buffer(_) => None,
+            ResourceKind::Buffer(_) | ResourceKind::AccelerationStructure => None,
         }
     }
     /// The newest version (0 when never written).

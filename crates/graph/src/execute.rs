@@ -136,6 +136,12 @@ impl Executor {
     pub fn import_buffer(&mut self, name: &str, buffer: wgpu::Buffer) {
         self.imports.set_buffer(name, buffer);
     }
+    /// Provides the top-level acceleration structure behind imported resource `name` (for
+    /// every plan importing it). The graph binds it as it is: whoever built it rebuilds it
+    /// (same object) when the scene moves, before the frame executes.
+    pub fn import_acceleration_structure(&mut self, name: &str, tlas: wgpu::Tlas) {
+        self.imports.set_acceleration_structure(name, tlas);
+    }
     /// Provides the texture behind `plan`'s import `handle`, for that plan only: two plans may
     /// bind different textures to imports of the same name. It takes precedence over a
     /// texture imported by name. An error when `handle` is no imported texture of `plan`.

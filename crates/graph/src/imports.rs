@@ -10,6 +10,7 @@
 //! (compile rejects duplicates), so one name binds one texture within a plan.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use crate::compile::PlanKey;
 use crate::custom::BoundTexture;
@@ -25,6 +26,7 @@ pub(crate) struct ImportTable {
     buffers: HashMap<String, wgpu::Buffer>,
     plan_textures: HashMap<(PlanKey, u32), BoundTexture>,
     plan_buffers: HashMap<(PlanKey, u32), wgpu::Buffer>,
+    acceleration_structures: HashMap<String, Arc<wgpu::Tlas>>,
 }
 
 impl ImportTable {
@@ -34,6 +36,10 @@ impl ImportTable {
     }
     pub fn set_buffer(&mut self, name: &str, buffer: wgpu::Buffer) {
         self.buffers.insert(name.to_string(), buffer);
+    }
+    pub fn set_acceleration_structure(&mut self, name: &str, tlas: wgpu::Tlas) {
+        self.acceleration_structures
+            .insert(name.to_string(), Arc::new(tlas));
     }
     /// `texture` behind resource `resource` of the plan `plan` only.
     pub fn set_plan_texture(
@@ -111,6 +117,17 @@ impl ImportTable {
                 resource: res.name.clone(),
                 message: "imported buffer not provided; call Executor::bind_import_buffer (this \
                           plan) or Executor::import_buffer (every plan)"
+                    .into(),
+            })
+    }
+    /// The acceleration structure for imported resource `res`.
+    pub fn acceleration_structure(&self, res: &ResourceDecl) -> GraphResult<&Arc<wgpu::Tlas>> {
+        self.acceleration_structures
+            .get(&res.name)
+            .ok_or_else(|| GraphError::MissingResource {
+                resource: res.name.clone(),
+                message: "imported acceleration structure not provided; call \
+                          Executor::import_acceleration_structure"
                     .into(),
             })
     }

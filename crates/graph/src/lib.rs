@@ -99,8 +99,9 @@ pub use pass_builder::PassBuilder;
 pub use pool::PoolKey;
 pub use readback::{TextureReadback, read_texture};
 pub use resource::{
-    Buffer, BufferAccess, BufferDesc, BufferHandle, Extent, Handle, SizeClass, Texture,
-    TextureAccess, TextureDesc, TextureHandle, centred_step, texel_bytes,
+    AccelerationStructure, AccelerationStructureHandle, Buffer, BufferAccess, BufferDesc,
+    BufferHandle, Extent, Handle, SizeClass, Texture, TextureAccess, TextureDesc, TextureHandle,
+    centred_step, texel_bytes,
 };
 pub use sampler::SamplerDesc;
 pub use shader::{

@@ -328,6 +328,22 @@ impl PassBuilder<'_> {
         self.use_buffer(Some(binding), access, handle);
         self
     }
+    /// Binds an imported acceleration structure to the shader's `acceleration_structure`
+    /// global `binding` (ray queries only read it).
+    pub fn read_acceleration_structure(
+        &mut self,
+        binding: &str,
+        handle: AccelerationStructureHandle,
+    ) -> &mut Self {
+        // Recorded as a read-only use of the resource, like a buffer's: lifetimes and binding
+        // slots treat both alike, and the resource's kind says what is bound.
+        self.use_buffer(
+            Some(binding),
+            BufferAccess::AccelerationStructure,
+            Handle::new(handle.id, handle.version),
+        );
+        self
+    }
     /// Writes a buffer through a storage global; returns the new version.
     pub fn write_buffer(&mut self, binding: &str, handle: BufferHandle) -> BufferHandle {
         self.use_buffer(Some(binding), BufferAccess::StorageWrite, handle)

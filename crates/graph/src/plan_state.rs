@@ -54,6 +54,8 @@ pub(crate) struct PlanState {
     pub textures: Vec<Option<BoundTexture>>,
     /// Per resource: the buffer bound in this plan's last frame.
     pub frame_buffers: Vec<Option<wgpu::Buffer>>,
+    /// Per resource: the acceleration structure bound in this plan's last frame.
+    pub frame_acceleration_structures: Vec<Option<Arc<wgpu::Tlas>>>,
     /// The last frame this plan executed.
     pub last_frame: Option<u64>,
 }
@@ -166,6 +168,7 @@ impl PlanState {
             retain,
             textures: vec![None; n],
             frame_buffers: vec![None; n],
+            frame_acceleration_structures: vec![None; n],
             last_frame: None,
         })
     }

@@ -251,6 +251,10 @@ pub enum Texture {}
 /// Marker type for buffer handles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Buffer {}
+/// Marker type for acceleration-structure handles (a top-level acceleration structure the
+/// caller provides, read by ray queries).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AccelerationStructure {}
 
 /// A typed, versioned handle to one version of a virtual resource of one graph.
 pub struct Handle<K> {
@@ -305,6 +309,9 @@ impl<K> std::fmt::Debug for Handle<K> {
 pub type TextureHandle = Handle<Texture>;
 /// A handle to one version of a virtual buffer.
 pub type BufferHandle = Handle<Buffer>;
+/// A handle to an imported top-level acceleration structure (`GraphBuilder::
+/// import_acceleration_structure`); passes only read it, so it has one version.
+pub type AccelerationStructureHandle = Handle<AccelerationStructure>;
 
 /// How a pass uses a texture. Usage flags of the physical texture are inferred from these.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -327,6 +334,9 @@ pub enum TextureAccess {
     CopySrc,
     /// Destination of a copy (produces a new version).
     CopyDst,
+    /// Read by ray queries through a WGSL `acceleration_structure` binding (the resource is a
+    /// top-level acceleration structure, not a buffer: `PassBuilder::read_acceleration_structure`).
+    AccelerationStructure,
 }
 
 impl TextureAccess {
@@ -363,6 +373,8 @@ impl TextureAccess {
             Self::ColorAttachment | Self::DepthAttachment | Self::DepthRead => U::RENDER_ATTACHMENT,
             Self::CopySrc => U::COPY_SRC,
             Self::CopyDst => U::COPY_DST,
+            // The caller creates the structure; the graph creates no buffer for it.
+            Self::AccelerationStructure => U::empty(),
         }
     }
 }
@@ -383,6 +395,9 @@ pub enum BufferAccess {
     CopySrc,
     /// Destination of a copy (produces a new version).
     CopyDst,
+    /// Read by ray queries through a WGSL `acceleration_structure` binding (the resource is a
+    /// top-level acceleration structure, not a buffer: `PassBuilder::read_acceleration_structure`).
+    AccelerationStructure,
 }
 
 impl BufferAccess {
@@ -390,7 +405,11 @@ impl BufferAccess {
     pub fn reads(self) -> bool {
         matches!(
             self,
-            Self::Uniform | Self::StorageRead | Self::StorageReadWrite | Self::CopySrc
+            Self::Uniform
+                | Self::StorageRead
+                | Self::StorageReadWrite
+                | Self::CopySrc
+                | Self::AccelerationStructure
         )
     }
     /// True when the access writes the buffer, producing a new version of it.
@@ -408,6 +427,8 @@ impl BufferAccess {
             Self::StorageRead | Self::StorageWrite | Self::StorageReadWrite => U::STORAGE,
             Self::CopySrc => U::COPY_SRC,
             Self::CopyDst => U::COPY_DST,
+            // The caller creates the structure; the graph creates no buffer for it.
+            Self::AccelerationStructure => U::empty(),
         }
     }
 }

@@ -310,6 +310,10 @@ fn check_binding_supplied(
             }
         }
         ShaderBindingKind::StorageBuffer { read_only, .. } => match buf {
+            Some(b) if b.access == BufferAccess::AccelerationStructure => Err(invalid(format!(
+                "`{name}` is a storage buffer in the shader but the pass binds an acceleration \
+                 structure to it"
+            ))),
             Some(b) if *read_only != b.access.writes() => buffer_source(),
             Some(b) => Err(invalid(format!(
                 "`{name}` read_only={read_only} in the shader but the pass declares {:?}",
@@ -317,9 +321,18 @@ fn check_binding_supplied(
             ))),
             None => Err(missing()),
         },
-        ShaderBindingKind::AccelerationStructure => Err(invalid(format!(
-            "`{name}` is an acceleration structure, which graph passes cannot bind yet (the \
-             hardware ray tracer binds its own)"
-        ))),
+        ShaderBindingKind::AccelerationStructure => match (buf_index, buf) {
+            (Some(i), Some(b)) if b.access == BufferAccess::AccelerationStructure => {
+                Ok(BindingSource::AccelerationStructure {
+                    resource: b.read.map_or(0, |h| h.id as usize),
+                    buffer_use: i,
+                })
+            }
+            (Some(_), Some(_)) => Err(invalid(format!(
+                "`{name}` is an acceleration structure in the shader; bind one with \
+                 `PassBuilder::read_acceleration_structure`"
+            ))),
+            _ => Err(missing()),
+        },
     }
 }

@@ -288,3 +288,93 @@ fn samplers_enter_the_structure_hash() {
     b.pass(wide).sampler("crisp", SamplerDesc::LINEAR_CLAMP);
     assert_ne!(a.structure_hash(), b.build().structure_hash());
 }
+
+const RAY_QUERY: &str = "enable wgpu_ray_query;
+@group(0) @binding(0) var<storage, read> rows: array<u32>;
+@group(0) @binding(1) var scene: acceleration_structure;
+@group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    var rq: ray_query;
+    rayQueryInitialize(&rq, scene, RayDesc(0u, 0xffu, 0.0, 1.0, vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0)));
+    rayQueryProceed(&rq);
+    let hit = rayQueryGetCommittedIntersection(&rq);
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(f32(hit.kind) + f32(rows[0])));
+}
+";
+
+/// A ray-query pass: the scene's TLAS (imported) and a table, with `bind` choosing how the
+/// pass supplies the `acceleration_structure` and storage globals.
+fn ray_query_plan(
+    bind: impl FnOnce(&mut PassBuilder<'_>, AccelerationStructureHandle, BufferHandle),
+) -> GraphResult<(CompiledGraph, AccelerationStructureHandle)> {
+    let lib = ShaderLibrary::inline_only();
+    lib.add_inline("ray_query.wgsl", RAY_QUERY);
+    let mut b = GraphBuilder::new();
+    let r32 = TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL);
+    let tlas = b.import_acceleration_structure("scene.tlas");
+    let rows = b.import_buffer("scene.rows", BufferDesc { size: 16 });
+    let out = b.create_texture("out", r32);
+    let out = {
+        let mut p = b.compute_pass("trace", "ray_query.wgsl", "main");
+        bind(&mut p, tlas, rows);
+        let out = p.write_storage("dst", out);
+        p.dispatch_over(out);
+        out
+    };
+    b.export(out);
+    compile(b.build(), &lib, CompileOptions::default()).map(|plan| (plan, tlas))
+}
+
+#[test]
+fn an_acceleration_structure_binding_takes_the_imported_structure() {
+    let (plan, tlas) = ray_query_plan(|p, tlas, rows| {
+        p.read_buffer("rows", BufferAccess::StorageRead, rows);
+        p.read_acceleration_structure("scene", tlas);
+    })
+    .expect("compiles");
+    let pass = plan.order[0].index();
+    let slot = plan.binding_slots[pass]
+        .iter()
+        .find(|s| s.binding == 1)
+        .expect("slot 1");
+    assert_eq!(
+        slot.source,
+        BindingSource::AccelerationStructure {
+            buffer_use: 1,
+            resource: tlas.resource_index(),
+        }
+    );
+    assert_eq!(
+        plan.decl.resources[tlas.resource_index()].kind,
+        ResourceKind::AccelerationStructure
+    );
+}
+
+#[test]
+fn an_acceleration_structure_binding_without_one_is_named() {
+    let e = ray_query_plan(|p, _, rows| {
+        p.read_buffer("rows", BufferAccess::StorageRead, rows);
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("scene") && e.contains("supplies nothing"), "{e}");
+    let e = ray_query_plan(|p, _, rows| {
+        p.read_buffer("rows", BufferAccess::StorageRead, rows);
+        p.read_buffer("scene", BufferAccess::StorageRead, rows);
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("acceleration structure") && e.contains("read_acceleration_structure"),
+        "{e}"
+    );
+    // And a structure bound where the shader has a storage buffer.
+    let e = ray_query_plan(|p, tlas, _| {
+        p.read_acceleration_structure("scene", tlas);
+        p.read_acceleration_structure("rows", tlas);
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("rows") && e.contains("storage buffer"), "{e}");
+}

@@ -6,7 +6,9 @@
 use aograph_frame::ReadsView;
 use std::sync::Arc;
 
-use aograph_ao::{AoBuildContext, AoConfig, DeclaredInputs, RadianceOutput, TechniqueRegistry};
+use aograph_ao::{
+    AoBuildContext, AoConfig, DeclaredInputs, RadianceOutput, TechniqueRegistry, TracingSupport,
+};
 use aograph_frame::{
     DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms,
 };
@@ -70,7 +72,8 @@ pub struct FrameGraph {
 }
 
 /// Declares the whole frame for `scene` (seen from its camera at t = 0) at `size` with the
-/// `[ao]` config.
+/// `[ao]` config, for no device in particular (a ray tracer set to `auto` takes the compute
+/// backend; [`build_frame_graph_with`] names the device's ray tracing).
 pub fn build_frame_graph(
     registry: &TechniqueRegistry,
     scene: Arc<Scene>,
@@ -85,11 +88,13 @@ pub fn build_frame_graph(
         outputs,
         size,
         &GBufferStates::default(),
+        &TracingSupport::default(),
     )
 }
 
 /// [`build_frame_graph`] whose g-buffer shares its GPU state (mesh upload, pipelines) with
-/// every graph built with the same `gbuffer` (see `aograph_scene::gbuffer::add_gbuffer_shared`).
+/// every graph built with the same `gbuffer` (see `aograph_scene::gbuffer::add_gbuffer_shared`),
+/// for a device offering `tracing` (a technique's `tracer = "auto"` resolves against it).
 pub fn build_frame_graph_with(
     registry: &TechniqueRegistry,
     scene: Arc<Scene>,
@@ -97,6 +102,7 @@ pub fn build_frame_graph_with(
     outputs: FrameOutputs,
     size: Extent,
     gbuffer: &GBufferStates,
+    tracing: &TracingSupport,
 ) -> RenderResult<FrameGraph> {
     // Parsed and validated once; everything below asks the configured technique.
     let technique = ao.resolve(registry)?;
@@ -181,6 +187,7 @@ pub fn build_frame_graph_with(
             technique: technique.name(),
             radius_pixels,
             declared: DeclaredInputs::default(),
+            tracing: tracing.clone(),
         };
         let out = technique.build(&mut ctx)?;
         Ok::<_, aograph_ao::AoError>((out, ctx.declared))

@@ -36,6 +36,7 @@ mod output_size;
 pub mod pass_owner;
 pub mod renderer;
 mod scene_radius;
+mod scene_tracing;
 
 pub use error::{RenderError, RenderResult};
 pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph, build_frame_graph_with};

@@ -11,23 +11,21 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
-use aograph_frame::{
-    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, GBufferChannel, LIGHTING_BUFFER,
-    LightingUniforms, SkyColours, VIEW_BUFFER,
-};
+use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry, TracingSupport};
+use aograph_frame::{GBufferChannel, LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
     PassTimings, ShaderLibrary, TextureHandle,
 };
 use aograph_scene::gbuffer::{GBufferFrame, GBufferStates};
-use aograph_scene::ray_tracing::GpuSceneBvh;
+use aograph_scene::ray_tracing::{AsWork, GpuSceneBvh};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Scene, SurfaceBuffer};
 use glam::{Mat4, Vec3};
 
 use crate::error::{RenderError, RenderResult};
 use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with};
+use crate::scene_tracing::SceneTracing;
 
 /// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
 pub fn shader_dir() -> PathBuf {
@@ -146,9 +144,9 @@ pub struct Renderer {
     view_buffer: wgpu::Buffer,
     /// The lighting block (SSDO's light, ambient and sky), rewritten with the scene.
     lighting_buffer: wgpu::Buffer,
-    /// The scene's BVH on the device, built the first time a graph declares it (rtao) and
-    /// moved to each frame's time; `None` while no graph has asked for it.
-    scene_bvh: Option<GpuSceneBvh>,
+    /// The scene's BVH and acceleration structures on the device, each built the first time
+    /// a graph declares it (rtao) and moved to each frame's time.
+    tracing: SceneTracing,
     frame_index: u32,
     prev: Option<(f32, Camera)>,
     cut: bool,
@@ -195,7 +193,15 @@ impl Renderer {
         crate::output_size::check_size("height", output.height)?;
         check_intermediate_format(&gpu, ao)?;
         let gbuffer = GBufferStates::default();
-        let graph = build_frame_graph_with(registry, scene.clone(), ao, outputs, output, &gbuffer)?;
+        let graph = build_frame_graph_with(
+            registry,
+            scene.clone(),
+            ao,
+            outputs,
+            output,
+            &gbuffer,
+            &TracingSupport::of(&gpu),
+        )?;
         let mut compiler = GraphCompiler::new();
         let plan = compiler.compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
@@ -238,7 +244,7 @@ impl Renderer {
             gbuffer,
             view_buffer,
             lighting_buffer,
-            scene_bvh: None,
+            tracing: SceneTracing::default(),
             frame_index: 0,
             prev: None,
             cut: false,
@@ -300,6 +306,7 @@ impl Renderer {
                     self.outputs,
                     self.output,
                     &self.gbuffer,
+                    &TracingSupport::of(&self.gpu),
                 )?;
                 if let Some(ext) = &self.extension {
                     let mut b = GraphBuilder::from_decl(graph.decl.clone());
@@ -340,7 +347,7 @@ impl Renderer {
             return Err(e);
         }
         self.built.clear();
-        self.scene_bvh = None;
+        self.tracing = SceneTracing::default();
         self.gpu
             .queue
             .write_buffer(&self.lighting_buffer, 0, lighting_of(&self.scene).bytes());
@@ -348,29 +355,15 @@ impl Renderer {
         Ok(())
     }
 
-    /// Builds the scene's BVH on first use (binding its buffers for every plan) and moves it
-    /// to `time`: nothing to do for what does not move.
-    fn update_scene_bvh(&mut self, time: f32) -> RenderResult<()> {
-        match &mut self.scene_bvh {
-            Some(bvh) => {
-                bvh.update(&self.scene, time)?;
-            }
-            None => {
-                let bvh = GpuSceneBvh::new(self.gpu.clone(), &self.scene, time)?;
-                self.exec.import_buffer(BVH_NODES_BUFFER, bvh.nodes.clone());
-                self.exec
-                    .import_buffer(BVH_INSTANCES_BUFFER, bvh.instances.clone());
-                self.exec
-                    .import_buffer(BVH_TRIANGLES_BUFFER, bvh.triangles.clone());
-                self.scene_bvh = Some(bvh);
-            }
-        }
-        Ok(())
-    }
-
     /// The scene's BVH, once a graph that traces rays has rendered a frame.
     pub fn scene_bvh(&self) -> Option<&GpuSceneBvh> {
-        self.scene_bvh.as_ref()
+        self.tracing.bvh.as_ref()
+    }
+
+    /// What the last frame did to the scene's acceleration structures (builds of BLAS and
+    /// TLAS), once a graph tracing on the hardware backend has rendered a frame.
+    pub fn acceleration_work(&self) -> Option<AsWork> {
+        self.tracing.acceleration_work()
     }
 
     /// Marks a camera cut: the next frame starts with no history.
@@ -424,9 +417,13 @@ impl Renderer {
             prev_time,
             reversed_z: Some(reversed_z),
         });
-        if self.graph.declared.scene_bvh.is_some() {
-            self.update_scene_bvh(time)?;
-        }
+        self.tracing.update(
+            &self.gpu,
+            &mut self.exec,
+            &self.scene,
+            &self.graph.declared,
+            time,
+        )?;
         self.exec.execute(&self.plan, self.output)?;
         self.prev = Some((time, camera));
         self.cut = false;

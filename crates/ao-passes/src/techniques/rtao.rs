@@ -30,13 +30,20 @@
 //! Extra output `rtao_changed` (Rgba8Unorm, r = 1 where a ray hit moving geometry this frame)
 //! unless the trace pass is the last.
 //!
-//! Invariant: the output is accessibility in [0, 1], exactly 1 on sky, never NaN; the BVH is a
-//! frame input this technique declares ([`AoBuildContext::scene_bvh`]): a graph without rtao
-//! builds and uploads none.
+//! Backends (`tracer`, crate::RayTracer): the trace pass's shader is written once against
+//! shaders/common/scene_trace.wgsl; on `compute` it traverses the scene's BVH in the compute
+//! shader, on `hardware` its `RayTracer=hardware` variant asks ray queries of the scene's
+//! acceleration structures (one BLAS per mesh, a TLAS over the instances, any-hit early exit
+//! with t_max = R). `auto` picks hardware where the device has ray queries. Both trace the same
+//! rays (tests/technique_rtao.rs checks them against each other and the reference).
+//!
+//! Invariant: the output is accessibility in [0, 1], exactly 1 on sky, never NaN; the scene is
+//! a frame input this technique declares ([`AoBuildContext::scene_trace`]: the BVH or the
+//! acceleration structures): a graph without rtao builds and uploads neither.
 
 use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels};
-use aograph_graph::{BufferAccess, SizeClass};
+use aograph_graph::SizeClass;
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
@@ -50,6 +57,7 @@ use crate::param::ParamDesc;
 use crate::resolution::Resolution;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
 use crate::temporal_option::PER_FRAME_OUTPUT;
+use crate::tracer::RayTracer;
 
 /// Most rays per pixel and frame (one frame of the 256-ray reference).
 pub const MAX_RAYS: u32 = 256;
@@ -82,6 +90,8 @@ pub struct RtaoParams {
     /// The size the rays are traced at (crate::Resolution): at half, the rays, the running
     /// mean and the denoiser run on the half-size g-buffer.
     pub resolution: Resolution,
+    /// The GPU ray tracer's backend (crate::RayTracer): compute, hardware, or auto.
+    pub tracer: RayTracer,
 }
 
 impl Default for RtaoParams {
@@ -95,6 +105,7 @@ impl Default for RtaoParams {
             sequence: "per-frame".into(),
             mode: "binary".into(),
             resolution: Resolution::Full,
+            tracer: RayTracer::Auto,
         }
     }
 }
@@ -138,6 +149,7 @@ impl AoTechnique for Rtao {
             ParamDesc::choice("mode", MODES)
                 .doc("binary: a hit within R occludes; obscurance: a hit at d occludes by 1 - (d/R)^2"),
             Resolution::param(),
+            RayTracer::param(),
         ]
     }
     fn channels(&self, p: &RtaoParams) -> GBufferChannels {
@@ -170,7 +182,7 @@ impl Rtao {
         let positions = ctx.channel(GBufferChannel::Positions)?;
         let normals = ctx.channel(GBufferChannel::Normals)?;
         let depth = ctx.channel(GBufferChannel::LinearDepth)?;
-        let bvh = ctx.scene_bvh();
+        let scene = ctx.scene_trace(p.tracer)?;
         let uniform = RtaoUniform {
             rays: p.rays,
             mode: (p.mode == "obscurance") as u32,
@@ -195,20 +207,19 @@ impl Rtao {
             "rtao.changed",
             aograph_graph::TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
         );
-        let shader = if last {
-            "ao/rtao/trace.wgsl".to_string()
+        let file = "ao/rtao/trace.wgsl";
+        let shader = scene.shader(&if last {
+            file.to_string()
         } else {
-            ctx.shader("ao/rtao/trace.wgsl")
-        };
+            ctx.shader(file)
+        });
         let mut pass = ctx.builder.compute_pass("rtao.trace", &shader, "main");
         pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
         pass.sample("positions", positions)
             .sample("normals", normals)
             .sample("depth", depth);
-        pass.read_buffer("bvh_nodes", BufferAccess::StorageRead, bvh.nodes)
-            .read_buffer("bvh_instances", BufferAccess::StorageRead, bvh.instances)
-            .read_buffer("bvh_triangles", BufferAccess::StorageRead, bvh.triangles);
+        scene.bind(&mut pass);
         // Point, normal, five depths for the edges; each ray's traversal reads far more (its
         // nodes and triangles), which this count of texture loads cannot state.
         pass.loads_per_invocation(7.0);

@@ -333,6 +333,7 @@ mod tests {
             technique: Ssdo::NAME,
             radius_pixels: None,
             declared: Default::default(),
+            tracing: Default::default(),
         };
         let out = AoTechnique::build(&Ssdo, &mut ctx, params).unwrap();
         b.export(out.accessibility);

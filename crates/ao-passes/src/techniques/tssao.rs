@@ -461,6 +461,7 @@ mod tests {
             technique: Tssao::NAME,
             radius_pixels: None,
             declared: Default::default(),
+            tracing: Default::default(),
         };
         let out = AoTechnique::build(&Tssao, &mut ctx, &TssaoParams::default()).unwrap();
         b.export(out.accessibility);

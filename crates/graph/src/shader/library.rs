@@ -119,7 +119,12 @@ impl ShaderLibrary {
         let (source, segments) = expand(name, &|n| self.read(n))?;
         let mut out = half_precision_variants(name, &source);
         if name != SCENE_TRACE && segments.iter().any(|s| s.file() == SCENE_TRACE) {
-            out.push(ray_tracer_variant(name, true));
+            // Each precision traced with ray queries too (rtao at f16 on the hardware path).
+            let hardware: Vec<String> = std::iter::once(name.to_string())
+                .chain(out.iter().cloned())
+                .map(|v| ray_tracer_variant(&v, true))
+                .collect();
+            out.extend(hardware);
         }
         Ok(out)
     }

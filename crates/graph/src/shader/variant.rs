@@ -32,9 +32,19 @@ use crate::error::{GraphError, GraphResult};
 /// (`half`) or as written: `file?alias=f16` or `file` itself.
 pub fn storage_precision_variant(file: &str, alias: &str, half: bool) -> String {
     if half {
-        format!("{file}?{alias}=f16")
+        with_pair(file, &format!("{alias}=f16"))
     } else {
         file.to_string()
+    }
+}
+
+/// `file` with one more `key=value` pair: `file?pair`, or `file?...&pair` when `file` is a
+/// variant already (so the two kinds of variant compose).
+fn with_pair(file: &str, pair: &str) -> String {
+    if file.contains('?') {
+        format!("{file}&{pair}")
+    } else {
+        format!("{file}?{pair}")
     }
 }
 
@@ -50,7 +60,7 @@ const RAY_TRACER: &str = "RayTracer";
 /// the compute BVH (the file itself).
 pub fn ray_tracer_variant(file: &str, hardware: bool) -> String {
     if hardware {
-        format!("{file}?{RAY_TRACER}=hardware")
+        with_pair(file, &format!("{RAY_TRACER}=hardware"))
     } else {
         file.to_string()
     }
@@ -247,5 +257,13 @@ mod tests {
             "a.wgsl?RayTracer=hardware"
         );
         assert_eq!(ray_tracer_variant("a.wgsl", false), "a.wgsl");
+        // Variants compose: a storage-precision variant traced with ray queries.
+        let both = ray_tracer_variant(&storage_precision_variant("a.wgsl", "S", true), true);
+        assert_eq!(both, "a.wgsl?S=f16&RayTracer=hardware");
+        let (file, v) = parse_variant(&both).unwrap();
+        assert_eq!(
+            (file, v.halved, v.hardware_rays),
+            ("a.wgsl", vec!["S"], true)
+        );
     }
 }

@@ -24,7 +24,7 @@ pub mod trace_scene;
 pub use flat_bvh::{FlatBvh, FlatNode};
 pub use gpu_bvh::GpuSceneBvh;
 pub use gpu_reference::{GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer};
-pub use hardware::HardwareSceneAs;
+pub use hardware::{AsWork, HardwareSceneAs};
 pub use limits::{BvhSizes, check_bvh_fits};
 pub use ray_batch::{GpuRayBatch, GpuRayHit, HitQuery, TraceRay};
 pub use scene_bvh::{BvhUpdate, BvhWork, GpuInstance, GpuTriangle, SceneBvh};
