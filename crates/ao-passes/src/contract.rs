@@ -53,7 +53,12 @@ pub fn compile_plan(
         technique: technique.name(),
         radius_pixels: None,
         declared: Default::default(),
-        tracing: Default::default(),
+        // As for a device with ray queries, so a hardware tracer's plan builds (and its
+        // shader variant compiles) here too; compile touches no device.
+        tracing: crate::TracingSupport {
+            ray_queries: true,
+            adapter: "the contract check (no device)".into(),
+        },
     };
     let out = technique.build(&mut ctx)?;
     b.export(out.accessibility);
