@@ -353,3 +353,56 @@ fn render_writes_each_extra_output_at_its_own_size() {
         assert_eq!((img.width(), img.height()), size, "{name}");
     }
 }
+
+#[test]
+fn render_rtao_says_which_ray_tracer_backend_ran() {
+    let out = temp_dir("tracer");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "columns",
+            "--technique",
+            "rtao",
+            "--width",
+            "40",
+            "--height",
+            "24",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        aograph(&args)
+    };
+    let (ok, stdout, err) = render(&[]);
+    assert!(ok, "{err}");
+    let Some(gpu) = aograph_graph::test_gpu() else {
+        return;
+    };
+    // `tracer = "auto"`: the hardware backend where the driver offers ray queries (CI's
+    // lavapipe does: AOGRAPH_REQUIRE_RAY_QUERY=1), the compute one otherwise.
+    let expected = if gpu.has_ray_queries() {
+        "ray tracer: hardware (ray queries on acceleration structures)"
+    } else {
+        assert!(std::env::var("AOGRAPH_REQUIRE_RAY_QUERY").as_deref() != Ok("1"));
+        "ray tracer: compute"
+    };
+    assert!(stdout.starts_with(expected), "{stdout}");
+    let timings = std::fs::read_to_string(out.join("timings.txt")).unwrap();
+    assert!(timings.contains(&format!("# {expected}")), "{timings}");
+    // A technique that traces nothing says nothing of a tracer.
+    let (ok, stdout, _) = aograph(&[
+        "render",
+        "--scene",
+        "columns",
+        "--technique",
+        "gtao",
+        "--width",
+        "40",
+        "--height",
+        "24",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok && !stdout.contains("ray tracer"), "{stdout}");
+}
