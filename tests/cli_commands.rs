@@ -357,24 +357,22 @@ fn render_writes_each_extra_output_at_its_own_size() {
 #[test]
 fn render_rtao_says_which_ray_tracer_backend_ran() {
     let out = temp_dir("tracer");
-    let render = |extra: &[&str]| {
-        let mut args = vec![
+    let render = |technique: &str| {
+        aograph(&[
             "render",
             "--scene",
             "columns",
             "--technique",
-            "rtao",
+            technique,
             "--width",
             "40",
             "--height",
             "24",
             "--out",
             out.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        aograph(&args)
+        ])
     };
-    let (ok, stdout, err) = render(&[]);
+    let (ok, stdout, err) = render("rtao");
     assert!(ok, "{err}");
     let Some(gpu) = aograph_graph::test_gpu() else {
         return;
@@ -391,18 +389,6 @@ fn render_rtao_says_which_ray_tracer_backend_ran() {
     let timings = std::fs::read_to_string(out.join("timings.txt")).unwrap();
     assert!(timings.contains(&format!("# {expected}")), "{timings}");
     // A technique that traces nothing says nothing of a tracer.
-    let (ok, stdout, _) = aograph(&[
-        "render",
-        "--scene",
-        "columns",
-        "--technique",
-        "gtao",
-        "--width",
-        "40",
-        "--height",
-        "24",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, stdout, _) = render("gtao");
     assert!(ok && !stdout.contains("ray tracer"), "{stdout}");
 }
