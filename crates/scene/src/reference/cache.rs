@@ -143,8 +143,15 @@ impl CacheKey {
     }
 }
 
-/// The GPU tracer's shaders, hashed into its keys.
+/// The GPU tracer's shaders, and the Rust that builds the scene it traces and runs it (a
+/// change to how the BVH is built changes its images as surely as a shader edit), hashed into
+/// its keys.
 const GPU_TRACER_SOURCES: &[&str] = &[
+    include_str!("../ray_tracing/scene_bvh.rs"),
+    include_str!("../ray_tracing/flat_bvh.rs"),
+    include_str!("../ray_tracing/gpu_bvh.rs"),
+    include_str!("../ray_tracing/gpu_reference.rs"),
+    include_str!("../ray_tracing/trace_scene.rs"),
     include_str!("../../../../shaders/common/bvh.wgsl"),
     include_str!("../../../../shaders/common/scene_hit.wgsl"),
     include_str!("../../../../shaders/common/scene_trace.wgsl"),
@@ -153,8 +160,12 @@ const GPU_TRACER_SOURCES: &[&str] = &[
     include_str!("../../../../shaders/raytrace/reference.wgsl"),
 ];
 
-/// The hardware backend's shaders, hashed into its keys.
+/// The hardware backend's shaders and the Rust that builds its acceleration structures and runs
+/// it, hashed into its keys.
 const HARDWARE_TRACER_SOURCES: &[&str] = &[
+    include_str!("../ray_tracing/hardware.rs"),
+    include_str!("../ray_tracing/gpu_reference.rs"),
+    include_str!("../ray_tracing/trace_scene.rs"),
     include_str!("../../../../shaders/common/hardware_scene.wgsl"),
     include_str!("../../../../shaders/common/scene_hit.wgsl"),
     include_str!("../../../../shaders/common/scene_trace_hardware.wgsl"),
@@ -400,6 +411,29 @@ mod tests {
             ..params
         };
         assert_eq!(base, CacheKey::new(&tris, &surfaces(), &quiet));
+    }
+
+    #[test]
+    fn gpu_keys_cover_the_rust_that_builds_what_the_tracers_trace() {
+        // An edit to how the BVH or the acceleration structures are built must change the
+        // keys (it was missed once: stale images were served after a builder change).
+        let covers = |sources: &[&str], file: &str| sources.iter().any(|s| *s == file);
+        assert!(covers(
+            GPU_TRACER_SOURCES,
+            include_str!("../ray_tracing/scene_bvh.rs")
+        ));
+        assert!(covers(
+            GPU_TRACER_SOURCES,
+            include_str!("../ray_tracing/gpu_bvh.rs")
+        ));
+        assert!(covers(
+            HARDWARE_TRACER_SOURCES,
+            include_str!("../ray_tracing/hardware.rs")
+        ));
+        assert!(!covers(
+            GPU_TRACER_SOURCES,
+            include_str!("../ray_tracing/hardware.rs")
+        ));
     }
 
     #[test]
