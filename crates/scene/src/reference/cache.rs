@@ -417,7 +417,7 @@ mod tests {
     fn gpu_keys_cover_the_rust_that_builds_what_the_tracers_trace() {
         // An edit to how the BVH or the acceleration structures are built must change the
         // keys (it was missed once: stale images were served after a builder change).
-        let covers = |sources: &[&str], file: &str| sources.iter().any(|s| *s == file);
+        let covers = |sources: &[&str], file: &str| sources.contains(&file);
         assert!(covers(
             GPU_TRACER_SOURCES,
             include_str!("../ray_tracing/scene_bvh.rs")
