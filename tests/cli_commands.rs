@@ -388,6 +388,13 @@ fn render_rtao_says_which_ray_tracer_backend_ran() {
     assert!(stdout.starts_with(expected), "{stdout}");
     let timings = std::fs::read_to_string(out.join("timings.txt")).unwrap();
     assert!(timings.contains(&format!("# {expected}")), "{timings}");
+    // `graph` plans for the same device, so it names the same backend.
+    let (ok, plan, err) = aograph(&["graph", "--scene", "columns", "--technique", "rtao"]);
+    let backend = expected.split(" (").next().unwrap();
+    assert!(
+        ok && plan.contains(&format!("{backend} (planned for")),
+        "{err}{plan}"
+    );
     // A technique that traces nothing says nothing of a tracer.
     let (ok, stdout, _) = render("gtao");
     assert!(ok && !stdout.contains("ray tracer"), "{stdout}");

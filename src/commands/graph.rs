@@ -1,18 +1,22 @@
-//! `aograph graph`: the compiled plan of a config as a text summary or Graphviz DOT.
+//! `aograph graph`: the compiled plan of a config as a text summary or Graphviz DOT, for the
+//! device `aograph render` would use (a ray tracer set to `auto` takes the backend that device
+//! offers); without a device, for one without ray queries.
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao::{TechniqueRegistry, TracingSupport};
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, summary, to_dot};
+use aograph_scene::gbuffer::GBufferStates;
 
-use super::CommonArgs;
+use super::{CommonArgs, gpu};
 use crate::error::AppResult;
-use crate::frame_graph::{FrameOutputs, build_frame_graph};
+use crate::frame_graph::{FrameOutputs, build_frame_graph_with};
 use crate::renderer::shader_library;
 
 pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
     let config = args.resolve(&registry)?;
     let prepared = config.prepare_scene()?;
-    let fg = build_frame_graph(
+    let tracing = gpu().map_or_else(|_| TracingSupport::default(), |g| TracingSupport::of(&g));
+    let fg = build_frame_graph_with(
         &registry,
         prepared.scene.clone(),
         &prepared.ao(&config.ao),
@@ -21,6 +25,8 @@ pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
             ..Default::default()
         },
         Extent::new(config.width, config.height),
+        &GBufferStates::default(),
+        &tracing,
     )?;
     let plan =
         GraphCompiler::new().compile(fg.decl, &shader_library(), CompileOptions::default())?;
@@ -49,6 +55,17 @@ pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
             )?
         {
             println!("{}", reach.line(&config.ao.technique));
+        }
+        if let Some(backend) = fg.declared.trace_backend() {
+            println!(
+                "ray tracer: {} (planned for {})",
+                backend.name(),
+                if tracing.adapter.is_empty() {
+                    "no device: none found"
+                } else {
+                    &tracing.adapter
+                }
+            );
         }
         print!("{}", summary(&plan, size));
     }
