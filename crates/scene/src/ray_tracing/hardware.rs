@@ -25,9 +25,9 @@ use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 use super::gpu_io::{buffer_of, check_gpu_errors, check_storage};
+use super::scene_bvh::traceable_mesh_triangles;
 use crate::error::SceneError;
 use crate::model::Scene;
-use crate::reference::is_traceable;
 
 /// Largest TLAS custom index (24 bits).
 const MAX_CUSTOM_INDEX: usize = 1 << 24;
@@ -186,12 +186,7 @@ impl HardwareSceneAs {
                 }
             } else {
                 let b = *mesh_blas[instance.mesh].get_or_insert_with(|| {
-                    let tris: Vec<(u32, [Vec3; 3])> = mesh
-                        .valid_triangles()
-                        .enumerate()
-                        .map(|(p, tri)| (p as u32, tri.map(|i| mesh.positions[i])))
-                        .filter(|(_, t)| is_traceable(t))
-                        .collect();
+                    let tris = traceable_mesh_triangles(mesh);
                     (!tris.is_empty()).then(|| add_blas(tris))
                 });
                 let m = instance.transform_at(t);

@@ -24,7 +24,7 @@ use obvhs::aabb::Aabb;
 
 use super::flat_bvh::{BuildQuality, FlatBvh, FlatNode, triangle_box};
 use crate::error::SceneError;
-use crate::model::Scene;
+use crate::model::{Mesh, Scene};
 use crate::reference::is_traceable;
 
 /// Depth limits of the traversal stacks in shaders/common/bvh.wgsl (`TLAS_STACK`,
@@ -157,6 +157,17 @@ pub struct SceneBvh {
 }
 
 /// The world box of `local` under `m` (its eight corners transformed).
+/// A mesh's triangles a ray can hit, in object space, each with its index among the mesh's
+/// valid triangles: the primitive both backends' hits name (their bottom levels are built from
+/// this list).
+pub(super) fn traceable_mesh_triangles(mesh: &Mesh) -> Vec<(u32, [Vec3; 3])> {
+    mesh.valid_triangles()
+        .enumerate()
+        .map(|(p, tri)| (p as u32, tri.map(|i| mesh.positions[i])))
+        .filter(|(_, t)| is_traceable(t))
+        .collect()
+}
+
 fn transformed_box(local: &Aabb, m: &Mat4) -> Aabb {
     let mut b = Aabb::empty();
     for i in 0..8 {
@@ -256,12 +267,7 @@ impl SceneBvh {
                 let b = match mesh_blas[instance.mesh] {
                     Some(b) => b,
                     None => {
-                        let tris: Vec<(u32, [Vec3; 3])> = mesh
-                            .valid_triangles()
-                            .enumerate()
-                            .map(|(p, tri)| (p as u32, tri.map(|i| mesh.positions[i])))
-                            .filter(|(_, t)| is_traceable(t))
-                            .collect();
+                        let tris = traceable_mesh_triangles(mesh);
                         let b = if tris.is_empty() {
                             None
                         } else {

@@ -164,6 +164,8 @@ const GPU_TRACER_SOURCES: &[&str] = &[
 /// it, hashed into its keys.
 const HARDWARE_TRACER_SOURCES: &[&str] = &[
     include_str!("../ray_tracing/hardware.rs"),
+    // Its bottom levels take their triangles from `traceable_mesh_triangles` there.
+    include_str!("../ray_tracing/scene_bvh.rs"),
     include_str!("../ray_tracing/gpu_reference.rs"),
     include_str!("../ray_tracing/trace_scene.rs"),
     include_str!("../../../../shaders/common/hardware_scene.wgsl"),
