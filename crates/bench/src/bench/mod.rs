@@ -12,9 +12,10 @@
 //!   ([`bitmap_text`] gives the PNG its labels); [`images`]: AO | error | reference PNGs;
 //! - [`roofline_table`]: report.md's roofline section;
 //! - [`size_table`]: report.md's table by output size (`--sizes`);
-//! - [`stats`]: median/quartiles and the log-log fit.
+//! - [`stats`]: median/quartiles and the log-log fit; [`csv`]: the quoting every CSV file uses.
 
 pub mod bitmap_text;
+pub mod csv;
 pub mod images;
 pub mod motion;
 pub mod plot;

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::csv;
 use super::plot::{by_scene, pareto_front};
 use super::run::RunRecord;
 use super::scaling::ScalingResults;
@@ -126,14 +127,6 @@ pub struct ResultsFile {
 /// `name=median ms` and `roofline` `pass=load fraction/byte fraction`, `;`-separated.
 pub const CSV_HEADER: &str = "scene,view,technique,params,width,height,radius,radius_px,reach_px,radius_reached,reference_mean,rays,frames,warmup,timing_source,total_ms_median,total_ms_min,total_ms_max,total_ms_q1,total_ms_q3,frame_ms_median,texture_bytes,texture_bytes_unshared,pixels,mae,rmse,psnr,ssim,signed_error,edge_mae,edge_pixels,flicker,passes,roofline,image,radiance_direct_rmse,radiance_direct_psnr,radiance_full_rmse,radiance_full_psnr,signed_error_left,signed_error_right,ceiling_gbuffer_mae,ceiling_gbuffer_ssim,ceiling_seen_mae,ceiling_seen_ssim,ceiling_guard_mae,ceiling_guard_ssim,ceiling_two_layer_mae,ceiling_two_layer_ssim";
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
 fn opt(v: Option<f64>, d: usize) -> String {
     v.map(|v| num(v, d)).unwrap_or_default()
 }
@@ -167,10 +160,10 @@ pub fn csv_row(r: &RunRecord) -> String {
         .join(";");
     let f32opt = |v: Option<f32>, d: usize| opt(v.map(f64::from), d);
     [
-        csv_field(&r.scene),
-        csv_field(&r.view),
-        csv_field(&r.technique),
-        csv_field(&r.label),
+        csv::field(&r.scene),
+        csv::field(&r.view),
+        csv::field(&r.technique),
+        csv::field(&r.label),
         r.width.to_string(),
         r.height.to_string(),
         r.radius.to_string(),
@@ -199,9 +192,9 @@ pub fn csv_row(r: &RunRecord) -> String {
         opt(m.edge_mae, 6),
         m.edge_pixels.to_string(),
         opt(m.flicker, 6),
-        csv_field(&passes),
-        csv_field(&roofline_field(r)),
-        csv_field(r.image.as_deref().unwrap_or("")),
+        csv::field(&passes),
+        csv::field(&roofline_field(r)),
+        csv::field(r.image.as_deref().unwrap_or("")),
         opt(r.radiance.map(|x| x.direct_rmse), 6),
         opt(r.radiance.map(|x| x.direct_psnr), 3),
         opt(r.radiance.map(|x| x.full_rmse), 6),
@@ -631,5 +624,28 @@ mod tests {
         ours.reference_mean = None;
         let s = aggregate(&[ours]);
         assert!(s.trim_end().ends_with("| - |"), "{s}");
+    }
+
+    #[test]
+    fn a_scene_view_or_label_with_commas_and_quotes_keeps_every_column() {
+        let mut r = record(
+            "scenes/hall, east.gltf",
+            "hbao",
+            "say \"hi\", twice",
+            10.0,
+            0.05,
+        );
+        r.view = "Camera \"A\"".into();
+        let fields = csv::split_row(&csv_row(&r));
+        assert_eq!(fields.len(), CSV_HEADER.split(',').count());
+        assert_eq!(
+            fields[..4],
+            [
+                "scenes/hall, east.gltf",
+                "Camera \"A\"",
+                "hbao",
+                "say \"hi\", twice"
+            ]
+        );
     }
 }

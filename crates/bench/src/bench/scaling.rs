@@ -19,6 +19,7 @@ use std::fmt::Write as _;
 use aograph_scene::{Camera, Projection};
 use serde::{Deserialize, Serialize};
 
+use super::csv;
 use super::stats::{Spread, fit_power_law};
 use crate::metrics::nonfinite::format as num;
 
@@ -223,10 +224,10 @@ impl ScalingResults {
         for f in &self.fits {
             let _ = writeln!(
                 s,
-                "{},{},\"{}\",{},{},{},{}",
-                f.scene,
-                f.technique,
-                f.label,
+                "{},{},{},{},{},{},{}",
+                csv::field(&f.scene),
+                csv::field(&f.technique),
+                csv::field(&f.label),
                 o(f.pixel_exponent),
                 o(f.radius_exponent),
                 o(f.r2),
@@ -239,10 +240,10 @@ impl ScalingResults {
     /// One scaling_points.csv row.
     pub fn point_row(p: &ScalingPoint) -> String {
         format!(
-            "{},{},\"{}\",{},{},{},{},{},{},{},{}",
-            p.scene,
-            p.technique,
-            p.label,
+            "{},{},{},{},{},{},{},{},{},{},{}",
+            csv::field(&p.scene),
+            csv::field(&p.technique),
+            csv::field(&p.label),
             p.side,
             p.pixels,
             p.radius,
@@ -374,5 +375,24 @@ mod tests {
         // fov 90 degrees: f = H / 2; R = 1 at depth 2 on 200 px is 50 px.
         assert!((radius_in_pixels(&c, 200, 1.0, 2.0) - 50.0).abs() < 1e-4);
         assert_eq!(median_depth(&[0.0, 3.0, 1.0, 2.0]), 2.0);
+    }
+
+    #[test]
+    fn scaling_rows_quote_a_scene_with_commas_and_keep_every_column() {
+        let mut r = ScalingResults::default();
+        for side in [64, 128] {
+            let mut p = point(side, 1.0, side as f64);
+            p.scene = "scenes/hall, east.gltf".into();
+            p.label = "a \"b\"".into();
+            r.points.push(p);
+        }
+        r.refit();
+        let row = csv::split_row(&ScalingResults::point_row(&r.points[0]));
+        assert_eq!(row.len(), ScalingResults::POINTS_HEADER.split(',').count());
+        assert_eq!(row[..3], ["scenes/hall, east.gltf", "t", "a \"b\""]);
+        let fits = r.fits_csv();
+        let fit = csv::split_row(fits.lines().nth(1).expect("one fit"));
+        assert_eq!(fit.len(), ScalingResults::FITS_HEADER.split(',').count());
+        assert_eq!(fit[..3], ["scenes/hall, east.gltf", "t", "a \"b\""]);
     }
 }

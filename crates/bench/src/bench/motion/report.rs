@@ -7,6 +7,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::bench::csv;
 use crate::bench::run::FrameTimes;
 use crate::error::{AppError, AppResult};
 use crate::images::write_atomic;
@@ -71,16 +72,16 @@ impl MotionRecord {
     pub const CSV_HEADER: &'static str = "scene,view,motion,technique,label,width,height,radius,rays,fps,frames,warmup,timing_source,total_ms_median,total_ms_q1,total_ms_q3,frame_ms_median,mae_mean,mae_worst,edge_mae_mean,ssim_mean,moving_mae_mean,flicker,flicker_coverage";
 
     /// This record as one motion.csv line (no newline), in [`MotionRecord::CSV_HEADER`]'s
-    /// column order; the label is quoted.
+    /// column order; fields quoted where they need it (crate::bench::csv).
     pub fn csv_row(&self) -> String {
         let opt = |v: Option<f64>| v.map(|v| format!("{v:.6}")).unwrap_or_default();
         format!(
-            "{},{},{},{},\"{}\",{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.6},{:.6},{},{:.6},{},{},{}",
-            self.scene,
-            self.view,
-            self.motion,
-            self.technique,
-            self.label.replace('"', "\"\""),
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.6},{:.6},{},{:.6},{},{},{}",
+            csv::field(&self.scene),
+            csv::field(&self.view),
+            csv::field(&self.motion),
+            csv::field(&self.technique),
+            csv::field(&self.label),
             self.width,
             self.height,
             self.radius,
@@ -112,12 +113,12 @@ pub(super) fn write_motion_files(dir: &Path, records: &[MotionRecord]) -> AppRes
         csv.push('\n');
         for (i, mae) in r.frame_mae.iter().enumerate() {
             per_frame.push_str(&format!(
-                "{},{},{},{},\"{}\",{},{:.6}\n",
-                r.scene,
-                r.view,
-                r.motion,
-                r.technique,
-                r.label.replace('"', "\"\""),
+                "{},{},{},{},{},{},{:.6}\n",
+                csv::field(&r.scene),
+                csv::field(&r.view),
+                csv::field(&r.motion),
+                csv::field(&r.technique),
+                csv::field(&r.label),
                 i,
                 mae
             ));
@@ -198,4 +199,71 @@ pub fn motion_report(records: &[MotionRecord]) -> String {
         }
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::stats::Spread;
+
+    fn record(scene: &str, view: &str, label: &str) -> MotionRecord {
+        let spread = Spread::of(&[1.0]);
+        MotionRecord {
+            scene: scene.into(),
+            view: view.into(),
+            motion: "orbit".into(),
+            technique: "gtao".into(),
+            label: label.into(),
+            params: BTreeMap::new(),
+            width: 64,
+            height: 36,
+            radius: 1.0,
+            rays: 16,
+            fps: 30.0,
+            frames: 2,
+            warmup: 0,
+            times: FrameTimes {
+                timing_source: "cpu-wall".into(),
+                total_ms: spread,
+                frame_ms: spread,
+                passes: Vec::new(),
+            },
+            mae_mean: 0.1,
+            mae_worst: 0.2,
+            edge_mae_mean: None,
+            ssim_mean: 0.5,
+            moving_mae_mean: None,
+            flicker: None,
+            flicker_coverage: None,
+            frame_mae: vec![0.1, 0.2],
+            image: None,
+        }
+    }
+
+    #[test]
+    fn motion_files_quote_names_with_commas_and_keep_every_column() {
+        let r = record("scenes/hall, east.gltf", "Camera \"A\"", "x, \"y\"");
+        let dir = std::env::temp_dir().join(format!("aograph-motion-csv-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        write_motion_files(&dir, &[r]).expect("written");
+        let names = [
+            "scenes/hall, east.gltf",
+            "Camera \"A\"",
+            "orbit",
+            "gtao",
+            "x, \"y\"",
+        ];
+        let motion = std::fs::read_to_string(dir.join("motion.csv")).expect("motion.csv");
+        let row = csv::split_row(motion.lines().nth(1).expect("one row"));
+        assert_eq!(row.len(), MotionRecord::CSV_HEADER.split(',').count());
+        assert_eq!(row[..5], names);
+        let frames = std::fs::read_to_string(dir.join("motion_frames.csv")).expect("frames");
+        let lines: Vec<&str> = frames.lines().collect();
+        assert_eq!(lines.len(), 3, "a header and one line per frame");
+        let row = csv::split_row(lines[2]);
+        assert_eq!(row.len(), lines[0].split(',').count());
+        assert_eq!(row[..5], names);
+        assert_eq!(row[5..], ["1", "0.200000"]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
