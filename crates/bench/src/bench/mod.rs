@@ -106,7 +106,9 @@ impl Default for ViewChoice {
 }
 
 impl ViewChoice {
-    /// The views of `scene` this choice picks, in order, each once.
+    /// The views of `scene` this choice picks, in order, each once. A config view wins over
+    /// a scene view of the same name, whether picked by name or by `all` (as in
+    /// [`CameraSpec::resolve`]): `all` lists it in the scene view's place.
     pub fn views(&self, scene: &aograph_scene::Scene) -> AppResult<Vec<SceneView>> {
         if let Some(c) = &self.camera {
             return Ok(vec![c.resolve(scene, &self.config_views)?]);
@@ -114,12 +116,21 @@ impl ViewChoice {
         let mut out: Vec<SceneView> = Vec::new();
         for name in &self.names {
             let picked = if name == "all" {
-                let mut all = aograph_scene::views::scene_views(scene);
-                all.extend(self.config_views.iter().map(|v| SceneView {
+                let configured = |v: &NamedView| SceneView {
                     name: v.name.clone(),
                     camera: v.params.camera(scene),
                     motion: None,
-                }));
+                };
+                let mut all: Vec<SceneView> = aograph_scene::views::scene_views(scene)
+                    .into_iter()
+                    .map(
+                        |v| match self.config_views.iter().find(|c| c.name == v.name) {
+                            Some(c) => configured(c),
+                            None => v,
+                        },
+                    )
+                    .collect();
+                all.extend(self.config_views.iter().map(configured));
                 all
             } else {
                 vec![CameraSpec::Named(name.clone()).resolve(scene, &self.config_views)?]
@@ -423,4 +434,47 @@ pub fn run_scaling(
     }
     pb.finish_and_clear();
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera_spec::CameraParams;
+    use glam::Vec3;
+
+    #[test]
+    fn all_views_list_a_config_view_in_place_of_the_scene_view_it_names() {
+        let scene = aograph_scene::procedural_scene("columns").expect("built-in scene");
+        let config_view = |name: &str, text: &str| NamedView {
+            name: name.into(),
+            params: CameraParams::parse_inline(text).expect("camera"),
+        };
+        let choice = ViewChoice {
+            names: vec!["all".into()],
+            camera: None,
+            config_views: vec![
+                config_view("outside", "pos=0,1,2 target=0,1,0"),
+                config_view("aisle", "pos=3,1,0 target=0,1,0"),
+            ],
+        };
+        let all = choice.views(&scene).expect("views");
+        let names: Vec<&str> = all.iter().map(|v| v.name.as_str()).collect();
+        let mut expected: Vec<String> = aograph_scene::views::scene_views(&scene)
+            .into_iter()
+            .map(|v| v.name)
+            .collect();
+        expected.push("aisle".into());
+        assert_eq!(names, expected);
+        // The one named `outside` is the config's, as `--views outside` picks it.
+        let outside = all.iter().find(|v| v.name == "outside").expect("outside");
+        assert_eq!(outside.camera.position, Vec3::new(0.0, 1.0, 2.0));
+        let by_name = ViewChoice {
+            names: vec!["outside".into()],
+            ..choice.clone()
+        };
+        assert_eq!(
+            by_name.views(&scene).expect("views")[0].camera,
+            outside.camera
+        );
+    }
 }
