@@ -19,7 +19,7 @@ use crate::error::{GraphError, GraphResult};
 use crate::lifetime::{Lifetime, PhysicalTexture, plan_lifetimes};
 use crate::resource::TextureAccess;
 use crate::sampler::SamplerDesc;
-use crate::shader::{ShaderLibrary, ShaderModuleInfo};
+use crate::shader::{ShaderLibrary, ShaderModuleInfo, ShaderRevision};
 use crate::shader_check::check_pass_shader;
 
 /// Compile options.
@@ -142,10 +142,12 @@ impl CompiledGraph {
 ///   clock) and uniform contents are always the caller's latest, never an older declaration's.
 /// - Uniform contents are not part of the key ([`GraphDecl::structure_hash`]): changing a
 ///   parameter value is a hit; the executor writes the new contents into the plan's buffers.
+/// - The shader library is ([`ShaderRevision`]): a plan compiled against one library, or
+///   before a source was replaced, is not served for another library or the new source.
 /// - At most `capacity` plans are kept ([`GraphCompiler::DEFAULT_CAPACITY`] by default); a miss
 ///   beyond that evicts the least recently used plan.
 pub struct GraphCompiler {
-    cache: HashMap<(u64, CompileOptions), CacheEntry>,
+    cache: HashMap<(u64, CompileOptions, ShaderRevision), CacheEntry>,
     capacity: usize,
     uses: u64,
     compiles: usize,
@@ -195,7 +197,7 @@ impl GraphCompiler {
         shaders: &ShaderLibrary,
         options: CompileOptions,
     ) -> GraphResult<Arc<CompiledGraph>> {
-        let key = (decl.structure_hash(), options);
+        let key = (decl.structure_hash(), options, shaders.revision());
         self.uses += 1;
         if let Some(entry) = self.cache.get_mut(&key) {
             entry.last_use = self.uses;

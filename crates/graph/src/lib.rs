@@ -106,7 +106,7 @@ pub use resource::{
 pub use sampler::SamplerDesc;
 pub use shader::{
     ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo, ShaderOverride,
-    ray_tracer_variant, storage_precision_variant,
+    ShaderRevision, ray_tracer_variant, storage_precision_variant,
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};

@@ -313,3 +313,33 @@ fn the_cache_evicts_the_least_recently_used_plan_beyond_its_capacity() {
     c.compile(two(), &lib, opts).unwrap(); // was evicted: compiled again
     assert_eq!((c.compile_count(), c.cached_plans()), (4, 2));
 }
+
+#[test]
+fn a_replaced_shader_or_another_library_is_compiled_again() {
+    let lib = library();
+    let mut c = GraphCompiler::new();
+    let options = CompileOptions::default();
+    c.compile(declare(&params(1.0, 1.0), false), &lib, options)
+        .unwrap();
+    // The same sources in another library: its own plan (its modules are its own).
+    let other = library();
+    c.compile(declare(&params(1.0, 1.0), false), &other, options)
+        .unwrap();
+    assert_eq!(c.compile_count(), 2);
+    // The blur without its uniform: the pass's `params` binds nothing in the new source, which
+    // compile must see rather than serve the plan of the old one.
+    let without_uniform = BLUR
+        .replace("@group(0) @binding(2) var<uniform> params: Params;\n", "")
+        .replace(" * params.strength", "");
+    lib.add_inline("blur.wgsl", &without_uniform);
+    let e = c
+        .compile(declare(&params(1.0, 1.0), false), &lib, options)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("params"), "{e}");
+    // Put back, it compiles again (a new revision, not the first plan).
+    lib.add_inline("blur.wgsl", BLUR);
+    c.compile(declare(&params(1.0, 1.0), false), &lib, options)
+        .unwrap();
+    assert_eq!(c.compile_count(), 3);
+}

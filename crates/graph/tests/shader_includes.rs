@@ -39,3 +39,21 @@ fn error_in_a_nested_include_names_that_file_and_line() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn replacing_an_included_source_reloads_the_modules_that_include_it() {
+    let lib = ShaderLibrary::inline_only();
+    lib.add_inline("common/a.wgsl", "fn a() -> f32 { return 1.0; }\n");
+    lib.add_inline(
+        "main.wgsl",
+        "#include \"common/a.wgsl\"\n@compute @workgroup_size(1)\nfn main() { let x = a(); }\n",
+    );
+    let before = lib.load("main.wgsl").unwrap();
+    let revision = lib.revision();
+    lib.add_inline("common/a.wgsl", "fn a() -> f32 { return 2.0; }\n");
+    let after = lib.load("main.wgsl").unwrap();
+    assert!(before.source.contains("return 1.0"), "{}", before.source);
+    assert!(after.source.contains("return 2.0"), "{}", after.source);
+    assert_ne!(before.source_hash, after.source_hash);
+    assert_ne!(lib.revision(), revision);
+}

@@ -2,10 +2,13 @@
 //! name), expands their includes, applies a variant suffix, and caches the validated modules.
 //!
 //! Invariant: the cache holds, per name (variant suffix included), the module as validated
-//! from the current sources; registering an inline source drops its cached module.
+//! from the current sources; registering an inline source drops every cached module (any of
+//! them may include it or be its variant) and moves the library to a new [`ShaderRevision`],
+//! which the compile cache keys its plans by.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::include::expand;
@@ -22,33 +25,59 @@ pub struct ShaderLibrary {
     root: Option<PathBuf>,
     inline: Mutex<HashMap<String, String>>,
     cache: Mutex<HashMap<String, Arc<ShaderModuleInfo>>>,
+    id: u64,
+    generation: AtomicU64,
 }
+
+/// Which library, and which of its sources, a plan was compiled against: unique per library
+/// made in the process, and new after every [`ShaderLibrary::add_inline`]. (Files under the
+/// root are read once per module and cached like inline sources: a file edited on disk is
+/// read by a new library.)
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ShaderRevision {
+    library: u64,
+    generation: u64,
+}
+
+/// Ids of the libraries made so far (an id is never reused, unlike an address).
+static NEXT_LIBRARY_ID: AtomicU64 = AtomicU64::new(0);
 
 impl ShaderLibrary {
     /// Shaders are read from files under `root`.
     pub fn new(root: impl Into<PathBuf>) -> Self {
-        Self {
-            root: Some(root.into()),
-            inline: Mutex::default(),
-            cache: Mutex::default(),
-        }
+        Self::with_root(Some(root.into()))
     }
     /// No files; inline sources only (GPU-free tests).
     pub fn inline_only() -> Self {
+        Self::with_root(None)
+    }
+    fn with_root(root: Option<PathBuf>) -> Self {
         Self {
-            root: None,
+            root,
             inline: Mutex::default(),
             cache: Mutex::default(),
+            id: NEXT_LIBRARY_ID.fetch_add(1, Ordering::Relaxed),
+            generation: AtomicU64::new(0),
+        }
+    }
+    /// This library and the generation of its sources (see [`ShaderRevision`]).
+    pub fn revision(&self) -> ShaderRevision {
+        ShaderRevision {
+            library: self.id,
+            generation: self.generation.load(Ordering::Acquire),
         }
     }
     /// The directory shader files are read from (`None` for an inline-only library).
     pub fn root(&self) -> Option<&Path> {
         self.root.as_deref()
     }
-    /// Registers `source` under `name`; it shadows a file of the same name.
+    /// Registers `source` under `name`; it shadows a file of the same name. Every cached
+    /// module is dropped (one may include `name`, or be a variant of it) and plans compiled
+    /// against the old sources are no longer compile-cache hits.
     pub fn add_inline(&self, name: &str, source: &str) {
         lock(&self.inline).insert(name.to_string(), source.to_string());
-        lock(&self.cache).remove(name);
+        lock(&self.cache).clear();
+        self.generation.fetch_add(1, Ordering::AcqRel);
     }
 
     fn read(&self, name: &str) -> GraphResult<String> {

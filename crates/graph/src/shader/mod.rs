@@ -11,7 +11,7 @@ mod library;
 mod reflect;
 mod variant;
 
-pub use library::ShaderLibrary;
+pub use library::{ShaderLibrary, ShaderRevision};
 pub use reflect::{
     ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderModuleInfo, ShaderOverride,
 };
