@@ -10,12 +10,15 @@
 //! keep it. The shaders detect non-finite values by their bit pattern (shaders/common/
 //! finite.wgsl), not with `a == a`, which WGSL allows a compiler to fold to true.
 
+mod common;
+
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry};
+use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry, TracingSupport};
 use aograph_frame::{
-    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, LIGHTING_BUFFER, LightingUniforms,
+    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, LIGHTING_BUFFER,
+    LightingUniforms, SCENE_AS_INSTANCES_BUFFER, SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS,
 };
 use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_graph::{
@@ -23,7 +26,7 @@ use aograph_graph::{
     test_gpu,
 };
 use aograph_scene::ReferenceNormals;
-use aograph_scene::ray_tracing::GpuSceneBvh;
+use aograph_scene::ray_tracing::{GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 
 const SIZE: Extent = Extent {
@@ -174,13 +177,21 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
         .collect();
     let mut failures = Vec::new();
     // Every technique at its defaults, and those with a denoiser also without it, so the raw
-    // AO pass's own output is checked (a blur that treats a NaN depth as sky hides it).
+    // AO pass's own output is checked (a blur that treats a NaN depth as sky hides it); a
+    // technique that traces rays on each backend the device runs (the rays start from the
+    // poisoned points and normals, and the hardware one's ray queries must not see NaN).
     let mut variants: Vec<(String, toml::Table)> = Vec::new();
     for name in registry.names() {
         variants.push((name.clone(), toml::Table::new()));
         let t = registry.get(&name).unwrap();
         if t.parameters().iter().any(|p| p.name == "blur") {
             variants.push((name.clone(), "blur = false".parse().unwrap()));
+        }
+        if t.parameters().iter().any(|p| p.name == "tracer") {
+            for tracer in common::ray_tracers(&gpu) {
+                let params = format!("tracer = \"{tracer}\"").parse().unwrap();
+                variants.push((name.clone(), params));
+            }
         }
     }
     for (name, params) in variants {
@@ -218,7 +229,7 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
             technique: technique.name(),
             radius_pixels: None,
             declared: Default::default(),
-            tracing: Default::default(),
+            tracing: TracingSupport::of(&gpu),
         };
         let out = technique.build(&mut ctx).expect("builds");
         let declared = ctx.declared;
@@ -258,6 +269,13 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
             exec.import_buffer(BVH_NODES_BUFFER, bvh.nodes.clone());
             exec.import_buffer(BVH_INSTANCES_BUFFER, bvh.instances.clone());
             exec.import_buffer(BVH_TRIANGLES_BUFFER, bvh.triangles.clone());
+        }
+        // And the acceleration structures to one that declared them (rtao on ray queries).
+        if declared.scene_acceleration.is_some() {
+            let a = HardwareSceneAs::build(&gpu, &scene, 0.0).expect("the structures build");
+            exec.import_acceleration_structure(SCENE_TLAS, a.tlas.clone());
+            exec.import_buffer(SCENE_AS_INSTANCES_BUFFER, a.instances.clone());
+            exec.import_buffer(SCENE_AS_PRIMITIVES_BUFFER, a.primitives.clone());
         }
         for (c, bytes) in &data {
             let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
