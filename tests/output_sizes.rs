@@ -316,11 +316,17 @@ fn walls(ao: &[f32], depth: &[f32], w: usize, h: usize) -> (f32, f32) {
     ((l / nl.max(1) as f64) as f32, (r / nr.max(1) as f64) as f32)
 }
 
-/// Every technique's walls on `columns`' default view at `w` x `h`, within 0.02 of each other.
-fn walls_agree_at(w: usize, h: usize) {
+/// Every technique's walls on `columns`' default view at `w` x `h`, within 0.02 of each other,
+/// but those named in `measured`, each held to the difference README gives for it (plus the
+/// 0.002 a wall's mean moves between devices' rounding).
+fn walls_agree_at(w: usize, h: usize, measured: &[(&str, f32)]) {
     let registry = TechniqueRegistry::with_builtins();
     let mut apart = Vec::new();
     for technique in registry.names() {
+        let bound = measured
+            .iter()
+            .find(|(t, _)| *t == technique)
+            .map_or(0.02, |(_, d)| d + 0.002);
         let scene = procedural_scene("columns").expect("columns exists");
         let Some(mut r) = renderer(&technique, scene, Extent::new(w as u32, h as u32)) else {
             return;
@@ -328,13 +334,15 @@ fn walls_agree_at(w: usize, h: usize) {
         let (ao, depth) = frame(&mut r);
         let (left, right) = walls(&ao, &depth, w, h);
         println!("{technique} at {w}x{h}: walls {left:.4} {right:.4}");
-        if (left - right).abs() > 0.02 {
-            apart.push(format!("{technique}: {left:.4} and {right:.4}"));
+        if (left - right).abs() > bound {
+            apart.push(format!(
+                "{technique}: {left:.4} and {right:.4} (allowed {bound})"
+            ));
         }
     }
     assert!(
         apart.is_empty(),
-        "at {w}x{h} the walls read more than 0.02 apart: {}",
+        "at {w}x{h} the walls read too far apart: {}",
         apart.join("; ")
     );
 }
@@ -344,7 +352,22 @@ fn every_technique_reads_columns_walls_alike_at_640x360() {
     // The reference reads the two walls 0.713 and 0.714 at 640x360 (64 rays, standard error
     // about 0.001 over a wall). Before the fixes of crates/ao-passes/src/techniques/mssao.rs
     // ("At every output size") mssao read them 0.880 and 0.810.
-    walls_agree_at(640, 360);
+    walls_agree_at(640, 360, &[]);
+}
+
+#[test]
+fn every_technique_reads_columns_walls_alike_at_1920x1080() {
+    // mssao read them 0.907 and 0.889 before issue 34 (both short of R).
+    walls_agree_at(1920, 1080, &[]);
+}
+
+#[test]
+fn columns_walls_at_1280x720_within_0_02_but_mssao_and_pyramid_hbao() {
+    // Before issue 34 mssao read them 0.884 and 0.737. The two named are held to what README
+    // ("Left and right") measures and explains: their estimators read the two walls'
+    // surroundings differently (0.020 and 0.033 averaged over the grid's phase), so a larger
+    // difference is a regression, a smaller one a fix to write down.
+    walls_agree_at(1280, 720, &[("mssao", 0.0233), ("pyramid-hbao", 0.0397)]);
 }
 
 /// A measurement, not a check: the walls of the techniques in `AOGRAPH_WALLS_TECHNIQUES`
