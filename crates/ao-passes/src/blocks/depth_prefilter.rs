@@ -9,7 +9,7 @@
 //! A block with a sky child is sky: XeGTAO's sky is the far plane, so its sky child is the
 //! farthest, weighs 1, and every surface more than r in front of it weighs 0. Averaging only the
 //! surface children instead made a mean whose point, rebuilt at the block's centre (as gtao
-//! does), lay in front of a grazing floor: tests/stability.rs's floor at 89.9 degrees at
+//! does), lay in front of a grazing floor: tests/stability/'s floor at 89.9 degrees at
 //! 4096x8 occluded itself to 0.63.
 //! XeGTAO's README: the far bias acts as a thin-occluder bias and is steadier under motion than
 //! a rotated-grid subsample. Level 0 is the caller's linear depth (XeGTAO linearises hardware

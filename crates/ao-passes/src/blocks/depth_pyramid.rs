@@ -14,7 +14,7 @@
 //!   to the far plane; a block of sky only stays sky (0). A block holding both sky and
 //!   geometry takes its centre texel (3x + 1, 3y + 1, clamped into the image), or is sky when
 //!   that is sky: Pyramid HBAO rebuilds a coarse texel at its block's centre, where the mean
-//!   of the geometry texels alone does not lie. (Found by tests/stability.rs: a floor meeting
+//!   of the geometry texels alone does not lie. (Found by tests/stability/: a floor meeting
 //!   the horizon at 4096x8 had the mean of its lower rows rebuilt higher up, in front of the
 //!   floor, and occluded itself to 0.976.)
 //! - [`DepthReduction::Min2x2`] / [`DepthReduction::Max2x2`]: factor 2; the nearest / farthest
