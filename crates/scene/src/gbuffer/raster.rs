@@ -13,78 +13,22 @@ use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{
     BufferHandle, CustomPass, GraphError, GraphResult, PassContext, TextureHandle,
 };
-use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use super::GBufferClock;
 
+mod draw;
+mod gpu_rows;
 mod second_layer;
 use crate::camera::Projection;
 use crate::model::Scene;
 use crate::normal_transform::normal_matrix;
+pub use draw::raster_pipelines_created;
+use draw::{PipelineShape, depth_attachment, draw_instances, ensure_pipelines, raster_pipeline};
+use gpu_rows::{InstanceGpu, JointGpu, LightGpu, MeshGpu, padded_mat3, upload_meshes};
 pub use second_layer::SecondLayerRaster;
 
 const SHADER: &str = "scene/gbuffer.wgsl";
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct InstanceGpu {
-    model: [[f32; 4]; 4],
-    prev_model: [[f32; 4]; 4],
-    /// WGSL `mat3x3<f32>`: three columns padded to 16 bytes each.
-    normal_model: [[f32; 4]; 3],
-    color: [f32; 4],
-    /// A skinned instance's first entry in the joint palette (0 when rigid).
-    palette_first: u32,
-    /// A skinned instance's joint count (0 when rigid).
-    joint_count: u32,
-    /// Unused; pads the row to 16 bytes.
-    pad0: u32,
-    /// Unused; pads the row to 16 bytes.
-    pad1: u32,
-}
-
-/// One joint's skinning matrix now and at the previous frame (WGSL `JointPalette`).
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct JointGpu {
-    current: [[f32; 4]; 4],
-    previous: [[f32; 4]; 4],
-}
-
-/// The skinned vertex buffer's element: JOINTS_0 widened to u32 and the normalised weights.
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct SkinVertexGpu {
-    joints: [u32; 4],
-    weights: [f32; 4],
-}
-
-/// The WGSL layout of a 3x3 matrix: columns padded to vec4.
-fn padded_mat3(m: glam::Mat3) -> [[f32; 4]; 3] {
-    [m.x_axis, m.y_axis, m.z_axis].map(|c| c.extend(0.0).to_array())
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct LightGpu {
-    /// World-space direction the light travels (unit).
-    direction: [f32; 3],
-    /// Unused; pads the row to 16 bytes.
-    pad0: f32,
-    /// Linear RGB colour times intensity.
-    color: [f32; 3],
-    /// Unused; pads the row to 16 bytes.
-    pad1: f32,
-}
-
-struct MeshGpu {
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
-    index_count: u32,
-    /// Joints and weights per vertex, for a mesh with skin weights.
-    skin: Option<wgpu::Buffer>,
-}
 
 pub(super) struct GpuState {
     meshes: Vec<MeshGpu>,
@@ -229,7 +173,7 @@ impl GBufferRaster {
                     })
             })
             .collect();
-        let meshes = self.upload_meshes(device);
+        let meshes = upload_meshes(&self.source.scene, device);
         let mut palette_offsets = Vec::with_capacity(self.source.scene.instances.len());
         let mut joints = 0u32;
         for inst in &self.source.scene.instances {
@@ -316,158 +260,6 @@ impl GBufferRaster {
             reversed,
         )
     }
-}
-
-/// What differs between the first layer's pipelines and the second's.
-struct PipelineShape<'a> {
-    layout: &'a wgpu::PipelineLayout,
-    fragment: &'a str,
-    targets: &'a [Option<wgpu::ColorTargetState>],
-    constants: &'a [(&'a str, f64)],
-}
-
-/// A g-buffer raster pipeline: the scene's vertex layout (rigid or skinned), no culling (two-
-/// sided surfaces), depth test Less or Greater (reversed Z) with writes, `shape`'s fragment.
-fn raster_pipeline(
-    device: &wgpu::Device,
-    state: &GpuState,
-    channels: GBufferChannels,
-    shape: &PipelineShape<'_>,
-    skinned: bool,
-    reversed: bool,
-) -> wgpu::RenderPipeline {
-    PIPELINES_CREATED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let module = &state.module;
-    let vertex_layout = wgpu::VertexBufferLayout {
-        array_stride: 24,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
-    };
-    let skin_layout = wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<SkinVertexGpu>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &wgpu::vertex_attr_array![2 => Uint32x4, 3 => Float32x4],
-    };
-    let buffers = [Some(vertex_layout), Some(skin_layout)];
-    let buffers = if skinned { &buffers[..] } else { &buffers[..1] };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("gbuffer"),
-        layout: Some(shape.layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(if skinned { "vs_skinned" } else { "vs" }),
-            compilation_options: Default::default(),
-            buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: channels.depth_format.format(),
-            depth_write_enabled: Some(true),
-            depth_compare: Some(if reversed {
-                wgpu::CompareFunction::Greater
-            } else {
-                wgpu::CompareFunction::Less
-            }),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(shape.fragment),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: shape.constants,
-                ..Default::default()
-            },
-            targets: shape.targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-impl GBufferRaster {
-    fn upload_meshes(&self, device: &wgpu::Device) -> Vec<MeshGpu> {
-        self.source
-            .scene
-            .meshes
-            .iter()
-            .map(|m| {
-                let verts: Vec<[f32; 6]> = m
-                    .positions
-                    .iter()
-                    .enumerate()
-                    .map(|(i, p)| {
-                        // No normals: zero, so the fragment uses the geometric normal.
-                        let n = m.normals.get(i).copied().unwrap_or(glam::Vec3::ZERO);
-                        [p.x, p.y, p.z, n.x, n.y, n.z]
-                    })
-                    .collect();
-                let indices: Vec<u32> = m
-                    .indices
-                    .iter()
-                    .copied()
-                    .filter(|&i| (i as usize) < m.positions.len())
-                    .collect();
-                let indices = if indices.len() == m.indices.len() {
-                    indices
-                } else {
-                    Vec::new()
-                };
-                MeshGpu {
-                    vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("mesh vertices"),
-                        contents: bytemuck::cast_slice(if verts.is_empty() {
-                            &[[0f32; 6]]
-                        } else {
-                            verts.as_slice()
-                        }),
-                        usage: wgpu::BufferUsages::VERTEX,
-                    }),
-                    indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("mesh indices"),
-                        contents: bytemuck::cast_slice(if indices.is_empty() {
-                            &[0u32]
-                        } else {
-                            indices.as_slice()
-                        }),
-                        usage: wgpu::BufferUsages::INDEX,
-                    }),
-                    index_count: (indices.len() / 3 * 3) as u32,
-                    // Exactly the meshes `Instance::skin_for` skins (palette offsets below).
-                    skin: (!m.skin_weights.is_empty() && m.skin_weights.len() == m.positions.len())
-                        .then(|| {
-                            let skin: Vec<SkinVertexGpu> = m
-                                .skin_weights
-                                .iter()
-                                .map(|w| SkinVertexGpu {
-                                    joints: w.joints.map(u32::from),
-                                    weights: w.weights,
-                                })
-                                .collect();
-                            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                                label: Some("mesh joints and weights"),
-                                contents: bytemuck::cast_slice(&skin),
-                                usage: wgpu::BufferUsages::VERTEX,
-                            })
-                        }),
-                }
-            })
-            .collect()
-    }
-}
-
-/// Raster pipelines every g-buffer node of the process has created (a front end adds them to
-/// the executor's count: a g-buffer pass builds its own pipelines, on its first frame).
-static PIPELINES_CREATED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-
-/// Raster pipelines every g-buffer node of this process has created so far (a front end adds
-/// them to the executor's pipeline count: a g-buffer pass builds its own, on its first frame).
-pub fn raster_pipelines_created() -> u64 {
-    PIPELINES_CREATED.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 impl CustomPass for GBufferRaster {
@@ -612,26 +404,19 @@ impl CustomPass for GBufferRaster {
             .collect();
         let depth_view = ctx.view(self.depth)?.clone();
         let reversed = frame.reversed_z.unwrap_or_else(|| self.source.reversed_z());
-        for skinned in [false, true] {
-            if draws(state, skinned)
-                && state.pipelines[skinned as usize][reversed as usize].is_none()
-            {
-                let pipeline = self.create_pipeline(ctx.device, state, skinned, reversed);
-                state.pipelines[skinned as usize][reversed as usize] = Some(pipeline);
-            }
-        }
-        let clear_depth = if reversed { 0.0 } else { 1.0 };
+        let mut pipelines = std::mem::take(&mut state.pipelines);
+        ensure_pipelines(&mut pipelines, state, reversed, |skinned| {
+            self.create_pipeline(ctx.device, state, skinned, reversed)
+        });
+        state.pipelines = pipelines;
         let mut rp = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
             color_attachments: &color,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear_depth),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: Some(depth_attachment(
+                &depth_view,
+                reversed,
+                wgpu::StoreOp::Store,
+            )),
             timestamp_writes: None,
             occlusion_query_set: None,
             multiview_mask: None,
@@ -647,51 +432,5 @@ impl CustomPass for GBufferRaster {
             reversed,
         );
         Ok(())
-    }
-}
-
-/// Whether some instance is drawn by the skinned (`true`) or the rigid pipeline.
-fn draws(state: &GpuState, skinned: bool) -> bool {
-    if skinned {
-        state.palette_offsets.iter().any(Option::is_some)
-    } else {
-        state.palette_offsets.iter().any(Option::is_none)
-    }
-}
-
-/// Draws every instance of `scene` (uploaded in `state`) with `pipelines[skinned][reversed]`;
-/// instance `i` is drawn as instance index `i`, which selects its row of transforms.
-fn draw_instances(
-    rp: &mut wgpu::RenderPass<'_>,
-    scene: &Scene,
-    state: &GpuState,
-    pipelines: &[[Option<wgpu::RenderPipeline>; 2]; 2],
-    reversed: bool,
-) {
-    let mut bound = None;
-    for (i, (inst, offset)) in (scene.instances.iter())
-        .zip(&state.palette_offsets)
-        .enumerate()
-    {
-        let Some(mesh) = state.meshes.get(inst.mesh) else {
-            continue;
-        };
-        if mesh.index_count == 0 {
-            continue;
-        }
-        let skin = offset.and(mesh.skin.as_ref());
-        let skinned = skin.is_some();
-        if bound != Some(skinned) {
-            if let Some(pipeline) = &pipelines[skinned as usize][reversed as usize] {
-                rp.set_pipeline(pipeline);
-            }
-            bound = Some(skinned);
-        }
-        if let Some(skin) = skin {
-            rp.set_vertex_buffer(1, skin.slice(..));
-        }
-        rp.set_vertex_buffer(0, mesh.vertices.slice(..));
-        rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-        rp.draw_indexed(0..mesh.index_count, 0, i as u32..i as u32 + 1);
     }
 }

@@ -8,7 +8,10 @@
 use aograph_frame::GBufferChannel;
 use aograph_graph::{CustomPass, GraphError, GraphResult, PassContext, TextureHandle};
 
-use super::{GpuState, PipelineShape, RasterSource, draw_instances, draws, raster_pipeline};
+use super::{
+    GpuState, PipelineShape, RasterSource, depth_attachment, draw_instances, ensure_pipelines,
+    raster_pipeline,
+};
 use crate::model::Scene;
 
 /// What `gbuffer.second_layer` adds to the shared state: the first layer's linear depth as
@@ -109,25 +112,22 @@ impl CustomPass for SecondLayerRaster {
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         })];
-        for skinned in [false, true] {
-            let slot = &mut layer.pipelines[skinned as usize][reversed as usize];
-            if draws(state, skinned) && slot.is_none() {
-                let shape = PipelineShape {
-                    layout: &layer.pipeline_layout,
-                    fragment: "fs_second_layer",
-                    targets: &targets,
-                    constants: &[("SECOND_LAYER_SEPARATION", separation)],
-                };
-                *slot = Some(raster_pipeline(
-                    ctx.device,
-                    state,
-                    self.source.channels,
-                    &shape,
-                    skinned,
-                    reversed,
-                ));
-            }
-        }
+        let shape = PipelineShape {
+            layout: &layer.pipeline_layout,
+            fragment: "fs_second_layer",
+            targets: &targets,
+            constants: &[("SECOND_LAYER_SEPARATION", separation)],
+        };
+        ensure_pipelines(&mut layer.pipelines, state, reversed, |skinned| {
+            raster_pipeline(
+                ctx.device,
+                state,
+                self.source.channels,
+                &shape,
+                skinned,
+                reversed,
+            )
+        });
         let first = ctx.view(self.first_layer)?.clone();
         if layer.bind_group.as_ref().is_none_or(|(v, _)| *v != first) {
             let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -156,14 +156,11 @@ impl CustomPass for SecondLayerRaster {
                         store: wgpu::StoreOp::Store,
                     },
                 })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(if reversed { 0.0 } else { 1.0 }),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(depth_attachment(
+                    &depth_view,
+                    reversed,
+                    wgpu::StoreOp::Discard,
+                )),
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,
