@@ -59,7 +59,7 @@
 //!   tap's stronger layer). Only candidates are added, so the frame can only darken.
 //!
 //! Tests: closed forms (plane, pit) in tests/technique_gtao.rs; the estimator against a CPU
-//! recomputation of every pixel in tests/gtao_golden.rs; the blocks in tests/blocks.rs.
+//! recomputation of every pixel in tests/gtao_golden.rs; the blocks in tests/blocks/.
 //! Optional outputs: `bent_normals = true` runs ao/gtao/ao_bent.wgsl, the same estimator
 //! (ao/gtao/estimator.wgsl) also writing XeGTAO's bent normal (Algorithm 2, spec §1.5) as
 //! `gtao_bent_normals` (Rgba16Float, view-space xyz, raw accessibility in w);
