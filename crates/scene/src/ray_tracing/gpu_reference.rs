@@ -12,7 +12,7 @@
 //!
 //! Invariant: sky and unusable pixels are exactly (1, 0), as on the CPU; every other pixel's
 //! estimate is the CPU's up to float rounding (its rays are the same rays), so the two agree
-//! within their standard errors (tests/gpu_ray_tracer.rs).
+//! within their standard errors (tests/gpu_ray_tracer/).
 
 use std::sync::Arc;
 

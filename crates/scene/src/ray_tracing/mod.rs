@@ -9,7 +9,7 @@
 //!
 //! Invariant: the GPU answers the CPU tracer's questions with the CPU tracer's triangle test
 //! (`obvhs::triangle::Triangle::intersect`), so the two agree ray by ray up to float rounding
-//! in the instance transforms (tests/gpu_ray_tracer.rs measures it).
+//! in the instance transforms (tests/gpu_ray_tracer/ measures it).
 
 pub mod flat_bvh;
 pub mod gpu_bvh;
