@@ -121,6 +121,12 @@ pub(crate) fn wrong_inputs_and_settings_are_named_errors() {
             m.contains(technique) && m.contains(needs),
             "{technique}: {m}"
         );
+        // The techniques offered instead are those whose defaults read only what the
+        // adapters make and trace no scene, asked of the registry.
+        assert!(
+            m.contains("(gtao, hbao, mssao, pyramid-hbao, ssao, tssao, vbao)"),
+            "{technique}: {m}"
+        );
     }
     ao.set_config(&common::ao_config("gtao", 0.5, "multibounce = true"))
         .unwrap();

@@ -14,13 +14,13 @@ use std::sync::Arc;
 
 use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_graph::{
-    BufferDesc, CompileOptions, CompiledGraph, GraphBuilder, ShaderLibrary, SizeClass, TextureDesc,
-    compile,
+    BufferDesc, CompileOptions, CompiledGraph, GraphBuilder, GraphDecl, ShaderLibrary, SizeClass,
+    TextureDesc, compile,
 };
 
 use crate::error::{AoError, AoResult};
 use crate::param::{ParamDesc, ParamKind};
-use crate::technique::{AoBuildContext, ConfiguredTechnique, DynAoTechnique};
+use crate::technique::{AoBuildContext, ConfiguredTechnique, DeclaredInputs, DynAoTechnique};
 
 /// The compiled plan of `technique` over an imported g-buffer holding the channels it asks
 /// for, with R = 1 and no known view (automatic level counts take the paper's default).
@@ -29,6 +29,22 @@ pub fn compile_plan(
     shaders: &ShaderLibrary,
     intermediate_format: wgpu::TextureFormat,
 ) -> AoResult<CompiledGraph> {
+    let (decl, _) = declare_plan(technique, intermediate_format)?;
+    Ok(compile(decl, shaders, CompileOptions::default())?)
+}
+
+/// The frame inputs `technique` declares (the scene's BVH or acceleration structures of a
+/// technique that traces rays), from its plan as [`compile_plan`] declares it: nothing is
+/// compiled and no device is needed.
+pub fn declared_inputs(technique: &dyn ConfiguredTechnique) -> AoResult<DeclaredInputs> {
+    Ok(declare_plan(technique, wgpu::TextureFormat::R32Float)?.1)
+}
+
+/// The declaration behind [`compile_plan`] and what the build declared as frame inputs.
+fn declare_plan(
+    technique: &dyn ConfiguredTechnique,
+    intermediate_format: wgpu::TextureFormat,
+) -> AoResult<(GraphDecl, DeclaredInputs)> {
     let mut b = GraphBuilder::new();
     let view = b.import_buffer(
         VIEW_BUFFER,
@@ -61,11 +77,12 @@ pub fn compile_plan(
         },
     };
     let out = technique.build(&mut ctx)?;
+    let declared = ctx.declared;
     b.export(out.accessibility);
     for (_, h) in &out.extra {
         b.export(*h);
     }
-    Ok(compile(b.build(), shaders, CompileOptions::default())?)
+    Ok((b.build(), declared))
 }
 
 /// The pass names of [`compile_plan`] for `params` (a TOML table's text), at R32Float.

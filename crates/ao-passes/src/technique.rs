@@ -237,6 +237,17 @@ pub trait AoTechnique: Send + Sync + 'static {
     }
     /// The g-buffer channels the technique reads.
     fn channels(&self, params: &Self::Params) -> GBufferChannels;
+    /// The parameter setting that drops these parameters' need for `channel`, with why it is
+    /// read (`multibounce = false (the multi-bounce fit needs the surface colour)`), for the
+    /// error of a frame that cannot supply it (an application's depth buffer has no second
+    /// layer, say); `None` when no setting does.
+    fn dropping_channel(
+        &self,
+        _params: &Self::Params,
+        _channel: GBufferChannel,
+    ) -> Option<&'static str> {
+        None
+    }
     /// True when the technique keeps history between frames.
     fn is_temporal(&self, _params: &Self::Params) -> bool {
         false
@@ -282,6 +293,9 @@ pub trait ConfiguredTechnique: Send + Sync {
     /// The g-buffer channels these parameters read: what the g-buffer must write
     /// ([`AoTechnique::channels`]).
     fn channels(&self) -> GBufferChannels;
+    /// The setting that drops these parameters' need for `channel`
+    /// ([`AoTechnique::dropping_channel`]).
+    fn dropping_channel(&self, channel: GBufferChannel) -> Option<&'static str>;
     /// True when these parameters keep history between frames, so frames are not independent
     /// ([`AoTechnique::is_temporal`]).
     fn is_temporal(&self) -> bool;
@@ -368,6 +382,9 @@ impl<T: AoTechnique> ConfiguredTechnique for Configured<T> {
     }
     fn channels(&self) -> GBufferChannels {
         self.technique.channels(&self.params)
+    }
+    fn dropping_channel(&self, channel: GBufferChannel) -> Option<&'static str> {
+        self.technique.dropping_channel(&self.params, channel)
     }
     fn is_temporal(&self) -> bool {
         self.technique.is_temporal(&self.params)

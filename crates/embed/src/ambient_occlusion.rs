@@ -16,7 +16,7 @@ use std::sync::Arc;
 use aograph_ao::{
     AoBuildContext, AoConfig, ConfiguredTechnique, RadiusSetting, TechniqueRegistry, TracingSupport,
 };
-use aograph_frame::{GBufferChannel, VIEW_BUFFER, ViewMatrices, ViewUniforms};
+use aograph_frame::{VIEW_BUFFER, ViewMatrices, ViewUniforms};
 use aograph_graph::{
     BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder,
     GraphCompiler, ShaderLibrary,
@@ -392,7 +392,13 @@ impl AmbientOcclusion {
             return Err(EmbedError::UnsupportedTechnique {
                 technique: technique.name().into(),
                 what: format!("the g-buffer channel `{}`", c.name()),
-                fix: unsupported_fix(technique.name(), c),
+                fix: match technique.dropping_channel(c) {
+                    Some(setting) => format!("set {setting}"),
+                    None => format!(
+                        "choose a technique that reads depth, normals and motion only ({})",
+                        feedable_techniques(&self.registry).join(", ")
+                    ),
+                },
             });
         }
         let mut b = GraphBuilder::new();
@@ -423,9 +429,10 @@ impl AmbientOcclusion {
             return Err(EmbedError::UnsupportedTechnique {
                 technique: technique.name().into(),
                 what: "the scene's triangles (it traces rays through a BVH or acceleration structures)".into(),
-                fix: "choose a screen-space technique (gtao, vbao, mssao, hbao, pyramid-hbao, \
-                      ssao, tssao)"
-                    .into(),
+                fix: format!(
+                    "choose a screen-space technique ({})",
+                    feedable_techniques(&self.registry).join(", ")
+                ),
             });
         }
         declare_output(&mut b, out.accessibility, output.wgpu());
@@ -436,21 +443,27 @@ impl AmbientOcclusion {
     }
 }
 
-/// What to do about a channel the adapters cannot produce.
-fn unsupported_fix(technique: &str, c: GBufferChannel) -> String {
-    match (technique, c) {
-        ("gtao", GBufferChannel::Albedo) => {
-            "set multibounce = false (the multi-bounce fit needs the surface colour)".into()
-        }
-        (_, GBufferChannel::SecondLayerDepth) => {
-            "set layers = 1 (a second depth layer is drawn by aograph's own g-buffer; a depth \
-             buffer holds one)"
-                .into()
-        }
-        _ => "choose a technique that reads depth, normals and motion only (gtao, vbao, mssao, \
-              hbao, pyramid-hbao, ssao, tssao)"
-            .into(),
-    }
+/// The techniques of `registry` an application's frame can feed at their defaults: each
+/// channel they read is one the input adapters make, and they trace no scene (the cost floor,
+/// `none`, left out). Asked of the techniques, not listed by name, so a user's technique
+/// registered with the embedding is offered too.
+fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
+    registry
+        .names()
+        .into_iter()
+        .filter(|name| {
+            let Ok(technique) = registry.get(name) else {
+                return false;
+            };
+            let Ok(configured) = technique.clone().configure(&toml::Table::new()) else {
+                return false;
+            };
+            !configured.is_baseline()
+                && configured.channels().iter().all(producible)
+                && aograph_ao::contract::declared_inputs(configured.as_ref())
+                    .is_ok_and(|d| d.trace_backend().is_none())
+        })
+        .collect()
 }
 
 /// Parses `[ao]` TOML text (the section's keys at the top level).

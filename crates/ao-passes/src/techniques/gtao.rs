@@ -257,6 +257,12 @@ impl AoTechnique for Gtao {
         };
         p.accumulation.channels(c)
     }
+    fn dropping_channel(&self, p: &GtaoParams, channel: GBufferChannel) -> Option<&'static str> {
+        if p.multibounce && channel == GBufferChannel::Albedo {
+            return Some("multibounce = false (the multi-bounce fit needs the surface colour)");
+        }
+        p.depth_layers.dropping(channel)
+    }
     fn is_temporal(&self, p: &GtaoParams) -> bool {
         p.accumulation.temporal
     }

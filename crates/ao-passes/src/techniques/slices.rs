@@ -127,6 +127,14 @@ impl DepthLayers {
             "depth layers read: 1, or 2 with the second layer (the nearest surface 0.05 R behind the first, drawn in a second g-buffer pass)",
         )
     }
+    /// The setting that drops the need for `channel`: `layers = 1` for the second layer when
+    /// two are read ([`crate::AoTechnique::dropping_channel`]).
+    pub fn dropping(&self, channel: GBufferChannel) -> Option<&'static str> {
+        (self.two() && channel == GBufferChannel::SecondLayerDepth).then_some(
+            "layers = 1 (the second depth layer is drawn by aograph's own g-buffer; a depth \
+             buffer holds one)",
+        )
+    }
     /// `channels` with the second layer when two are read.
     pub fn channels(&self, channels: GBufferChannels) -> GBufferChannels {
         if self.two() {

@@ -40,7 +40,7 @@
 //!   raster pass (R32Float + a depth buffer: 8 bytes a pixel). Not at `resolution = "half"`.
 //! - Not yet: indirect light and the ambient fallback (V5), which need radiance inputs.
 
-use aograph_frame::GBufferChannels;
+use aograph_frame::{GBufferChannel, GBufferChannels};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
@@ -227,6 +227,9 @@ impl AoTechnique for Vbao {
             p.depth_layers
                 .channels(p.resolution.channels(depth_and_normals())),
         )
+    }
+    fn dropping_channel(&self, p: &VbaoParams, channel: GBufferChannel) -> Option<&'static str> {
+        p.depth_layers.dropping(channel)
     }
     fn is_temporal(&self, p: &VbaoParams) -> bool {
         p.accumulation.temporal
