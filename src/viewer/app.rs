@@ -288,7 +288,11 @@ impl ViewerApp {
         free(&mut r.egui_renderer, &unused);
         let errors = r.gpu.take_errors();
         if !errors.is_empty() {
-            return Err(aograph_graph::GraphError::Gpu(errors.join("; ")).into());
+            return Err(aograph_graph::GraphError::Device {
+                during: "drawing the viewer's frame",
+                message: errors.join("; "),
+            }
+            .into());
         }
         Ok(())
     }

@@ -228,7 +228,9 @@ impl AmbientOcclusion {
         let out = self
             .owned_output
             .clone()
-            .ok_or_else(|| aograph_graph::GraphError::Gpu("output texture vanished".into()))?;
+            .ok_or(aograph_graph::GraphError::Internal(
+                "the output texture vanished after it was made",
+            ))?;
         self.encode_into(encoder, inputs, &out.texture)?;
         Ok(out)
     }

@@ -175,10 +175,39 @@ pub enum GraphError {
         detail: String,
     },
 
-    /// An error reported by wgpu at execution (validation, mapping, polling), or a read-back
-    /// of an unsupported format.
-    #[error("GPU error: {0}")]
-    Gpu(String),
+    /// The device reported errors (wgpu validation, out of memory) while `during` ran; the
+    /// messages are wgpu's.
+    #[error("the GPU device reported an error while {during}: {message}")]
+    Device {
+        /// What aograph was doing: "executing a frame", "creating a plan's textures", ...
+        during: &'static str,
+        /// wgpu's messages, `; `-separated.
+        message: String,
+    },
+
+    /// Waiting for the device or mapping its results failed (a lost device, an aborted map).
+    #[error("reading results back from the GPU failed while {during}: {message}")]
+    ReadbackFailed {
+        /// What was being read: "reading a texture back", "reading timestamp queries", ...
+        during: &'static str,
+        /// wgpu's message.
+        message: String,
+    },
+
+    /// A texture read back in a form its format cannot be converted to.
+    #[error("a {format:?} texture cannot be read back as {wanted}; {allowed}")]
+    ReadbackFormat {
+        /// The texture's format.
+        format: wgpu::TextureFormat,
+        /// The form asked for ("floats", "32-bit unsigned integers").
+        wanted: &'static str,
+        /// The formats that form supports, or what to call instead.
+        allowed: &'static str,
+    },
+
+    /// An invariant of aograph itself broke: a bug to report, not something the caller did.
+    #[error("internal error in aograph ({0}); please report it with the steps that led here")]
+    Internal(&'static str),
 
     #[error(
         "texture `{resource}` is {format:?}, which this device ({device}) cannot use as {usage}; declare it in a format the device supports for that use"

@@ -273,10 +273,9 @@ impl Executor {
             let state = PlanState::new(&self.gpu, &mut self.pipelines, &mut self.samplers, plan)?;
             self.plans.insert(key, state, &mut self.pool);
         }
-        let state = self
-            .plans
-            .get_mut(key)
-            .ok_or_else(|| GraphError::Gpu("plan state vanished".into()))?;
+        let state = self.plans.get_mut(key).ok_or(GraphError::Internal(
+            "a plan's state vanished between its lookup and its use",
+        ))?;
         state.adopt(&self.gpu.queue, plan);
         Ok(state)
     }
@@ -367,9 +366,9 @@ impl Executor {
             ..
         } = self;
         let key = plan.key();
-        let state = plans
-            .get_mut(key)
-            .ok_or_else(|| GraphError::Gpu("plan state vanished".into()))?;
+        let state = plans.get_mut(key).ok_or(GraphError::Internal(
+            "a plan's state vanished between its lookup and its use",
+        ))?;
         let mut sources = BindSources {
             gpu,
             pool,
@@ -444,10 +443,9 @@ impl Executor {
             _ => None,
         });
         self.history.end_frame(key, written, frame.0);
-        let state = self
-            .plans
-            .get_mut(key)
-            .ok_or_else(|| GraphError::Gpu("plan state vanished".into()))?;
+        let state = self.plans.get_mut(key).ok_or(GraphError::Internal(
+            "a plan's state vanished between its lookup and its use",
+        ))?;
         state.release_slots(&mut self.pool, false);
         state.last_frame = Some(frame.0);
         self.history.evict_idle(&mut self.pool, frame.0);
@@ -455,7 +453,10 @@ impl Executor {
         self.frames += 1;
         let errors = self.gpu.take_errors();
         if !errors.is_empty() {
-            return Err(GraphError::Gpu(errors.join("; ")));
+            return Err(GraphError::Device {
+                during: "executing a frame",
+                message: errors.join("; "),
+            });
         }
         Ok(frame)
     }

@@ -217,7 +217,10 @@ impl GpuContext {
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
-            .map_err(|e| GraphError::Gpu(e.to_string()))
+            .map_err(|e| GraphError::ReadbackFailed {
+                during: "waiting for submitted work",
+                message: e.to_string(),
+            })
     }
 }
 

@@ -148,7 +148,10 @@ impl PlanState {
             .collect();
         let errors = gpu.take_errors();
         if !errors.is_empty() {
-            return Err(GraphError::Gpu(errors.join("; ")));
+            return Err(GraphError::Device {
+                during: "creating a plan's textures and buffers",
+                message: errors.join("; "),
+            });
         }
         let retain = plan
             .physical

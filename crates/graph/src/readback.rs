@@ -58,9 +58,12 @@ impl TextureReadback {
                 .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f32)
                 .collect(),
             f => {
-                return Err(GraphError::Gpu(format!(
-                    "reading back {f:?} as floats is not supported"
-                )));
+                return Err(GraphError::ReadbackFormat {
+                    format: f,
+                    wanted: "floats",
+                    allowed: "to_f32 reads float, unorm, Depth32Float and R32Uint textures; \
+                              read 32-bit integer ones with to_u32",
+                });
             }
         })
     }
@@ -74,9 +77,11 @@ impl TextureReadback {
                 .chunks_exact(4)
                 .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
                 .collect()),
-            f => Err(GraphError::Gpu(format!(
-                "reading back {f:?} as 32-bit unsigned integers is not supported"
-            ))),
+            f => Err(GraphError::ReadbackFormat {
+                format: f,
+                wanted: "32-bit unsigned integers",
+                allowed: "R32Uint, Rg32Uint and Rgba32Uint can; read other formats with to_f32",
+            }),
         }
     }
     /// Channel `c` of every texel as f32.
@@ -141,16 +146,28 @@ pub fn read_texture(
     });
     device
         .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GraphError::Gpu(e.to_string()))?;
+        .map_err(|e| GraphError::ReadbackFailed {
+            during: "reading a texture back",
+            message: e.to_string(),
+        })?;
     rx.recv()
-        .map_err(|e| GraphError::Gpu(e.to_string()))?
-        .map_err(|e| GraphError::Gpu(e.to_string()))?;
+        .map_err(|e| GraphError::ReadbackFailed {
+            during: "reading a texture back",
+            message: e.to_string(),
+        })?
+        .map_err(|e| GraphError::ReadbackFailed {
+            during: "reading a texture back",
+            message: e.to_string(),
+        })?;
     let mut bytes = Vec::with_capacity((row * extent.height) as usize);
     {
         let view = buffer
             .slice(..)
             .get_mapped_range()
-            .map_err(|e| GraphError::Gpu(e.to_string()))?;
+            .map_err(|e| GraphError::ReadbackFailed {
+                during: "reading a texture back",
+                message: e.to_string(),
+            })?;
         for y in 0..extent.height as usize {
             let start = y * padded as usize;
             bytes.extend_from_slice(&view[start..start + row as usize]);
@@ -162,4 +179,51 @@ pub fn read_texture(
         format,
         bytes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texel(format: wgpu::TextureFormat, bytes: Vec<u8>) -> TextureReadback {
+        TextureReadback {
+            extent: Extent::new(1, 1),
+            format,
+            bytes,
+        }
+    }
+
+    #[test]
+    fn a_format_read_back_in_the_wrong_form_is_an_error_naming_the_other_reader() {
+        let e = texel(wgpu::TextureFormat::Rgba32Uint, vec![0; 16])
+            .to_f32()
+            .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GraphError::ReadbackFormat {
+                    format: wgpu::TextureFormat::Rgba32Uint,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("to_u32"), "{e}");
+        let e = texel(wgpu::TextureFormat::R32Float, vec![0; 4])
+            .to_u32()
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("R32Float") && e.contains("to_f32"), "{e}");
+        // And the forms that are supported read the value.
+        let one = 1.0f32.to_le_bytes().to_vec();
+        assert_eq!(
+            texel(wgpu::TextureFormat::R32Float, one).to_f32().unwrap(),
+            [1.0]
+        );
+        let seven = 7u32.to_le_bytes().to_vec();
+        assert_eq!(
+            texel(wgpu::TextureFormat::R32Uint, seven).to_u32().unwrap(),
+            [7]
+        );
+    }
 }

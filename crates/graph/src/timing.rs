@@ -318,7 +318,10 @@ impl TimestampRing {
                     .readback
                     .slice(..s.passes as u64 * 16)
                     .get_mapped_range()
-                    .map_err(|e| GraphError::Gpu(e.to_string()))?;
+                    .map_err(|e| GraphError::ReadbackFailed {
+                        during: "reading timestamp queries",
+                        message: e.to_string(),
+                    })?;
                 let stamp = |k: usize| {
                     view.get(k * 8..k * 8 + 8)
                         .and_then(|b| b.try_into().ok())
@@ -362,7 +365,10 @@ impl TimestampRing {
             }
             device
                 .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| GraphError::Gpu(e.to_string()))?;
+                .map_err(|e| GraphError::ReadbackFailed {
+                    during: "reading timestamp queries",
+                    message: e.to_string(),
+                })?;
             // The callback may be running on another thread that polled first.
             std::thread::yield_now();
         }

@@ -373,3 +373,42 @@ fn pipeline_constants_the_shader_does_not_declare_or_needs_are_compile_errors() 
     assert!(e.contains("`GAIN` = NaN") && e.contains("finite"), "{e}");
     assert_eq!(compile_err(&[("REPEAT", 1.0)]), "");
 }
+
+/// Records a command wgpu refuses: a buffer clear at an offset that is not a multiple of 4.
+struct InvalidCommandPass;
+
+impl CustomPass for InvalidCommandPass {
+    fn kind_name(&self) -> &str {
+        "invalid command"
+    }
+    fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
+        let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("unaligned clear"),
+            size: 16,
+            usage: wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ctx.encoder.clear_buffer(&buffer, 3, None);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_command_the_device_refuses_is_a_device_error_naming_the_frame() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut b = GraphBuilder::new();
+    b.custom_pass("bad", InvalidCommandPass).side_effect();
+    let plan = Arc::new(compile(b.build(), &shaders(), CompileOptions::default()).unwrap());
+    let mut exec = Executor::new(gpu.clone());
+    match exec.execute(&plan, SIZE) {
+        Err(GraphError::Device { during, message }) => {
+            assert_eq!(during, "executing a frame");
+            assert!(!message.is_empty());
+        }
+        other => panic!("expected a device error, got {other:?}"),
+    }
+    assert!(
+        gpu.take_errors().is_empty(),
+        "the frame's errors were taken"
+    );
+}

@@ -274,10 +274,9 @@ impl CustomPass for GBufferRaster {
             ^ ((self.source.channels.depth_format as u64) << 60)
     }
     fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        let mut guard =
-            self.source.state.lock().map_err(|_| {
-                GraphError::Gpu("g-buffer state poisoned by an earlier panic".into())
-            })?;
+        let mut guard = self.source.state.lock().map_err(|_| {
+            GraphError::Internal("the g-buffer's state was poisoned by an earlier panic")
+        })?;
         if guard.is_none() {
             *guard = Some(self.create_state(ctx)?);
         }

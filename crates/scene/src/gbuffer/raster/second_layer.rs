@@ -91,13 +91,12 @@ impl CustomPass for SecondLayerRaster {
             ^ u64::from(self.source.channels.second_layer_separation().to_bits())
     }
     fn record(&self, ctx: &mut PassContext<'_>) -> GraphResult<()> {
-        let mut guard =
-            self.source.state.lock().map_err(|_| {
-                GraphError::Gpu("g-buffer state poisoned by an earlier panic".into())
-            })?;
+        let mut guard = self.source.state.lock().map_err(|_| {
+            GraphError::Internal("the g-buffer's state was poisoned by an earlier panic")
+        })?;
         let Some(state) = guard.as_mut() else {
-            return Err(GraphError::Gpu(
-                "the g-buffer's second layer ran before its first layer".into(),
+            return Err(GraphError::Internal(
+                "the g-buffer's second layer ran before its first layer",
             ));
         };
         let frame = self.source.clock.get();
