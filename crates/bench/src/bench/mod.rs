@@ -8,7 +8,7 @@
 //!
 //! - [`sweep`]: parameter grids per technique (TOML) and their expansion;
 //! - [`run`]: one run (timing, metrics), the per-scene reference;
-//! - [`report`]: results.csv, results.json, report.md; [`plot`]: pareto.svg/png
+//! - [`report`]: results.csv, results.json, report.md ([`results_csv`]: the CSV's columns); [`plot`]: pareto.svg/png
 //!   ([`bitmap_text`] gives the PNG its labels); [`images`]: AO | error | reference PNGs;
 //! - [`roofline_table`]: report.md's roofline section;
 //! - [`size_table`]: report.md's table by output size (`--sizes`);
@@ -20,6 +20,7 @@ pub mod images;
 pub mod motion;
 pub mod plot;
 pub mod report;
+pub mod results_csv;
 pub mod roofline;
 pub mod roofline_table;
 pub mod run;
