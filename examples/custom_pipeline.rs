@@ -1,19 +1,25 @@
-//! Composing a custom pipeline: a user AO technique registered beside the built-ins, chosen by
-//! config like any other, and a user pass added after it in the same graph.
+//! Composing a custom pipeline on aograph's library crates: a user AO technique registered beside
+//! the built-ins and chosen by config like any other, its WGSL mounted beside aograph's, and a
+//! user pass added after it in the same graph through the renderer's extension point.
 //!
 //! Run: `cargo run --release --example custom_pipeline` (writes out/custom/ao.png and tint.png).
+//! The same technique runs in an application's own renderer through aograph-embed
+//! (`AmbientOcclusion::with_registry(.., registry, [unsharp_depth::shader_mount()])`): see
+//! tests/embedding/user_technique.rs.
 
-use std::sync::Arc;
+use std::path::Path;
+use std::sync::{Arc, Mutex};
 
-use aograph::{FrameOutputs, images};
 use aograph_ao::{AoConfig, TechniqueRegistry};
-use aograph_graph::{
-    CompileOptions, Executor, Extent, GpuContext, GraphCompiler, SizeClass, TextureDesc,
-};
+use aograph_graph::{GpuContext, ShaderMount, SizeClass, TextureDesc, TextureHandle};
+use aograph_renderer::{FrameOutputs, GraphExtension, Renderer};
 
 #[path = "custom_pipeline/unsharp_depth.rs"]
 mod unsharp_depth;
 use unsharp_depth::UnsharpDepth;
+
+/// The user pass's shader, mounted with the technique's.
+const TINT: &str = "examples/tint.wgsl";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 1. Register the user technique beside the built-ins and pick it by config.
@@ -23,72 +29,74 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "technique = \"unsharp-depth\"\nradius = 1.0\n[unsharp-depth]\nstrength = 6.0\n".parse()?;
     let ao = AoConfig::from_table(&config, &registry)?;
 
-    // 2. The user's shaders live outside shaders/: register them inline.
-    let shaders = aograph::shader_library();
-    unsharp_depth::add_shader(&shaders);
-    shaders.add_inline("examples/tint.wgsl", include_str!("shaders/tint.wgsl"));
+    // 2. The user's shaders live outside aograph's shaders/: mount them beside aograph's.
+    let shaders = aograph_renderer::shader_library();
+    shaders.mount(unsharp_depth::shader_mount())?;
+    shaders.mount(
+        ShaderMount::new("custom-pipeline").with_file(TINT, include_str!("shaders/tint.wgsl")),
+    )?;
 
-    // 3. Declare the frame (g-buffer + technique), then add a user pass reading its output.
+    // 3. aograph's renderer draws the g-buffer and runs the technique; the extension adds a
+    //    user pass that reads the AO, in the same graph (compiled once per settings).
     let scene = Arc::new(aograph_scene::procedural_scene("columns")?);
-    let size = Extent::new(320, 180);
-    let mut fg =
-        aograph::build_frame_graph(&registry, scene.clone(), &ao, FrameOutputs::default(), size)?;
-    let mut builder = aograph_graph::GraphBuilder::from_decl(fg.decl.clone());
-    let tint = {
+    let size = aograph_graph::Extent::new(320, 180);
+    let gpu = Arc::new(GpuContext::new()?);
+    let mut renderer = Renderer::new(
+        gpu,
+        shaders,
+        &registry,
+        scene,
+        &ao,
+        FrameOutputs::default(),
+        size,
+    )?;
+    let tint: Arc<Mutex<Option<TextureHandle>>> = Arc::default();
+    let tint_out = tint.clone();
+    let extension: GraphExtension = Arc::new(move |builder, frame| {
         let target = builder.create_texture(
             "tint",
             TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
         );
-        let mut pass = builder.compute_pass("user.tint", "examples/tint.wgsl", "main");
-        pass.sample("ao", fg.ao);
+        let mut pass = builder.compute_pass("user.tint", TINT, "main");
+        pass.sample("ao", frame.ao);
         let t = pass.write_storage("image", target);
         pass.dispatch_over(t);
         builder.export(t);
-        t
-    };
-    fg.decl = builder.build();
-
-    // 4. Compile (pure, no GPU) and run one frame.
-    let plan = GraphCompiler::new().compile(fg.decl, &shaders, CompileOptions::default())?;
-    println!("{}", aograph_graph::summary(&plan, size));
-    let gpu = Arc::new(GpuContext::new()?);
-    let mut exec = Executor::with_shaders(gpu.clone(), shaders);
-    let view = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("view"),
-        size: std::mem::size_of::<aograph_frame::ViewUniforms>() as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
+        *tint_out.lock().unwrap_or_else(|p| p.into_inner()) = Some(t);
+        Ok(())
     });
-    let camera = scene.camera_at(0.0);
-    let block = aograph_scene::view_block::view_uniforms(&aograph_scene::view_block::ViewFrame {
-        camera,
-        prev_camera: camera,
-        output: size,
-        frame_index: 0,
-        history_valid: false,
-        camera_cut: false,
-        time: 0.0,
-        dt: 0.0,
-    });
-    gpu.queue.write_buffer(&view, 0, block.bytes());
-    exec.import_buffer(aograph_frame::VIEW_BUFFER, view);
-    exec.execute(&plan, size)?;
+    renderer.set_extension(extension)?;
+    println!("{}", aograph_graph::summary(&renderer.plan, size));
 
-    let out = std::path::Path::new("out/custom");
-    images::prepare_output_dir(out)?;
-    images::write_gray_png(
-        &out.join("ao.png"),
+    // 4. One frame, read back.
+    renderer.render(0.0)?;
+    let out = Path::new("out/custom");
+    std::fs::create_dir_all(out)?;
+    let ao_bytes: Vec<u8> = renderer
+        .read_ao()?
+        .iter()
+        .map(|a| (a.clamp(0.0, 1.0) * 255.0).round() as u8)
+        .collect();
+    image::save_buffer(
+        out.join("ao.png"),
+        &ao_bytes,
         size.width,
         size.height,
-        &exec.read_texture(&plan, fg.ao)?.channel(0)?,
+        image::ColorType::L8,
     )?;
-    images::write_rgba_png(
-        &out.join("tint.png"),
+    let tint = tint
+        .lock()
+        .unwrap_or_else(|p| p.into_inner())
+        .ok_or("the extension declared no tint pass")?;
+    let tinted = renderer.exec.read_texture(&renderer.plan, tint)?;
+    image::save_buffer(
+        out.join("tint.png"),
+        &tinted.bytes,
         size.width,
         size.height,
-        &exec.read_texture(&plan, tint)?.bytes,
+        image::ColorType::Rgba8,
     )?;
-    print!("{}", exec.wait_timings()?.table());
+    print!("{}", renderer.timings()?.table());
     println!("wrote out/custom/ao.png and out/custom/tint.png");
     Ok(())
 }

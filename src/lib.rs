@@ -22,5 +22,22 @@ pub use aograph_bench::{
 pub use aograph_renderer::{
     FrameGraph, FrameOutputs, FrameView, PassOwner, PassOwners, ReferenceSettings, RenderError,
     Renderer, build_frame_graph, build_frame_graph_with, frame_graph, frame_reference, pass_owner,
-    renderer, shader_dir, shader_library,
+    renderer,
 };
+
+/// Every WGSL file aograph has, for the CLI and its tests: the renderer's mounts
+/// (`aograph_renderer::renderer_mounts`), the embedding's adapters, the bench's kernel and the
+/// viewer's display (shaders/viewer/, this package's own), with the folder `AOGRAPH_SHADERS`
+/// names (if set) shadowing them for hot edits.
+pub fn shader_library() -> std::sync::Arc<aograph_graph::ShaderLibrary> {
+    let lib = aograph_renderer::shader_library();
+    for mount in [
+        aograph_embed::shader_mount(),
+        aograph_bench::shader_mount(),
+        aograph_graph::ShaderMount::new("aograph").with_files(aograph_shaders::VIEWER),
+    ] {
+        lib.mount(mount)
+            .expect("aograph's own mounts give each file once (tested)");
+    }
+    lib
+}

@@ -8,7 +8,7 @@ use aograph::bench::{BenchContext, BenchSettings, ParamSet};
 use aograph::config::RadiusSetting;
 use aograph::metrics::MetricOptions;
 use aograph::prepared_scene::PreparedScene;
-use aograph::renderer::shader_library;
+use aograph::shader_library;
 use aograph_ao::TechniqueRegistry;
 use aograph_scene::views::SceneView;
 use aograph_scene::{ReferenceMode, ReferenceNormals};

@@ -1,10 +1,50 @@
-//! Every WGSL file under shaders/ parses and validates with naga (GPU-free), includes expanded;
-//! shared files under common/ must be valid on their own too. A file declaring the
-//! `IntermediateStorage` alias is validated in its r16float variant as well.
+//! Every WGSL file under shaders/ parses and validates with naga (GPU-free), includes expanded,
+//! from the sources compiled into the crates (their mounts); shared files under common/ must be
+//! valid on their own too. A file declaring the `IntermediateStorage` alias is validated in its
+//! r16float variant as well.
+
+#[test]
+fn every_embedded_shader_is_mounted_by_exactly_one_crate() {
+    // aograph's library mounts each crate's folders; together they are every embedded file.
+    let lib = aograph::shader_library();
+    let mut embedded: Vec<&str> = aograph_shaders::FOLDERS
+        .iter()
+        .flat_map(|(_, files)| files.iter().map(|(p, _)| *p))
+        .collect();
+    embedded.sort_unstable();
+    assert_eq!(lib.files(), embedded);
+    assert_eq!(
+        lib.mounts(),
+        [
+            "aograph-frame",
+            "aograph-ao",
+            "aograph-scene",
+            "aograph-renderer",
+            "aograph-embed",
+            "aograph-bench",
+            "aograph"
+        ]
+    );
+}
+
+#[test]
+fn a_file_of_an_unmounted_crate_is_an_error_naming_the_mounts() {
+    // The embedding's adapters without aograph-embed's mount: the file and what was mounted
+    // are named, so a packaged crate that forgot its shaders says so.
+    let lib = aograph_renderer::shader_library();
+    let e = lib
+        .load("embed/linear_depth.wgsl")
+        .err()
+        .expect("not mounted")
+        .to_string();
+    assert!(e.contains("embed/linear_depth.wgsl"), "{e}");
+    assert!(e.contains("`aograph-ao` (ao/, blocks/)"), "{e}");
+    assert!(e.contains("ShaderLibrary::mount"), "{e}");
+}
 
 #[test]
 fn every_shader_file_validates_with_naga() {
-    let lib = aograph_graph::ShaderLibrary::new(aograph::shader_dir());
+    let lib = aograph::shader_library();
     let files = lib.files();
     assert!(files.len() >= 5, "found only {files:?}");
     let mut failures = Vec::new();
@@ -44,7 +84,7 @@ fn every_shader_file_validates_with_naga() {
 
 #[test]
 fn example_shaders_validate_with_naga() {
-    let lib = aograph_graph::ShaderLibrary::new(aograph::shader_dir());
+    let lib = aograph::shader_library();
     for (name, src) in [
         (
             "examples/unsharp_depth.wgsl",
@@ -62,7 +102,7 @@ fn example_shaders_validate_with_naga() {
 
 #[test]
 fn a_ray_tracer_variant_of_a_shader_that_traces_no_rays_is_a_named_error() {
-    let lib = aograph_graph::ShaderLibrary::new(aograph::shader_dir());
+    let lib = aograph::shader_library();
     let e = match lib.load("ao/ssao/ao.wgsl?RayTracer=hardware") {
         Ok(_) => panic!("ssao traces no rays: its hardware variant must be refused"),
         Err(e) => e.to_string(),

@@ -14,7 +14,7 @@ fn the_example_user_technique_keeps_the_contract() {
     let mut registry = TechniqueRegistry::with_builtins();
     registry.register(unsharp_depth::UnsharpDepth);
     let shaders = aograph::shader_library();
-    unsharp_depth::add_shader(&shaders);
+    shaders.mount(unsharp_depth::shader_mount()).unwrap();
     let technique = registry.get("unsharp-depth").unwrap();
     let breaches = check_contract(technique, &shaders);
     assert!(breaches.is_empty(), "{}", breaches.join("\n"));

@@ -5,15 +5,18 @@
 
 use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, ParamDesc};
 use aograph_frame::{GBufferChannel, GBufferChannels, ReadsView};
-use aograph_graph::ShaderLibrary;
+use aograph_graph::ShaderMount;
 use serde::{Deserialize, Serialize};
 
-/// Where its shader is registered (it lives outside shaders/).
+/// The name its shader is mounted under (it lives outside aograph's shaders/ and includes
+/// aograph's `common/view.wgsl` through the frame crate's mount).
 pub const SHADER: &str = "examples/unsharp_depth.wgsl";
 
-/// Registers the technique's shader with `shaders`.
-pub fn add_shader(shaders: &ShaderLibrary) {
-    shaders.add_inline(SHADER, include_str!("../shaders/unsharp_depth.wgsl"));
+/// The technique's WGSL, compiled in, as a mount for any shader library: aograph's renderer
+/// (`shaders.mount(shader_mount())`) or an application's `AmbientOcclusion::with_registry`.
+pub fn shader_mount() -> ShaderMount {
+    ShaderMount::new("unsharp-depth")
+        .with_file(SHADER, include_str!("../shaders/unsharp_depth.wgsl"))
 }
 
 /// Depth-buffer unsharp masking (Luft et al. 2006) as a user technique.

@@ -15,7 +15,7 @@ use crate::camera_spec::CameraSpec;
 use crate::config::{RadiusSetting, SceneSource, check_size};
 use crate::error::{AppError, AppResult};
 use crate::metrics::MetricOptions;
-use crate::renderer::shader_library;
+use crate::shader_library;
 
 /// Flags of `aograph bench`.
 #[derive(clap::Args, Clone, Debug)]

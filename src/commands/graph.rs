@@ -9,7 +9,7 @@ use aograph_scene::gbuffer::GBufferStates;
 use super::{CommonArgs, gpu};
 use crate::error::AppResult;
 use crate::frame_graph::{FrameOutputs, build_frame_graph_with};
-use crate::renderer::shader_library;
+use crate::shader_library;
 
 pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();

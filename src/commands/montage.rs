@@ -13,7 +13,8 @@ use crate::error::AppResult;
 use crate::frame_graph::FrameOutputs;
 use crate::frame_reference::{ReferenceSettings, frame_reference};
 use crate::images::{prepare_output_dir, write_rgb_png};
-use crate::renderer::{Renderer, shader_library};
+use crate::renderer::Renderer;
+use crate::shader_library;
 
 const GAP: u32 = 2;
 

@@ -14,7 +14,7 @@ use crate::config::parse_mode;
 use crate::error::{AppError, AppResult};
 use crate::frame_reference::{FrameView, ReferenceSettings, reference_surfaces, trace_surfaces};
 use crate::images::{prepare_output_dir, write_gray_png};
-use crate::renderer::shader_library;
+use crate::shader_library;
 
 pub fn reference(
     args: &CommonArgs,

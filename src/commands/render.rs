@@ -11,7 +11,8 @@ use super::{CommonArgs, gpu};
 use crate::error::AppResult;
 use crate::frame_graph::FrameOutputs;
 use crate::images::{prepare_output_dir, write_atomic, write_gray_png, write_rgba_png};
-use crate::renderer::{Renderer, shader_library};
+use crate::renderer::Renderer;
+use crate::shader_library;
 
 #[derive(Clone, Debug, Default)]
 pub struct RenderArgs {

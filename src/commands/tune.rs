@@ -16,7 +16,7 @@ use crate::config::SceneSource;
 use crate::error::{AppError, AppResult};
 use crate::images::write_atomic;
 use crate::metrics::nonfinite::format as num;
-use crate::renderer::shader_library;
+use crate::shader_library;
 
 /// The built-in sweep used when `--sweep` is not given.
 pub const DEFAULT_SWEEP: &str = include_str!("../../configs/sweeps/quick.toml");

@@ -21,7 +21,7 @@ use crate::bench::{BenchContext, BenchPlan, ParamSet, run_bench};
 use crate::config::SceneSource;
 use crate::error::{AppError, AppResult};
 use crate::images::write_atomic;
-use crate::renderer::shader_library;
+use crate::shader_library;
 
 /// The built-in search spaces used when `--space` is not given.
 pub const DEFAULT_SPACES: &str = include_str!("../../configs/tune/search.toml");

@@ -26,7 +26,8 @@ use crate::config::{AppConfig, RadiusSetting, SceneSource};
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
 use crate::prepared_scene::resolve_radius;
-use crate::renderer::{Renderer, shader_library};
+use crate::renderer::Renderer;
+use crate::shader_library;
 
 /// What the user chose.
 #[derive(Clone, Debug)]

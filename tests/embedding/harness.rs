@@ -46,10 +46,27 @@ pub(crate) fn own_frame(
     config: &AoConfig,
     camera: Option<Camera>,
 ) -> Option<OwnFrame> {
+    own_frame_with(
+        scene,
+        config,
+        camera,
+        &TechniqueRegistry::with_builtins(),
+        aograph::shader_library(),
+    )
+}
+
+/// As [`own_frame`], choosing among `registry`'s techniques, with `shaders` (a user
+/// technique's mounted beside aograph's).
+pub(crate) fn own_frame_with(
+    scene: &Scene,
+    config: &AoConfig,
+    camera: Option<Camera>,
+    registry: &TechniqueRegistry,
+    shaders: Arc<aograph_graph::ShaderLibrary>,
+) -> Option<OwnFrame> {
     let gpu = test_gpu()?;
-    let registry = TechniqueRegistry::with_builtins();
     let face = config
-        .resolve(&registry)
+        .resolve(registry)
         .expect("test configs are valid")
         .channels()
         .face_normals;
@@ -65,8 +82,8 @@ pub(crate) fn own_frame(
     };
     let mut r = Renderer::new(
         gpu,
-        aograph::shader_library(),
-        &registry,
+        shaders,
+        registry,
         Arc::new(scene.clone()),
         config,
         outputs,

@@ -11,7 +11,7 @@
 //! concern: `conventions.rs` (depth conventions, formats, projections), `techniques.rs`
 //! (every screen-space technique on five scenes), `normals.rs` (normal encodings and normals
 //! rebuilt from depth), `plans_and_errors.rs` (named errors, plan switching and resizing,
-//! motion vectors).
+//! motion vectors), `user_technique.rs` (a user technique through both front ends).
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -21,5 +21,6 @@ mod harness;
 mod normals;
 mod plans_and_errors;
 mod techniques;
+mod user_technique;
 
 use harness::*;

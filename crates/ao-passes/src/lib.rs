@@ -50,6 +50,7 @@ mod param;
 mod radius;
 mod registry;
 mod resolution;
+mod shader_mount;
 mod technique;
 pub mod techniques;
 mod temporal_option;
@@ -62,6 +63,7 @@ pub use param::{ParamDesc, ParamKind};
 pub use radius::{RADIUS_ALLOWED, Radius, RadiusSetting};
 pub use registry::TechniqueRegistry;
 pub use resolution::{HALF_DEPTH_OUTPUT, Resolution};
+pub use shader_mount::{shader_library, shader_mount};
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,
     DeclaredInputs, DynAoTechnique, RadianceEnvironment, RadianceOutput,

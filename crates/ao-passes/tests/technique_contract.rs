@@ -13,7 +13,7 @@ use aograph_graph::ShaderLibrary;
 use serde::{Deserialize, Serialize};
 
 fn shaders() -> ShaderLibrary {
-    ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"))
+    aograph_ao::shader_library().unwrap()
 }
 
 #[test]

@@ -10,9 +10,7 @@ use aograph_ao::{
 };
 use aograph_frame::ReadsView;
 use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms};
-use aograph_graph::{
-    BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, SizeClass, TextureDesc, compile,
-};
+use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, SizeClass, TextureDesc, compile};
 use serde::{Deserialize, Serialize};
 
 /// Darkens by depth differences; optionally also writes a debug image (an extra output).
@@ -140,7 +138,7 @@ fn build_and_compile(
     for (_, h) in &out.extra {
         b.export(*h);
     }
-    let lib = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+    let lib = aograph_ao::shader_library().unwrap();
     lib.add_inline("contrast.wgsl", SHADER);
     Ok(compile(b.build(), &lib, CompileOptions::default())?)
 }

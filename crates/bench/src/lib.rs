@@ -29,10 +29,12 @@ pub mod images;
 pub mod metrics;
 pub mod prepared_scene;
 pub mod reach;
+mod shader_mount;
 
 pub use config::{AppConfig, RadiusSetting, SceneSource};
 pub use error::{AppError, AppResult};
 pub use prepared_scene::PreparedScene;
+pub use shader_mount::shader_mount;
 // The renderer's modules, under the paths this crate's modules use.
 pub use aograph_renderer::{frame_graph, frame_reference, pass_owner, renderer};
 

@@ -10,7 +10,6 @@
 //! nothing.
 
 use std::collections::HashMap;
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph_ao::{
@@ -19,7 +18,7 @@ use aograph_ao::{
 use aograph_frame::{VIEW_BUFFER, ViewMatrices, ViewUniforms};
 use aograph_graph::{
     BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder,
-    GraphCompiler, ShaderLibrary,
+    GraphCompiler, ShaderLibrary, ShaderMount,
 };
 use glam::Mat4;
 
@@ -69,13 +68,6 @@ pub struct AmbientOcclusion {
     frame_index: u32,
 }
 
-/// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
-fn shader_dir() -> PathBuf {
-    std::env::var_os("AOGRAPH_SHADERS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders")))
-}
-
 impl AmbientOcclusion {
     /// AO on the application's `device` (made from `adapter`) and `queue`, with the technique
     /// and parameters of `config` (`[ao]`: `technique`, `radius` in the view matrix's units,
@@ -92,6 +84,7 @@ impl AmbientOcclusion {
             queue,
             config,
             TechniqueRegistry::with_builtins(),
+            [],
         )
     }
 
@@ -105,17 +98,21 @@ impl AmbientOcclusion {
     ) -> EmbedResult<Self> {
         let registry = TechniqueRegistry::with_builtins();
         let config = parse_config(toml_text, &registry)?;
-        Self::with_registry(adapter, device, queue, &config, registry)
+        Self::with_registry(adapter, device, queue, &config, registry, [])
     }
 
     /// As [`AmbientOcclusion::new`], choosing among the techniques of `registry` (the
-    /// built-ins and the application's own).
+    /// built-ins and the application's own), whose WGSL `mounts` bring beside aograph's (a
+    /// user technique's `ShaderMount::new("my-app").with_files(..)`; its files may include
+    /// aograph's, `common/view.wgsl` say). A mount giving a file aograph already has is an
+    /// error naming both.
     pub fn with_registry(
         adapter: &wgpu::Adapter,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         config: &AoConfig,
         registry: TechniqueRegistry,
+        mounts: impl IntoIterator<Item = ShaderMount>,
     ) -> EmbedResult<Self> {
         let gpu = Arc::new(GpuContext::from_device(
             adapter.clone(),
@@ -123,7 +120,11 @@ impl AmbientOcclusion {
             queue.clone(),
         ));
         let (technique, radius, settings) = resolve(&gpu, &registry, config)?;
-        let shaders = Arc::new(ShaderLibrary::new(shader_dir()));
+        let shaders = crate::shader_mount::shader_library()?;
+        for mount in mounts {
+            shaders.mount(mount)?;
+        }
+        let shaders: Arc<ShaderLibrary> = Arc::new(shaders);
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
         exec.set_timing(aograph_graph::TimingMode::Off)?;
         let view_buffer = device.create_buffer(&wgpu::BufferDescriptor {

@@ -41,6 +41,7 @@ mod error;
 mod inputs;
 mod output;
 mod projection;
+mod shader_mount;
 
 pub use adapters::{
     DEPTH_IMPORT, MOTION_IMPORT, NORMALS_IMPORT, OUTPUT_IMPORT, declare_inputs, declare_output,
@@ -54,6 +55,7 @@ pub use inputs::{
 };
 pub use output::{AoOutputFormat, AoOutputView, OUTPUT_USAGE};
 pub use projection::DepthConvention;
+pub use shader_mount::{shader_library, shader_mount};
 
 /// The `[ao]` settings type (technique, radius, per-technique tables), re-exported.
 pub use aograph_ao::AoConfig;

@@ -3,7 +3,8 @@
 //! states which it reads; the g-buffer writes only those), the frame inputs (the per-frame `View`
 //! block every pass may bind, the scene's lighting block and ray-tracing BVH a technique
 //! declares when it reads them), the compact normal encoding's CPU side ([`normal_oct`]), and the precision of AO
-//! intermediates (a shader variant the graph offers generically: see [`intermediate_shader`]).
+//! intermediates (a shader variant the graph offers generically: see [`intermediate_shader`]),
+//! and the WGSL all of them include (shaders/common/, [`shader_mount`]).
 //!
 //! `aograph-graph` knows none of this: it is a render graph, not an AO renderer.
 //!
@@ -59,6 +60,7 @@ mod precision;
 mod scene_acceleration;
 mod scene_bvh;
 mod scene_trace;
+mod shader_mount;
 mod view;
 
 pub use channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
@@ -69,4 +71,7 @@ pub use scene_acceleration::{
 };
 pub use scene_bvh::{BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, SceneBvhInputs};
 pub use scene_trace::SceneTraceInputs;
+pub use shader_mount::{
+    RAY_TRACER, SCENE_TRACE, SCENE_TRACE_HARDWARE, ray_tracer_variant, shader_mount,
+};
 pub use view::{Mat4Cols, ReadsView, VIEW_BINDING, VIEW_BUFFER, ViewMatrices, ViewUniforms};

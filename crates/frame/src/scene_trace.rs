@@ -6,7 +6,9 @@
 //!
 //! Invariant: the shader named and the globals bound are of the same backend.
 
-use aograph_graph::{BufferAccess, PassBuilder, ray_tracer_variant};
+use aograph_graph::{BufferAccess, PassBuilder};
+
+use crate::shader_mount::ray_tracer_variant;
 
 use crate::scene_acceleration::SceneAccelerationInputs;
 use crate::scene_bvh::SceneBvhInputs;

@@ -105,8 +105,8 @@ pub use resource::{
 };
 pub use sampler::SamplerDesc;
 pub use shader::{
-    ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo, ShaderOverride,
-    ShaderRevision, ray_tracer_variant, storage_precision_variant,
+    IncludeVariant, ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo,
+    ShaderMount, ShaderOverride, ShaderRevision, shader_variant, storage_precision_variant,
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};

@@ -128,16 +128,18 @@ fn gbuffer_frame(
     Ok(r)
 }
 
-/// The cache directory: `AOGRAPH_REFERENCE_CACHE`, else `target/reference-cache`.
+/// The cache directory: `AOGRAPH_REFERENCE_CACHE` if set, else `aograph/reference` in the
+/// user's cache location (`$XDG_CACHE_HOME` or `~/.cache` on Linux, `~/Library/Caches` on
+/// macOS, `%LOCALAPPDATA%` on Windows), else under the system's temporary directory. Never
+/// the source tree: an installed binary's crates are read-only registry sources.
 pub fn cache_dir() -> PathBuf {
-    std::env::var_os("AOGRAPH_REFERENCE_CACHE")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../../target/reference-cache"
-            ))
-        })
+    match std::env::var_os("AOGRAPH_REFERENCE_CACHE") {
+        Some(dir) if !dir.is_empty() => PathBuf::from(dir),
+        _ => dirs::cache_dir()
+            .unwrap_or_else(std::env::temp_dir)
+            .join("aograph")
+            .join("reference"),
+    }
 }
 
 /// Traces the reference of `surfaces` against `scene` at `time` (from the disk cache when the
@@ -171,13 +173,13 @@ pub fn trace_surfaces(
         let traced = if tracer == ReferenceTracer::Hardware {
             cache.get_or_trace(key.hardware_traced(), || {
                 let accel = HardwareSceneAs::build(gpu, scene, time)?;
-                GpuReferenceTracer::new(gpu.clone(), &crate::renderer::shader_library())?
+                GpuReferenceTracer::new(gpu.clone(), &crate::shader_mount::shader_library())?
                     .trace(&accel, surfaces, &params)
             })
         } else {
             cache.get_or_trace(key.gpu_traced(), || {
                 let bvh = GpuSceneBvh::new(gpu.clone(), scene, time)?;
-                GpuReferenceTracer::new(gpu.clone(), &crate::renderer::shader_library())?
+                GpuReferenceTracer::new(gpu.clone(), &crate::shader_mount::shader_library())?
                     .trace(&bvh, surfaces, &params)
             })
         };

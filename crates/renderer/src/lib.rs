@@ -37,11 +37,13 @@ pub mod pass_owner;
 pub mod renderer;
 mod scene_radius;
 mod scene_tracing;
+mod shader_mount;
 
 pub use error::{RenderError, RenderResult};
 pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph, build_frame_graph_with};
 pub use frame_reference::{FrameView, ReferenceSettings, frame_reference};
 pub use output_size::{MAX_SIDE, check_size};
 pub use pass_owner::{PassOwner, PassOwners};
-pub use renderer::{GraphExtension, Renderer, shader_dir, shader_library};
+pub use renderer::{GraphExtension, Renderer};
 pub use scene_radius::{resolve_radius, short};
+pub use shader_mount::{renderer_mounts, shader_library, shader_mount};

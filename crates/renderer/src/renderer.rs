@@ -8,7 +8,6 @@
 //! executor keeps each plan's state and shares pipelines and textures between them.
 
 use std::collections::HashMap;
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry, TracingSupport};
@@ -26,18 +25,6 @@ use glam::{Mat4, Vec3};
 use crate::error::{RenderError, RenderResult};
 use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with};
 use crate::scene_tracing::SceneTracing;
-
-/// The shader directory: `AOGRAPH_SHADERS` if set, else the repository's shaders/.
-pub fn shader_dir() -> PathBuf {
-    std::env::var_os("AOGRAPH_SHADERS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders")))
-}
-
-/// A shader library over [`shader_dir`].
-pub fn shader_library() -> Arc<ShaderLibrary> {
-    Arc::new(ShaderLibrary::new(shader_dir()))
-}
 
 /// R16Float intermediates are written as r16float storage textures, which core WebGPU does not
 /// guarantee: the device must offer them (through `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`).

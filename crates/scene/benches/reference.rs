@@ -60,10 +60,7 @@ fn reference_throughput(c: &mut Criterion) {
         b.iter(|| trace_reference(black_box(&bvh), black_box(&surfaces), &obscurance))
     });
     if let Some(gpu) = aograph_graph::test_gpu() {
-        let shaders = aograph_graph::ShaderLibrary::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../shaders"
-        ));
+        let shaders = aograph_scene::shader_library().expect("aograph's mounts");
         let tracer = GpuReferenceTracer::new(gpu.clone(), &shaders).expect("pipeline");
         let gpu_bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).expect("BVH fits");
         for (mode, p) in [("binary", params), ("obscurance", obscurance)] {
@@ -160,10 +157,7 @@ fn ray_batch(
         })
     });
     if let Some(gpu) = aograph_graph::test_gpu() {
-        let shaders = aograph_graph::ShaderLibrary::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../shaders"
-        ));
+        let shaders = aograph_scene::shader_library().expect("aograph's mounts");
         let compute = GpuRayBatch::new(gpu.clone(), &shaders).expect("pipeline");
         let bvh = GpuSceneBvh::new(gpu.clone(), scene, 0.0).expect("BVH fits");
         group.bench_function("columns_any_hit_compute", |b| {

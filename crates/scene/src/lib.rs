@@ -65,6 +65,7 @@ pub mod radius;
 pub mod ray_tracing;
 pub mod reference;
 pub mod scene_builder;
+mod shader_mount;
 pub mod skin;
 pub mod view_block;
 pub mod view_radius;
@@ -91,5 +92,6 @@ pub use reference::{
     trace_reference_rows,
 };
 pub use scene_builder::SceneBuilder;
+pub use shader_mount::{shader_library, shader_mount};
 pub use skin::{Joint, JointWeights, Skin};
 pub use view_radius::{ViewRadius, is_interior_view, view_radius};

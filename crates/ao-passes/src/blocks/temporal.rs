@@ -410,7 +410,7 @@ pub fn add_temporal_with_changes(
 mod tests {
     use super::*;
     use aograph_frame::ViewUniforms;
-    use aograph_graph::{BufferDesc, CompileOptions, ShaderLibrary, compile};
+    use aograph_graph::{BufferDesc, CompileOptions, compile};
 
     fn plan(with_motion: bool, params: &TemporalAccumulation) -> Vec<String> {
         let mut b = GraphBuilder::new();
@@ -436,7 +436,7 @@ mod tests {
         );
         let out = add_temporal(&mut b, "t", current, &g, view, params).unwrap();
         b.export(out.accumulated);
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let shaders = crate::shader_library().unwrap();
         let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
         plan.pass_names().into_iter().map(String::from).collect()
     }

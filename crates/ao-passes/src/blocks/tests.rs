@@ -11,7 +11,7 @@ use super::*;
 use crate::error::AoError;
 
 fn shaders() -> ShaderLibrary {
-    ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"))
+    crate::shader_library().unwrap()
 }
 
 fn depth_input(b: &mut GraphBuilder, size: SizeClass) -> TextureHandle {

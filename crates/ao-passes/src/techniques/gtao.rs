@@ -339,10 +339,9 @@ mod tests {
     use super::*;
     use crate::TechniqueRegistry;
     use crate::contract::plan_pass_names;
-    use aograph_graph::ShaderLibrary;
 
     fn plan_names(params: &str) -> Vec<String> {
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let shaders = crate::shader_library().unwrap();
         let gtao = TechniqueRegistry::with_builtins()
             .get(Gtao::NAME)
             .unwrap()

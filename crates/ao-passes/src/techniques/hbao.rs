@@ -294,10 +294,9 @@ mod tests {
     use super::*;
     use crate::contract::plan_pass_names;
     use crate::{DynAoTechnique, TechniqueRegistry};
-    use aograph_graph::ShaderLibrary;
 
     fn plan_names(params: &str) -> Vec<String> {
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let shaders = crate::shader_library().unwrap();
         let hbao = TechniqueRegistry::with_builtins()
             .get(Hbao::NAME)
             .unwrap()

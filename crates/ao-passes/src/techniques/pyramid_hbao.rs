@@ -295,7 +295,7 @@ mod tests {
     use crate::contract::{compile_plan, plan_pass_names};
 
     fn shaders() -> ShaderLibrary {
-        ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"))
+        crate::shader_library().unwrap()
     }
 
     /// The kept pass names of the technique with `params`.

@@ -286,7 +286,6 @@ mod tests {
     use super::*;
     use crate::TechniqueRegistry;
     use crate::contract::plan_pass_names;
-    use aograph_graph::ShaderLibrary;
 
     fn rtao() -> std::sync::Arc<dyn crate::technique::DynAoTechnique> {
         TechniqueRegistry::with_builtins()
@@ -297,7 +296,7 @@ mod tests {
 
     #[test]
     fn plan_is_trace_then_temporal_then_denoise_and_each_can_be_left_out() {
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let shaders = crate::shader_library().unwrap();
         let names = |params: &str| plan_pass_names(&rtao(), params, &shaders).unwrap();
         let all = names("");
         assert_eq!(all.first().map(String::as_str), Some("rtao.trace"));

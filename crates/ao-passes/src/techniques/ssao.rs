@@ -235,11 +235,10 @@ mod tests {
     use super::*;
     use crate::TechniqueRegistry;
     use crate::contract::plan_pass_names;
-    use aograph_graph::ShaderLibrary;
 
     #[test]
     fn plan_is_ao_then_blur() {
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let shaders = crate::shader_library().unwrap();
         let ssao = TechniqueRegistry::with_builtins()
             .get(Ssao::NAME)
             .unwrap()

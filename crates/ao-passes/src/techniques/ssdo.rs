@@ -307,7 +307,7 @@ mod tests {
     use super::*;
     use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
     use aograph_graph::BufferDesc;
-    use aograph_graph::{CompileOptions, GraphBuilder, ShaderLibrary, compile};
+    use aograph_graph::{CompileOptions, GraphBuilder, compile};
 
     fn plan(params: &SsdoParams) -> (Vec<String>, Vec<String>) {
         let mut b = GraphBuilder::new();
@@ -339,7 +339,7 @@ mod tests {
         b.export(out.accessibility);
         out.extra.iter().for_each(|(_, h)| b.export(*h));
         let extra = out.extra.iter().map(|(n, _)| n.clone()).collect();
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let shaders = crate::shader_library().unwrap();
         let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
         (
             plan.pass_names().into_iter().map(String::from).collect(),

@@ -431,7 +431,7 @@ mod tests {
     use super::*;
     use crate::DynAoTechnique;
     use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
-    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, ShaderLibrary, compile};
+    use aograph_graph::{BufferDesc, CompileOptions, GraphBuilder, compile};
 
     fn plan_names(with_motion: bool) -> Vec<String> {
         let mut b = GraphBuilder::new();
@@ -465,7 +465,7 @@ mod tests {
         };
         let out = AoTechnique::build(&Tssao, &mut ctx, &TssaoParams::default()).unwrap();
         b.export(out.accessibility);
-        let shaders = ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"));
+        let shaders = crate::shader_library().unwrap();
         let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
         plan.pass_names().into_iter().map(String::from).collect()
     }

@@ -25,7 +25,6 @@ use serde::{Deserialize, Serialize};
 
 use super::stats::PassTime;
 use crate::error::AppResult;
-use crate::renderer::shader_library;
 
 /// Loads each thread of the peak kernel makes.
 pub const PEAK_LOADS_PER_THREAD: f32 = 49.0;
@@ -77,7 +76,8 @@ impl PassRoofline {
 
 /// Measures the peaks: median of 7 timed frames after 2 warm-up frames.
 pub fn measure_peaks(gpu: &Arc<GpuContext>) -> AppResult<DevicePeaks> {
-    let shaders = shader_library();
+    let shaders = aograph_renderer::shader_library();
+    shaders.mount(crate::shader_mount())?;
     let side = Extent::new(PEAK_SIDE, PEAK_SIDE);
     let mut b = GraphBuilder::new();
     let src = b.import_texture(

@@ -1,5 +1,6 @@
-//! WGSL shaders: loading from the shader root ([`ShaderLibrary`], `library.rs`), `#include`
-//! expansion (`include.rs`), storage-precision variants (`variant.rs`), and naga validation
+//! WGSL shaders: sources from mounts, inline names and a development directory
+//! ([`ShaderLibrary`], `library.rs`; [`ShaderMount`], `mount.rs`), `#include` expansion
+//! (`include.rs`), storage-precision and include variants (`variant.rs`), and naga validation
 //! and reflection of bindings, entry points and constants (`reflect.rs`).
 //!
 //! Invariant: every [`ShaderModuleInfo`] the library hands out was validated by naga, its
@@ -8,12 +9,14 @@
 
 mod include;
 mod library;
+mod mount;
 mod reflect;
 mod variant;
 
 pub use library::{ShaderLibrary, ShaderRevision};
+pub use mount::{IncludeVariant, ShaderMount, shader_variant};
 pub use reflect::{
     ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderModuleInfo, ShaderOverride,
 };
 pub(crate) use reflect::{binding_type, grouped_entries};
-pub use variant::{ray_tracer_variant, storage_precision_variant};
+pub use variant::storage_precision_variant;

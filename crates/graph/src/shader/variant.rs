@@ -14,53 +14,24 @@
 //! lists the variants a file has (the naga test validates each). The graph gives the alias no
 //! meaning: a crate above it chooses which alias follows which setting.
 //!
-//! Ray-tracer variants: `file.wgsl?RayTracer=hardware` is a file that includes
-//! `common/scene_trace.wgsl` (one ray against the compute BVH) with
-//! `common/scene_trace_hardware.wgsl` (the same function with ray queries) included in its
-//! place; `?RayTracer=compute` is the file as written. The hardware file's
-//! `enable wgpu_ray_query;` is hoisted to the first line ([`hoist_enables`]), since WGSL wants
-//! directives first.
+//! Include variants: `file.wgsl?KEY=VALUE` for a key some mount defines as an
+//! [`IncludeVariant`] is the file with one include swapped for another (aograph's ray tracer:
+//! `RayTracer=hardware`). An `enable ...;` directive the swapped file brings is hoisted to the
+//! first line ([`hoist_enables`]), since WGSL wants directives first.
 //!
 //! Invariant: a variant changes nothing in the file but the format on its alias lines (or the
 //! one include it swaps), line numbers of the file's own lines included; naming an alias the
-//! file does not declare (at a 32-bit float format), or a ray-tracer variant of a file that
-//! traces no rays (does not include the scene trace), is an error, since the suffix would silently do nothing.
+//! file does not declare (at a 32-bit float format), or an include variant of a file that
+//! does not include the file it swaps, is an error, since the suffix would silently do nothing.
 
+use super::mount::{IncludeVariant, shader_variant};
 use crate::error::{GraphError, GraphResult};
 
 /// The name of `file`'s variant whose storage alias `alias` is at 16-bit float precision
 /// (`half`) or as written: `file?alias=f16` or `file` itself.
 pub fn storage_precision_variant(file: &str, alias: &str, half: bool) -> String {
     if half {
-        with_pair(file, &format!("{alias}=f16"))
-    } else {
-        file.to_string()
-    }
-}
-
-/// `file` with one more `key=value` pair: `file?pair`, or `file?...&pair` when `file` is a
-/// variant already (so the two kinds of variant compose).
-fn with_pair(file: &str, pair: &str) -> String {
-    if file.contains('?') {
-        format!("{file}&{pair}")
-    } else {
-        format!("{file}?{pair}")
-    }
-}
-
-/// The include a `RayTracer=hardware` variant swaps, and what it includes instead.
-pub const SCENE_TRACE: &str = "common/scene_trace.wgsl";
-/// See [`SCENE_TRACE`].
-pub const SCENE_TRACE_HARDWARE: &str = "common/scene_trace_hardware.wgsl";
-
-/// The variant key of the ray-tracer choice.
-const RAY_TRACER: &str = "RayTracer";
-
-/// The name of `file`'s variant that traces its AO rays with ray queries (`hardware`) or with
-/// the compute BVH (the file itself).
-pub fn ray_tracer_variant(file: &str, hardware: bool) -> String {
-    if hardware {
-        with_pair(file, &format!("{RAY_TRACER}=hardware"))
+        shader_variant(file, alias, "f16")
     } else {
         file.to_string()
     }
@@ -70,32 +41,42 @@ pub fn ray_tracer_variant(file: &str, hardware: bool) -> String {
 pub(super) struct Variant<'a> {
     /// Storage aliases to halve.
     pub halved: Vec<&'a str>,
-    /// Trace the scene with ray queries.
-    pub hardware_rays: bool,
+    /// Include variants to apply (their include swapped).
+    pub swaps: Vec<IncludeVariant>,
 }
 
-/// The file name and the variant, from `file?A=f16&B=f32&RayTracer=hardware`.
-pub(super) fn parse_variant(name: &str) -> GraphResult<(&str, Variant<'_>)> {
+/// The file name and the variant, from `file?A=f16&B=f32&Key=value`, where
+/// `include_variants` are the include variants the library's mounts define.
+pub(super) fn parse_variant<'a>(
+    name: &'a str,
+    include_variants: &[IncludeVariant],
+) -> GraphResult<(&'a str, Variant<'a>)> {
     let mut variant = Variant {
         halved: Vec::new(),
-        hardware_rays: false,
+        swaps: Vec::new(),
     };
     let Some((file, suffix)) = name.split_once('?') else {
         return Ok((name, variant));
     };
     for pair in suffix.split('&') {
-        match pair.split_once('=') {
-            Some((RAY_TRACER, "hardware")) => variant.hardware_rays = true,
-            Some((RAY_TRACER, "compute")) => {}
-            Some((alias, "f16")) if is_identifier(alias) => variant.halved.push(alias),
-            Some((alias, "f32")) if is_identifier(alias) => {}
+        let split = pair.split_once('=');
+        let rule = split.and_then(|(key, _)| include_variants.iter().find(|v| v.key == key));
+        match (split, rule) {
+            (Some((_, value)), Some(rule)) if value == rule.swapped => variant.swaps.push(*rule),
+            (Some((_, value)), Some(rule)) if value == rule.written => {}
+            (Some((alias, "f16")), None) if is_identifier(alias) => variant.halved.push(alias),
+            (Some((alias, "f32")), None) if is_identifier(alias) => {}
             _ => {
+                let includes: String = include_variants
+                    .iter()
+                    .map(|v| format!(", or `{0}={1}` / `{0}={2}`", v.key, v.swapped, v.written))
+                    .collect();
                 return Err(GraphError::ShaderFile {
                     file: name.into(),
                     message: format!(
                         "unknown shader variant `{pair}`; a variant is `Alias=f16` or \
-                         `Alias=f32`, naming a storage alias the file declares, or \
-                         `RayTracer=hardware` / `RayTracer=compute` (pairs joined with `&`)"
+                         `Alias=f32`, naming a storage alias the file declares{includes} \
+                         (pairs joined with `&`)"
                     ),
                 });
             }
@@ -239,31 +220,38 @@ mod tests {
         assert_eq!(hoist_enables(first.clone()), first);
     }
 
+    const TRACE: IncludeVariant = IncludeVariant {
+        key: "Tracer",
+        written: "soft",
+        swapped: "hard",
+        include: "t.wgsl",
+        replacement: "t_hard.wgsl",
+    };
+
     #[test]
-    fn the_ray_tracer_variant_parses_and_an_unknown_one_is_named() {
-        let (file, v) = parse_variant("raytrace/reference.wgsl?RayTracer=hardware").unwrap();
-        assert_eq!(file, "raytrace/reference.wgsl");
-        assert!(v.hardware_rays && v.halved.is_empty());
-        let (_, v) = parse_variant("a.wgsl?RayTracer=compute&Out=f16").unwrap();
-        assert!(!v.hardware_rays);
+    fn an_include_variant_parses_composes_and_an_unknown_one_is_named() {
+        let (file, v) = parse_variant("r.wgsl?Tracer=hard", &[TRACE]).unwrap();
+        assert_eq!(file, "r.wgsl");
+        assert!(v.swaps == [TRACE] && v.halved.is_empty());
+        let (_, v) = parse_variant("a.wgsl?Tracer=soft&Out=f16", &[TRACE]).unwrap();
+        assert!(v.swaps.is_empty());
         assert_eq!(v.halved, ["Out"]);
-        let e = parse_variant("a.wgsl?RayTracer=rtx")
+        let e = parse_variant("a.wgsl?Tracer=rtx", &[TRACE])
             .err()
             .unwrap()
             .to_string();
-        assert!(e.contains("RayTracer=hardware"), "{e}");
+        assert!(e.contains("`Tracer=hard` / `Tracer=soft`"), "{e}");
+        // Without the mount that defines it, the key is unknown.
+        assert!(parse_variant("r.wgsl?Tracer=hard", &[]).is_err());
+        assert_eq!(TRACE.of("a.wgsl", true), "a.wgsl?Tracer=hard");
+        assert_eq!(TRACE.of("a.wgsl", false), "a.wgsl");
+        // Variants compose: a storage-precision variant with the include swapped.
+        let both = TRACE.of(&storage_precision_variant("a.wgsl", "S", true), true);
+        assert_eq!(both, "a.wgsl?S=f16&Tracer=hard");
+        let (file, v) = parse_variant(&both, &[TRACE]).unwrap();
         assert_eq!(
-            ray_tracer_variant("a.wgsl", true),
-            "a.wgsl?RayTracer=hardware"
-        );
-        assert_eq!(ray_tracer_variant("a.wgsl", false), "a.wgsl");
-        // Variants compose: a storage-precision variant traced with ray queries.
-        let both = ray_tracer_variant(&storage_precision_variant("a.wgsl", "S", true), true);
-        assert_eq!(both, "a.wgsl?S=f16&RayTracer=hardware");
-        let (file, v) = parse_variant(&both).unwrap();
-        assert_eq!(
-            (file, v.halved, v.hardware_rays),
-            ("a.wgsl", vec!["S"], true)
+            (file, v.halved, v.swaps),
+            ("a.wgsl", vec!["S"], vec![TRACE])
         );
     }
 }

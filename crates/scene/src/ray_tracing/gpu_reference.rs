@@ -7,7 +7,7 @@
 //! The same shader runs on either backend of the tracer: against the compute BVH
 //! ([`super::GpuSceneBvh`]) as written, against the hardware acceleration structures
 //! ([`super::HardwareSceneAs`], ray queries) as its `RayTracer=hardware` variant, which swaps
-//! the scene trace's include (`aograph_graph::ray_tracer_variant`): the same rays and estimator
+//! the scene trace's include (`aograph_frame::ray_tracer_variant`): the same rays and estimator
 //! either way.
 //!
 //! Invariant: sky and unusable pixels are exactly (1, 0), as on the CPU; every other pixel's

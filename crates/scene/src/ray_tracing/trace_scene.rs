@@ -82,6 +82,6 @@ pub(crate) fn hardware_pipeline(
     if !gpu.has_ray_queries() {
         return Ok(None);
     }
-    let variant = aograph_graph::ray_tracer_variant(shader, true);
+    let variant = aograph_frame::ray_tracer_variant(shader, true);
     compute_pipeline(gpu, shaders, &variant).map(Some)
 }

@@ -25,7 +25,7 @@ use aograph_scene::{Mesh, Scene, SceneBuilder, TriangleBvh};
 use glam::{Mat4, Quat, Vec3};
 
 fn shaders() -> ShaderLibrary {
-    ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"))
+    aograph_scene::shader_library().unwrap()
 }
 
 fn shared_scene(name: &str) -> PathBuf {

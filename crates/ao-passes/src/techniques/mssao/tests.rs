@@ -12,7 +12,7 @@ use crate::technique::AoTechnique;
 use crate::{AoError, TechniqueRegistry};
 
 fn shaders() -> ShaderLibrary {
-    ShaderLibrary::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders"))
+    crate::shader_library().unwrap()
 }
 
 /// The compiled plan of `mssao` with `params` over an imported g-buffer.
