@@ -5,6 +5,10 @@
 //! PNG per technique. Headless; it switches technique once, mid-run.
 //!
 //! cargo run --release --example own_renderer -- [scene.gltf] [out-dir]
+//!
+//! The scene defaults to the Flight Helmet vendored in tests/scenes (found, as the tests find
+//! their files, by `aograph_scene::test_scene`: only the path comes from aograph, the file is
+//! loaded with the application's own code); the output folder to out/own_renderer.
 
 #[path = "own_renderer/frame.rs"]
 mod frame;
@@ -20,12 +24,13 @@ const HEIGHT: u32 = 180;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let scene = args.next().map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/scenes/shadowscene_fire.gltf"
-        ))
-    });
+    let scene = match args.next() {
+        Some(scene) => PathBuf::from(scene),
+        None => {
+            aograph_scene::test_scene("the own_renderer example", "FlightHelmet/FlightHelmet.gltf")
+                .ok_or("no scene given, and the default tests/scenes/FlightHelmet is missing")?
+        }
+    };
     let out = args
         .next()
         .map(PathBuf::from)

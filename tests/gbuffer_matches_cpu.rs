@@ -1,5 +1,6 @@
 //! The GPU g-buffer against the CPU's primary rays (`aograph_scene::CpuGBuffer`), on every
-//! procedural scene, every glTF file in ../shared/scenes and `node-transforms` (a node scaled
+//! procedural scene, every test scene found (`aograph_scene::TEST_SCENES`: tests/scenes, else
+//! ../shared/scenes; those in neither are skipped, saying so) and `node-transforms` (a node scaled
 //! [1, 8, 1], a mirrored node and a sheared nested pair). The reference starts its rays from the
 //! GPU g-buffer, so this is what makes it trustworthy on real assets.
 //!
@@ -23,7 +24,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph::frame_reference::{FrameView, reference_surfaces};
@@ -42,34 +43,14 @@ const SIZE: Extent = Extent {
 /// GPUs use 8), as the offset of the ambiguity probes.
 const SNAP: f32 = 1.0 / 256.0;
 
+/// Every test scene that can be found (`aograph_scene::test_scene` says which it skips).
 fn shared_scenes() -> Vec<PathBuf> {
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenes"));
-    assert!(
-        dir.is_dir(),
-        "the shared scenes are missing: {}",
-        dir.display()
-    );
-    let mut files = Vec::new();
-    let mut dirs = vec![dir.to_path_buf()];
-    while let Some(d) = dirs.pop() {
-        for entry in std::fs::read_dir(&d).expect("readable scene folder") {
-            let path = entry.expect("a folder entry").path();
-            if path.is_dir() {
-                dirs.push(path);
-            } else if matches!(
-                path.extension().and_then(|e| e.to_str()),
-                Some("gltf" | "glb")
-            ) {
-                files.push(path);
-            }
-        }
-    }
-    files.sort();
-    assert!(
-        files.len() >= 7,
-        "expected the seven shared scenes, found {files:?}"
-    );
-    files
+    aograph_scene::TEST_SCENES
+        .iter()
+        .filter_map(|file| {
+            aograph_scene::test_scene("gpu_gbuffer_matches_cpu_primary_rays_on_every_scene", file)
+        })
+        .collect()
 }
 
 /// What one scene's comparison found.

@@ -12,11 +12,13 @@ use frame::{Mesh, OwnRenderer};
 #[test]
 fn the_applications_own_depth_gives_ao_that_its_shading_shows() {
     let Some(gpu) = test_gpu() else { return };
-    let path = std::path::Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/scenes/shadowscene_fire.gltf"
-    ));
-    let mesh = Mesh::load(path).unwrap();
+    let Some(path) = aograph_scene::test_scene(
+        "the_applications_own_depth_gives_ao_that_its_shading_shows",
+        "shadowscene_fire.gltf",
+    ) else {
+        return;
+    };
+    let mesh = Mesh::load(&path).unwrap();
     let (w, h) = (161, 90);
     let renderer = OwnRenderer::new(&gpu.device, &gpu.queue, &mesh, w, h);
     let config = format!("technique = \"gtao\"\nradius = {}", renderer.ao_radius());

@@ -202,11 +202,11 @@ fn fuzzed_gltf_files_never_panic_and_every_outcome_is_checked() {
     )
     .unwrap();
     let glb_bytes = std::fs::read(&glb).unwrap();
-    let gltf_text = std::fs::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/scenes/suzanne.gltf"
-    ))
-    .ok();
+    let gltf_text = aograph_scene::test_scene(
+        "fuzzed_gltf_files_never_panic_and_every_outcome_is_checked",
+        "suzanne.gltf",
+    )
+    .map(|path| std::fs::read(path).expect("readable suzanne.gltf"));
     let ops = prop::collection::vec((any::<u8>(), any::<usize>(), any::<u8>()), 1..6);
     let target = dir.join("mutated.glb");
     let counts = std::cell::RefCell::new(BTreeMap::<&'static str, usize>::new());

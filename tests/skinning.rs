@@ -26,12 +26,10 @@ const SIZE: Extent = Extent {
 };
 const FRAME: f32 = 1.0 / 30.0;
 
-fn cesium_man() -> aograph_scene::Scene {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/scenes/CesiumMan.glb"
-    );
-    load_scene(path).expect("CesiumMan loads")
+/// CesiumMan (vendored in tests/scenes), `None` (skipped) where `test` cannot find it.
+fn cesium_man(test: &str) -> Option<aograph_scene::Scene> {
+    let path = aograph_scene::test_scene(test, "CesiumMan.glb")?;
+    Some(load_scene(path).expect("CesiumMan loads"))
 }
 
 /// A still camera beside the man, framing him head to foot.
@@ -69,7 +67,12 @@ fn project(camera: &Camera, p: Vec3) -> (Vec2, f32) {
 fn skinned_motion_vectors_follow_each_surface_point_to_the_previous_frame() {
     let Some(gpu) = test_gpu() else { return };
     let camera = side_camera();
-    let scene = Arc::new(cesium_man().with_camera(camera));
+    let Some(man) =
+        cesium_man("skinned_motion_vectors_follow_each_surface_point_to_the_previous_frame")
+    else {
+        return;
+    };
+    let scene = Arc::new(man.with_camera(camera));
     let none = AoConfig {
         technique: "none".into(),
         ..AoConfig::default()

@@ -15,10 +15,9 @@ use aograph_graph::Extent;
 use aograph_scene::Scene;
 use aograph_scene::ray_tracing::AsWork;
 
-fn shared_scene(name: &str) -> Scene {
-    let path = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenes"))
-        .join(name);
-    aograph_scene::load_scene(path).expect("shared scene loads")
+fn shared_scene(name: &str) -> Option<Scene> {
+    let path = aograph_scene::test_scene("technique_rtao's tests", name)?;
+    Some(aograph_scene::load_scene(path).expect("shared scene loads"))
 }
 
 fn scenes() -> Vec<(&'static str, Scene)> {
@@ -26,7 +25,7 @@ fn scenes() -> Vec<(&'static str, Scene)> {
         .into_iter()
         .map(|n| (n, aograph_scene::procedural_scene(n).unwrap()))
         .collect();
-    v.push(("teapot.gltf", shared_scene("teapot.gltf")));
+    v.extend(shared_scene("teapot.gltf").map(|s| ("teapot.gltf", s)));
     v
 }
 

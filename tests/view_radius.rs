@@ -5,15 +5,7 @@
 //! beats `none`.
 
 use aograph_scene::views::scene_views;
-use aograph_scene::{PROCEDURAL_SCENE_NAMES, Scene, suggested_radius, view_radius};
-
-fn shared(file: &str) -> Scene {
-    aograph_scene::load_scene(format!(
-        "{}/../shared/scenes/{file}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
+use aograph_scene::{PROCEDURAL_SCENE_NAMES, Scene, suggested_radius, test_scene, view_radius};
 
 #[test]
 fn outside_views_keep_the_scene_radius_within_2x() {
@@ -27,7 +19,9 @@ fn outside_views_keep_the_scene_radius_within_2x() {
         "teapot.gltf",
         "CesiumMan.glb",
     ] {
-        scenes.push((f.into(), shared(f)));
+        if let Some(path) = test_scene("outside_views_keep_the_scene_radius_within_2x", f) {
+            scenes.push((f.into(), aograph_scene::load_scene(path).unwrap()));
+        }
     }
     let mut failures = Vec::new();
     for (name, scene) in &scenes {

@@ -280,15 +280,17 @@ pub(crate) const SCREEN_SPACE: [(&str, &str); 7] = [
     ("tssao", ""),
 ];
 
-/// Three procedural scenes and two of ../shared/scenes.
-pub(crate) fn five_scenes() -> Vec<(String, Scene)> {
+/// Three procedural scenes and two test scenes (not vendored: skipped, saying so, where
+/// `aograph_scene::test_scene` finds neither), for the test named `test`.
+pub(crate) fn five_scenes(test: &str) -> Vec<(String, Scene)> {
     let mut scenes: Vec<(String, Scene)> = ["columns", "stairs", "cornell-box"]
         .into_iter()
         .map(|n| (n.to_string(), aograph_scene::procedural_scene(n).unwrap()))
         .collect();
     for file in ["shadowscene_fire.gltf", "suzanne.gltf"] {
-        let path = format!("{}/../shared/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
-        scenes.push((file.into(), aograph_scene::load_scene(&path).unwrap()));
+        if let Some(path) = aograph_scene::test_scene(test, file) {
+            scenes.push((file.into(), aograph_scene::load_scene(&path).unwrap()));
+        }
     }
     scenes
 }

@@ -17,7 +17,9 @@ pub(crate) const RECONSTRUCTED_MEAN: f32 = 0.03;
 pub(crate) fn every_screen_space_technique_on_five_scenes_gives_the_g_buffers_ao() {
     let Some(gpu) = test_gpu() else { return };
     let mut failures = Vec::new();
-    for (name, scene) in five_scenes() {
+    for (name, scene) in
+        five_scenes("every_screen_space_technique_on_five_scenes_gives_the_g_buffers_ao")
+    {
         let radius = aograph_scene::suggested_radius(&scene).radius;
         for (technique, params) in SCREEN_SPACE {
             let config = common::ao_config(technique, radius, params);
@@ -53,7 +55,7 @@ pub(crate) fn mae_lost_with_normals_rebuilt_from_depth() {
         "| scene | technique | MAE, aograph's g-buffer | MAE, normals given | MAE, normals rebuilt | lost |"
     );
     println!("|---|---|---|---|---|---|");
-    for (name, scene) in five_scenes() {
+    for (name, scene) in five_scenes("mae_lost_with_normals_rebuilt_from_depth") {
         let radius = aograph_scene::suggested_radius(&scene).radius;
         let mut reference: Option<Vec<f32>> = None;
         for (technique, params) in SCREEN_SPACE {

@@ -78,12 +78,9 @@ fn reference_throughput(c: &mut Criterion) {
         b.iter(|| SceneBvh::build(black_box(&scene), 0.0))
     });
     let dynamic = procedural_scene("dynamic").expect("built-in scene");
-    let man = aograph_scene::load_scene(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/scenes/CesiumMan.glb"
-    ));
     let mut moving = vec![("dynamic", dynamic)];
-    if let Ok(man) = man {
+    if let Some(path) = aograph_scene::test_scene("the reference bench", "CesiumMan.glb") {
+        let man = aograph_scene::load_scene(path).expect("CesiumMan loads");
         moving.push(("cesium_man", man));
     }
     let gpu = aograph_graph::test_gpu().filter(|g| g.has_ray_queries());

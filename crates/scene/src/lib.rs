@@ -67,6 +67,7 @@ pub mod reference;
 pub mod scene_builder;
 mod shader_mount;
 pub mod skin;
+pub mod test_scenes;
 pub mod view_block;
 pub mod view_radius;
 pub mod views;
@@ -94,4 +95,5 @@ pub use reference::{
 pub use scene_builder::SceneBuilder;
 pub use shader_mount::{shader_library, shader_mount};
 pub use skin::{Joint, JointWeights, Skin};
+pub use test_scenes::{TEST_SCENES, test_scene};
 pub use view_radius::{ViewRadius, is_interior_view, view_radius};

@@ -11,18 +11,9 @@ use aograph_scene::reference::{
     CpuGBuffer, ProgressMode, ReferenceMode, ReferenceNormals, ReferenceParams, TriangleBvh,
     trace_reference,
 };
-use aograph_scene::{Scene, import_gltf, load_scene, suggested_radius};
+use aograph_scene::{Scene, import_gltf, load_scene, suggested_radius, test_scene};
 use glam::Vec3;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-
-fn shared_scene(file: &str) -> PathBuf {
-    Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/scenes"
-    ))
-    .join(file)
-}
 
 /// Triangles with a non-zero area (gltfpack drops degenerate ones, which draw nothing).
 fn drawn_triangles(scene: &Scene) -> usize {
@@ -168,7 +159,12 @@ fn extensions(import: &aograph_scene::GltfImport) -> Vec<&str> {
 fn quantized_and_meshopt_copies_load_as_their_originals() {
     let dir = common::temp_dir("gltfpack-copies");
     for scene_name in ["teapot", "suzanne"] {
-        let source = shared_scene(&format!("{scene_name}.gltf"));
+        let Some(source) = test_scene(
+            "quantized_and_meshopt_copies_load_as_their_originals",
+            &format!("{scene_name}.gltf"),
+        ) else {
+            continue;
+        };
         let original = load_scene(&source).unwrap();
         // gltfpack's default is 14-bit positions over the mesh's largest extent: one step is
         // extent / (2^14 - 1), and rounding moves each coordinate by at most half of it.

@@ -1,21 +1,8 @@
-//! Every glTF file in the project's shared scene folder loads with the expected triangle count.
+//! Every test scene (tests/scenes in the repository, else ../shared/scenes beside it: see
+//! `aograph_scene::test_scene`) loads with the expected triangle count.
 
-use aograph_scene::{Projection, import_gltf, load_scene};
-use std::path::{Path, PathBuf};
-
-fn scenes_dir() -> PathBuf {
-    let dir = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/scenes"
-    ));
-    assert!(
-        dir.is_dir(),
-        "the shared test scenes are missing: expected them in {} (the project's shared/scenes \
-         folder, beside the repository)",
-        dir.display()
-    );
-    dir.to_owned()
-}
+use aograph_scene::test_scenes::test_scene_dirs;
+use aograph_scene::{Projection, TEST_SCENES, import_gltf, load_scene, test_scene};
 
 /// (file, expected triangles, relative tolerance) from shared/scenes/README.md, which counts
 /// each mesh once however many nodes place it.
@@ -31,9 +18,12 @@ const EXPECTED: &[(&str, usize, f64)] = &[
 
 #[test]
 fn every_shared_scene_loads_with_its_triangle_count() {
-    let dir = scenes_dir();
     for &(file, expected, tolerance) in EXPECTED {
-        let scene = load_scene(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let Some(path) = test_scene("every_shared_scene_loads_with_its_triangle_count", file)
+        else {
+            continue;
+        };
+        let scene = load_scene(path).unwrap_or_else(|e| panic!("{file}: {e}"));
         let count: usize = scene.meshes.iter().map(|m| m.triangle_count()).sum();
         eprintln!(
             "{file}: {count} mesh triangles, {} placed in {} instances",
@@ -84,43 +74,64 @@ fn instanced_meshes_are_placed_once_per_node() {
     // shadowscene_fire places 24 mesh nodes over 10 meshes (11 cylinders share one mesh, three
     // tori another, two tubes a third): 3,104 mesh triangles, 4,656 placed (counted from the
     // file's accessors).
-    let scene = load_scene(scenes_dir().join("shadowscene_fire.gltf")).unwrap();
+    let Some(path) = test_scene(
+        "instanced_meshes_are_placed_once_per_node",
+        "shadowscene_fire.gltf",
+    ) else {
+        return;
+    };
+    let scene = load_scene(path).unwrap();
     assert_eq!(scene.instances.len(), 24);
     assert_eq!(scene.triangle_count(), 4_656);
 }
 
 #[test]
 fn every_file_in_the_shared_folder_is_covered() {
-    let dir = scenes_dir();
-    let mut found = Vec::new();
-    for entry in std::fs::read_dir(&dir)
-        .unwrap()
-        .chain(std::fs::read_dir(dir.join("FlightHelmet")).unwrap())
-    {
-        let path = entry.unwrap().path();
-        if matches!(
-            path.extension().and_then(|e| e.to_str()),
-            Some("gltf" | "glb")
-        ) {
-            found.push(
-                path.strip_prefix(&dir)
-                    .unwrap()
-                    .to_string_lossy()
-                    .replace('\\', "/"),
+    // The locator's list of scenes is the one counted here.
+    let mut expected: Vec<&str> = EXPECTED.iter().map(|(name, ..)| *name).collect();
+    let mut listed = TEST_SCENES.to_vec();
+    expected.sort_unstable();
+    listed.sort_unstable();
+    assert_eq!(listed, expected, "aograph_scene::TEST_SCENES");
+    // Each scene folder there is (the repository's tests/scenes, ../shared/scenes).
+    for dir in test_scene_dirs().into_iter().filter(|d| d.is_dir()) {
+        let mut found = Vec::new();
+        for entry in std::fs::read_dir(&dir)
+            .unwrap()
+            .chain(std::fs::read_dir(dir.join("FlightHelmet")).unwrap())
+        {
+            let path = entry.unwrap().path();
+            if matches!(
+                path.extension().and_then(|e| e.to_str()),
+                Some("gltf" | "glb")
+            ) {
+                found.push(
+                    path.strip_prefix(&dir)
+                        .unwrap()
+                        .to_string_lossy()
+                        .replace('\\', "/"),
+                );
+            }
+        }
+        for file in &found {
+            assert!(
+                EXPECTED.iter().any(|(name, ..)| name == file),
+                "{file} is in {} but has no expected triangle count here",
+                dir.display()
             );
         }
-    }
-    for file in &found {
-        assert!(
-            EXPECTED.iter().any(|(name, ..)| name == file),
-            "{file} is in shared/scenes but has no expected triangle count here"
-        );
     }
 }
 
 #[test]
 fn flight_helmet_warns_about_its_missing_images_and_still_loads() {
-    let import = import_gltf(scenes_dir().join("FlightHelmet/FlightHelmet.gltf")).unwrap();
+    let Some(path) = test_scene(
+        "flight_helmet_warns_about_its_missing_images_and_still_loads",
+        "FlightHelmet/FlightHelmet.gltf",
+    ) else {
+        return;
+    };
+    let import = import_gltf(path).unwrap();
     let warning = import
         .warnings
         .iter()
@@ -132,7 +143,10 @@ fn flight_helmet_warns_about_its_missing_images_and_still_loads() {
 
 #[test]
 fn cesium_man_is_upright_in_its_bind_pose() {
-    let scene = load_scene(scenes_dir().join("CesiumMan.glb")).unwrap();
+    let Some(path) = test_scene("cesium_man_is_upright_in_its_bind_pose", "CesiumMan.glb") else {
+        return;
+    };
+    let scene = load_scene(path).unwrap();
     let size = scene.bounds().size();
     // The model is authored Z-up with a root rotation to glTF's Y-up: it should be taller than
     // it is deep.

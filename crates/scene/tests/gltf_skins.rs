@@ -348,10 +348,9 @@ fn vertex_without_weight_follows_its_first_joint_with_a_warning() {
 
 #[test]
 fn cesium_man_walks() {
-    let path = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/scenes/CesiumMan.glb"
-    ));
+    let Some(path) = aograph_scene::test_scene("cesium_man_walks", "CesiumMan.glb") else {
+        return;
+    };
     let import = import_gltf(path).unwrap();
     let scene = &import.scene;
     assert_eq!(

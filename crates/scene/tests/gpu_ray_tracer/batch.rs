@@ -89,7 +89,13 @@ fn static_scene_builds_once_moving_instances_rebuild_only_the_top_level_skins_re
     }
 
     // A skinned mesh: its bottom level refit (never rebuilt) and its triangles rewritten.
-    let man = aograph_scene::load_scene(shared_scene("CesiumMan.glb")).unwrap();
+    let Some(path) = aograph_scene::test_scene(
+        "static_scene_builds_once_moving_instances_rebuild_only_the_top_level_skins_refit",
+        "CesiumMan.glb",
+    ) else {
+        return;
+    };
+    let man = aograph_scene::load_scene(path).unwrap();
     let mut bvh = GpuSceneBvh::new(gpu.clone(), &man, 0.0).unwrap();
     let skinned = man.instances.iter().filter(|i| i.skin.is_some()).count() as u32;
     assert!(skinned >= 1);
@@ -191,7 +197,13 @@ fn hardware_static_scene_builds_once_moving_instances_rebuild_the_tlas_skins_the
         assert_agrees(&compare_traced(&trace, &dynamic, t, &rays, &label), &label);
     }
     // A skinned mesh: its own BLAS rebuilt from the posed vertices, and the top level.
-    let man = aograph_scene::load_scene(shared_scene("CesiumMan.glb")).unwrap();
+    let Some(path) = aograph_scene::test_scene(
+        "hardware_static_scene_builds_once_moving_instances_rebuild_the_tlas_skins_their_blas",
+        "CesiumMan.glb",
+    ) else {
+        return;
+    };
+    let man = aograph_scene::load_scene(path).unwrap();
     let mut accel = HardwareSceneAs::build(&gpu, &man, 0.0).unwrap();
     let skinned = man.instances.iter().filter(|i| i.skin.is_some()).count() as u32;
     assert!(skinned >= 1);

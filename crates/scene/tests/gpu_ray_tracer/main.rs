@@ -16,7 +16,6 @@
 mod batch;
 mod reference;
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph_graph::{GpuContext, ShaderLibrary};
@@ -26,14 +25,6 @@ use glam::{Mat4, Quat, Vec3};
 
 fn shaders() -> ShaderLibrary {
     aograph_scene::shader_library().unwrap()
-}
-
-fn shared_scene(name: &str) -> PathBuf {
-    PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/scenes"
-    ))
-    .join(name)
 }
 
 /// A small deterministic generator (SplitMix64).
