@@ -32,11 +32,10 @@ fn a_file_of_an_unmounted_crate_is_an_error_naming_the_mounts() {
     // The embedding's adapters without aograph-embed's mount: the file and what was mounted
     // are named, so a packaged crate that forgot its shaders says so.
     let lib = aograph_renderer::shader_library();
-    let e = lib
-        .load("embed/linear_depth.wgsl")
-        .err()
-        .expect("not mounted")
-        .to_string();
+    let Err(e) = lib.load("embed/linear_depth.wgsl") else {
+        panic!("embed/ is not mounted on the renderer's library");
+    };
+    let e = e.to_string();
     assert!(e.contains("embed/linear_depth.wgsl"), "{e}");
     assert!(e.contains("`aograph-ao` (ao/, blocks/)"), "{e}");
     assert!(e.contains("ShaderLibrary::mount"), "{e}");

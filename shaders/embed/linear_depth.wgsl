@@ -11,6 +11,8 @@
 @group(0) @binding(0) var depth: texture_depth_2d;
 @group(0) @binding(1) var<uniform> view: View;
 @group(0) @binding(2) var linear_depth: texture_storage_2d<r32float, write>;
+// The viewport's top-left corner in depth (0, 0 without one): see adapters.rs.
+@group(0) @binding(3) var<uniform> viewport: vec4<u32>;
 
 fn linear_from_hardware(d: f32) -> f32 {
     let far_value = select(1.0, 0.0, view.reversed_z > 0.5);
@@ -32,6 +34,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(linear_depth);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let p = vec2<i32>(id.xy);
-    let d = textureLoad(depth, p, 0);
+    let d = textureLoad(depth, p + vec2<i32>(viewport.xy), 0);
     textureStore(linear_depth, p, vec4<f32>(linear_from_hardware(d), 0.0, 0.0, 0.0));
 }

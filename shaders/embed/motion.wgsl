@@ -12,6 +12,8 @@
 @group(0) @binding(2) var<uniform> view: View;
 @group(0) @binding(3) var<uniform> uv_scale: vec4<f32>;
 @group(0) @binding(4) var motion: texture_storage_2d<rgba32float, write>;
+// The viewport's top-left corner in motion_in (0, 0 without one): see adapters.rs.
+@group(0) @binding(5) var<uniform> viewport: vec4<u32>;
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -23,7 +25,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(motion, p, vec4<f32>(0.0));
         return;
     }
-    let m = textureLoad(motion_in, p, 0).xy * uv_scale.xy;
+    let m = textureLoad(motion_in, p + vec2<i32>(viewport.xy), 0).xy * uv_scale.xy;
     let pv = view_position(pixel_uv(p, view), z, view);
     let prev_z = clip_linear_depth(view.view_to_prev_clip * vec4<f32>(pv, 1.0), view);
     textureStore(motion, p, vec4<f32>(m, prev_z, 0.0));

@@ -13,6 +13,8 @@ override WORLD_SPACE: bool = false;
 @group(0) @binding(1) var linear_depth: texture_2d<f32>;
 @group(0) @binding(2) var<uniform> view: View;
 @group(0) @binding(3) var normals: texture_storage_2d<rgba16float, write>;
+// The viewport's top-left corner in normals_in (0, 0 without one): see adapters.rs.
+@group(0) @binding(4) var<uniform> viewport: vec4<u32>;
 
 // Octahedral decoding (Cigolle et al., "A Survey of Efficient Representations for Independent
 // Unit Vectors", JCGT 2014, Listing 2), the inverse of shaders/common/normal_oct.wgsl's wrap.
@@ -43,7 +45,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(normals, p, vec4<f32>(0.0));
         return;
     }
-    var n = decode(textureLoad(normals_in, p, 0));
+    var n = decode(textureLoad(normals_in, p + vec2<i32>(viewport.xy), 0));
     if (WORLD_SPACE) {
         n = (view.view * vec4<f32>(n, 0.0)).xyz;
     }

@@ -355,6 +355,16 @@ pub(crate) fn adapter_channel(
         },
     );
     exec.import_buffer(VIEW_BUFFER, buffer);
+    // The inputs' whole texture: the viewport's corner at (0, 0).
+    let corner = wgpu::util::DeviceExt::create_buffer_init(
+        &gpu.device,
+        &wgpu::util::BufferInitDescriptor {
+            label: Some("viewport"),
+            contents: &[0u8; aograph_embed::VIEWPORT_BYTES as usize],
+            usage: wgpu::BufferUsages::UNIFORM,
+        },
+    );
+    exec.import_buffer(aograph_embed::VIEWPORT_IMPORT, corner);
     exec.import_texture(DEPTH_IMPORT, inputs.depth.texture().clone());
     if let Some(n) = inputs.normals {
         exec.import_texture(NORMALS_IMPORT, n.texture.clone());

@@ -11,12 +11,14 @@
 //! concern: `conventions.rs` (depth conventions, formats, projections), `techniques.rs`
 //! (every screen-space technique on five scenes), `normals.rs` (normal encodings and normals
 //! rebuilt from depth), `plans_and_errors.rs` (named errors, plan switching and resizing,
-//! motion vectors), `user_technique.rs` (a user technique through both front ends).
+//! motion vectors), `user_technique.rs` (a user technique through both front ends), `engine.rs` (plans prepared
+//! ahead, matrices as arrays).
 
 #[path = "../common/mod.rs"]
 mod common;
 
 mod conventions;
+mod engine;
 mod harness;
 mod normals;
 mod plans_and_errors;

@@ -79,8 +79,7 @@ fn a_user_technique_without_its_mount_is_an_error_naming_its_shader() {
         glam::Mat4::IDENTITY,
     );
     let e = embed_frame(&gpu, &mut ao, &inputs)
-        .err()
-        .expect("the technique's shader is not mounted")
+        .expect_err("the technique's shader is not mounted")
         .to_string();
     assert!(e.contains(unsharp_depth::SHADER), "{e}");
     assert!(e.contains("ShaderLibrary::mount"), "{e}");

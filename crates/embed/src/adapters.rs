@@ -9,11 +9,20 @@
 //! - view-space positions (`positions.wgsl`);
 //! - the application's motion vectors to aograph's motion channel (`motion.wgsl`).
 //!
+//! With a viewport, the application's textures are larger than the output: every pass that
+//! reads one reads at its pixel plus the viewport's corner (`VIEWPORT_IMPORT`, a uniform
+//! written each frame, so a moving viewport needs no new plan), and linear depth given as such
+//! is copied out of its rectangle (`linear_depth_crop.wgsl`). Without one the corner is (0, 0).
+//!
 //! Invariant: every channel produced has the format and conventions of aograph's own g-buffer
-//! (aograph_frame::GBufferChannel), so a technique cannot tell the two apart.
+//! (aograph_frame::GBufferChannel), and the output's size, so a technique cannot tell the two
+//! apart.
 
 use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures, ReadsView};
-use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
+use aograph_graph::{
+    BufferAccess, BufferDesc, BufferHandle, Extent, GraphBuilder, SizeClass, TextureDesc,
+    TextureHandle,
+};
 
 use crate::inputs::{InputLayout, NormalSpace};
 
@@ -26,6 +35,11 @@ pub const NORMALS_IMPORT: &str = "embed.normals";
 pub const MOTION_IMPORT: &str = "embed.motion";
 /// The texture the AO is written to.
 pub const OUTPUT_IMPORT: &str = "embed.output";
+/// The viewport's top-left corner in the input textures (`vec4<u32>`: x, y, 0, 0), written
+/// every frame.
+pub const VIEWPORT_IMPORT: &str = "embed.viewport";
+/// The bytes of the [`VIEWPORT_IMPORT`] buffer.
+pub const VIEWPORT_BYTES: u64 = 16;
 
 /// Channels the adapters can produce from an application's frame.
 pub fn producible(c: GBufferChannel) -> bool {
@@ -48,17 +62,44 @@ pub fn declare_inputs(
     view: BufferHandle,
 ) -> GBufferTextures {
     let full = |f| TextureDesc::new(f, SizeClass::FULL);
+    // The application's textures: the output's size, or larger around a viewport.
+    let given = |f| match layout.inputs_size {
+        Some((w, h)) => TextureDesc::new(f, SizeClass::Fixed(Extent::new(w, h))),
+        None => full(f),
+    };
+    let viewport = b.import_buffer(
+        VIEWPORT_IMPORT,
+        BufferDesc {
+            size: VIEWPORT_BYTES,
+        },
+    );
     let mut g = GBufferTextures::default();
-    let depth = b.import_texture(DEPTH_IMPORT, full(layout.depth_format));
-    let linear_depth = if layout.linear_depth_given() {
+    let depth = b.import_texture(DEPTH_IMPORT, given(layout.depth_format));
+    let linear_depth = if layout.linear_depth_given() && layout.inputs_size.is_none() {
         depth
+    } else if layout.linear_depth_given() {
+        let out = b.create_texture(
+            "embed.linear_depth",
+            full(GBufferChannel::LinearDepth.format()),
+        );
+        let mut p = b.compute_pass(
+            "embed.linear_depth_crop",
+            "embed/linear_depth_crop.wgsl",
+            "main",
+        );
+        p.sample("depth", depth)
+            .read_buffer("viewport", BufferAccess::Uniform, viewport);
+        let out = p.write_storage("linear_depth", out);
+        p.dispatch_over(out);
+        out
     } else {
         let out = b.create_texture(
             "embed.linear_depth",
             full(GBufferChannel::LinearDepth.format()),
         );
         let mut p = b.compute_pass("embed.linear_depth", "embed/linear_depth.wgsl", "main");
-        p.sample("depth", depth);
+        p.sample("depth", depth)
+            .read_buffer("viewport", BufferAccess::Uniform, viewport);
         p.read_view(view);
         let out = p.write_storage("linear_depth", out);
         p.dispatch_over(out);
@@ -70,11 +111,12 @@ pub fn declare_inputs(
         let normals = b.create_texture("embed.normals", full(GBufferChannel::Normals.format()));
         let normals = match layout.normals {
             Some((format, space, encoding)) => {
-                let given = b.import_texture(NORMALS_IMPORT, full(format));
+                let given = b.import_texture(NORMALS_IMPORT, given(format));
                 let mut p =
                     b.compute_pass("embed.normals_decode", "embed/normals_decode.wgsl", "main");
                 p.sample("normals_in", given)
-                    .sample("linear_depth", linear_depth);
+                    .sample("linear_depth", linear_depth)
+                    .read_buffer("viewport", BufferAccess::Uniform, viewport);
                 p.read_view(view);
                 p.constant("ENCODING", encoding.shader_constant());
                 p.constant("WORLD_SPACE", (space == NormalSpace::World) as u32 as f64);
@@ -126,11 +168,12 @@ pub fn declare_inputs(
     if let (true, Some((format, scale_bits))) =
         (wanted.contains(GBufferChannel::Motion), layout.motion)
     {
-        let given = b.import_texture(MOTION_IMPORT, full(format));
+        let given = b.import_texture(MOTION_IMPORT, given(format));
         let out = b.create_texture("embed.motion", full(GBufferChannel::Motion.format()));
         let mut p = b.compute_pass("embed.motion", "embed/motion.wgsl", "main");
         p.sample("motion_in", given)
-            .sample("linear_depth", linear_depth);
+            .sample("linear_depth", linear_depth)
+            .read_buffer("viewport", BufferAccess::Uniform, viewport);
         p.read_view(view);
         let scale = scale_bits.map(f32::from_bits);
         let bytes: Vec<u8> = [scale[0], scale[1], 0.0, 0.0]

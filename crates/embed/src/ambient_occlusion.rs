@@ -23,8 +23,8 @@ use aograph_graph::{
 use glam::Mat4;
 
 use crate::adapters::{
-    DEPTH_IMPORT, MOTION_IMPORT, NORMALS_IMPORT, OUTPUT_IMPORT, declare_inputs, declare_output,
-    producible,
+    DEPTH_IMPORT, MOTION_IMPORT, NORMALS_IMPORT, OUTPUT_IMPORT, VIEWPORT_BYTES, VIEWPORT_IMPORT,
+    declare_inputs, declare_output, producible,
 };
 use crate::error::{EmbedError, EmbedResult};
 use crate::inputs::{AoInputs, InputLayout};
@@ -44,6 +44,13 @@ struct PlanKey {
     output: AoOutputFormat,
 }
 
+/// An engine keeps `AmbientOcclusion` in its render world and may prepare plans on another
+/// thread: it must stay `Send + Sync` (checked when this crate compiles).
+const _: () = {
+    const fn send_and_sync<T: Send + Sync>() {}
+    send_and_sync::<AmbientOcclusion>();
+};
+
 /// One technique at a time on an application's frames. See the crate docs for an example.
 pub struct AmbientOcclusion {
     gpu: Arc<GpuContext>,
@@ -59,6 +66,9 @@ pub struct AmbientOcclusion {
     plans: HashMap<PlanKey, Arc<CompiledGraph>>,
     current: Option<(PlanKey, Arc<CompiledGraph>)>,
     view_buffer: wgpu::Buffer,
+    /// The viewport's corner (`adapters::VIEWPORT_IMPORT`), and what it holds now.
+    viewport_buffer: wgpu::Buffer,
+    viewport_corner: Option<[u32; 2]>,
     /// The textures imported last, so an unchanged texture is not rebound.
     bound: [Option<wgpu::Texture>; 4],
     /// aograph's own output texture, when the application passes none.
@@ -134,6 +144,13 @@ impl AmbientOcclusion {
             mapped_at_creation: false,
         });
         exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
+        let viewport_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("aograph viewport"),
+            size: VIEWPORT_BYTES,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        exec.import_buffer(VIEWPORT_IMPORT, viewport_buffer.clone());
         Ok(Self {
             gpu,
             shaders,
@@ -148,6 +165,8 @@ impl AmbientOcclusion {
             plans: HashMap::new(),
             current: None,
             view_buffer,
+            viewport_buffer,
+            viewport_corner: None,
             bound: Default::default(),
             owned_output: None,
             prev_view_proj: None,
@@ -198,10 +217,13 @@ impl AmbientOcclusion {
         encoder: &mut wgpu::CommandEncoder,
         inputs: &AoInputs<'_>,
     ) -> EmbedResult<AoOutputView> {
-        let (w, h) = (
-            inputs.depth.texture().width(),
-            inputs.depth.texture().height(),
-        );
+        let (w, h) = match inputs.viewport {
+            Some(v) => (v.width, v.height),
+            None => (
+                inputs.depth.texture().width(),
+                inputs.depth.texture().height(),
+            ),
+        };
         let format = self.output_format.wgpu();
         let fits = self.owned_output.as_ref().is_some_and(|o| {
             (o.texture.width(), o.texture.height(), o.texture.format()) == (w, h, format)
@@ -237,7 +259,8 @@ impl AmbientOcclusion {
     }
 
     /// Records one frame into `encoder`, writing the AO into the application's `target`
-    /// (R8Unorm, R16Float or R32Float, with `RENDER_ATTACHMENT` usage, the depth's size).
+    /// (R8Unorm, R16Float or R32Float, with `RENDER_ATTACHMENT` usage, the output's size: the
+    /// viewport's, else the depth's).
     pub fn encode_into(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
@@ -287,6 +310,17 @@ impl AmbientOcclusion {
         if inputs.camera_cut {
             self.cut();
         }
+        let corner = inputs.viewport.map_or([0, 0], |v| [v.x, v.y]);
+        if self.viewport_corner != Some(corner) {
+            let bytes: Vec<u8> = [corner[0], corner[1], 0, 0]
+                .iter()
+                .flat_map(|c| c.to_le_bytes())
+                .collect();
+            self.gpu
+                .queue
+                .write_buffer(&self.viewport_buffer, 0, &bytes);
+            self.viewport_corner = Some(corner);
+        }
         let view_proj = inputs.projection * inputs.view;
         let history_valid =
             self.prev_view_proj.is_some() && self.exec.all_history_valid(&plan, size);
@@ -317,6 +351,42 @@ impl AmbientOcclusion {
         self.prev_view_proj = Some(view_proj);
         self.prev_time = inputs.time;
         self.frame_index = self.frame_index.wrapping_add(1);
+        Ok(())
+    }
+
+    /// Builds, ahead of the frame that needs it, the plan for `config` on frames shaped like
+    /// `layout` (`InputLayout::of` a frame's inputs, or written out) writing `output`, and
+    /// creates its pipelines: the first frame with those settings and that layout then
+    /// compiles nothing and creates no pipeline. The current settings do not change (call
+    /// [`AmbientOcclusion::set_config`] when the switch is due). `AmbientOcclusion` is `Send +
+    /// Sync`, so this can run on a loading thread, or behind a lock on a worker, between frames.
+    pub fn prepare(
+        &mut self,
+        config: &AoConfig,
+        layout: InputLayout,
+        output: AoOutputFormat,
+    ) -> EmbedResult<()> {
+        let (technique, radius, settings) = resolve(&self.gpu, &self.registry, config)?;
+        let key = PlanKey {
+            settings,
+            layout,
+            output,
+        };
+        let plan = match self.plans.get(&key) {
+            Some(plan) => plan.clone(),
+            None => {
+                let plan = self.build_plan(
+                    technique,
+                    radius,
+                    config.intermediate_format.wgpu(),
+                    &layout,
+                    output,
+                )?;
+                self.keep_plan(key, plan.clone());
+                plan
+            }
+        };
+        self.exec.prepare(&plan)?;
         Ok(())
     }
 
@@ -371,11 +441,14 @@ impl AmbientOcclusion {
         let plan = match self.plans.get(&key) {
             Some(plan) => plan.clone(),
             None => {
-                let plan = self.build_plan(&layout, output)?;
-                if self.plans.len() >= MAX_PLANS {
-                    self.plans.clear();
-                }
-                self.plans.insert(key.clone(), plan.clone());
+                let plan = self.build_plan(
+                    self.technique.clone(),
+                    self.radius,
+                    self.config.intermediate_format.wgpu(),
+                    &layout,
+                    output,
+                )?;
+                self.keep_plan(key.clone(), plan.clone());
                 plan
             }
         };
@@ -383,13 +456,24 @@ impl AmbientOcclusion {
         Ok(plan)
     }
 
-    /// Declares and compiles the frame: adapters, technique, output pass.
+    /// Keeps `plan` under `key`, dropping the kept ones first when there are [`MAX_PLANS`].
+    fn keep_plan(&mut self, key: PlanKey, plan: Arc<CompiledGraph>) {
+        if self.plans.len() >= MAX_PLANS {
+            self.plans.clear();
+        }
+        self.plans.insert(key, plan);
+    }
+
+    /// Declares and compiles the frame of `technique` at `radius`, its intermediates in
+    /// `intermediate`: adapters, technique, output pass.
     fn build_plan(
         &mut self,
+        technique: Arc<dyn ConfiguredTechnique>,
+        radius: f32,
+        intermediate: wgpu::TextureFormat,
         layout: &InputLayout,
         output: AoOutputFormat,
     ) -> EmbedResult<Arc<CompiledGraph>> {
-        let technique = self.technique.clone();
         let wanted = technique.channels();
         if let Some(c) = wanted.iter().find(|c| !producible(*c)) {
             return Err(EmbedError::UnsupportedTechnique {
@@ -420,8 +504,8 @@ impl AmbientOcclusion {
             builder: &mut b,
             gbuffer,
             view,
-            radius: self.radius,
-            intermediate_format: self.config.intermediate_format.wgpu(),
+            radius,
+            intermediate_format: intermediate,
             technique: technique.name(),
             radius_pixels: technique.needs_radius_pixels().then_some(diagonal),
             declared: Default::default(),

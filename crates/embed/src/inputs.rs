@@ -110,6 +110,23 @@ pub struct AoInputs<'a> {
     pub time: f32,
     /// The camera jumped: temporal techniques drop their history this frame.
     pub camera_cut: bool,
+    /// The rectangle of the input textures this view covers (split screen, an editor pane);
+    /// `None`: all of them. AO is computed for that rectangle only and the output is its size;
+    /// the projection is the view's own (its aspect the rectangle's).
+    pub viewport: Option<Viewport>,
+}
+
+/// A rectangle of the input textures, in texels from their top-left corner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Viewport {
+    /// Left edge.
+    pub x: u32,
+    /// Top edge.
+    pub y: u32,
+    /// Width (at least 1).
+    pub width: u32,
+    /// Height (at least 1).
+    pub height: u32,
 }
 
 impl<'a> AoInputs<'a> {
@@ -123,11 +140,28 @@ impl<'a> AoInputs<'a> {
             motion: None,
             time: 0.0,
             camera_cut: false,
+            viewport: None,
         }
+    }
+
+    /// As [`AoInputs::new`], with the matrices as plain column-major arrays (`m[column][row]`,
+    /// the layout of glam's `to_cols_array_2d`, cgmath, nalgebra's and mint's column-major
+    /// matrices): for an application on another maths library or another glam version.
+    pub fn from_column_arrays(
+        depth: DepthInput<'a>,
+        projection: [[f32; 4]; 4],
+        view: [[f32; 4]; 4],
+    ) -> Self {
+        Self::new(
+            depth,
+            Mat4::from_cols_array_2d(&projection),
+            Mat4::from_cols_array_2d(&view),
+        )
     }
 }
 
-/// The shape of a frame's inputs, which decides the adapter passes: one plan per layout.
+/// The shape of a frame's inputs, which decides the adapter passes: one plan per layout. (A
+/// viewport's size is part of it; where the viewport sits is not: it moves without a new plan.)
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct InputLayout {
     /// The depth texture's format (R32Float: linear depth given).
@@ -136,10 +170,12 @@ pub struct InputLayout {
     pub normals: Option<(wgpu::TextureFormat, NormalSpace, NormalEncoding)>,
     /// The motion texture's format and the scale's bits, when given.
     pub motion: Option<(wgpu::TextureFormat, [u32; 2])>,
-    /// The depth's width in pixels (the output's).
+    /// The output's width in pixels: the viewport's, else the depth's.
     pub width: u32,
-    /// The depth's height in pixels.
+    /// The output's height in pixels.
     pub height: u32,
+    /// The input textures' size when a viewport covers part of them (`None`: the output's).
+    pub inputs_size: Option<(u32, u32)>,
 }
 
 /// Depth formats a hardware depth input may have.
@@ -205,12 +241,32 @@ impl InputLayout {
             }
             None => None,
         };
+        let (width, height, inputs_size) = match inputs.viewport {
+            None => (width, height, None),
+            Some(v) => {
+                let fits = v.width > 0
+                    && v.height > 0
+                    && u64::from(v.x) + u64::from(v.width) <= u64::from(width)
+                    && u64::from(v.y) + u64::from(v.height) <= u64::from(height);
+                if !fits {
+                    return Err(EmbedError::InvalidSetting {
+                        name: "viewport".into(),
+                        value: format!("{}x{} at ({}, {})", v.width, v.height, v.x, v.y),
+                        allowed: format!(
+                            "a rectangle of at least 1x1 inside the {width}x{height} input textures"
+                        ),
+                    });
+                }
+                (v.width, v.height, Some((width, height)))
+            }
+        };
         Ok(Self {
             depth_format,
             normals,
             motion,
             width,
             height,
+            inputs_size,
         })
     }
 

@@ -44,14 +44,14 @@ mod projection;
 mod shader_mount;
 
 pub use adapters::{
-    DEPTH_IMPORT, MOTION_IMPORT, NORMALS_IMPORT, OUTPUT_IMPORT, declare_inputs, declare_output,
-    producible,
+    DEPTH_IMPORT, MOTION_IMPORT, NORMALS_IMPORT, OUTPUT_IMPORT, VIEWPORT_BYTES, VIEWPORT_IMPORT,
+    declare_inputs, declare_output, producible,
 };
 pub use ambient_occlusion::AmbientOcclusion;
 pub use error::{EmbedError, EmbedResult};
 pub use inputs::{
     AoInputs, DepthInput, HARDWARE_DEPTH_FORMATS, InputLayout, MotionInput, NormalEncoding,
-    NormalSpace, NormalsInput,
+    NormalSpace, NormalsInput, Viewport,
 };
 pub use output::{AoOutputFormat, AoOutputView, OUTPUT_USAGE};
 pub use projection::DepthConvention;

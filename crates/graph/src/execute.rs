@@ -280,6 +280,13 @@ impl Executor {
         Ok(state)
     }
 
+    /// Makes `plan`'s state ahead of its first frame: every pass's pipeline (shared with other
+    /// plans where the key matches) and sampler, so the frame that first runs it creates none.
+    /// Textures are still taken from the pool at that frame (they depend on its size).
+    pub fn prepare(&mut self, plan: &CompiledGraph) -> GraphResult<()> {
+        self.ensure_state(plan).map(|_| ())
+    }
+
     /// Runs one frame of `plan` at output size `output` and returns its number, which its
     /// timings carry when they arrive. Returns without waiting for the GPU.
     pub fn execute(&mut self, plan: &Arc<CompiledGraph>, output: Extent) -> GraphResult<FrameId> {
