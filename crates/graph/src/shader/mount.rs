@@ -122,9 +122,11 @@ impl ShaderMount {
             .names()
             .map(|n| n.split_once('/').map_or("", |(f, _)| f))
             .collect();
-        folders.dedup();
         folders.sort_unstable();
         folders.dedup();
+        if folders.is_empty() {
+            return "no files".into();
+        }
         folders
             .iter()
             .map(|f| {
