@@ -11,7 +11,7 @@
 //!   exact: rho L cos^2 beta, within three standard errors of the reference and of SSDO's 16 N
 //!   samples per blurred pixel;
 //! - the bounce against the radiance reference on the Cornell box's floor: SSDO's E2 is a
-//!   biased estimator by construction (specs/ssdo.md, "sampling bias of the bounce": patches of
+//!   biased estimator by construction (docs/techniques/ssdo.md, "sampling bias of the bounce": patches of
 //!   pi r^2 / N stand for volume samples, and the sender radiance is its own occluded direct
 //!   light), so its magnitude is reported, and bounded only by that bias as measured.
 //!

@@ -1,4 +1,4 @@
-//! `gtao` on the GPU, against closed forms first (specs/gtao.md §1.4, §13):
+//! `gtao` on the GPU, against closed forms first (docs/techniques/gtao.md §1.4, §13):
 //! - an open plane is exactly 1 from straight down to 80 degrees (the default normalisation
 //!   divides by the open hemisphere's own closed form), and XeGTAO's slice-count rule is 1 on
 //!   average;

@@ -1,4 +1,4 @@
-//! `vbao` on the GPU, against closed forms first (specs/vbao.md §9, §11):
+//! `vbao` on the GPU, against closed forms first (docs/techniques/vbao.md §9, §11):
 //! - an open plane is exactly 1 from straight down to 80 degrees, under both weightings and
 //!   both rounding rules (no tap rises above the tangent plane, so no sector is set);
 //! - a conical pit seen along its axis, walls at elevation β, gives 1 - 2β/π with uniform

@@ -1,5 +1,5 @@
 // Depth MIP prefilter block (crates/ao-passes/src/blocks/depth_prefilter.rs): XeGTAO's weighted
-// 2x2 rule (specs/gtao.md §4). `src` is level l (linear depth, 0 = sky), `dst` level l + 1 of
+// 2x2 rule (docs/techniques/gtao.md §4). `src` is level l (linear depth, 0 = sky), `dst` level l + 1 of
 // size ceil(size(src) / 2). Each child z_i of the in-bounds, non-sky 2x2 block gets the weight
 //   w_i = saturate((r - (z_max - z_i)) / (F r)),  r = 0.75 R', z_max the farthest child,
 // and the texel is sum(w_i z_i) / sum(w_i): the farthest child always weighs 1, so the sum is

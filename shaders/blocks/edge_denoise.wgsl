@@ -1,5 +1,5 @@
 // Edge-aware denoiser block (crates/ao-passes/src/blocks/edge_denoise.rs): one pass of XeGTAO's
-// 3x3 filter (specs/gtao.md §6). `edges` holds the four edge weights (left, right, top, bottom;
+// 3x3 filter (docs/techniques/gtao.md §6). `edges` holds the four edge weights (left, right, top, bottom;
 // 1 = same surface, 0 = a depth edge) that the AO pass wrote, quantised to q / 3.
 //   1. Symmetrise: each of the centre's edges times the neighbour's opposite edge.
 //   2. Leak: if the four sum below 1.5, add 0.5 (1.5 - sum) / 1.5 to each, then saturate

@@ -1,5 +1,5 @@
 // Depth-edge weights for the edge-aware denoiser (blocks/edge_denoise.wgsl), as XeGTAO's AO
-// pass computes them (specs/gtao.md §6). For the neighbours left, right, top, bottom:
+// pass computes them (docs/techniques/gtao.md §6). For the neighbours left, right, top, bottom:
 //   delta = z_neighbour - z_centre; slope-compensated: s_LR = (delta_R - delta_L) / 2, then
 //   delta_L + s_LR and delta_R - s_LR (top/bottom alike); the smaller magnitude of the raw and
 //   the compensated delta is kept, so a plane at a slope is not an edge;

@@ -2,7 +2,7 @@
 #include "common/normal_oct.wgsl"
 // MSSAO (Hoang & Low, "Efficient screen-space approach to high-quality multi-scale ambient
 // occlusion", The Visual Computer 2012): the math every MSSAO pass shares. Equation numbers are
-// the paper's; ../shared/specs/mssao.md records them. Self-contained (no globals): the pass files
+// the paper's; docs/techniques/mssao.md records them. Self-contained (no globals): the pass files
 // include this after common/view.wgsl and pass their textures in.
 //
 // Conventions: level 0 is the finest (the paper's Res_1). Every level stores linear depth

@@ -3,7 +3,7 @@
 #include "common/finite.wgsl"
 #include "common/horizon.wgsl"
 #include "common/noise.wgsl"
-// What the slice-based techniques (ao/gtao, ao/vbao) share (specs/gtao.md §1.2, §2, §5; vbao.md
+// What the slice-based techniques (ao/gtao, ao/vbao) share (docs/techniques/gtao.md §1.2, §2, §5; vbao.md
 // §2 takes them unchanged): their inputs, the receiver's set-up, XeGTAO's noise and sample
 // placement, depth taps on the prefiltered MIPs (blocks/depth_prefilter.wgsl) and the slice
 // geometry. Bindings 0, 2-7 and 11 are declared here; the including file declares 1 (its

@@ -1,5 +1,5 @@
 #include "common/slices.wgsl"
-// GTAO's estimator (specs/gtao.md §1-§3, G2-G6 the spec's numbers), shared by the AO pass
+// GTAO's estimator (docs/techniques/gtao.md §1-§3, G2-G6 the spec's numbers), shared by the AO pass
 // (ao/gtao/ao.wgsl) and its variant that also writes bent normals (ao/gtao/ao_bent.wgsl). Per
 // pixel, S slices at angles φ_k = π (k + ξ0) / S; in each, T steps per side find the horizon
 // cosines c± (G3), with XeGTAO's falloff pulling a distant sample towards the tangent horizon

@@ -1,4 +1,4 @@
-// gtao.multibounce: GTAO's multi-bounce fit (specs/gtao.md §7), per colour channel with the
+// gtao.multibounce: GTAO's multi-bounce fit (docs/techniques/gtao.md §7), per colour channel with the
 // g-buffer's albedo ρ:  A' = max(A, ((a A + b) A + c) A),
 //   a = 2.0404 ρ - 0.3324,  b = -4.7951 ρ + 0.6417,  c = 2.7552 ρ + 0.6903.
 // An extra output for shading; the comparison with the reference uses A itself. Sky stays 1.

@@ -3,7 +3,7 @@
 #include "common/noise.wgsl"
 #include "common/finite.wgsl"
 #include "common/horizon.wgsl"
-// hbao.ao: horizon-based AO as specs/pyramid_hbao.md §1 states it. For each of D azimuth
+// hbao.ao: horizon-based AO as docs/techniques/pyramid-hbao.md §1 states it. For each of D azimuth
 // directions (evenly spaced, rotated by a per-pixel random angle) march S depth samples out to
 // the projected radius R_px; the horizon h(θ) is the highest elevation above the tangent plane
 // (sin α = n · V / |V|, less the g-buffer normals' rounding: common/horizon.wgsl) among

@@ -3,7 +3,7 @@
 #include "common/pyramid.wgsl"
 #include "common/horizon.wgsl"
 // Pyramid HBAO, the AO pass (crates/ao-passes/src/techniques/pyramid_hbao.rs; spec
-// /work/shared/specs/pyramid_hbao.md §2.3-2.5, pseudo-code §7). Per pixel P: D directions;
+// docs/techniques/pyramid-hbao.md §2.3-2.5, pseudo-code §7). Per pixel P: D directions;
 // along each, step_count reads per pyramid level, the step multiplied by K per level, keeping
 // the max of W(r) sin(alpha) (Eq. 8); AO = 1 - mean over directions.
 

@@ -3,7 +3,7 @@
 #include "common/noise.wgsl"
 #include "common/finite.wgsl"
 // ssao.ao: classic normal-oriented hemisphere SSAO (the Crytek/Blizzard baseline of
-// specs/mssao.md §9.1). N kernel points (units of R, z along the normal) are rotated by the
+// docs/techniques/mssao.md §9.1). N kernel points (units of R, z along the normal) are rotated by the
 // pixel's entry of a 4x4 tile of 16 rotations, placed around the pixel's view-space point,
 // projected, and counted as occluded when the depth buffer lies in front of them (by more than
 // the bias), weighted by a range check. Output: raw accessibility 1 - occluded / N.

@@ -1,5 +1,5 @@
 #include "common/finite.wgsl"
-// SSDO (specs/ssdo.md): the blocks ssdo.direct, ssdo.indirect and ssdo.blur share. Included
+// SSDO (docs/techniques/ssdo.md): the blocks ssdo.direct, ssdo.indirect and ssdo.blur share. Included
 // after common/view.wgsl and common/noise.wgsl; it names nothing from them, so it also
 // validates on its own. Rust mirrors: SsdoUniform (techniques/ssdo/kernel.rs) and
 // LightingUniforms (crates/frame/src/lighting.rs).
@@ -126,7 +126,7 @@ fn ssdo_eye_dir(x: vec3<f32>, ortho: bool) -> vec3<f32> {
 }
 
 // Classifies the sample point `s` of the receiver `p` with normal `n` (view space) against the
-// position buffer (specs/ssdo.md §1.4): `s` is back-projected to its pixel, the position Q there
+// position buffer (docs/techniques/ssdo.md §1.4): `s` is back-projected to its pixel, the position Q there
 // is read, and `s` is a blocker when projecting it onto the surface brings it nearer the viewer
 // (by more than `bias`). Q lies on the ray through its pixel's centre, up to half a pixel from
 // the sample's ray, which on grazing surfaces reads the receiver's own surface nearer than the
@@ -190,7 +190,7 @@ struct SsdoBlurred {
     indirect: vec3<f32>,
 }
 
-// One axis of the separable geometry-sensitive blur (specs/ssdo.md §3.1, [Segovia et al.
+// One axis of the separable geometry-sensitive blur (docs/techniques/ssdo.md §3.1, [Segovia et al.
 // 2006]) at pixel `px` along `axis`: 5 taps weighted [1/2, 1, 1, 1, 1/2] (each residue of the
 // 4x4 interleave pattern weighs the same, centred) times (n.n_j)^8 and
 // 1 - |n.(P_j - P)| / tolerance; sky taps are left out, the centre always counts. `bounce` is

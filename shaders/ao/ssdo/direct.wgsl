@@ -2,7 +2,7 @@
 #include "common/noise.wgsl"
 #include "ao/ssdo/common.wgsl"
 #include "common/finite.wgsl"
-// ssdo.direct: direct light with directional occlusion (specs/ssdo.md §1.2, E1) and the
+// ssdo.direct: direct light with directional occlusion (docs/techniques/ssdo.md §1.2, E1) and the
 // AO-equivalent accessibility. N samples P + lambda_i omega_i of the pixel's interleaved set
 // (4x4 pattern) are classified by ssdo_tap; each visible direction brings the environment
 // L_in(omega_i) = ambient * (1 + g omega_i.up), or the sky's radiance (environment = "sky"),

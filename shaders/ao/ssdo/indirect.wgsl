@@ -1,7 +1,7 @@
 #include "common/view.wgsl"
 #include "common/noise.wgsl"
 #include "ao/ssdo/common.wgsl"
-// ssdo.indirect: one indirect bounce (specs/ssdo.md §2, E2). The same samples and verdicts as
+// ssdo.indirect: one indirect bounce (docs/techniques/ssdo.md §2, E2). The same samples and verdicts as
 // ssdo.direct; every blocker is a sender patch of area A_s (E3) at the projected point Q with
 // the normal and the pass-1 radiance L_pixel of its pixel:
 //   L_ind = sum (rho / pi) L_pixel (1 - V_i) A_s cos theta_s cos theta_r / max(d_i, clamp)^2

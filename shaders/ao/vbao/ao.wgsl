@@ -1,6 +1,6 @@
 #include "common/slices.wgsl"
 #include "common/edges.wgsl"
-// vbao.ao: visibility-bitmask AO (Therrien, Levesque, Gilet 2023; specs/vbao.md, V1-V6 are the
+// vbao.ao: visibility-bitmask AO (Therrien, Levesque, Gilet 2023; docs/techniques/vbao.md, V1-V6 are the
 // spec's numbers) on GTAO's slices, steps, MIPs and noise (common/slices.wgsl). Per slice, N
 // sectors spread uniformly in angle over the π-wide arc centred on the projected normal, one
 // bit each. Every tap is a surface of constant thickness T: it occludes the arc between its

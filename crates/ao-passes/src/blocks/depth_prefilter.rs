@@ -1,4 +1,4 @@
-//! XeGTAO's depth MIP prefilter (specs/gtao.md §4): a linear-depth pyramid of factor 2 whose
+//! XeGTAO's depth MIP prefilter (docs/techniques/gtao.md §4): a linear-depth pyramid of factor 2 whose
 //! texels lean towards the farthest child, for techniques that march many pixels with few taps
 //! (gtao, and any other that wants it).
 //!

@@ -1,4 +1,4 @@
-//! XeGTAO's edge-aware denoiser (specs/gtao.md §6): 1 to 3 passes of a 3x3 filter whose
+//! XeGTAO's edge-aware denoiser (docs/techniques/gtao.md §6): 1 to 3 passes of a 3x3 filter whose
 //! weights come from per-pixel depth-edge weights (left, right, top, bottom) written by the AO
 //! pass that precedes it (gtao writes them; any technique can, with
 //! shaders/common/edges.wgsl). Passes `<prefix>.denoise<k>`, k = 1..passes; 1 pass is

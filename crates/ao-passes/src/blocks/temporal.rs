@@ -1,5 +1,5 @@
 //! Temporal reprojection and accumulation: the history-backed block behind TSSAO's AO buffer
-//! (specs/tssao.md §4-§6, Eqs. 3, 5-7) and MSSAO's optional temporal filter (specs/mssao.md §7,
+//! (docs/techniques/tssao.md §4-§6, Eqs. 3, 5-7) and MSSAO's optional temporal filter (docs/techniques/mssao.md §7,
 //! Eqs. 12-14, the special case of a fixed blend k = 0.5). It runs on top of any technique
 //! that produces a full-size accessibility texture each frame.
 //!

@@ -1,5 +1,5 @@
 //! `gtao`: ground-truth AO (Jimenez, Wu, Pesce, Jarabo 2016) as Intel's XeGTAO computes it
-//! (specs/gtao.md; its equation numbers G1-G6 are the spec's own, the paper's body was not
+//! (docs/techniques/gtao.md; its equation numbers G1-G6 are the spec's own, the paper's body was not
 //! available to it). Cosine-weighted AO with the inner integral per slice in closed form.
 //!
 //! Passes, in order:

@@ -1,4 +1,4 @@
-//! `hbao`: horizon-based AO as the Pyramid HBAO paper states it (specs/pyramid_hbao.md §1):
+//! `hbao`: horizon-based AO as the Pyramid HBAO paper states it (docs/techniques/pyramid-hbao.md §1):
 //! D azimuth directions x S depth samples per direction, the horizon h(θ) as the highest
 //! elevation above the tangent plane among samples within R, attenuation
 //! W(θ) = max(0, 1 - r(θ)/R) at the horizon sample (Eq. 4), and

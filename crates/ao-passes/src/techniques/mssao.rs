@@ -1,6 +1,6 @@
 //! `mssao`: multi-resolution screen-space ambient occlusion (Hoang & Low, "Efficient
 //! screen-space approach to high-quality multi-scale ambient occlusion", The Visual Computer
-//! 28(3), 2012). Equation and table numbers are the paper's; ../shared/specs/mssao.md records
+//! 28(3), 2012). Equation and table numbers are the paper's; docs/techniques/mssao.md records
 //! them with the errata followed here.
 //!
 //! The graph is the paper's pipeline (Table 1), levels l = 0 (finest, the paper's Res_1) to

@@ -1,5 +1,5 @@
 //! `pyramid-hbao`: horizon-based AO marching a 3x3-average linear-depth pyramid (Astapov,
-//! Frolov, Galaktionov, "Pyramid HBAO", GraphiCon 2021; spec /work/shared/specs/pyramid_hbao.md).
+//! Frolov, Galaktionov, "Pyramid HBAO", GraphiCon 2021; spec docs/techniques/pyramid-hbao.md).
 //!
 //! Passes, in the paper's order (§3.3-3.5):
 //! 1. `pyramid-hbao.depth_level1` .. `depth_level{L-1}`: the depth pyramid, K = 3, each level

@@ -1,6 +1,6 @@
 //! What the slice-based techniques (`gtao`, `vbao`) share on the Rust side, as
 //! shaders/common/slices.wgsl does in WGSL: their pass sequence. XeGTAO's depth MIP prefilter
-//! (`<prefix>.depth_level1..4`, specs/gtao.md §4), the technique's AO pass over the 5 MIP
+//! (`<prefix>.depth_level1..4`, docs/techniques/gtao.md §4), the technique's AO pass over the 5 MIP
 //! levels and the normals (`<prefix>.ao`: raw accessibility, the denoiser's edges, and an
 //! optional extra output), then the edge-aware denoiser (`<prefix>.denoise1..N`, §6).
 //! Invariant: the AO pass's bindings are slices.wgsl's plus `params` (1), `ao` (8), `edges`
@@ -27,7 +27,7 @@ pub const MAX_SLICES: u32 = 32;
 /// Largest step count T per side of a slice.
 pub const MAX_STEPS: u32 = 32;
 
-/// XeGTAO's quality presets (specs/gtao.md §8).
+/// XeGTAO's quality presets (docs/techniques/gtao.md §8).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum GtaoPreset {

@@ -1,4 +1,4 @@
-//! `ssao`: the classic sampled SSAO the MSSAO paper compares with (specs/mssao.md §9.1, the
+//! `ssao`: the classic sampled SSAO the MSSAO paper compares with (docs/techniques/mssao.md §9.1, the
 //! Crytek/Blizzard baseline): N sample points in the normal-oriented hemisphere of radius R,
 //! rotated per pixel by a 4x4 tile of 16 rotations, each counted as occluded when the depth
 //! buffer lies in front of it, weighted by a smoothstep range check; then a 4x4 box blur that

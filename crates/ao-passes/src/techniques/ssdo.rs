@@ -1,5 +1,5 @@
 //! `ssdo`: screen-space directional occlusion with one indirect bounce (Ritschel, Grosch and
-//! Seidel, "Approximating Dynamic Global Illumination in Image Space"; specs/ssdo.md). The
+//! Seidel, "Approximating Dynamic Global Illumination in Image Space"; docs/techniques/ssdo.md). The
 //! paper has no equation numbers; E1/E2/E3 below are the spec's labels.
 //!
 //! Passes, in the paper's order (§1.5):

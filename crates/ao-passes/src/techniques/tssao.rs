@@ -1,4 +1,4 @@
-//! `tssao`: temporal SSAO (Mattausch, Scherzer, Wimmer 2010; specs/tssao.md). A per-pixel AO
+//! `tssao`: temporal SSAO (Mattausch, Scherzer, Wimmer 2010; docs/techniques/tssao.md). A per-pixel AO
 //! buffer (accessibility, sample count n_t, Halton index, depth) is reprojected into each new
 //! frame; k new samples continue each pixel's Halton sequence and are blended in with weight
 //! k / (n_t + k); pixels whose history is invalid restart, and unconverged pixels get more
@@ -535,11 +535,10 @@ mod tests {
         // Cosine-distributed: E[cos theta] = 2/3 over the hemisphere.
         let mean_cos = t.iter().map(|p| p[2] as f64).sum::<f64>() / t.len() as f64;
         assert!((mean_cos - 2.0 / 3.0).abs() < 0.01, "{mean_cos}");
-        let shader = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../shaders/ao/tssao/sample.wgsl"
-        ))
-        .unwrap();
+        let shader = crate::shader_mount()
+            .source("ao/tssao/sample.wgsl")
+            .expect("embedded")
+            .to_string();
         assert!(
             shader.contains(&format!("array<vec4<f32>, {HALTON_LENGTH}>")),
             "sample.wgsl's table length must be HALTON_LENGTH"

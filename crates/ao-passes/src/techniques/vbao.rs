@@ -1,4 +1,4 @@
-//! `vbao`: visibility-bitmask AO (Therrien, Levesque, Gilet 2023; specs/vbao.md, whose V1-V6
+//! `vbao`: visibility-bitmask AO (Therrien, Levesque, Gilet 2023; docs/techniques/vbao.md, whose V1-V6
 //! numbers the shader cites). GTAO's slices with the two horizons replaced by a 32-bit mask of
 //! sectors, and every depth sample a surface of constant thickness T, so light passes behind
 //! thin occluders.

@@ -8,7 +8,7 @@
 //! exponent against the radius in pixels at a fixed pixel count. With one size (or one
 //! radius) only the other exponent is fitted. No reference is traced: this is time only.
 //!
-//! The Pyramid HBAO paper's claim (specs/pyramid_hbao.md §2.6) is about quality held fixed:
+//! The Pyramid HBAO paper's claim (docs/techniques/pyramid-hbao.md §2.6) is about quality held fixed:
 //! HBAO must grow D and S with the radius (quadratic time), Pyramid HBAO one level per 3x
 //! (near-linear). At fixed parameters, as here, a technique that marches a fixed number of
 //! samples does the same work at any radius, and b shows what the memory system charges for

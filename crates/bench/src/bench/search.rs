@@ -1,4 +1,4 @@
-//! XeGTAO's auto-tune search (specs/gtao.md §10, `Vanilla.cpp`'s AutoTuneTool): a full grid
+//! XeGTAO's auto-tune search (docs/techniques/gtao.md §10, `Vanilla.cpp`'s AutoTuneTool): a full grid
 //! over a technique's named parameters, then narrowing passes around the best point. Pure:
 //! the objective is a callback over a batch of points, so the search is tested without a GPU.
 //!

@@ -1,5 +1,5 @@
 //! Structural similarity (SSIM) with the Pyramid HBAO paper's settings, which this project
-//! follows so its numbers sit next to the paper's Table 1 (specs/pyramid_hbao.md §5.2):
+//! follows so its numbers sit next to the paper's Table 1 (docs/techniques/pyramid-hbao.md §5.2):
 //!
 //! - window 11x11, **uniform**: the paper "passes a sliding window of size KxK over two images,
 //!   compares the windows and returns the average of the obtained values" and names no

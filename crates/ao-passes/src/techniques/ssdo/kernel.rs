@@ -1,4 +1,4 @@
-//! SSDO's precomputed sample sets (specs/ssdo.md §1.3): M = 4x4 = 16 sets of N low-discrepancy
+//! SSDO's precomputed sample sets (docs/techniques/ssdo.md §1.3): M = 4x4 = 16 sets of N low-discrepancy
 //! offsets `lambda_i * omega_i`, stored as one table in the `params` uniform; every pixel uses
 //! the set its 4x4 interleave index names (`interleave_4x4` of shaders/common/noise.wgsl).
 //!
