@@ -72,33 +72,11 @@ fn a_user_technique_without_its_mount_is_an_error_naming_its_shader() {
         [],
     )
     .unwrap();
-    let depth = upload_depth(&gpu);
-    let inputs = AoInputs::new(
-        DepthInput::Hardware(&depth),
-        glam::Mat4::perspective_infinite_reverse_rh(1.0, 1.5, 0.1),
-        glam::Mat4::IDENTITY,
-    );
+    let (depth, proj, view, _) = plane_frame(&gpu);
+    let inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, view);
     let e = embed_frame(&gpu, &mut ao, &inputs)
         .expect_err("the technique's shader is not mounted")
         .to_string();
     assert!(e.contains(unsharp_depth::SHADER), "{e}");
     assert!(e.contains("ShaderLibrary::mount"), "{e}");
-}
-
-/// A Depth32Float buffer of the test size, all at the far plane.
-fn upload_depth(gpu: &aograph_graph::GpuContext) -> wgpu::Texture {
-    gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("depth"),
-        size: wgpu::Extent3d {
-            width: SIZE.width,
-            height: SIZE.height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    })
 }

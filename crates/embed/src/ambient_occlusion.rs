@@ -372,20 +372,7 @@ impl AmbientOcclusion {
             layout,
             output,
         };
-        let plan = match self.plans.get(&key) {
-            Some(plan) => plan.clone(),
-            None => {
-                let plan = self.build_plan(
-                    technique,
-                    radius,
-                    config.intermediate_format.wgpu(),
-                    &layout,
-                    output,
-                )?;
-                self.keep_plan(key, plan.clone());
-                plan
-            }
-        };
+        let plan = self.kept_or_built(key, technique, radius, config.intermediate_format.wgpu())?;
         self.exec.prepare(&plan)?;
         Ok(())
     }
@@ -438,30 +425,34 @@ impl AmbientOcclusion {
             layout,
             output,
         };
-        let plan = match self.plans.get(&key) {
-            Some(plan) => plan.clone(),
-            None => {
-                let plan = self.build_plan(
-                    self.technique.clone(),
-                    self.radius,
-                    self.config.intermediate_format.wgpu(),
-                    &layout,
-                    output,
-                )?;
-                self.keep_plan(key.clone(), plan.clone());
-                plan
-            }
-        };
+        let plan = self.kept_or_built(
+            key.clone(),
+            self.technique.clone(),
+            self.radius,
+            self.config.intermediate_format.wgpu(),
+        )?;
         self.current = Some((key, plan.clone()));
         Ok(plan)
     }
 
-    /// Keeps `plan` under `key`, dropping the kept ones first when there are [`MAX_PLANS`].
-    fn keep_plan(&mut self, key: PlanKey, plan: Arc<CompiledGraph>) {
+    /// The plan kept under `key`, or one built now for `technique` at `radius` (intermediates
+    /// in `intermediate`) and kept, the kept ones dropped first when there are [`MAX_PLANS`].
+    fn kept_or_built(
+        &mut self,
+        key: PlanKey,
+        technique: Arc<dyn ConfiguredTechnique>,
+        radius: f32,
+        intermediate: wgpu::TextureFormat,
+    ) -> EmbedResult<Arc<CompiledGraph>> {
+        if let Some(plan) = self.plans.get(&key) {
+            return Ok(plan.clone());
+        }
+        let plan = self.build_plan(technique, radius, intermediate, &key.layout, key.output)?;
         if self.plans.len() >= MAX_PLANS {
             self.plans.clear();
         }
-        self.plans.insert(key, plan);
+        self.plans.insert(key, plan.clone());
+        Ok(plan)
     }
 
     /// Declares and compiles the frame of `technique` at `radius`, its intermediates in
