@@ -294,3 +294,78 @@ pub(crate) fn own_frame_with_face_normals(scene: &Scene, config: &AoConfig) -> O
         renderer: r,
     })
 }
+
+/// Directions spread over the whole sphere (a Fibonacci lattice), `n` of them: every octant,
+/// both hemispheres of z, and the poles' neighbourhoods.
+fn sphere_directions(n: usize) -> Vec<Vec3> {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let phi = golden * i as f32;
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+        .collect()
+}
+
+#[test]
+pub(crate) fn world_space_octahedral_normals_decode_in_every_octant() {
+    // The adapter's normals channel against the source normals directly: world-space unit
+    // vectors in all eight octants, encoded octahedrally (exact in Rg32Float), decoded and
+    // turned into view space by the adapter; expected: the view matrix applied on the CPU.
+    let Some(gpu) = test_gpu() else { return };
+    let (depth, proj, view, _) = plane_frame(&gpu);
+    let n = (SIZE.width * SIZE.height) as usize;
+    let world = sphere_directions(n);
+    let mut octants = [0usize; 8];
+    for d in &world {
+        octants
+            [(d.x < 0.0) as usize | ((d.y < 0.0) as usize) << 1 | ((d.z < 0.0) as usize) << 2] += 1;
+    }
+    assert!(octants.iter().all(|c| *c > n / 10), "{octants:?}");
+    let bytes: Vec<u8> = world
+        .iter()
+        .flat_map(|d| oct_encode(*d).to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    let normals = upload(
+        &gpu.device,
+        &gpu.queue,
+        wgpu::TextureFormat::Rg32Float,
+        (SIZE.width, SIZE.height),
+        &bytes,
+    );
+    let mut inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, view);
+    inputs.normals = Some(NormalsInput {
+        texture: &normals,
+        space: NormalSpace::World,
+        encoding: NormalEncoding::Octahedral,
+    });
+    let got = adapter_channel(&gpu, &inputs, GBufferChannel::Normals, proj * view)
+        .to_f32()
+        .unwrap();
+    // The channel is Rgba16Float: each component of a unit vector rounds by at most 2^-11
+    // (4.9e-4); the decode and the rotation in f32 add ~1e-6.
+    let bound = 1e-3;
+    let mut worst = (0.0f32, 0usize);
+    for (i, d) in world.iter().enumerate() {
+        let expected = view.transform_vector3(*d);
+        let c = &got[i * 4..i * 4 + 4];
+        let e = (Vec3::new(c[0], c[1], c[2]) - expected).abs().max_element();
+        assert_eq!(c[3], 1.0, "pixel {i} is geometry");
+        if e > worst.0 {
+            worst = (e, i);
+        }
+    }
+    let (e, i) = worst;
+    println!(
+        "octahedral world normals: largest component error {e:e} at {i} ({})",
+        world[i]
+    );
+    assert!(
+        e <= bound,
+        "pixel {i}: source {} decodes {e} away from its view-space normal",
+        world[i]
+    );
+}

@@ -100,6 +100,34 @@ fn reference_matches_the_cpu(gpu: &Arc<GpuContext>, hardware: bool) {
             differing * 100 <= pixels,
             "{name}: {differing} of {pixels} pixels differ by more than one ray"
         );
+        // The standard errors, pixel by pixel: where every ray answered alike (the estimates
+        // agree to rounding), both tracers summed the same samples, so sqrt(s^2 / N) must
+        // agree to rounding too. A tracer reporting sqrt(s^2), or dividing by N twice, is off
+        // by a factor of 8 (N = 64) on every partly occluded pixel.
+        let (mut compared, mut partly_occluded) = (0, 0);
+        for i in 0..pixels {
+            let (g, c) = (gpu_image.accessibility[i], cpu.accessibility[i]);
+            if (g - c).abs() > 1e-5 {
+                continue;
+            }
+            compared += 1;
+            let (sg, sc) = (gpu_image.std_error[i], cpu.std_error[i]);
+            partly_occluded += (sc > 0.0) as usize;
+            // f32 sums of 64 samples on the GPU against the CPU's: relative 1e-4, and 1e-6
+            // absolute where the error is 0.
+            assert!(
+                (sg - sc).abs() <= 1e-4 * sc + 1e-6,
+                "{name}: pixel {i} (accessibility {c}): standard error {sg} on the GPU, \
+                 {sc} on the CPU"
+            );
+        }
+        eprintln!(
+            "{name}: standard errors equal on {compared} pixels ({partly_occluded} partly occluded)"
+        );
+        assert!(
+            compared * 10 >= pixels * 9 && partly_occluded * 10 >= pixels,
+            "{name}: only {compared} pixels ({partly_occluded} partly occluded) of {pixels} to compare"
+        );
         // Sky is exactly 1 with error 0 on both.
         for i in 0..pixels {
             if !surfaces.valid[i] {
