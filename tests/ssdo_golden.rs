@@ -147,8 +147,9 @@ fn samples(f: &Frame, u: &SsdoUniform, x: i32, y: i32) -> Vec<(f32, usize, Vec3,
         .collect()
 }
 
-/// direct.wgsl (no directional light) and indirect.wgsl at every pixel.
-fn raw_passes(f: &Frame, u: &SsdoUniform) -> Vec<Raw> {
+/// direct.wgsl (no directional light) and indirect.wgsl at every pixel, and the share of the
+/// bounce's sender taps closer than `distance_clamp` (where the clamp binds).
+fn raw_passes(f: &Frame, u: &SsdoUniform) -> (Vec<Raw>, f64) {
     let n_px = (f.w * f.h) as usize;
     let mut raw = vec![Raw::default(); n_px];
     let mut taps = vec![Vec::new(); n_px];
@@ -184,6 +185,7 @@ fn raw_passes(f: &Frame, u: &SsdoUniform) -> Vec<Raw> {
         }
     }
     // E2 on the unblurred pass-1 radiance of each blocker's pixel.
+    let (mut senders, mut clamped) = (0usize, 0usize);
     for i in 0..n_px {
         let (p, n) = (f.positions[i].truncate(), f.normals[i]);
         let mut gathered = Vec3::ZERO;
@@ -198,12 +200,14 @@ fn raw_passes(f: &Frame, u: &SsdoUniform) -> Vec<Raw> {
                 let cos_s = f.normals[q].dot(-dir).max(0.0);
                 let cos_r = n.dot(dir).max(0.0);
                 let dc = d.max(u.distance_clamp);
+                senders += 1;
+                clamped += (d < u.distance_clamp) as usize;
                 gathered += raw[q].direct.truncate() * (occ * cos_s * cos_r / (dc * dc));
             }
         }
         raw[i].indirect = f.albedo[i] * (u.sender_area / std::f32::consts::PI) * gathered;
     }
-    raw
+    (raw, clamped as f64 / senders.max(1) as f64)
 }
 
 /// common.wgsl `ssdo_blur` along `axis` at every pixel.
@@ -251,6 +255,8 @@ struct Compared {
     cpu: Vec<Raw>,
     depth: Vec<f32>,
     run: common::AoRun,
+    /// Share of the bounce's sender taps where the distance clamp binds (d < clamp).
+    clamped: f64,
 }
 
 fn without_light(mut scene: Scene) -> Scene {
@@ -303,7 +309,7 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
     };
     let p: SsdoParams = toml::from_str(params).expect("params parse");
     let u = p.uniform(radius);
-    let raw = raw_passes(&frame, &u);
+    let (raw, clamped) = raw_passes(&frame, &u);
     let cpu = blur(&frame, &u, &blur(&frame, &u, &raw, (1, 0)), (0, 1));
     let ao = r.read_ao().expect("ao");
     let direct = r.read_extra("ssdo_direct").expect("ssdo_direct");
@@ -331,6 +337,7 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
             .collect(),
         depth,
         run,
+        clamped,
     })
 }
 
@@ -364,16 +371,33 @@ fn agreement(c: &Compared, value: impl Fn(&Raw) -> f32) -> (f64, f32) {
 fn every_factor_of_the_direct_term_and_the_bounce_matches_its_cpu_recomputation() {
     let size = Extent::new(77, 53);
     // R = 0.5 in the 2-unit box with the distance clamp below every sender distance that
-    // matters (0.05), so 1/d^2 is in play; N = 8 (the default) and 16.
-    for params in [
-        "bounce = true\ndistance_clamp = 0.05",
-        "bounce = true\ndistance_clamp = 0.05\nsamples = 16\nsender_area_scale = 2.0",
+    // matters (0.05), so 1/d^2 is in play; N = 8 (the default) and 16. Then a clamp of 0.3,
+    // which binds on a large share of the senders (asserted), so the clamp itself is checked:
+    // 1/max(d, 0.3)^2 against the shaders'.
+    for (params, clamp_binds) in [
+        ("bounce = true\ndistance_clamp = 0.05", false),
+        (
+            "bounce = true\ndistance_clamp = 0.05\nsamples = 16\nsender_area_scale = 2.0",
+            false,
+        ),
+        ("bounce = true\ndistance_clamp = 0.3", true),
     ] {
         let scene = without_light(procedural_scene("cornell-box").unwrap());
         let Some(c) = compare(scene, 0.5, params, size) else {
             return;
         };
         let what = params.replace('\n', ", ");
+        println!(
+            "[{what}] the distance clamp binds on {:.1}% of the bounce's senders",
+            100.0 * c.clamped
+        );
+        if clamp_binds {
+            assert!(
+                c.clamped > 0.2,
+                "[{what}] the clamp binds on only {:.1}% of the senders",
+                100.0 * c.clamped
+            );
+        }
         for (name, value) in [
             ("accessibility", (|r: &Raw| r.direct.w) as fn(&Raw) -> f32),
             ("direct red", |r: &Raw| r.direct.x),
