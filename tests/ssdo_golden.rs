@@ -15,9 +15,11 @@
 //!   pi r^2 / N stand for volume samples, and the sender radiance is its own occluded direct
 //!   light), so its magnitude is reported, and bounded only by that bias as measured.
 //!
-//! The scene's directional light is switched off (its unshadowed DirectLight term, the sun
-//! vote, is covered by tests/technique_ssdo.rs); the environment is the scene's constant
-//! ambient. Skips (saying so) only without an adapter and AOGRAPH_REQUIRE_GPU.
+//! The golden runs with the scene's directional light off and, once, on: the CPU mirror adds
+//! the light's vote (the g-buffer's unshadowed DirectLight times the share of the samples
+//! towards the light that are visible), so a sun the occlusion test never shadows fails it.
+//! The environment is the scene's constant ambient. Skips (saying so) only without an adapter
+//! and AOGRAPH_REQUIRE_GPU.
 
 // The CPU mirror keeps the shaders' `!(x > y)` tests, which are false for NaN as in WGSL.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -39,6 +41,10 @@ struct Frame {
     /// The g-buffer's (shading) normals, view space.
     normals: Vec<Vec3>,
     albedo: Vec<Vec3>,
+    /// The g-buffer's unshadowed directional light, rho E max(0, n.l).
+    direct_light: Vec<Vec3>,
+    /// Towards the directional light, view space.
+    to_light: Vec3,
     proj: Mat4,
     /// World up in view space (the sky gradient's axis).
     up: Vec3,
@@ -147,12 +153,22 @@ fn samples(f: &Frame, u: &SsdoUniform, x: i32, y: i32) -> Vec<(f32, usize, Vec3,
         .collect()
 }
 
-/// direct.wgsl (no directional light) and indirect.wgsl at every pixel, and the share of the
-/// bounce's sender taps closer than `distance_clamp` (where the clamp binds).
-fn raw_passes(f: &Frame, u: &SsdoUniform) -> (Vec<Raw>, f64) {
+/// What the CPU mirror counts on the way: the share of the bounce's sender taps closer than
+/// `distance_clamp` (where the clamp binds), and the share of lit pixels whose directional
+/// light the samples find blocked by a tenth or more (sun visibility under 0.9).
+#[derive(Clone, Copy, Default)]
+struct MirrorCounts {
+    clamped: f64,
+    sun_shadowed: f64,
+}
+
+/// direct.wgsl (ambient environment, with the directional light's vote) and indirect.wgsl at
+/// every pixel.
+fn raw_passes(f: &Frame, u: &SsdoUniform) -> (Vec<Raw>, MirrorCounts) {
     let n_px = (f.w * f.h) as usize;
     let mut raw = vec![Raw::default(); n_px];
     let mut taps = vec![Vec::new(); n_px];
+    let (mut lit, mut shadowed) = (0usize, 0usize);
     for y in 0..f.h {
         for x in 0..f.w {
             let i = (y * f.w + x) as usize;
@@ -161,26 +177,39 @@ fn raw_passes(f: &Frame, u: &SsdoUniform) -> (Vec<Raw>, f64) {
                 continue;
             }
             let rho = f.albedo[i];
+            let sun = f.direct_light[i];
             if !(f.normals[i].length_squared() > 0.5) {
-                raw[i].direct = (rho * f.ambient).extend(1.0);
+                raw[i].direct = (rho * f.ambient + sun).extend(1.0);
                 continue;
             }
             let t = samples(f, u, x, y);
-            // E1, dw normalised per set: L_dir = rho sum L_in V cos / sum cos.
+            // E1, dw normalised per set: L_dir = rho sum L_in V cos / sum cos; the directional
+            // light's vote: sum V max(0, w.l)^k / sum max(0, w.l)^k.
             let (mut env, mut sum_cos, mut visible_cos) = (Vec3::ZERO, 0.0f32, 0.0f32);
+            let (mut sun_weight, mut sun_visible) = (0.0f32, 0.0f32);
             for &(occ, _, w, cos_t) in &t {
                 let v = 1.0 - occ;
                 let l_in = f.ambient * (1.0 + u.sky_gradient * w.dot(f.up)).max(0.0);
                 env += l_in * (v * cos_t);
                 sum_cos += cos_t;
                 visible_cos += v * cos_t;
+                let lw = w.dot(f.to_light).max(0.0).powf(u.light_lobe);
+                sun_weight += lw;
+                sun_visible += lw * v;
             }
             let (a, env_mean) = if sum_cos > 1e-6 {
                 (visible_cos / sum_cos, env / sum_cos)
             } else {
                 (1.0, f.ambient)
             };
-            raw[i].direct = (rho * env_mean).extend(a);
+            let sun_visibility = if sun_weight > 1e-6 {
+                sun_visible / sun_weight
+            } else {
+                1.0
+            };
+            lit += (sun.max_element() > 1e-3) as usize;
+            shadowed += (sun.max_element() > 1e-3 && sun_visibility < 0.9) as usize;
+            raw[i].direct = (rho * env_mean + sun * sun_visibility).extend(a);
             taps[i] = t;
         }
     }
@@ -207,7 +236,11 @@ fn raw_passes(f: &Frame, u: &SsdoUniform) -> (Vec<Raw>, f64) {
         }
         raw[i].indirect = f.albedo[i] * (u.sender_area / std::f32::consts::PI) * gathered;
     }
-    (raw, clamped as f64 / senders.max(1) as f64)
+    let counts = MirrorCounts {
+        clamped: clamped as f64 / senders.max(1) as f64,
+        sun_shadowed: shadowed as f64 / lit.max(1) as f64,
+    };
+    (raw, counts)
 }
 
 /// common.wgsl `ssdo_blur` along `axis` at every pixel.
@@ -255,8 +288,8 @@ struct Compared {
     cpu: Vec<Raw>,
     depth: Vec<f32>,
     run: common::AoRun,
-    /// Share of the bounce's sender taps where the distance clamp binds (d < clamp).
-    clamped: f64,
+    /// What the CPU mirror counted.
+    counts: MirrorCounts,
 }
 
 fn without_light(mut scene: Scene) -> Scene {
@@ -271,11 +304,13 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
         c
     };
     let ambient = Vec3::from(scene.ambient);
+    let light_direction = scene.light.direction;
     let outputs = aograph::FrameOutputs {
         linear_depth: true,
         surfaces: true,
         surface_normals: aograph_scene::ReferenceNormals::Shading,
         albedo: true,
+        direct_light: true,
         ..Default::default()
     };
     let mut r = common::renderer_with(scene, &config, size, outputs)?;
@@ -289,6 +324,7 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
     let positions = read(GBufferChannel::Positions);
     let normals = read(GBufferChannel::Normals);
     let albedo = read(GBufferChannel::Albedo);
+    let direct_light = read(GBufferChannel::DirectLight);
     let camera = r.camera();
     let (w, h) = (size.width, size.height);
     let frame = Frame {
@@ -303,13 +339,18 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
             .chunks(4)
             .map(|c| Vec3::new(c[0], c[1], c[2]))
             .collect(),
+        direct_light: direct_light
+            .chunks(4)
+            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .collect(),
+        to_light: normalize(camera.view().transform_vector3(-light_direction)),
         proj: camera.projection(w as f32 / h as f32),
         up: camera.view().transform_vector3(Vec3::Y),
         ambient,
     };
     let p: SsdoParams = toml::from_str(params).expect("params parse");
     let u = p.uniform(radius);
-    let (raw, clamped) = raw_passes(&frame, &u);
+    let (raw, counts) = raw_passes(&frame, &u);
     let cpu = blur(&frame, &u, &blur(&frame, &u, &raw, (1, 0)), (0, 1));
     let ao = r.read_ao().expect("ao");
     let direct = r.read_extra("ssdo_direct").expect("ssdo_direct");
@@ -337,7 +378,7 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
             .collect(),
         depth,
         run,
-        clamped,
+        counts,
     })
 }
 
@@ -374,28 +415,48 @@ fn every_factor_of_the_direct_term_and_the_bounce_matches_its_cpu_recomputation(
     // matters (0.05), so 1/d^2 is in play; N = 8 (the default) and 16. Then a clamp of 0.3,
     // which binds on a large share of the senders (asserted), so the clamp itself is checked:
     // 1/max(d, 0.3)^2 against the shaders'.
-    for (params, clamp_binds) in [
-        ("bounce = true\ndistance_clamp = 0.05", false),
+    // Last, the scene's directional light on: its vote (which samples towards the light are
+    // blocked) shades a share of the lit pixels, asserted, so the sun's visibility is checked.
+    for (params, clamp_binds, light) in [
+        ("bounce = true\ndistance_clamp = 0.05", false, false),
         (
             "bounce = true\ndistance_clamp = 0.05\nsamples = 16\nsender_area_scale = 2.0",
             false,
+            false,
         ),
-        ("bounce = true\ndistance_clamp = 0.3", true),
+        ("bounce = true\ndistance_clamp = 0.3", true, false),
+        ("bounce = true\ndistance_clamp = 0.05", false, true),
     ] {
-        let scene = without_light(procedural_scene("cornell-box").unwrap());
+        let scene = procedural_scene("cornell-box").unwrap();
+        let scene = if light { scene } else { without_light(scene) };
         let Some(c) = compare(scene, 0.5, params, size) else {
             return;
         };
-        let what = params.replace('\n', ", ");
+        let what = format!(
+            "{}{}",
+            params.replace('\n', ", "),
+            if light { ", light on" } else { "" }
+        );
         println!(
             "[{what}] the distance clamp binds on {:.1}% of the bounce's senders",
-            100.0 * c.clamped
+            100.0 * c.counts.clamped
         );
         if clamp_binds {
             assert!(
-                c.clamped > 0.2,
+                c.counts.clamped > 0.2,
                 "[{what}] the clamp binds on only {:.1}% of the senders",
-                100.0 * c.clamped
+                100.0 * c.counts.clamped
+            );
+        }
+        if light {
+            println!(
+                "[{what}] the light's vote is blocked by a tenth or more on {:.1}% of the lit pixels",
+                100.0 * c.counts.sun_shadowed
+            );
+            assert!(
+                c.counts.sun_shadowed > 0.02,
+                "[{what}] the samples block the light on only {:.1}% of the lit pixels",
+                100.0 * c.counts.sun_shadowed
             );
         }
         for (name, value) in [

@@ -40,6 +40,9 @@ pub struct FrameOutputs {
     pub motion: bool,
     /// The g-buffer's albedo, read back (the radiance reference's receivers).
     pub albedo: bool,
+    /// The g-buffer's unshadowed directional light, read back (a CPU recomputation of what a
+    /// technique does with it, such as SSDO's golden test).
+    pub direct_light: bool,
     /// Format of the g-buffer's hardware depth buffer (Depth32Float by default).
     pub depth_format: DepthFormat,
 }
@@ -147,6 +150,9 @@ pub fn build_frame_graph_with(
     if outputs.albedo {
         requested = requested.with(GBufferChannel::Albedo);
     }
+    if outputs.direct_light {
+        requested = requested.with(GBufferChannel::DirectLight);
+    }
     // The second layer's Δ, stated in units of R, in view units for the g-buffer.
     let channels = required_channels(requested, &scene)
         .with_depth_format(outputs.depth_format)
@@ -226,6 +232,9 @@ pub fn build_frame_graph_with(
     }
     if outputs.albedo {
         gbuffer.albedo.into_iter().for_each(|h| b.export(h));
+    }
+    if outputs.direct_light {
+        gbuffer.direct_light.into_iter().for_each(|h| b.export(h));
     }
     Ok(FrameGraph {
         decl: b.build(),
