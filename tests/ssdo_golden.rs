@@ -408,88 +408,98 @@ fn agreement(c: &Compared, value: impl Fn(&Raw) -> f32) -> (f64, f32) {
     (close as f64 / n.max(1) as f64, worst)
 }
 
-#[test]
-fn every_factor_of_the_direct_term_and_the_bounce_matches_its_cpu_recomputation() {
-    let size = Extent::new(77, 53);
-    // R = 0.5 in the 2-unit box with the distance clamp below every sender distance that
-    // matters (0.05), so 1/d^2 is in play; N = 8 (the default) and 16. Then a clamp of 0.3,
-    // which binds on a large share of the senders (asserted), so the clamp itself is checked:
-    // 1/max(d, 0.3)^2 against the shaders'.
-    // Last, the scene's directional light on: its vote (which samples towards the light are
-    // blocked) shades a share of the lit pixels, asserted, so the sun's visibility is checked.
-    for (params, clamp_binds, light) in [
-        ("bounce = true\ndistance_clamp = 0.05", false, false),
-        (
-            "bounce = true\ndistance_clamp = 0.05\nsamples = 16\nsender_area_scale = 2.0",
-            false,
-            false,
-        ),
-        ("bounce = true\ndistance_clamp = 0.3", true, false),
-        ("bounce = true\ndistance_clamp = 0.05", false, true),
-    ] {
-        let scene = procedural_scene("cornell-box").unwrap();
-        let scene = if light { scene } else { without_light(scene) };
-        let Some(c) = compare(scene, 0.5, params, size) else {
-            return;
-        };
-        let what = format!(
-            "{}{}",
-            params.replace('\n', ", "),
-            if light { ", light on" } else { "" }
-        );
-        println!(
-            "[{what}] the distance clamp binds on {:.1}% of the bounce's senders",
+/// SSDO on the Cornell box (R = 0.5 in the 2-unit box) with `params`, the directional light
+/// on or off, against the CPU mirror: every factor of the direct term and the bounce, pixel by
+/// pixel. `clamp_binds`: the distance clamp must bind on a fifth of the bounce's senders;
+/// `light`: the samples must block the light's vote on a share of the lit pixels.
+fn direct_and_bounce_match_the_cpu(params: &str, clamp_binds: bool, light: bool) {
+    let scene = procedural_scene("cornell-box").unwrap();
+    let scene = if light { scene } else { without_light(scene) };
+    let Some(c) = compare(scene, 0.5, params, Extent::new(77, 53)) else {
+        return;
+    };
+    let what = format!(
+        "{}{}",
+        params.replace('\n', ", "),
+        if light { ", light on" } else { "" }
+    );
+    println!(
+        "[{what}] the distance clamp binds on {:.1}% of the bounce's senders",
+        100.0 * c.counts.clamped
+    );
+    if clamp_binds {
+        assert!(
+            c.counts.clamped > 0.2,
+            "[{what}] the clamp binds on only {:.1}% of the senders",
             100.0 * c.counts.clamped
         );
-        if clamp_binds {
-            assert!(
-                c.counts.clamped > 0.2,
-                "[{what}] the clamp binds on only {:.1}% of the senders",
-                100.0 * c.counts.clamped
-            );
-        }
-        if light {
-            println!(
-                "[{what}] the light's vote is blocked by a tenth or more on {:.1}% of the lit pixels",
-                100.0 * c.counts.sun_shadowed
-            );
-            assert!(
-                c.counts.sun_shadowed > 0.02,
-                "[{what}] the samples block the light on only {:.1}% of the lit pixels",
-                100.0 * c.counts.sun_shadowed
-            );
-        }
-        for (name, value) in [
-            ("accessibility", (|r: &Raw| r.direct.w) as fn(&Raw) -> f32),
-            ("direct red", |r: &Raw| r.direct.x),
-            ("direct green", |r: &Raw| r.direct.y),
-            ("indirect red", |r: &Raw| r.indirect.x),
-            ("indirect green", |r: &Raw| r.indirect.y),
-            ("indirect blue", |r: &Raw| r.indirect.z),
-        ] {
-            let (close, worst) = agreement(&c, value);
-            println!(
-                "[{what}] {name}: {:.2}% within {CLOSE:.0e}, worst {worst:.2e}",
-                100.0 * close
-            );
-            assert!(
-                close >= MIN_CLOSE,
-                "[{what}] {name}: {:.2}% of pixels within {CLOSE}, worst {worst}",
-                100.0 * close
-            );
-        }
-        // The comparison reaches the bounce: the floor and walls receive light.
-        let bounced = c
-            .cpu
-            .iter()
-            .filter(|r| r.indirect.max_element() > 1e-3)
-            .count();
-        assert!(
-            bounced > c.cpu.len() / 4,
-            "{bounced} pixels receive a bounce"
-        );
-        let _ = &c.run;
     }
+    if light {
+        println!(
+            "[{what}] the light's vote is blocked by a tenth or more on {:.1}% of the lit pixels",
+            100.0 * c.counts.sun_shadowed
+        );
+        assert!(
+            c.counts.sun_shadowed > 0.02,
+            "[{what}] the samples block the light on only {:.1}% of the lit pixels",
+            100.0 * c.counts.sun_shadowed
+        );
+    }
+    for (name, value) in [
+        ("accessibility", (|r: &Raw| r.direct.w) as fn(&Raw) -> f32),
+        ("direct red", |r: &Raw| r.direct.x),
+        ("direct green", |r: &Raw| r.direct.y),
+        ("indirect red", |r: &Raw| r.indirect.x),
+        ("indirect green", |r: &Raw| r.indirect.y),
+        ("indirect blue", |r: &Raw| r.indirect.z),
+    ] {
+        let (close, worst) = agreement(&c, value);
+        println!(
+            "[{what}] {name}: {:.2}% within {CLOSE:.0e}, worst {worst:.2e}",
+            100.0 * close
+        );
+        assert!(
+            close >= MIN_CLOSE,
+            "[{what}] {name}: {:.2}% of pixels within {CLOSE}, worst {worst}",
+            100.0 * close
+        );
+    }
+    // The comparison reaches the bounce: the floor and walls receive light.
+    let bounced = c
+        .cpu
+        .iter()
+        .filter(|r| r.indirect.max_element() > 1e-3)
+        .count();
+    assert!(
+        bounced > c.cpu.len() / 4,
+        "{bounced} pixels receive a bounce"
+    );
+    let _ = &c.run;
+}
+
+#[test]
+fn every_factor_of_the_direct_term_and_the_bounce_matches_its_cpu_recomputation() {
+    // The distance clamp below every sender distance that matters (0.05), so 1/d^2 is in
+    // play; N = 8 (the default) and 16.
+    direct_and_bounce_match_the_cpu("bounce = true\ndistance_clamp = 0.05", false, false);
+    direct_and_bounce_match_the_cpu(
+        "bounce = true\ndistance_clamp = 0.05\nsamples = 16\nsender_area_scale = 2.0",
+        false,
+        false,
+    );
+}
+
+#[test]
+fn the_bounce_where_its_distance_clamp_binds_matches_its_cpu_recomputation() {
+    // A clamp of 0.3 binds on a quarter of the senders (asserted): 1/max(d, 0.3)^2.
+    direct_and_bounce_match_the_cpu("bounce = true\ndistance_clamp = 0.3", true, false);
+}
+
+#[test]
+fn the_directional_light_shadowed_by_the_samples_matches_its_cpu_recomputation() {
+    // The scene's light on: its vote (which samples towards the light are blocked) shades a
+    // share of the lit pixels (asserted), so the sun's visibility is checked.
+    direct_and_bounce_match_the_cpu("bounce = true\ndistance_clamp = 0.05", false, true);
 }
 
 /// Band statistics of SSDO against the radiance reference over the Cornell box's floor

@@ -43,40 +43,20 @@ fn hardware_reference_matches_the_cpu_reference_within_four_standard_errors() {
     reference_matches_the_cpu(&gpu, true);
 }
 
+/// The scenes both comparisons trace: (name, mode, size).
+const SCENES: [(&str, ReferenceMode, (u32, u32)); 3] = [
+    ("cornell-box", ReferenceMode::Binary, (45, 31)),
+    ("columns", ReferenceMode::Obscurance, (40, 24)),
+    ("room", ReferenceMode::Binary, (33, 20)),
+];
+
 /// The GPU reference (compute BVH, or with `hardware` the acceleration structures) against
 /// the CPU reference on three scenes: within 4 standard errors on 99 % of pixels, and, the
 /// rays being the same rays, within one ray's worth on 99 % of pixels.
 fn reference_matches_the_cpu(gpu: &Arc<GpuContext>, hardware: bool) {
-    let tracer = GpuReferenceTracer::new(gpu.clone(), &shaders()).unwrap();
     let backend = if hardware { "hardware" } else { "compute" };
-    for (name, mode, size) in [
-        ("cornell-box", ReferenceMode::Binary, (45, 31)),
-        ("columns", ReferenceMode::Obscurance, (40, 24)),
-        ("room", ReferenceMode::Binary, (33, 20)),
-    ] {
-        let scene = procedural_scene(name).unwrap();
-        let camera = scene.camera_at(0.0);
-        let surfaces = CpuGBuffer::trace(&scene, &camera, size.0, size.1, 0.0)
-            .surfaces(ReferenceNormals::Geometric);
-        let params = ReferenceParams {
-            radius: aograph_scene::suggested_radius(&scene).radius,
-            rays_per_pixel: 64,
-            mode,
-            progress: ProgressMode::Never,
-        };
-        let cpu = trace_reference(
-            &TriangleBvh::new(&scene.world_triangles(0.0)),
-            &surfaces,
-            &params,
-        )
-        .unwrap();
-        let gpu_image = if hardware {
-            let accel = HardwareSceneAs::build(gpu, &scene, 0.0).unwrap();
-            tracer.trace(&accel, &surfaces, &params).unwrap()
-        } else {
-            let bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).unwrap();
-            tracer.trace(&bvh, &surfaces, &params).unwrap()
-        };
+    for (name, mode, size) in SCENES {
+        let (surfaces, params, cpu, gpu_image) = both_references(gpu, hardware, name, mode, size);
         let name = format!("{name} ({backend})");
         assert_eq!(gpu_image.accessibility.len(), cpu.accessibility.len());
         let bad = outliers(&gpu_image, &cpu);
@@ -100,34 +80,6 @@ fn reference_matches_the_cpu(gpu: &Arc<GpuContext>, hardware: bool) {
             differing * 100 <= pixels,
             "{name}: {differing} of {pixels} pixels differ by more than one ray"
         );
-        // The standard errors, pixel by pixel: where every ray answered alike (the estimates
-        // agree to rounding), both tracers summed the same samples, so sqrt(s^2 / N) must
-        // agree to rounding too. A tracer reporting sqrt(s^2), or dividing by N twice, is off
-        // by a factor of 8 (N = 64) on every partly occluded pixel.
-        let (mut compared, mut partly_occluded) = (0, 0);
-        for i in 0..pixels {
-            let (g, c) = (gpu_image.accessibility[i], cpu.accessibility[i]);
-            if (g - c).abs() > 1e-5 {
-                continue;
-            }
-            compared += 1;
-            let (sg, sc) = (gpu_image.std_error[i], cpu.std_error[i]);
-            partly_occluded += (sc > 0.0) as usize;
-            // f32 sums of 64 samples on the GPU against the CPU's: relative 1e-4, and 1e-6
-            // absolute where the error is 0.
-            assert!(
-                (sg - sc).abs() <= 1e-4 * sc + 1e-6,
-                "{name}: pixel {i} (accessibility {c}): standard error {sg} on the GPU, \
-                 {sc} on the CPU"
-            );
-        }
-        eprintln!(
-            "{name}: standard errors equal on {compared} pixels ({partly_occluded} partly occluded)"
-        );
-        assert!(
-            compared * 10 >= pixels * 9 && partly_occluded * 10 >= pixels,
-            "{name}: only {compared} pixels ({partly_occluded} partly occluded) of {pixels} to compare"
-        );
         // Sky is exactly 1 with error 0 on both.
         for i in 0..pixels {
             if !surfaces.valid[i] {
@@ -136,6 +88,98 @@ fn reference_matches_the_cpu(gpu: &Arc<GpuContext>, hardware: bool) {
                     (1.0, 0.0)
                 );
             }
+        }
+    }
+}
+
+/// The CPU reference and the GPU one (compute, or `hardware`) of scene `name`'s camera, on the
+/// same rays: (surfaces, parameters, CPU image, GPU image).
+fn both_references(
+    gpu: &Arc<GpuContext>,
+    hardware: bool,
+    name: &str,
+    mode: ReferenceMode,
+    size: (u32, u32),
+) -> (
+    aograph_scene::SurfaceBuffer,
+    ReferenceParams,
+    aograph_scene::ReferenceImage,
+    aograph_scene::ReferenceImage,
+) {
+    let tracer = GpuReferenceTracer::new(gpu.clone(), &shaders()).unwrap();
+    let scene = procedural_scene(name).unwrap();
+    let camera = scene.camera_at(0.0);
+    let surfaces = CpuGBuffer::trace(&scene, &camera, size.0, size.1, 0.0)
+        .surfaces(ReferenceNormals::Geometric);
+    let params = ReferenceParams {
+        radius: aograph_scene::suggested_radius(&scene).radius,
+        rays_per_pixel: 64,
+        mode,
+        progress: ProgressMode::Never,
+    };
+    let cpu = trace_reference(
+        &TriangleBvh::new(&scene.world_triangles(0.0)),
+        &surfaces,
+        &params,
+    )
+    .unwrap();
+    let gpu_image = if hardware {
+        let accel = HardwareSceneAs::build(gpu, &scene, 0.0).unwrap();
+        tracer.trace(&accel, &surfaces, &params).unwrap()
+    } else {
+        let bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).unwrap();
+        tracer.trace(&bvh, &surfaces, &params).unwrap()
+    };
+    (surfaces, params, cpu, gpu_image)
+}
+
+#[test]
+fn gpu_standard_errors_equal_the_cpu_ones_for_the_same_rays() {
+    for hardware in [false, true] {
+        let gpu = if hardware {
+            match hardware_batch() {
+                Some((gpu, _)) => gpu,
+                None => continue,
+            }
+        } else {
+            match aograph_graph::test_gpu() {
+                Some(gpu) => gpu,
+                None => return,
+            }
+        };
+        let backend = if hardware { "hardware" } else { "compute" };
+        for (name, mode, size) in SCENES {
+            let (_, _, cpu, gpu_image) = both_references(&gpu, hardware, name, mode, size);
+            let name = format!("{name} ({backend})");
+            let pixels = cpu.accessibility.len();
+            // The standard errors, pixel by pixel: where every ray answered alike (the estimates
+            // agree to rounding), both tracers summed the same samples, so sqrt(s^2 / N) must
+            // agree to rounding too. A tracer reporting sqrt(s^2), or dividing by N twice, is off
+            // by a factor of 8 (N = 64) on every partly occluded pixel.
+            let (mut compared, mut partly_occluded) = (0, 0);
+            for i in 0..pixels {
+                let (g, c) = (gpu_image.accessibility[i], cpu.accessibility[i]);
+                if (g - c).abs() > 1e-5 {
+                    continue;
+                }
+                compared += 1;
+                let (sg, sc) = (gpu_image.std_error[i], cpu.std_error[i]);
+                partly_occluded += (sc > 0.0) as usize;
+                // f32 sums of 64 samples on the GPU against the CPU's: relative 1e-4, and 1e-6
+                // absolute where the error is 0.
+                assert!(
+                    (sg - sc).abs() <= 1e-4 * sc + 1e-6,
+                    "{name}: pixel {i} (accessibility {c}): standard error {sg} on the GPU, \
+                     {sc} on the CPU"
+                );
+            }
+            eprintln!(
+                "{name}: standard errors equal on {compared} pixels ({partly_occluded} partly occluded)"
+            );
+            assert!(
+                compared * 10 >= pixels * 9 && partly_occluded * 10 >= pixels,
+                "{name}: only {compared} pixels ({partly_occluded} partly occluded) of {pixels} to compare"
+            );
         }
     }
 }
