@@ -372,3 +372,55 @@ fn refused_export_names_the_mesh_and_leaves_no_file() {
     let leftovers = std::fs::read_dir(&dir).unwrap().count();
     assert_eq!(leftovers, 0, "temporary files left behind");
 }
+
+#[test]
+fn malformed_animation_channels_are_skipped_with_a_warning_naming_each() {
+    // Channels the gltf crate's readers would unwrap into a panic, which its validation lets
+    // through: a node past the array, an extension's path (KHR_animation_pointer's `pointer`),
+    // an unknown path. Each is skipped, named; the one valid channel still moves its node. (A
+    // sampler past the animation's is refused by the validation, naming the field.)
+    let dir = temp_dir("bad-channels");
+    let (mut json, mut bin) = exported("cornell-box", &dir);
+    let nodes = json["nodes"].as_array().unwrap().len();
+    let times = push_float_accessor(&mut json, &mut bin, &[0.0, 2.0], "SCALAR", 1);
+    let moves = push_float_accessor(
+        &mut json,
+        &mut bin,
+        &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0],
+        "VEC3",
+        3,
+    );
+    json["buffers"][0]["byteLength"] = Value::from(bin.len());
+    json["animations"] = serde_json::json!([{
+        "channels": [
+            {"sampler": 0, "target": {"node": nodes, "path": "translation"}},
+            {"sampler": 0, "target": {"node": 5, "path": "pointer"}},
+            {"sampler": 0, "target": {"node": 5, "path": "foo"}},
+            {"sampler": 0, "target": {"node": 5, "path": "translation"}}
+        ],
+        "samplers": [{"input": times, "output": moves, "interpolation": "LINEAR"}]
+    }]);
+    let path = write_gltf_with_external_bin(&dir, "bad-channels.gltf", json, "bad.bin", Some(&bin));
+    let import = aograph_scene::import_gltf(&path).expect("the file loads");
+    let expected = [
+        format!(
+            "animation channel 0: targets node {nodes}, but the file has {nodes} nodes: ignored"
+        ),
+        "animation channel 1: its target path is none of glTF 2.0's".to_string(),
+        "animation channel 2: its target path is none of glTF 2.0's".to_string(),
+    ];
+    for e in &expected {
+        assert!(
+            import.warnings.iter().any(|w| w.starts_with(e.as_str())),
+            "no warning `{e}` in {:?}",
+            import.warnings
+        );
+    }
+    let moving: Vec<_> = import
+        .scene
+        .instances
+        .iter()
+        .filter(|i| i.is_moving())
+        .collect();
+    assert_eq!(moving.len(), 1, "channel 3 still animates node 5");
+}

@@ -6,7 +6,10 @@
 //! are kept; CUBICSPLINE keeps its key values and drops the tangents, i.e. it is played back
 //! linearly (a warning says so); morph-target weight channels are ignored with a warning.
 //! Invariant: every returned track passed [`Track::new`]'s checks (matching lengths, sorted
-//! finite times); channels that fail them are dropped with a warning, never a panic.
+//! finite times); channels that fail them are dropped with a warning, never a panic. The gltf
+//! crate's channel readers unwrap their indices and enums, so a channel is read only after
+//! [`unreadable_channel`] found its node, path, sampler, interpolation and accessors valid in
+//! the JSON; a channel that fails is skipped with a warning naming it.
 
 use super::accessor_reader::{KEY_ROTATIONS, KEY_TIMES, KEY_VECTORS, read_floats};
 use crate::animation::{Interpolation, Track, TrsKeyframes};
@@ -44,6 +47,50 @@ fn key_values<T: Copy>(values: Vec<T>, cubic: bool) -> Vec<T> {
     }
 }
 
+/// Why channel `channel` of the first animation cannot be read safely, if it cannot: an index
+/// past its array (node, sampler, accessor) or a target path or interpolation glTF 2.0 does not
+/// define (KHR_animation_pointer's `pointer`, say), which the gltf crate's readers unwrap.
+fn unreadable_channel(root: &gltf::json::Root, channel: usize) -> Option<String> {
+    use gltf::json::validation::Checked;
+    let animation = root.animations.first()?;
+    let c = animation.channels.get(channel)?;
+    let node = c.target.node.value();
+    if node >= root.nodes.len() {
+        return Some(format!(
+            "targets node {node}, but the file has {} nodes",
+            root.nodes.len()
+        ));
+    }
+    if !matches!(c.target.path, Checked::Valid(_)) {
+        return Some(
+            "its target path is none of glTF 2.0's (translation, rotation, scale, weights): \
+             an extension's, such as KHR_animation_pointer's `pointer`, or unknown"
+                .into(),
+        );
+    }
+    let sampler = c.sampler.value();
+    let Some(s) = animation.samplers.get(sampler) else {
+        return Some(format!(
+            "uses sampler {sampler}, but the animation has {} samplers",
+            animation.samplers.len()
+        ));
+    };
+    if !matches!(s.interpolation, Checked::Valid(_)) {
+        return Some(format!(
+            "sampler {sampler}'s interpolation is none of LINEAR, STEP, CUBICSPLINE"
+        ));
+    }
+    for (what, accessor) in [("input", s.input.value()), ("output", s.output.value())] {
+        if accessor >= root.accessors.len() {
+            return Some(format!(
+                "sampler {sampler}'s {what} is accessor {accessor}, but the file has {} accessors",
+                root.accessors.len()
+            ));
+        }
+    }
+    None
+}
+
 /// Keyframes of every animated node of the first animation, by node index, plus warnings.
 pub(super) fn read_node_animations(
     document: &gltf::Document,
@@ -64,6 +111,13 @@ pub(super) fn read_node_animations(
     }
     let mut cubic_warned = false;
     for channel in animation.channels() {
+        if let Some(problem) = unreadable_channel(document.as_json(), channel.index()) {
+            warnings.push(format!(
+                "animation channel {}: {problem}: ignored",
+                channel.index()
+            ));
+            continue;
+        }
         let node = channel.target().node();
         let label = format!(
             "animation channel {} (node {})",
