@@ -41,6 +41,7 @@ mod error;
 mod inputs;
 mod output;
 mod projection;
+mod settings;
 mod shader_mount;
 
 pub use adapters::{
