@@ -26,6 +26,24 @@ fn user_config(registry: &TechniqueRegistry) -> AoConfig {
     AoConfig::from_table(&table, registry).unwrap()
 }
 
+/// The embedding choosing among `registry`'s techniques, with the user's `mount` if any.
+fn user_embedding(
+    gpu: &aograph_graph::GpuContext,
+    config: &AoConfig,
+    registry: TechniqueRegistry,
+    mount: Option<aograph_graph::ShaderMount>,
+) -> AmbientOcclusion {
+    AmbientOcclusion::with_registry(
+        &gpu.adapter,
+        &gpu.device,
+        &gpu.queue,
+        config,
+        registry,
+        mount,
+    )
+    .unwrap()
+}
+
 #[test]
 fn a_user_technique_gives_the_renderers_ao_through_the_embedding() {
     let Some(gpu) = test_gpu() else { return };
@@ -40,15 +58,7 @@ fn a_user_technique_gives_the_renderers_ao_through_the_embedding() {
     assert!(dark > own.ao.len() / 50, "{dark} pixels darkened");
 
     let (depth, proj) = reversed_z_depth(&gpu, &own);
-    let mut ao = AmbientOcclusion::with_registry(
-        &gpu.adapter,
-        &gpu.device,
-        &gpu.queue,
-        &config,
-        registry,
-        [unsharp_depth::shader_mount()],
-    )
-    .unwrap();
+    let mut ao = user_embedding(&gpu, &config, registry, Some(unsharp_depth::shader_mount()));
     let inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, own.view);
     let got = embed_frame(&gpu, &mut ao, &inputs).unwrap();
     // Same depth to f32 rounding through the application's reversed-Z buffer: SAME_INPUTS.
@@ -63,15 +73,7 @@ fn a_user_technique_without_its_mount_is_an_error_naming_its_shader() {
     let Some(gpu) = test_gpu() else { return };
     let registry = user_registry();
     let config = user_config(&registry);
-    let mut ao = AmbientOcclusion::with_registry(
-        &gpu.adapter,
-        &gpu.device,
-        &gpu.queue,
-        &config,
-        registry,
-        [],
-    )
-    .unwrap();
+    let mut ao = user_embedding(&gpu, &config, registry, None);
     let (depth, proj, view, _) = plane_frame(&gpu);
     let inputs = AoInputs::new(DepthInput::Hardware(&depth), proj, view);
     let e = embed_frame(&gpu, &mut ao, &inputs)
