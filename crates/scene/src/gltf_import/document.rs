@@ -156,7 +156,7 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<ParsedDocument, SceneEr
         }
     });
     if !errors.is_empty() {
-        return Err(super::parse_error(path, gltf::Error::Validation(errors)));
+        return Err(invalid(super::validation_report::refusal(&json, &errors)));
     }
     if !unused_broken.is_empty() {
         warnings.push(format!(

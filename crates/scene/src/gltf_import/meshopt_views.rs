@@ -136,9 +136,10 @@ fn parse_view(view: usize, name: &'static str, ext: &Value) -> Result<Compressed
         Some("ATTRIBUTES") => Mode::Attributes,
         Some("TRIANGLES") => Mode::Triangles,
         Some("INDICES") => Mode::Indices,
-        other => {
+        _ => {
+            let written = ext.get("mode").map_or("missing".into(), Value::to_string);
             return Err(format!(
-                "buffer view {view}: {name} mode {other:?} is not ATTRIBUTES, TRIANGLES or INDICES"
+                "buffer view {view}: {name} mode {written} is not ATTRIBUTES, TRIANGLES or INDICES"
             ));
         }
     };
@@ -209,8 +210,16 @@ fn check_sizes(c: &CompressedView) -> Result<(), String> {
 
 /// Decodes one view's stream: `count * stride` bytes.
 fn decode(c: &CompressedView, buffers: &[gltf::buffer::Data]) -> Result<Vec<u8>, String> {
-    let source = buffers
-        .get(c.source_buffer)
+    let Some(buffer) = buffers.get(c.source_buffer) else {
+        return Err(format!(
+            "buffer view {}: {} names buffer {}, but the file has {} buffer(s)",
+            c.view,
+            c.extension,
+            c.source_buffer,
+            buffers.len()
+        ));
+    };
+    let source = Some(buffer)
         .and_then(|b| {
             let end = c.source_offset.checked_add(c.source_length)?;
             b.0.get(c.source_offset..end)

@@ -31,6 +31,7 @@ mod meshopt_views;
 mod node_animation;
 mod primitive_reader;
 mod skin_reader;
+mod validation_report;
 
 use crate::animation::{AnimatedTransform, Animation, TrsKeyframes};
 use crate::camera::{Camera, CameraMotion, Projection};
@@ -272,42 +273,6 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         warnings,
         info,
     })
-}
-
-/// Maps a gltf parse error to the matching [`SceneError`].
-fn parse_error(path: &Path, error: gltf::Error) -> SceneError {
-    let path = path.to_owned();
-    match error {
-        gltf::Error::Deserialize(e) => SceneError::MalformedJson {
-            path,
-            message: e.to_string(),
-        },
-        gltf::Error::Validation(errors) => {
-            let shown: Vec<String> = errors
-                .iter()
-                .take(5)
-                .map(|(json_path, e)| format!("{json_path}: {e}"))
-                .collect();
-            let more = errors.len().saturating_sub(shown.len());
-            let suffix = if more > 0 {
-                format!(" (and {more} more)")
-            } else {
-                String::new()
-            };
-            SceneError::InvalidGltf {
-                path,
-                message: format!("{}{suffix}", shown.join("; ")),
-            }
-        }
-        gltf::Error::Binary(e) => SceneError::InvalidGltf {
-            path,
-            message: format!("bad .glb container: {e}"),
-        },
-        other => SceneError::InvalidGltf {
-            path,
-            message: other.to_string(),
-        },
-    }
 }
 
 /// Nodes that are nobody's child (used when the file has no scene).
