@@ -18,6 +18,7 @@ use super::{ExtensionHandling, ExtensionUse};
 use crate::error::SceneError;
 use gltf::json::validation::{Error as ValidationError, Validate};
 use serde_json::Value;
+use std::collections::BTreeSet;
 use std::path::Path;
 
 /// Extensions aograph reads: the geometry depends on them.
@@ -61,6 +62,10 @@ pub(super) struct ParsedDocument {
     pub blob: Option<Vec<u8>>,
     /// The raw JSON, for extension data gltf-json does not keep (EXT_meshopt_compression).
     pub json: Value,
+    /// The file is a .glb (a buffer without `uri` may be its binary chunk).
+    pub glb: bool,
+    /// Buffers something aograph reads points into (see [`read_buffers`]).
+    pub read_buffers: BTreeSet<usize>,
     pub warnings: Vec<String>,
 }
 
@@ -77,7 +82,16 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<ParsedDocument, SceneEr
     let gltf_1 = || SceneError::Gltf1 {
         path: path.to_owned(),
     };
-    let (json_bytes, blob, mut warnings) = if bytes.starts_with(b"glTF") {
+    // RFC 1952's magic number: a .glb.gz or .gltf.gz renamed, or served with its encoding kept.
+    if bytes.starts_with(&[0x1f, 0x8b]) {
+        return Err(invalid(
+            "the file is gzip-compressed, not glTF: decompress it first (gunzip -c file > \
+             scene.glb, or 7-Zip), then load the result"
+                .into(),
+        ));
+    }
+    let glb = bytes.starts_with(b"glTF");
+    let (json_bytes, blob, mut warnings) = if glb {
         match split_glb(bytes) {
             Ok(parts) => (parts.json, parts.bin.map(<[u8]>::to_vec), parts.warnings),
             Err(GlbProblem::Version1) => return Err(gltf_1()),
@@ -142,7 +156,7 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<ParsedDocument, SceneEr
     check_attribute_indices(&root).map_err(invalid)?;
     let used = used_accessors(&root, &json);
     let mut errors = Vec::new();
-    let mut unused_broken = std::collections::BTreeSet::new();
+    let mut unused_broken = BTreeSet::new();
     root.validate(&root, gltf::json::Path::new, &mut |path, error| {
         let path = path();
         if allowed_by_specification(path.as_str(), &error) {
@@ -164,9 +178,11 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<ParsedDocument, SceneEr
         ));
     }
     Ok(ParsedDocument {
+        read_buffers: read_buffers(&root, &json, &used),
         document: gltf::Document::from_json_without_validation(root),
         blob,
         json,
+        glb,
         warnings,
     })
 }
@@ -179,8 +195,8 @@ fn accessor_of(path: &str) -> Option<usize> {
 
 /// Every accessor something reads: attributes, indices and morph targets of every primitive,
 /// inverse bind matrices, animation samplers, and EXT_mesh_gpu_instancing attributes.
-fn used_accessors(root: &gltf::json::Root, json: &Value) -> std::collections::BTreeSet<usize> {
-    let mut used = std::collections::BTreeSet::new();
+fn used_accessors(root: &gltf::json::Root, json: &Value) -> BTreeSet<usize> {
+    let mut used = BTreeSet::new();
     for primitive in root.meshes.iter().flat_map(|m| &m.primitives) {
         used.extend(primitive.attributes.values().map(|i| i.value()));
         used.extend(primitive.indices.map(|i| i.value()));
@@ -211,6 +227,32 @@ fn used_accessors(root: &gltf::json::Root, json: &Value) -> std::collections::BT
         }
     }
     used
+}
+
+/// Buffers something aograph reads points into: those of the buffer views (sparse parts
+/// included) of the `used` accessors, and the compressed streams of EXT / KHR_meshopt_compression.
+fn read_buffers(root: &gltf::json::Root, json: &Value, used: &BTreeSet<usize>) -> BTreeSet<usize> {
+    let buffer_of = |view: gltf::json::Index<gltf::json::buffer::View>| {
+        root.buffer_views
+            .get(view.value())
+            .map(|v| v.buffer.value())
+    };
+    let mut read = BTreeSet::new();
+    for accessor in used.iter().filter_map(|&i| root.accessors.get(i)) {
+        read.extend(accessor.buffer_view.and_then(buffer_of));
+        if let Some(sparse) = &accessor.sparse {
+            read.extend(buffer_of(sparse.indices.buffer_view));
+            read.extend(buffer_of(sparse.values.buffer_view));
+        }
+    }
+    let views = json.get("bufferViews").and_then(Value::as_array);
+    for view in views.into_iter().flatten() {
+        for name in super::meshopt_views::EXTENSIONS {
+            let source = view.pointer(&format!("/extensions/{name}/buffer"));
+            read.extend(source.and_then(Value::as_u64).map(|b| b as usize));
+        }
+    }
+    read
 }
 
 /// The extension names a file lists in `extensionsUsed`.
@@ -277,7 +319,12 @@ fn allowed_by_specification(path: &str, error: &ValidationError) -> bool {
     let texture_source = matches!(error, ValidationError::Missing)
         && path.starts_with("textures[")
         && path.ends_with("].source");
-    zeros_accessor || required_extension || texture_source
+    // §3.7.2.1: "When positions are not specified, client implementations SHOULD skip
+    // primitive's rendering" (`primitive_reader` skips it with a warning).
+    let no_position = matches!(error, ValidationError::Missing)
+        && path.starts_with("meshes[")
+        && path.ends_with(".attributes[\"POSITION\"]");
+    zeros_accessor || required_extension || texture_source || no_position
 }
 
 /// `Err` naming the first required extension aograph neither reads nor may ignore.

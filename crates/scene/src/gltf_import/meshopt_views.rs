@@ -55,16 +55,32 @@ struct CompressedView {
     filter: Filter,
 }
 
-/// Indices of the buffers the extension marks `fallback` (they hold no data of their own).
+/// Indices of the fallback buffers: those the extension marks `fallback` (they hold no data of
+/// their own), and those without a `uri` that only compressed views use (a writer that left
+/// the flag out made the same buffer: its bytes are never read, only decoded into).
 pub(super) fn fallback_buffers(json: &Value) -> Vec<usize> {
+    let views = array(json, "bufferViews");
+    let sources: Vec<usize> = (views.iter())
+        .filter_map(|v| extension(v).and_then(|(_, e)| usize_field(e, "buffer")))
+        .collect();
+    let only_compressed_views = |buffer: usize| {
+        let mut on_it = views
+            .iter()
+            .filter(|v| usize_field(v, "buffer") == Some(buffer))
+            .peekable();
+        on_it.peek().is_some() && on_it.all(|v| extension(v).is_some())
+    };
     array(json, "buffers")
         .iter()
         .enumerate()
-        .filter(|(_, b)| {
-            extension(b)
+        .filter(|(i, b)| {
+            let flagged = extension(b)
                 .and_then(|(_, e)| e.get("fallback"))
                 .and_then(Value::as_bool)
-                == Some(true)
+                == Some(true);
+            let unflagged =
+                b.get("uri").is_none() && !sources.contains(i) && only_compressed_views(*i);
+            flagged || unflagged
         })
         .map(|(i, _)| i)
         .collect()

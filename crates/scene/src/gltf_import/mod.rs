@@ -135,12 +135,14 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         document: parsed.document,
         blob: parsed.blob,
     };
-    let mut buffers = buffers::load_buffers(
-        path,
-        &gltf.document,
-        gltf.blob.clone(),
-        &meshopt_views::fallback_buffers(&parsed.json),
-    )?;
+    let fallbacks = meshopt_views::fallback_buffers(&parsed.json);
+    let uses = buffers::BufferUse {
+        fallbacks: &fallbacks,
+        read: &parsed.read_buffers,
+        glb: parsed.glb,
+    };
+    let (mut buffers, buffer_warnings) =
+        buffers::load_buffers(path, &gltf.document, gltf.blob.clone(), &uses)?;
     meshopt_views::decode_views(&parsed.json, &mut buffers).map_err(|message| {
         SceneError::InvalidGltf {
             path: path.to_owned(),
@@ -148,6 +150,7 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         }
     })?;
     let mut warnings = parsed.warnings;
+    warnings.extend(buffer_warnings);
     let missing = buffers::missing_images(path, &gltf.document);
     if !missing.is_empty() {
         warnings.push(format!(

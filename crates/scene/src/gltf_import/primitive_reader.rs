@@ -105,6 +105,15 @@ pub(super) fn read_primitive(
         });
     }
     let indices: Vec<u32> = match primitive.indices() {
+        // §3.6.2.3: without a buffer view (or a sparse part) every index is zero, so every
+        // triangle is the first vertex three times.
+        Some(accessor) if accessor.view().is_none() && accessor.sparse().is_none() => {
+            return Ok(PrimitiveOutcome::Skipped(format!(
+                "{label}: index accessor {} has no bufferView (all zeros): no triangles in this \
+                 primitive, skipped",
+                accessor.index()
+            )));
+        }
         Some(accessor) => read_uints(&accessor, buffers, &INDICES).map_err(invalid)?,
         None => (0..positions.len() as u32).collect(),
     };
