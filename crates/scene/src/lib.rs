@@ -87,10 +87,10 @@ pub use procedural::{PROCEDURAL_SCENE_NAMES, procedural_scene};
 pub use projected_radius::{ProjectedRadius, projected_radius};
 pub use radius::{SuggestedRadius, suggested_radius};
 pub use reference::{
-    BounceSurfaces, BruteForceTracer, CacheKey, CpuGBuffer, RadianceImage, ReferenceCache,
-    ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams, ReferenceTracer,
-    SurfaceBuffer, TriangleBvh, primary_hits, trace_radiance, trace_reference,
-    trace_reference_rows,
+    BounceSurfaces, BruteForceTracer, CacheKey, CpuGBuffer, RadianceImage, RayQueries,
+    ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams,
+    ReferenceTracer, SceneRays, SurfaceBuffer, TriangleBvh, primary_hits, trace_radiance,
+    trace_reference, trace_reference_rows,
 };
 pub use scene_builder::SceneBuilder;
 pub use shader_mount::{shader_library, shader_mount};

@@ -9,7 +9,7 @@
 use crate::bounds::Aabb;
 use crate::model::{Instance, Mesh, Scene};
 use crate::normal_transform::{normal_matrix, transform_normal};
-use glam::{Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3};
 
 /// Where a placed mesh's vertices go at one time: one matrix for all, or a skin's palette
 /// blended per vertex by the mesh's [`crate::skin::JointWeights`].
@@ -58,11 +58,10 @@ impl Pose {
                 let Some(n) = mesh.normals.get(i) else {
                     return Vec3::ZERO;
                 };
-                let world = match rigid {
-                    Some(nm) => (nm * *n).try_normalize().filter(|v| v.is_finite()),
-                    None => transform_normal(self.vertex_matrix(mesh, i), *n),
-                };
-                world.unwrap_or(Vec3::ZERO)
+                match rigid {
+                    Some(nm) => rigid_normal(nm, *n),
+                    None => transform_normal(self.vertex_matrix(mesh, i), *n).unwrap_or(Vec3::ZERO),
+                }
             })
             .collect()
     }
@@ -82,6 +81,15 @@ impl Pose {
             }
         }
     }
+}
+
+/// Object-space normal `n` in world space under normal matrix `normal_matrix` (unit; zero when
+/// the transform flattens it): the rule every rigid instance's normals follow.
+pub(crate) fn rigid_normal(normal_matrix: Mat3, n: Vec3) -> Vec3 {
+    (normal_matrix * n)
+        .try_normalize()
+        .filter(|v| v.is_finite())
+        .unwrap_or(Vec3::ZERO)
 }
 
 impl Instance {

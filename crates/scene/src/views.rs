@@ -183,9 +183,9 @@ fn interior_eyes(scene: &Scene, tracer: &Tracer) -> Vec<Eye> {
             let column = Vec3::new(lo.x + fx * (hi.x - lo.x), mid_y, lo.z + fz * (hi.z - lo.z));
             let (Some(down), Some(up)) = (
                 tracer
-                    .bvh
+                    .rays
                     .closest_hit(column, Vec3::NEG_Y, 0.0, tracer.reach),
-                tracer.bvh.closest_hit(column, Vec3::Y, 0.0, tracer.reach),
+                tracer.rays.closest_hit(column, Vec3::Y, 0.0, tracer.reach),
             ) else {
                 continue;
             };

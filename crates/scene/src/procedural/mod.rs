@@ -10,6 +10,7 @@ mod arch;
 mod columns;
 mod cornell_box;
 mod dynamic;
+mod instanced_field;
 mod node_transforms;
 mod room;
 mod stairs;
@@ -20,6 +21,7 @@ pub use analytic::{
     sphere_on_plane_accessibility, wall_accessibility,
 };
 pub use arch::arched_panel;
+pub use instanced_field::instanced_field;
 pub use room::{ROOM_HALF_X, ROOM_HALF_Z, ROOM_HEIGHT};
 
 use crate::error::SceneError;

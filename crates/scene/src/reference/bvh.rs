@@ -17,6 +17,7 @@
 //! reaching obvhs (whose debug assertions would panic).
 
 use glam::{Vec3, Vec3A};
+use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
@@ -26,6 +27,17 @@ use obvhs::triangle::Triangle;
 
 /// Largest coordinate magnitude kept: beyond it, box areas in the BVH builder overflow f32.
 const MAX_COORDINATE: f32 = 1e15;
+
+/// Relative padding of a BVH's primitive boxes: far above f32 rounding (6e-8) of a
+/// transformed point, far below any gap a BVH separates.
+const BOX_PADDING: f32 = 1e-5;
+
+/// The box from `min` to `max` grown by [`BOX_PADDING`] of its size and of its distance from
+/// the origin, so no box is flat and rounding cannot move a primitive outside it.
+pub(super) fn padded_box(min: Vec3, max: Vec3) -> Aabb {
+    let pad = BOX_PADDING * ((max - min).max_element() + min.abs().max(max.abs()).max_element());
+    Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
+}
 
 /// True for triangles a ray can hit: finite, within [`MAX_COORDINATE`], non-zero area.
 /// (Zero-area triangles are invisible to rays anyway, and their flat boxes break obvhs 0.3's
@@ -45,6 +57,33 @@ pub struct RayHitRecord {
     pub triangle: usize,
 }
 
+/// The two ray queries the reference, the CPU g-buffer and the view probes ask, whatever
+/// structure answers them: [`TriangleBvh`] over a triangle list, or
+/// [`super::SceneRays`] over a posed scene's instances. Distances are along the (unit)
+/// direction, in scene units; a hit's `triangle` is its index in the triangle list the
+/// structure stands for.
+pub trait RayQueries: Sync {
+    /// The nearest hit with distance in `t_min..=t_max`.
+    fn closest_hit(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<RayHitRecord>;
+    /// True when any triangle is hit with distance in `t_min..=t_max`.
+    fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> bool;
+}
+
+impl RayQueries for TriangleBvh {
+    fn closest_hit(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Option<RayHitRecord> {
+        TriangleBvh::closest_hit(self, o, d, t_min, t_max)
+    }
+    fn any_hit(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> bool {
+        TriangleBvh::any_hit(self, o, d, t_min, t_max)
+    }
+}
+
 /// A BVH over triangles, answering closest-hit and any-hit queries.
 pub struct TriangleBvh {
     bvh: Option<CwBvh>,
@@ -57,13 +96,22 @@ pub struct TriangleBvh {
 impl TriangleBvh {
     /// Builds the BVH over `triangles` (world space).
     pub fn new(triangles: &[[Vec3; 3]]) -> TriangleBvh {
+        Self::with_indices(triangles, 0..triangles.len() as u32)
+    }
+
+    /// Builds the BVH over `triangles`, a hit on `triangles[k]` reporting the `k`-th of
+    /// `indices` (a triangle's number in a longer list the caller keeps).
+    pub(super) fn with_indices(
+        triangles: &[[Vec3; 3]],
+        indices: impl IntoIterator<Item = u32>,
+    ) -> TriangleBvh {
         let (kept, kept_index): (Vec<Triangle>, Vec<u32>) = triangles
             .iter()
-            .enumerate()
-            .filter(|(_, t)| is_traceable(t))
-            .map(|(i, t)| {
+            .zip(indices)
+            .filter(|(t, _)| is_traceable(t))
+            .map(|(t, i)| {
                 let [v0, v1, v2] = t.map(Vec3A::from);
-                (Triangle { v0, v1, v2 }, i as u32)
+                (Triangle { v0, v1, v2 }, i)
             })
             .unzip();
         if kept.is_empty() {
@@ -73,9 +121,18 @@ impl TriangleBvh {
                 original_index: Vec::new(),
             };
         }
+        // Padded boxes: obvhs 0.3's wide nodes lose hits in subtrees of zero extent along
+        // an axis (coplanar axis-aligned triangles; tests/bvh_matches_brute_force.rs).
+        let boxes: Vec<Aabb> = kept
+            .iter()
+            .map(|t| {
+                let [a, b, c] = [t.v0, t.v1, t.v2].map(Vec3::from);
+                padded_box(a.min(b).min(c), a.max(b).max(c))
+            })
+            .collect();
         let mut bvh2 = PlocBuilder::with_capacity(kept.len()).build(
             PlocSearchDistance::Medium,
-            &kept,
+            &boxes,
             (0..kept.len() as u32).collect(),
             SortPrecision::U64,
             3,
@@ -137,25 +194,38 @@ impl TriangleBvh {
         t_min: f32,
         t_max: f32,
     ) -> Option<RayHitRecord> {
-        let bvh = self.bvh.as_ref()?;
         let (ray, lead) = Self::ray(origin, direction, t_min, t_max)?;
-        let mut hit = RayHit::none();
-        let found = bvh.ray_traverse(ray, &mut hit, |ray, id| self.triangles[id].intersect(ray));
-        (found && hit.t.is_finite()).then(|| RayHitRecord {
-            distance: hit.t - lead,
-            triangle: self.original_index[hit.primitive_id as usize] as usize,
+        let (t, triangle) = self.closest_on(ray)?;
+        Some(RayHitRecord {
+            distance: t - lead,
+            triangle,
         })
     }
 
     /// True when any triangle is hit with distance in `t_min..=t_max`.
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> bool {
-        let (Some(bvh), Some((ray, _))) = (
-            self.bvh.as_ref(),
-            Self::ray(origin, direction, t_min, t_max),
-        ) else {
-            return false;
-        };
-        !bvh.ray_traverse_miss(ray, |ray, id| self.triangles[id].intersect(ray))
+        Self::ray(origin, direction, t_min, t_max).is_some_and(|(ray, _)| self.any_on(ray))
+    }
+
+    /// The nearest hit of an already prepared ray ([`TriangleBvh::ray`]): its `t` on that ray
+    /// and the triangle's caller index.
+    pub(super) fn closest_on(&self, ray: Ray) -> Option<(f32, usize)> {
+        let bvh = self.bvh.as_ref()?;
+        let mut hit = RayHit::none();
+        let found = bvh.ray_traverse(ray, &mut hit, |ray, id| self.triangles[id].intersect(ray));
+        (found && hit.t.is_finite()).then(|| {
+            (
+                hit.t,
+                self.original_index[hit.primitive_id as usize] as usize,
+            )
+        })
+    }
+
+    /// Whether a prepared ray hits anything within its interval.
+    pub(super) fn any_on(&self, ray: Ray) -> bool {
+        self.bvh.as_ref().is_some_and(|bvh| {
+            !bvh.ray_traverse_miss(ray, |ray, id| self.triangles[id].intersect(ray))
+        })
     }
 }
 

@@ -16,7 +16,8 @@
 //!
 //! Misses are invalid (sky) with zero point and normals and triangle `u32::MAX`.
 
-use super::bvh::TriangleBvh;
+use super::bvh::{RayQueries, TriangleBvh};
+use super::scene_rays::SceneRays;
 use super::{ReferenceNormals, SurfaceBuffer};
 use crate::camera::Camera;
 use crate::model::Scene;
@@ -58,18 +59,13 @@ struct PixelHit {
 impl CpuGBuffer {
     /// Traces the CPU g-buffer of `scene` at time `t` seen by `camera` at `width` x `height`.
     pub fn trace(scene: &Scene, camera: &Camera, width: u32, height: u32, t: f32) -> CpuGBuffer {
-        let triangles = scene.world_triangles(t);
-        let normals = scene.world_vertex_normals(t);
-        let bvh = TriangleBvh::new(&triangles);
-        Self::trace_with_bvh(
-            &bvh,
-            &triangles,
-            &normals,
-            camera,
-            width,
-            height,
-            Vec2::ZERO,
-        )
+        Self::trace_rays(&SceneRays::new(scene, t), camera, width, height)
+    }
+
+    /// Like [`CpuGBuffer::trace`] with the scene already posed in a [`SceneRays`].
+    pub fn trace_rays(rays: &SceneRays, camera: &Camera, width: u32, height: u32) -> CpuGBuffer {
+        let lookup = |i: usize| Some((rays.triangle(i)?, rays.vertex_normals(i)));
+        Self::trace_hits(rays, &lookup, camera, width, height, Vec2::ZERO)
     }
 
     /// Like [`CpuGBuffer::trace`] with a prebuilt BVH over `triangles` and their per-vertex
@@ -85,6 +81,23 @@ impl CpuGBuffer {
         height: u32,
         offset: Vec2,
     ) -> CpuGBuffer {
+        let lookup = |i: usize| {
+            let normals = vertex_normals.get(i).copied().unwrap_or_default();
+            Some((*triangles.get(i)?, normals))
+        };
+        Self::trace_hits(bvh, &lookup, camera, width, height, offset)
+    }
+
+    /// The g-buffer of the rays `rays` answers, `lookup` giving a hit triangle's world corners
+    /// and vertex normals.
+    fn trace_hits(
+        rays: &(impl RayQueries + ?Sized),
+        lookup: &(impl Fn(usize) -> Option<([Vec3; 3], [Vec3; 3])> + Sync),
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        offset: Vec2,
+    ) -> CpuGBuffer {
         let aspect = width as f32 / height.max(1) as f32;
         let w = width as usize;
         let pixels: Vec<Option<PixelHit>> = (0..w * height as usize)
@@ -95,13 +108,9 @@ impl CpuGBuffer {
                     1.0 - ((i / w) as f32 + 0.5 + offset.y) / height as f32 * 2.0,
                 );
                 let ray = camera.primary_ray(ndc, aspect);
-                let hit = bvh.closest_hit(ray.origin, ray.direction, ray.t_min, ray.t_max)?;
-                let triangle = *triangles.get(hit.triangle)?;
+                let hit = rays.closest_hit(ray.origin, ray.direction, ray.t_min, ray.t_max)?;
+                let (triangle, normals) = lookup(hit.triangle)?;
                 let point = ray.origin + ray.direction * hit.distance;
-                let normals = vertex_normals
-                    .get(hit.triangle)
-                    .copied()
-                    .unwrap_or_default();
                 let (geometric, shading) =
                     surface_normals(triangle, normals, point, ray.direction)?;
                 Some(PixelHit {

@@ -18,11 +18,12 @@ mod output;
 mod progress;
 mod radiance;
 pub(crate) mod sampling;
+mod scene_rays;
 mod tracer;
 
 pub use brute_force::BruteForceTracer;
 pub(crate) use bvh::is_traceable;
-pub use bvh::{RayHitRecord, TriangleBvh};
+pub use bvh::{RayHitRecord, RayQueries, TriangleBvh};
 pub use cache::{CacheKey, ReferenceCache};
 pub use ceilings::{
     Ceilings, DEPTH_BREAK_RATIO, GUARD_BAND, SECOND_LAYER_SEPARATION, SEEN_SUPERSAMPLING,
@@ -36,6 +37,7 @@ pub use output::{
 pub use progress::ProgressMode;
 pub use radiance::{BounceSurfaces, RadianceImage, trace_radiance};
 pub use sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
+pub use scene_rays::SceneRays;
 pub(crate) use tracer::check_inputs;
 pub use tracer::{offset_epsilon, trace_reference, trace_reference_rows};
 

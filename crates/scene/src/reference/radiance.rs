@@ -16,7 +16,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::bvh::TriangleBvh;
+use super::bvh::RayQueries;
 use super::sampling::{cosine_hemisphere, pixel_scramble, sobol_2d, tangent_frame};
 use super::tracer::offset_epsilon;
 use super::{ReferenceParams, SurfaceBuffer};
@@ -53,7 +53,7 @@ pub struct BounceSurfaces<'a> {
 /// Errors: a non-positive or non-finite radius, zero rays, or buffers whose lengths differ
 /// from width * height (or, for the bounce surfaces, from each other).
 pub fn trace_radiance(
-    bvh: &TriangleBvh,
+    bvh: &(impl RayQueries + ?Sized),
     bounce: &BounceSurfaces<'_>,
     surfaces: &SurfaceBuffer,
     albedo: &[Vec3],
@@ -113,7 +113,7 @@ pub fn trace_radiance(
 /// Mean escaped sky radiance and mean bounce radiance over a pixel's rays.
 #[allow(clippy::too_many_arguments)]
 fn trace_pixel(
-    bvh: &TriangleBvh,
+    bvh: &(impl RayQueries + ?Sized),
     bounce: &BounceSurfaces<'_>,
     table: &SkyIrradiance,
     sky: &SkyEnvironment,
@@ -153,6 +153,7 @@ fn trace_pixel(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::TriangleBvh;
 
     fn params(radius: f32, rays: u32) -> ReferenceParams {
         ReferenceParams {

@@ -4,7 +4,7 @@
 //! offset along its normal by eps = [`offset_epsilon`] against self-hits, over t in [0, R].
 //! Points on a concave crease (a floor point at the foot of a wall, which rasterised and CPU
 //! primary hits produce along creases) keep the wall at a tiny positive distance on the rays
-//! towards it; [`TriangleBvh`] finds such hits however close (see its module docs). The
+//! towards it; [`TriangleBvh`](super::TriangleBvh) finds such hits however close (see its module docs). The
 //! estimate is the mean per-ray occlusion o_i (binary: 1 for a hit; obscurance: rho(d)) and
 //! A = 1 - mean. The reported standard error is sqrt(s^2 / N) with s^2 the unbiased sample
 //! variance of o_i: the i.i.d. formula, which over-estimates the true error of the stratified
@@ -13,7 +13,7 @@
 //! zero), are exactly 1 with error 0; output is finite, in [0, 1], and independent of thread
 //! scheduling (each pixel's rays depend only on its index).
 
-use super::bvh::TriangleBvh;
+use super::bvh::RayQueries;
 use super::output::ReferenceImage;
 use super::progress::row_progress;
 use super::sampling::{cosine_hemisphere, pixel_scramble, sobol_2d, tangent_frame};
@@ -70,7 +70,7 @@ pub(crate) fn check_inputs(
 
 /// Accessibility and standard error of one pixel.
 fn trace_pixel(
-    bvh: &TriangleBvh,
+    bvh: &(impl RayQueries + ?Sized),
     pixel: u32,
     point: Vec3,
     normal: Vec3,
@@ -122,7 +122,7 @@ fn trace_pixel(
 /// Errors: a non-positive or non-finite radius, zero rays, or buffers whose lengths differ
 /// from width * height.
 pub fn trace_reference(
-    bvh: &TriangleBvh,
+    bvh: &(impl RayQueries + ?Sized),
     surfaces: &SurfaceBuffer,
     params: &ReferenceParams,
 ) -> Result<ReferenceImage, SceneError> {
@@ -133,7 +133,7 @@ pub fn trace_reference(
 /// the ones [`trace_reference`] gives it (they depend on its index in the whole image), so
 /// bands traced one by one make exactly the whole image. The result is `rows.len()` rows tall.
 pub fn trace_reference_rows(
-    bvh: &TriangleBvh,
+    bvh: &(impl RayQueries + ?Sized),
     surfaces: &SurfaceBuffer,
     params: &ReferenceParams,
     rows: std::ops::Range<u32>,
@@ -178,6 +178,7 @@ pub fn trace_reference_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::TriangleBvh;
 
     #[test]
     fn bands_of_rows_traced_one_by_one_make_exactly_the_whole_image() {

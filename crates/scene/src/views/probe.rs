@@ -9,7 +9,7 @@ use glam::Vec3;
 use super::ENCLOSED_FRACTION;
 use crate::camera::Camera;
 use crate::model::Scene;
-use crate::reference::TriangleBvh;
+use crate::reference::SceneRays;
 
 /// 64 directions spread evenly over the sphere (a Fibonacci lattice).
 pub(super) fn sphere_directions(n: usize) -> Vec<Vec3> {
@@ -32,30 +32,15 @@ pub(super) struct Surroundings {
     pub(super) clearance: f32,
 }
 
-/// Geometry the view heuristics trace against: triangles, their outward normals, a BVH.
+/// Geometry the view heuristics trace against: the scene at t = 0 as a two-level BVH
+/// ([`SceneRays`]: shared meshes are not flattened), and how far a probe ray reaches.
 pub(super) struct Tracer {
-    pub(super) bvh: TriangleBvh,
-    pub(super) triangles: Vec<[Vec3; 3]>,
-    pub(super) normals: Vec<[Vec3; 3]>,
-    pub(super) outward: Vec<Vec3>,
+    pub(super) rays: SceneRays,
     pub(super) reach: f32,
 }
 
 impl Tracer {
     pub(super) fn new(scene: &Scene) -> Tracer {
-        let triangles = scene.world_triangles(0.0);
-        let normals = scene.world_vertex_normals(0.0);
-        // Outward: the mean vertex normal (carried by the inverse transpose, so mirrored
-        // nodes keep it outward); the winding's normal where the mesh has none.
-        let outward = triangles
-            .iter()
-            .zip(&normals)
-            .map(|([a, b, c], n)| {
-                (n[0] + n[1] + n[2])
-                    .try_normalize()
-                    .unwrap_or_else(|| (*b - *a).cross(*c - *a).normalize_or_zero())
-            })
-            .collect();
         let whole = scene.bounds();
         let reach = if whole.is_empty() {
             1.0
@@ -63,26 +48,28 @@ impl Tracer {
             (2.0 * whole.diagonal()).min(1e7)
         };
         Tracer {
-            bvh: TriangleBvh::new(&triangles),
-            triangles,
-            normals,
-            outward,
+            rays: SceneRays::new(scene, 0.0),
             reach,
         }
+    }
+
+    /// Triangle `triangle`'s outward normal: the mean vertex normal (carried by the inverse
+    /// transpose, so mirrored nodes keep it outward); the winding's normal where the mesh has
+    /// none.
+    fn outward(&self, triangle: usize) -> Option<Vec3> {
+        let [a, b, c] = self.rays.triangle(triangle)?;
+        let n = self.rays.vertex_normals(triangle);
+        Some(
+            (n[0] + n[1] + n[2])
+                .try_normalize()
+                .unwrap_or_else(|| (b - a).cross(c - a).normalize_or_zero()),
+        )
     }
 
     /// The mean reference accessibility a coarse trace (32 x 24 pixels, 16 rays each) of
     /// `camera`'s view shows at `radius`: 1 when it sees no geometry.
     pub(super) fn mean_accessibility(&self, camera: &Camera, radius: f32) -> f32 {
-        let g = crate::reference::CpuGBuffer::trace_with_bvh(
-            &self.bvh,
-            &self.triangles,
-            &self.normals,
-            camera,
-            32,
-            24,
-            glam::Vec2::ZERO,
-        );
+        let g = crate::reference::CpuGBuffer::trace_rays(&self.rays, camera, 32, 24);
         let surfaces = g.surfaces(crate::reference::ReferenceNormals::Geometric);
         let params = crate::reference::ReferenceParams {
             radius,
@@ -90,7 +77,7 @@ impl Tracer {
             progress: crate::reference::ProgressMode::Never,
             ..Default::default()
         };
-        let Ok(image) = crate::reference::trace_reference(&self.bvh, &surfaces, &params) else {
+        let Ok(image) = crate::reference::trace_reference(&self.rays, &surfaces, &params) else {
             return 1.0;
         };
         let (sum, n) = image
@@ -105,14 +92,10 @@ impl Tracer {
     pub(super) fn surroundings(&self, p: Vec3, directions: &[Vec3]) -> Surroundings {
         let (mut hits, mut back, mut clearance) = (0usize, 0usize, f32::INFINITY);
         for &d in directions {
-            if let Some(hit) = self.bvh.closest_hit(p, d, 0.0, self.reach) {
+            if let Some(hit) = self.rays.closest_hit(p, d, 0.0, self.reach) {
                 hits += 1;
                 clearance = clearance.min(hit.distance);
-                if self
-                    .outward
-                    .get(hit.triangle)
-                    .is_some_and(|n| n.dot(d) > 0.0)
-                {
+                if self.outward(hit.triangle).is_some_and(|n| n.dot(d) > 0.0) {
                     back += 1;
                 }
             }
@@ -130,7 +113,7 @@ impl Tracer {
 
     /// The first hit distance from `p` along `d`, or the tracer's reach.
     pub(super) fn free_distance(&self, p: Vec3, d: Vec3) -> f32 {
-        self.bvh
+        self.rays
             .closest_hit(p, d, 0.0, self.reach)
             .map_or(self.reach, |h| h.distance)
     }
