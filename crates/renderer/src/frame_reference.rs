@@ -196,8 +196,9 @@ pub fn trace_surfaces(
         }
     }
     Ok(cache.get_or_trace(key, || {
-        let bvh = TriangleBvh::new(&tris);
-        aograph_scene::trace_reference(&bvh, surfaces, &params)
+        // Two levels: shared meshes are not flattened; the same image as a flat BVH over `tris`.
+        let rays = aograph_scene::SceneRays::new(scene, time);
+        aograph_scene::trace_reference(&rays, surfaces, &params)
     })?)
 }
 
