@@ -5,7 +5,8 @@
 //! block, record the g-buffer and the technique, submit), and the recordings alone (encode
 //! against `Executor::encode` of the renderer's plan). Only the calls are timed; the GPU is
 //! waited for outside the timed region, so the GPU's own time does not enter. Measured on
-//! lavapipe (README, "In your own renderer"): encode 21-25 µs, the renderer's recording 38 µs.
+//! lavapipe (docs/guide/embedding.md, "In your own renderer"): encode 21-25 µs, the renderer's
+//! recording 38 µs.
 //!
 //! gtao (the default preset) on `columns` at 320x180, reversed-Z Depth32Float depth and the
 //! g-buffer's own normals handed over as an application would.

@@ -5,9 +5,9 @@
 //! Criterion times a whole frame of each (render and wait). After it, the technique's own
 //! passes are timed over 24 interleaved frames (GPU timestamps, or CPU wall time per pass on a
 //! device without them) and the bound is asserted: the bounce may cost at most 2.5x the direct
-//! term alone. Measured on lavapipe: 1.54x and 1.58x in two runs (README). Speed bounds belong in a benchmark, not in
-//! a timed test; `--test` mode (one iteration, as CI runs benches) skips the assertion, whose
-//! medians would be noise.
+//! term alone. Measured on lavapipe: 1.54x and 1.58x in two runs (docs/results/performance.md).
+//! Speed bounds belong in a benchmark, not in a timed test; `--test` mode (one iteration, as CI
+//! runs benches) skips the assertion, whose medians would be noise.
 
 use std::sync::Arc;
 

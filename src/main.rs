@@ -61,11 +61,12 @@ enum Command {
         every: bool,
     },
     /// Open the interactive viewer: swap techniques live, tune parameters, fly the camera,
-    /// compare with the ray-traced reference (needs an X11 display; see README).
+    /// compare with the ray-traced reference (needs an X11 display; see docs/guide/viewer.md).
     View {
         #[command(flatten)]
         common: Common,
-        /// Run the actions of this script, then exit (see README: tests and screenshots).
+        /// Run the actions of this script, then exit (see docs/guide/viewer.md: tests and
+        /// screenshots).
         #[arg(long)]
         script: Option<PathBuf>,
     },

@@ -442,11 +442,19 @@ fn bench_runs_each_view_as_a_row_with_its_radius_and_reach() {
     for needle in [
         "## Scenes and views",
         "| room | interior-1 |",
-        "## Over every scene and view",
+        "## Summary: over every scene and view",
+        "## Best per scene and view",
+        "| room / interior-1 |",
         "auto (each scene's content diagonal / 9",
     ] {
         assert!(report.contains(needle), "{needle} missing:\n{report}");
     }
+    // The summary opens the report, before the full table.
+    let at = |needle: &str| report.find(needle).unwrap();
+    assert!(
+        at("## Summary") < at("## Best per scene")
+            && at("## Best per scene") < at("## Speed and accuracy")
+    );
     for r in &json.runs {
         let image = r.image.as_deref().expect("every run has its image");
         assert!(

@@ -6,7 +6,8 @@
 //!    pixel centres is 4 / sum(1/z_i) of their depths: the selection keeps one of them and moves
 //!    it along its tangent plane to the centre, which must give that value.
 //! 2. Every technique at half renders the output size, valid, and tracks its own full-size
-//!    image (mean absolute difference bounded; the figures are in README).
+//!    image (mean absolute difference bounded; the figures are in
+//!    docs/results/half-resolution.md).
 
 mod common;
 

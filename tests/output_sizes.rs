@@ -237,7 +237,8 @@ fn every_technique_is_its_own_mirror_image_at_odd_and_non_square_sizes() {
 /// The same at `resolution = "half"`, asserted where the width halves evenly. The half grid's
 /// 2x2 blocks start at the top-left pixel, so at an odd width (or height) its last block
 /// covers one column and lies half a pixel further out than the first: the half image is not
-/// the mirror of itself there, and the odd sizes are printed, not asserted (measured in README).
+/// the mirror of itself there, and the odd sizes are printed, not asserted (measured in
+/// docs/results/half-resolution.md).
 /// Upsampled noise is correlated over two pixels, which the 3x3 residual does not see, so a
 /// technique with the shared temporal option is measured on its per-frame images
 /// (`temporal = true`, `per_frame_accessibility`) of two frames, whose noise differs, and rtao
@@ -317,8 +318,8 @@ fn walls(ao: &[f32], depth: &[f32], w: usize, h: usize) -> (f32, f32) {
 }
 
 /// Every technique's walls on `columns`' default view at `w` x `h`, within 0.02 of each other,
-/// but those named in `measured`, each held to the difference README gives for it (plus the
-/// 0.002 a wall's mean moves between devices' rounding).
+/// but those named in `measured`, each held to the difference docs/results/output-sizes.md
+/// gives for it (plus the 0.002 a wall's mean moves between devices' rounding).
 fn walls_agree_at(w: usize, h: usize, measured: &[(&str, f32)]) {
     let registry = TechniqueRegistry::with_builtins();
     let mut apart = Vec::new();
@@ -363,10 +364,10 @@ fn every_technique_reads_columns_walls_alike_at_1920x1080() {
 
 #[test]
 fn columns_walls_at_1280x720_within_0_02_but_mssao_and_pyramid_hbao() {
-    // Before issue 34 mssao read them 0.884 and 0.737. The two named are held to what README
-    // ("Left and right") measures and explains: their estimators read the two walls'
-    // surroundings differently (0.020 and 0.033 averaged over the grid's phase), so a larger
-    // difference is a regression, a smaller one a fix to write down.
+    // Before issue 34 mssao read them 0.884 and 0.737. The two named are held to what
+    // docs/results/output-sizes.md ("Left and right") measures and explains: their estimators
+    // read the two walls' surroundings differently (0.020 and 0.033 averaged over the grid's
+    // phase), so a larger difference is a regression, a smaller one a fix to write down.
     walls_agree_at(1280, 720, &[("mssao", 0.0233), ("pyramid-hbao", 0.0397)]);
 }
 

@@ -1,13 +1,13 @@
-//! The orderings the papers report and README repeats, checked against our reference on the
-//! same frames, on two scenes each, at R = 1 (the radius the README comparisons use) and
-//! 128x128:
+//! The orderings the papers report and docs/results/paper-comparisons.md repeats, checked
+//! against our reference on the same frames, on two scenes each, at R = 1 (the radius the
+//! comparisons in docs/results/paper-comparisons.md use) and 128x128:
 //! - Pyramid HBAO paper, Table 1: Pyramid HBAO at every L >= 3 is at least as accurate (MAE)
 //!   as HBAO 32 x 40, and at L = 4 as HBAO 64 x 80, on `columns` and `sphere-on-plane`;
 //! - MSSAO paper, Table 6: MSSAO beats HBAO 16 x 8 and SSAO with 32 samples in SSIM on the
 //!   room-like scenes, `columns` and `corner`. The paper's third ordering, HBAO 16 x 8 above
 //!   SSAO-32, does not hold here: SSAO-32's SSIM is higher on both scenes at 128x128 (columns
-//!   0.617 against 0.600, corner 0.892 against 0.815; README says so), and the test pins the
-//!   measured order so a change either way is noticed.
+//!   0.617 against 0.600, corner 0.892 against 0.815; docs/results/paper-comparisons.md says
+//!   so), and the test pins the measured order so a change either way is noticed.
 
 mod common;
 
@@ -100,7 +100,8 @@ fn mssao_beats_hbao_16x8_and_ssao_32_in_ssim_on_room_like_scenes() {
         // (module docs). Pinned, so a change either way is seen.
         if hbao > ssao {
             failures.push(format!(
-                "{scene}: hbao 16x8 {hbao:.4} now beats ssao-32 {ssao:.4}: update README"
+                "{scene}: hbao 16x8 {hbao:.4} now beats ssao-32 {ssao:.4}: update \
+                 docs/results/paper-comparisons.md"
             ));
         }
     }

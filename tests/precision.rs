@@ -1,10 +1,10 @@
 //! Intermediate precision (issue 9): every registered technique on `columns` at 128x96 with
 //! `intermediate_format = "r32float"` and `"r16float"`, each against the ray-traced reference
-//! (binary, R = 1) and against each other. Prints the table for README and checks that the
-//! default `IntermediateFormat` is the cheapest format losing under 0.002 MAE for every
-//! technique ("loss" = the MAE between the two precisions' outputs, which bounds the change of
-//! the MAE against the reference). Also checks on the device that r16float storage works:
-//! the half-precision frames must render without a wgpu error and be valid.
+//! (binary, R = 1) and against each other. Prints the table for docs/results/reference.md and
+//! checks that the default `IntermediateFormat` is the cheapest format losing under 0.002 MAE
+//! for every technique ("loss" = the MAE between the two precisions' outputs, which bounds the
+//! change of the MAE against the reference). Also checks on the device that r16float storage
+//! works: the half-precision frames must render without a wgpu error and be valid.
 
 mod common;
 

@@ -8,7 +8,7 @@
 @group(0) @binding(1) var depth: texture_2d<f32>;
 @group(0) @binding(2) var normals: texture_2d<f32>;
 // r32float; the first pass of a blur at a technique's half intermediate precision uses the
-// `?IntermediateStorage=f16` variant (crates/graph/src/shader.rs, "Storage-precision variants").
+// `?IntermediateStorage=f16` variant (crates/graph/src/shader/variant.rs, "Storage-precision variants").
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(3) var dst: IntermediateStorage;
 @group(0) @binding(4) var<uniform> params: BlurParams;

@@ -6,7 +6,7 @@
 @group(0) @binding(0) var src: texture_2d<f32>;
 @group(0) @binding(1) var depth: texture_2d<f32>;
 // r32float; the first pass of a blur at a technique's half intermediate precision uses the
-// `?IntermediateStorage=f16` variant (crates/graph/src/shader.rs, "Storage-precision variants").
+// `?IntermediateStorage=f16` variant (crates/graph/src/shader/variant.rs, "Storage-precision variants").
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(2) var dst: IntermediateStorage;
 @group(0) @binding(3) var<uniform> params: BlurParams;

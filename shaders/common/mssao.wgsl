@@ -158,11 +158,11 @@ fn mssao_tap(depth: texture_2d<f32>, g: MssaoGrid, size: vec2<i32>, c: vec2<i32>
 // The paper's kernel takes ring k (the taps with max(|o.x|, |o.y|) = k) exactly when R >= k, so
 // its tap set, and with it the mean sum / N, jumps where R crosses 1, 3 or 5: a surface whose
 // R_l = r_0 / 2^l sits near 3 or 5 texels switches from 4 to 16 or from 16 to 36 taps, and a
-// camera step of 0.1 units changed the mean of a wall by 0.15 (README, "MSSAO at every output
-// size"). Here ring k enters with weight w_k(R) = clamp((R - k) / 2 + 1, 0, 1), rising over
-// (k - 2, k]; ring 1 over (0, 1]. At odd R (R = r_max = 5 included) every ring the paper takes
-// has weight 1 and no other ring is present, so the kernel is the paper's there; between, the
-// sum and N move continuously with R. The weights count in N as fractions.
+// camera step of 0.1 units changed the mean of a wall by 0.15 (docs/results/output-sizes.md,
+// "At every output size"). Here ring k enters with weight w_k(R) = clamp((R - k) / 2 + 1, 0, 1),
+// rising over (k - 2, k]; ring 1 over (0, 1]. At odd R (R = r_max = 5 included) every ring the
+// paper takes has weight 1 and no other ring is present, so the kernel is the paper's there;
+// between, the sum and N move continuously with R. The weights count in N as fractions.
 fn mssao_ring_weight(k: i32, radius: f32) -> f32 {
     if (k == 1) {
         return clamp(radius, 0.0, 1.0);

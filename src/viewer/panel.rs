@@ -308,8 +308,9 @@ fn display_section(ui: &mut egui::Ui, s: &mut Session) {
                         .text("full colour at |error|"),
                 );
                 ui.small("red: the technique is too bright; blue: too dark");
-                // What no screen-space technique can reach here (README: "two ceilings in
-                // every bench row"): the reference re-traced with its own rays against less.
+                // What no screen-space technique can reach here (docs/results/error-sources.md:
+                // "two ceilings in every bench row"): the reference re-traced with its own rays
+                // against less.
                 match &s.reference_ceilings {
                     Some(c) => {
                         ui.small(format!(

@@ -46,7 +46,7 @@ pub(crate) fn every_screen_space_technique_on_five_scenes_gives_the_g_buffers_ao
 
 /// What normals rebuilt from depth cost each technique against the ray-traced reference (the
 /// MAE over geometry with aograph's own normals, with the application's given normals, and
-/// with none), on the five scenes. A measurement for README, not a check.
+/// with none), on the five scenes. A measurement for docs/guide/embedding.md, not a check.
 #[test]
 #[ignore = "measurement: cargo test --release --test embedding mae_lost -- --ignored --nocapture"]
 pub(crate) fn mae_lost_with_normals_rebuilt_from_depth() {

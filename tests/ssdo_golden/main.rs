@@ -320,9 +320,9 @@ fn an_open_corners_radiance_ceiling_is_its_reference() {
 }
 
 /// SSDO's magnitudes on the Cornell box's floor against the radiance reference and its
-/// ceiling (b), per band (README, "SSDO in magnitude"). A report, not a bound: SSDO's E2 is
-/// biased by construction (module docs of tests/ssdo_golden.rs), and its factors are held
-/// exactly by the CPU recomputation above.
+/// ceiling (b), per band (docs/results/ssdo-radiance.md, "In magnitude"). A report, not a
+/// bound: SSDO's E2 is biased by construction (module docs of tests/ssdo_golden/main.rs), and
+/// its factors are held exactly by the CPU recomputation above.
 #[test]
 #[ignore = "a report: cargo test --release --test ssdo_golden -- --ignored --nocapture"]
 fn direct_and_bounce_magnitudes_against_the_radiance_reference() {

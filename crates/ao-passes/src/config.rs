@@ -13,8 +13,9 @@ use crate::registry::TechniqueRegistry;
 use crate::technique::ConfiguredTechnique;
 
 /// Default technique when the config names none: MSSAO is on the speed/accuracy Pareto front of
-/// every scene in README's bench (fastest non-trivial technique, lower MAE than ssao, hbao and
-/// pyramid-hbao on `columns` and `corner`) and needs no history.
+/// every scene in the bench of docs/results/speed-and-accuracy.md (fastest non-trivial
+/// technique, lower MAE than ssao, hbao and pyramid-hbao on `columns` and `corner`) and needs
+/// no history.
 pub const DEFAULT_TECHNIQUE: &str = "mssao";
 
 /// Format of intermediate AO textures (raw AO before a blur, a blur's first axis, MSSAO's

@@ -49,7 +49,7 @@ fn check_intermediate_format(gpu: &GpuContext, ao: &AoConfig) -> RenderResult<()
 /// pass (each pass submitted and waited for) on a software device or one without timestamps.
 /// Lavapipe's timestamps do not bracket a compute pass's own work: a pass alone in its chain
 /// reads ~0.03 ms for a kernel that takes 62 ms, and a dependent pass's interval takes in part
-/// of its producer's time (README, "Performance"). `AOGRAPH_TIMING=gpu|cpu|off` overrides.
+/// of its producer's time (docs/results/roofline.md). `AOGRAPH_TIMING=gpu|cpu|off` overrides.
 /// A real-time front end sets its own mode (the viewer: timestamps, never waiting).
 pub fn timing_mode(gpu: &GpuContext) -> RenderResult<aograph_graph::TimingMode> {
     use aograph_graph::TimingMode;

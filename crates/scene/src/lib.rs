@@ -1,5 +1,9 @@
-//! aograph scenes: the scene model, glTF 2.0 import and export, procedural test scenes, and the
-//! CPU ray-traced ambient-occlusion reference every screen-space technique is measured against.
+//! aograph scenes and their geometry: the scene model, glTF 2.0 import (every index checked,
+//! malformed files refused by name, never a panic) and export, procedural test scenes, the view
+//! heuristics (`views`), the g-buffer node, the ray-tracing structures (the CPU's two-level
+//! [`SceneRays`] and flat [`TriangleBvh`], the GPU's BVH and hardware acceleration structures in
+//! [`ray_tracing`]), and the ray-traced ambient-occlusion reference every screen-space technique
+//! is measured against.
 //!
 //! Conventions shared with the rest of aograph (see DESIGN.md, "AO conventions"): world units
 //! are scene units, right-handed with +Y up, counter-clockwise front faces; accessibility is in

@@ -14,7 +14,8 @@
 //! closest depth, but never more than the image's diagonal (no tap lands farther away). It is
 //! `closest_px`, not `nearest_px`: on `columns` at 1280x720 the 2% of pixels nearer than the
 //! 2nd percentile are a whole wall, and a pyramid sized to the percentile left that wall 0.02
-//! to 0.15 brighter than its mirror image (README, "MSSAO at every output size").
+//! to 0.15 brighter than its mirror image (docs/results/output-sizes.md, "At every output
+//! size").
 
 use crate::camera::{Camera, Projection};
 use crate::model::Scene;

@@ -10,8 +10,9 @@
 //! only of backdrops (`plane`, `wall`, `corner`: unbounded planes, which have no size) keeps
 //! R = 1 unit. For real scenes it gives a 60 x 20 x 40 room R = 8.3 and a 3 x 2 x 2 building
 //! 0.46. A smaller fraction (1/30) left the reference at a mean accessibility of 0.97 to 1 from
-//! most views of the shared glTF scenes: a measurement of almost nothing (README, "Your own
-//! scenes"). Invariant: the radius is finite and > 0 for every scene.
+//! most views of the shared glTF scenes: a measurement of almost nothing
+//! (docs/guide/scenes-and-views.md, "Your own scenes"). Invariant: the radius is finite and > 0
+//! for every scene.
 
 use crate::model::Scene;
 

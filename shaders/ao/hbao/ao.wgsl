@@ -37,7 +37,7 @@ struct HbaoParams {
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
 // Raw accessibility: an intermediate when blurred (the `?IntermediateStorage=f16` variant of this
-// file writes it at half precision; crates/graph/src/shader.rs, "Storage-precision variants"),
+// file writes it at half precision; crates/graph/src/shader/variant.rs, "Storage-precision variants"),
 // else the output.
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(4) var ao: IntermediateStorage;

@@ -13,7 +13,7 @@
 @group(0) @binding(3) var normals: texture_2d<u32>;
 @group(0) @binding(4) var src: texture_2d<f32>;
 // The tuple is an intermediate: rgba32float here, rgba16float in the `?IntermediateStorage=f16`
-// variant (crates/graph/src/shader.rs, "Storage-precision variants").
+// variant (crates/graph/src/shader/variant.rs, "Storage-precision variants").
 alias IntermediateStorage = texture_storage_2d<rgba32float, write>;
 @group(0) @binding(5) var dst: IntermediateStorage;
 

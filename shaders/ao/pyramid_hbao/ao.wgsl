@@ -34,7 +34,7 @@ struct Params {
 @group(0) @binding(6) var depth4: texture_2d<f32>;
 @group(0) @binding(7) var normals: texture_2d<f32>;
 // Raw AO: an intermediate when blurred (the `?IntermediateStorage=f16` variant of this file
-// writes it at half precision; crates/graph/src/shader.rs, "Storage-precision variants"), else
+// writes it at half precision; crates/graph/src/shader/variant.rs, "Storage-precision variants"), else
 // the output.
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var ao: IntermediateStorage;

@@ -31,7 +31,7 @@ struct SsaoParams {
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
 // The raw accessibility is an intermediate: the `?IntermediateStorage=f16` variant of this file
-// writes it at half precision (crates/graph/src/shader.rs, "Storage-precision variants").
+// writes it at half precision (crates/graph/src/shader/variant.rs, "Storage-precision variants").
 alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(4) var ao: IntermediateStorage;
 

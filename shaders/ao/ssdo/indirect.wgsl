@@ -15,7 +15,7 @@
 @group(0) @binding(4) var albedo: texture_2d<f32>;
 @group(0) @binding(5) var radiance: texture_2d<f32>;
 // Intermediates: rgba32float here, rgba16float in the `?IntermediateStorage=f16` variant
-// (crates/graph/src/shader.rs, "Storage-precision variants").
+// (crates/graph/src/shader/variant.rs, "Storage-precision variants").
 alias IntermediateStorage = texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var indirect: IntermediateStorage;
 

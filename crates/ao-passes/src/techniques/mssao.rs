@@ -82,12 +82,12 @@
 //!    distance, above).
 //!
 //! With all three, the walls agree within 0.014 at 640x360 and 1920x1080 and 0.023 at
-//! 1280x720 (README, "At every output size"); what remains moves with the camera (+-0.04 over
-//! 0.4 units of sideways motion, gtao +-0.02): the arcade in front of the aisle walls lands on
-//! different coarse taps, screen-space parallax no rule of the pyramid removes. Against the
-//! obscurance reference, whose falloff is Eq. 7's, the MAE on `columns` falls (0.0721 to
-//! 0.0649 at 1280x720); against the binary one it rises (0.120 to 0.139): the jumps' dark
-//! patches had made the obscurance estimate look closer to binary AO.
+//! 1280x720 (docs/results/output-sizes.md, "At every output size"); what remains moves with the
+//! camera (+-0.04 over 0.4 units of sideways motion, gtao +-0.02): the arcade in front of the
+//! aisle walls lands on different coarse taps, screen-space parallax no rule of the pyramid
+//! removes. Against the obscurance reference, whose falloff is Eq. 7's, the MAE on `columns`
+//! falls (0.0721 to 0.0649 at 1280x720); against the binary one it rises (0.120 to 0.139): the
+//! jumps' dark patches had made the obscurance estimate look closer to binary AO.
 //!
 //! `levels = "auto"` sizes the pyramid to R at the view's closest geometry (at most the image's
 //! diagonal, `ProjectedRadius::reach_needed_px`), up to 12 levels: r_max 2^11 = 10240 px, so R
@@ -101,7 +101,7 @@
 //! level 0 (the g-buffer's positions lie on their pixel's centre ray); at coarser levels the
 //! paper's mean position of two sub-pixels moves to the texel's centre (at most half a texel).
 //! Peak texture bytes of the technique's plan at 1024x1024 fall from 45.1 MiB (1.9x ssao) to
-//! the figures in README's performance section, at the MAE measured there.
+//! the figures in docs/results/memory.md, at the MAE measured there.
 //!
 //! # Temporal filter (optional, off by default)
 //! `temporal = true` appends the shared temporal building block (`blocks::temporal`, also

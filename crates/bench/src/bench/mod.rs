@@ -9,12 +9,11 @@
 //! - [`sweep`]: parameter grids per technique (TOML) and their expansion;
 //! - [`run`]: one run (timing, metrics), the per-scene reference;
 //! - [`report`]: results.csv, results.json, report.md ([`results_csv`]: the CSV's columns); [`plot`]: pareto.svg/png
-//!   ([`bitmap_text`] gives the PNG its labels); [`images`]: AO | error | reference PNGs;
+//!   (a grid: the summary, then each scene and view); [`images`]: AO | error | reference PNGs;
 //! - [`roofline_table`]: report.md's roofline section;
 //! - [`size_table`]: report.md's table by output size (`--sizes`);
 //! - [`stats`]: median/quartiles and the log-log fit; [`csv`]: the quoting every CSV file uses.
 
-pub mod bitmap_text;
 pub mod csv;
 pub mod images;
 pub mod motion;

@@ -1,20 +1,27 @@
-//! The speed/accuracy plot: one panel per scene, the technique's median time (log scale)
-//! against its MAE, one colour per technique, and the Pareto front (the runs no other run
-//! beats on both time and MAE) drawn as a staircase: for a time budget on the x axis, the
-//! front's height is the best MAE that budget buys. Written as SVG (text drawn by the viewer)
-//! and PNG (through [`super::bitmap_text::TextBitmap`]).
+//! The speed/accuracy plot: a grid of panels, first a summary over every scene and view (each
+//! technique and parameter set at its mean time against its mean MAE), then one panel per
+//! scene and view (its median time, log scale, against its MAE), one colour per technique,
+//! and in each the Pareto front (the runs no other run beats on both time and MAE) drawn as a
+//! staircase: for a time budget on the x axis, the front's height is the best MAE that budget
+//! buys. Panels are titled with short scene names ([`short_scene`]), at most four
+//! a row, so a bench over many scenes reads at 100 % zoom. Written as SVG (text drawn by the
+//! viewer) and PNG (text drawn by plotters from the Ubuntu Light font that
+//! `epaint_default_fonts` embeds, Ubuntu Font Licence 1.0).
 
 use std::path::Path;
+use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::bitmap_text::TextBitmap;
 use super::run::RunRecord;
 use crate::error::{AppError, AppResult};
 use crate::images::{write_atomic, write_rgb_png};
 
 const PANEL: (u32, u32) = (800, 480);
+/// Panels a row: four 800-pixel panels make a 3,200-pixel row, readable at 100 % zoom on a
+/// large screen and scrollable on a small one.
+const GRID_COLUMNS: usize = 4;
 /// Width of the legend strip at the right of each panel.
 const LEGEND_WIDTH: u32 = 160;
 /// Tableau 10: distinguishable, colour-blind aware.
@@ -33,21 +40,53 @@ const PALETTE: [RGBColor; 10] = [
 /// Times are clamped to this (ms) so a 0 ms timestamp still sits on a log axis.
 const MIN_MS: f64 = 1e-4;
 
-/// Font sizes: the SVG's text is drawn by the viewer; the PNG's 8x8 bitmap glyphs need
-/// larger nominal sizes to fit plotters' layout estimate (see `bitmap_text`).
+/// Font sizes in pixels, the same for the SVG and the PNG.
 #[derive(Clone, Copy)]
 struct Fonts {
     caption: u32,
     label: u32,
 }
-const SVG_FONTS: Fonts = Fonts {
-    caption: 20,
-    label: 14,
+const FONTS: Fonts = Fonts {
+    caption: 22,
+    label: 15,
 };
-const PNG_FONTS: Fonts = Fonts {
-    caption: 36,
-    label: 18,
-};
+
+/// Registers the PNG's font with plotters (once per process): Ubuntu Light under the family
+/// name the charts ask for.
+fn register_font() -> Result<(), String> {
+    static REGISTER: Once = Once::new();
+    let mut result = Ok(());
+    REGISTER.call_once(|| {
+        result = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            epaint_default_fonts::UBUNTU_LIGHT,
+        )
+        .map_err(|_| "the embedded Ubuntu Light font does not parse".to_string());
+    });
+    result
+}
+
+/// A scene's name as a title shows it: a file's stem (`Sponza` for
+/// `/any/where/Sponza/glTF/Sponza.gltf`), a procedural scene's name as it is, and the view
+/// after a slash (`Sponza / outside`).
+pub fn short_scene(scene_view: &str) -> String {
+    let (scene, view) = match scene_view.rsplit_once(" / ") {
+        Some((scene, view)) => (scene, Some(view)),
+        None => (scene_view, None),
+    };
+    let path = Path::new(scene);
+    let stem = match path.extension() {
+        Some(_) => path
+            .file_stem()
+            .map_or(scene.into(), |s| s.to_string_lossy()),
+        None => scene.into(),
+    };
+    match view {
+        Some(view) => format!("{stem} / {view}"),
+        None => stem.into_owned(),
+    }
+}
 
 /// The decade at or below `v` (and above, with `up`).
 fn decade(v: f64, up: bool) -> f64 {
@@ -90,6 +129,38 @@ pub fn pareto_front(points: &[Point]) -> Vec<usize> {
     front
 }
 
+/// One point per technique and parameter set: its mean time and mean MAE over every scene and
+/// view it ran on, in first-seen order.
+pub fn summary(records: &[RunRecord]) -> Vec<Point> {
+    let mut sums: Vec<(Point, usize)> = Vec::new();
+    for r in records {
+        let (ms, mae) = (r.times.total_ms.median.max(MIN_MS), r.metrics.mae);
+        match (sums.iter_mut()).find(|(p, _)| p.technique == r.technique && p.label == r.label) {
+            Some((p, n)) => {
+                p.ms += ms;
+                p.mae += mae;
+                *n += 1;
+            }
+            None => sums.push((
+                Point {
+                    technique: r.technique.clone(),
+                    label: r.label.clone(),
+                    ms,
+                    mae,
+                },
+                1,
+            )),
+        }
+    }
+    (sums.into_iter())
+        .map(|(p, n)| Point {
+            ms: p.ms / n as f64,
+            mae: p.mae / n as f64,
+            ..p
+        })
+        .collect()
+}
+
 /// Points per scene, in first-seen order.
 pub fn by_scene(records: &[RunRecord]) -> Vec<(String, Vec<Point>)> {
     let mut out: Vec<(String, Vec<Point>)> = Vec::new();
@@ -115,7 +186,7 @@ fn colour(techniques: &[String], t: &str) -> RGBColor {
 
 fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
-    scene: &str,
+    title: &str,
     points: &[Point],
     techniques: &[String],
     time_label: &str,
@@ -136,10 +207,7 @@ fn panel<DB: DrawingBackend>(
     };
     let top = ok.iter().map(|p| p.mae).fold(0.0f64, f64::max).max(1e-3) * 1.15;
     let mut chart = ChartBuilder::on(area)
-        .caption(
-            format!("{scene}: time against error"),
-            ("sans-serif", fonts.caption),
-        )
+        .caption(title, ("sans-serif", fonts.caption))
         .margin(16)
         .margin_right(40)
         .x_label_area_size(48)
@@ -231,19 +299,45 @@ fn legend<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The panels: the summary, then every scene and view, with their titles.
+fn panels(records: &[RunRecord]) -> Vec<(String, Vec<Point>)> {
+    let scenes = by_scene(records);
+    let mut out = vec![(
+        format!(
+            "all {} scene views: mean time against mean MAE",
+            scenes.len()
+        ),
+        summary(records),
+    )];
+    out.extend(
+        scenes
+            .into_iter()
+            .map(|(scene, points)| (short_scene(&scene), points)),
+    );
+    out
+}
+
+/// The plot's size in pixels for `panels` panels.
+fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
+    let columns = panels.clamp(1, GRID_COLUMNS);
+    let rows = panels.max(1).div_ceil(columns);
+    let size = (PANEL.0 * columns as u32, PANEL.1 * rows as u32);
+    (rows, columns, size)
+}
+
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
-    scenes: &[(String, Vec<Point>)],
+    panels: &[(String, Vec<Point>)],
     techniques: &[String],
     time_label: &str,
-    fonts: Fonts,
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let panels = root.split_evenly((1, scenes.len().max(1)));
-    for (area, (scene, points)) in panels.iter().zip(scenes) {
+    let (rows, columns, _) = grid(panels.len());
+    let areas = root.split_evenly((rows, columns));
+    for (area, (title, points)) in areas.iter().zip(panels) {
         let (chart, key) = area.split_horizontally(PANEL.0 - LEGEND_WIDTH);
-        panel(&chart, scene, points, techniques, time_label, fonts)?;
-        legend(&key, points, techniques, fonts)?;
+        panel(&chart, title, points, techniques, time_label, FONTS)?;
+        legend(&key, points, techniques, FONTS)?;
     }
     root.present().map_err(|e| e.to_string())
 }
@@ -256,29 +350,29 @@ pub fn write_pareto(
     techniques: &[String],
     time_label: &str,
 ) -> AppResult<()> {
-    let scenes = by_scene(records);
-    let size = (PANEL.0 * scenes.len().max(1) as u32, PANEL.1);
+    let panels = panels(records);
+    let (_, _, size) = grid(panels.len());
     let plot_err = |path: &Path, m: String| AppError::Image {
         path: path.into(),
         message: format!("plot: {m}"),
     };
+    // Both backends lay text out with the registered font.
+    register_font().map_err(|m| plot_err(png, m))?;
     let mut text = String::new();
     draw(
         SVGBackend::with_string(&mut text, size).into_drawing_area(),
-        &scenes,
+        &panels,
         techniques,
         time_label,
-        SVG_FONTS,
     )
     .map_err(|m| plot_err(svg, m))?;
     write_atomic(svg, text.as_bytes())?;
     let mut rgb = vec![255u8; size.0 as usize * size.1 as usize * 3];
     draw(
-        TextBitmap::new(&mut rgb, size).into_drawing_area(),
-        &scenes,
+        BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
+        &panels,
         techniques,
         time_label,
-        PNG_FONTS,
     )
     .map_err(|m| plot_err(png, m))?;
     write_rgb_png(png, size.0, size.1, &rgb)
@@ -386,9 +480,76 @@ pub(crate) mod tests {
         let (svg, png) = (dir.join("p.svg"), dir.join("p.png"));
         write_pareto(&svg, &png, &runs, &techniques, "AO time, ms").unwrap();
         assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+        if let Ok(keep) = std::env::var("AOGRAPH_KEEP_PLOT") {
+            std::fs::copy(&png, keep).unwrap();
+        }
         let img = image::open(&png).unwrap();
-        assert_eq!((img.width(), img.height()), (2 * PANEL.0, PANEL.1));
+        // The summary and the two scenes: three panels in one row.
+        assert_eq!((img.width(), img.height()), (3 * PANEL.0, PANEL.1));
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_bench_of_22_views_is_a_grid_of_short_titled_panels_after_the_summary() {
+        // Nine scenes by absolute path, 22 scene views, three techniques: the held-out bench.
+        let dir = std::env::temp_dir().join(format!("aograph-grid-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let techniques: Vec<String> = ["gtao", "hbao", "ssao"].map(String::from).to_vec();
+        let mut runs = Vec::new();
+        for v in 0..22 {
+            let scene = format!("/home/ci/scenes/model{}/glTF/Model{}.gltf", v % 9, v % 9);
+            for (k, t) in techniques.iter().enumerate() {
+                let mut r = record(&scene, t, "defaults", 1.0 + k as f64, 0.1 - 0.01 * k as f64);
+                r.view = format!("view{}", v / 9);
+                runs.push(r);
+            }
+        }
+        let (svg, png) = (dir.join("p.svg"), dir.join("p.png"));
+        write_pareto(&svg, &png, &runs, &techniques, "AO time, ms").unwrap();
+        // 23 panels (the summary first), four a row: six rows.
+        let img = image::open(&png).unwrap();
+        assert_eq!((img.width(), img.height()), (4 * PANEL.0, 6 * PANEL.1));
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.contains("all 22 scene views: mean time against mean MAE"));
+        assert!(
+            text.contains("Model4 / view1"),
+            "titles are file stems and views"
+        );
+        assert!(!text.contains("/home/ci"), "no absolute path in a title");
+        if let Ok(keep) = std::env::var("AOGRAPH_KEEP_GRID") {
+            std::fs::copy(&png, keep).unwrap();
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn short_scene_names_keep_the_stem_and_the_view() {
+        assert_eq!(
+            short_scene("/a/b/Sponza/glTF/Sponza.gltf / outside"),
+            "Sponza / outside"
+        );
+        assert_eq!(short_scene("columns"), "columns");
+        assert_eq!(short_scene("columns / camera"), "columns / camera");
+        assert_eq!(short_scene("tests/scenes/teapot.gltf"), "teapot");
+    }
+
+    #[test]
+    fn the_summary_is_each_settings_mean_over_the_views() {
+        let runs = [
+            record("a", "gtao", "defaults", 1.0, 0.1),
+            record("b", "gtao", "defaults", 3.0, 0.3),
+            record("a", "ssao", "defaults", 2.0, 0.2),
+        ];
+        let s = summary(&runs);
+        assert_eq!(s.len(), 2);
+        assert_eq!(
+            (s[0].technique.as_str(), s[0].ms, s[0].mae),
+            ("gtao", 2.0, 0.2)
+        );
+        assert_eq!(
+            (s[1].technique.as_str(), s[1].ms, s[1].mae),
+            ("ssao", 2.0, 0.2)
+        );
     }
 
     #[test]

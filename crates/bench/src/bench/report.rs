@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::plot::{by_scene, pareto_front};
+use super::plot::{by_scene, pareto_front, short_scene};
 pub use super::results_csv::{CSV_HEADER, csv_row};
 use super::run::RunRecord;
 use super::scaling::ScalingResults;
@@ -233,7 +233,7 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} | [{}, {}] | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} |",
-            r.scene,
+            short_scene(&r.scene),
             r.view,
             r.technique,
             r.label,
@@ -255,7 +255,6 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
         );
     }
     views_section(s, runs);
-    aggregate_section(s, runs);
     let _ = writeln!(
         s,
         "\n## Pareto front\n\nRuns no other run beats on both AO time and MAE, fastest first (pareto.svg, pareto.png).\n"
@@ -284,7 +283,7 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                r.scene,
+                short_scene(&r.scene),
                 r.view,
                 r.technique,
                 r.label,
@@ -344,7 +343,7 @@ fn views_section(s: &mut String, runs: &[RunRecord]) {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {}{} | {} | {} | {} | {} |",
-            r.scene,
+            short_scene(&r.scene),
             r.view,
             crate::prepared_scene::short(r.radius),
             r.radius_px
@@ -404,7 +403,7 @@ fn aggregate_section(s: &mut String, runs: &[RunRecord]) {
     };
     let _ = writeln!(
         s,
-        "\n## Over every scene and view\n\nPer technique and parameter set over the {views} scene/view pair(s) it ran on: mean and worst MAE and SSIM, mean AO time, and in how many pairs it beats `none` (accessibility 1) on MAE.\n\n| technique | parameters | pairs | mean MAE | worst MAE | mean SSIM | worst SSIM | mean AO ms | beats none |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
+        "\n## Summary: over every scene and view\n\nPer technique and parameter set over the {views} scene/view pair(s) it ran on: mean and worst MAE and SSIM, mean AO time, and in how many pairs it beats `none` (accessibility 1) on MAE.\n\n| technique | parameters | pairs | mean MAE | worst MAE | mean SSIM | worst SSIM | mean AO ms | beats none |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
     );
     for (technique, label, baseline) in keys {
         let rows: Vec<&RunRecord> = runs
@@ -438,6 +437,32 @@ fn aggregate_section(s: &mut String, runs: &[RunRecord]) {
     }
 }
 
+/// The best run per scene and view: the lowest MAE among the techniques (baselines aside),
+/// with its SSIM and time, scenes by their short names.
+fn best_section(s: &mut String, runs: &[RunRecord]) {
+    let _ = writeln!(
+        s,
+        "\n## Best per scene and view\n\nThe run with the lowest MAE in each scene and view (`none` and other baselines aside).\n\n| scene / view | technique | parameters | MAE | SSIM | AO ms |\n|---|---|---|---:|---:|---:|"
+    );
+    for (scene, _) in by_scene(runs) {
+        let best = (runs.iter())
+            .filter(|r| !r.baseline && r.scene_view() == scene && r.metrics.mae.is_finite())
+            .min_by(|a, b| a.metrics.mae.total_cmp(&b.metrics.mae));
+        if let Some(r) = best {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} |",
+                short_scene(&scene),
+                r.technique,
+                r.label,
+                num(r.metrics.mae, 4),
+                num(r.metrics.ssim, 4),
+                num(r.times.total_ms.median, 3)
+            );
+        }
+    }
+}
+
 /// Writes report.md from whatever `runs` and `scaling` hold.
 pub fn write_report(
     dir: &Path,
@@ -455,6 +480,10 @@ pub fn write_report(
     );
     if !runs.is_empty() {
         let _ = writeln!(s, "Settings: {}\n", settings_line(meta));
+        // The summary first: per technique over everything, then the best per scene and
+        // view; the full tables follow.
+        aggregate_section(&mut s, runs);
+        best_section(&mut s, runs);
         runs_section(&mut s, meta, runs);
         radiance_section(&mut s, runs);
         if let Some(t) = super::size_table::size_section(runs) {
@@ -488,7 +517,7 @@ fn radiance_section(s: &mut String, runs: &[RunRecord]) {
             let _ = writeln!(
                 s,
                 "| {} | {} | {:.4} | {:.2} | {:.4} | {:.2} |",
-                r.scene_view(),
+                short_scene(&r.scene_view()),
                 r.label,
                 x.direct_rmse,
                 x.direct_psnr,

@@ -74,7 +74,7 @@ pub struct Metrics {
     pub signed_error: f64,
     /// The signed error over the image's left and right fifths (`None` where a fifth has no
     /// geometry): where a view is (nearly) its own mirror image, their difference is a
-    /// left/right bias of the technique (README, "At every output size").
+    /// left/right bias of the technique (docs/results/output-sizes.md, "At every output size").
     #[serde(default)]
     pub signed_error_left: Option<f64>,
     /// The signed error over the image's right fifth; see `signed_error_left`.

@@ -6,7 +6,8 @@
 //! per-ray octant decode and its node test skips boxes the ray leaves before t = 1e-4 (see
 //! `reference::bvh`), which the GPU traversal would have to mirror; a BVH2 traverses with one
 //! slab test per child, refits in one reverse sweep (a CWBVH must be rebuilt), and its depth
-//! bounds the fixed traversal stack. Measured speed in README ("GPU ray tracer").
+//! bounds the fixed traversal stack. Measured speed in docs/results/gpu-ray-tracer.md ("GPU ray
+//! tracer").
 //!
 //! Invariants: a parent's index is below its children's (so one reverse sweep refits the tree);
 //! the two children of an inner node are adjacent (`first`, `first + 1`); a leaf's primitives

@@ -151,7 +151,7 @@ fn reads_linear_depth_and_compact_face_normals_only() {
 fn every_pyramid_level_holds_8_bytes_a_texel() {
     // Depth (R32Float) and an octahedral normal (R32Uint) per level, g-buffer included: the
     // plan at 1024x1024 is the g-buffer's 8 MiB, a third more for the pyramid, the tuples and
-    // the output (README, "Memory").
+    // the output (docs/results/memory.md, "Memory").
     let plan = plan("levels = 4").unwrap();
     for l in 1..4 {
         for (name, format) in [
