@@ -23,6 +23,7 @@ pub mod results_csv;
 pub mod roofline;
 pub mod roofline_table;
 pub mod run;
+pub mod run_provenance;
 pub mod scaling;
 pub mod search;
 pub mod size_table;
@@ -175,6 +176,9 @@ pub fn bench_meta(gpu: &GpuContext, s: &BenchSettings) -> BenchMeta {
         edge_band: s.metrics.edge_band,
         edge_jump: s.metrics.edge_jump,
         peaks: None,
+        command: run_provenance::command_line(std::env::args()),
+        commit: run_provenance::commit(),
+        date: run_provenance::today(),
     }
 }
 

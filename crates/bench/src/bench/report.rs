@@ -64,6 +64,17 @@ pub struct BenchMeta {
     /// The device's peaks measured in the run (the roofline's ceilings).
     #[serde(default)]
     pub peaks: Option<super::roofline::DevicePeaks>,
+    /// The command that made the run, as typed (`aograph bench ...`), the output folder
+    /// written `<out>` so no path of the machine is kept.
+    #[serde(default)]
+    pub command: String,
+    /// The source's commit (`git rev-parse --short HEAD`, `+dirty` with uncommitted
+    /// changes), when the run was made in a git checkout.
+    #[serde(default)]
+    pub commit: Option<String>,
+    /// The day of the run, UTC, as YYYY-MM-DD.
+    #[serde(default)]
+    pub date: String,
 }
 
 impl BenchMeta {
@@ -478,6 +489,15 @@ pub fn write_report(
         meta.backend,
         meta.timing_note(runs)
     );
+    if !meta.command.is_empty() {
+        let _ = writeln!(
+            s,
+            "Run: `{}`, commit {}, {}.\n",
+            meta.command,
+            meta.commit.as_deref().unwrap_or("unknown"),
+            meta.date
+        );
+    }
     if !runs.is_empty() {
         let _ = writeln!(s, "Settings: {}\n", settings_line(meta));
         // The summary first: per technique over everything, then the best per scene and
