@@ -79,7 +79,18 @@ enum Command {
         dot: bool,
     },
     /// List the techniques with their parameters, defaults and allowed ranges.
-    Techniques,
+    Techniques {
+        /// Print each technique's settings as a Markdown table (what docs/techniques/ holds).
+        #[arg(long)]
+        markdown: bool,
+    },
+    /// Rewrite the text of README.md and docs/ that a tool owns (parameter tables, results
+    /// tables from docs/results/*/results.json), between its markers; run in the repository.
+    Docs {
+        /// Write nothing; fail naming every file whose text differs (what CI runs).
+        #[arg(long)]
+        check: bool,
+    },
     /// Ray-trace the reference AO of a scene.
     Reference {
         #[command(flatten)]
@@ -185,7 +196,8 @@ fn main() -> ExitCode {
                 .into(),
         }),
         Command::Graph { common, dot } => commands::graph(&common.into_args(), dot),
-        Command::Techniques => commands::techniques(),
+        Command::Techniques { markdown } => commands::techniques(markdown),
+        Command::Docs { check } => commands::docs(check),
         Command::Reference {
             common,
             rays,

@@ -2,6 +2,7 @@
 //! (file, then flags), does its work and prints where its files went.
 
 mod bench;
+pub mod docs;
 mod graph;
 mod montage;
 mod reference;
@@ -17,6 +18,7 @@ use aograph_ao::TechniqueRegistry;
 use aograph_graph::GpuContext;
 
 pub use bench::{BenchArgs, bench};
+pub use docs::docs;
 pub use graph::graph;
 pub use montage::montage;
 pub use reference::reference;
@@ -90,9 +92,14 @@ pub fn gpu() -> AppResult<Arc<GpuContext>> {
 }
 
 /// `aograph techniques`.
-pub fn techniques() -> AppResult<()> {
+pub fn techniques(markdown: bool) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
     for t in registry.iter() {
+        if markdown {
+            println!("## `{}`\n\n{}\n", t.name(), t.description());
+            println!("{}", docs::parameter_table(&registry, t.name())?);
+            continue;
+        }
         println!("{}: {}", t.name(), t.description());
         for p in t.parameters() {
             println!(

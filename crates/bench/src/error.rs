@@ -58,6 +58,22 @@ pub enum AppError {
         /// The underlying error's text (the OS error, or serde_json's).
         message: String,
     },
+    /// `aograph docs --check`: text a tool owns differs from what the committed inputs make.
+    #[error("generated text is out of date in {files}: run `aograph docs` and commit the result")]
+    StaleDocs {
+        /// The files, comma-separated.
+        files: String,
+    },
+    /// A marker of generated text that `aograph docs` cannot follow.
+    #[error("{path}:{line}: {message}")]
+    DocsMarker {
+        /// The Markdown file.
+        path: PathBuf,
+        /// Its line, from 1.
+        line: usize,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
     /// A PNG that could not be encoded.
     #[error("image {path}: {message}")]
     Image {
