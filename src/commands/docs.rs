@@ -4,7 +4,7 @@
 //! - `parameters TECHNIQUE`: the technique's settings table, from its parameter descriptors
 //!   (what `aograph techniques` prints);
 //! - `results STUDY summary` / `results STUDY runs`: tables from the bench output committed in
-//!   `docs/results/STUDY/results.json`, with the command, commit, device and date it records.
+//!   `docs/results/<study>/results.json`, with the command, commit, device and date it records.
 //!
 //! `--check` writes nothing and fails naming every file whose committed text differs, so CI
 //! keeps numbers from being typed by hand. Invariant: regenerating twice changes nothing, and
