@@ -472,6 +472,7 @@ fn best_section(s: &mut String, runs: &[RunRecord]) {
             );
         }
     }
+    s.push('\n');
 }
 
 /// Writes report.md from whatever `runs` and `scaling` hold.
