@@ -121,16 +121,30 @@ fn summary_table(results: &ResultsFile) -> String {
     s
 }
 
-/// Every run: scene view, technique, parameters, AO and frame time, MAE, SSIM, edge MAE.
+/// Every run: scene view (and output size, when the runs have several), technique,
+/// parameters, AO and frame time, MAE, SSIM, edge MAE.
 fn runs_table(results: &ResultsFile) -> String {
-    let mut s = String::from(
+    let first = results.runs.first().map(|r| (r.width, r.height));
+    let sized = results
+        .runs
+        .iter()
+        .any(|r| Some((r.width, r.height)) != first);
+    let mut s = String::from(if sized {
+        "| scene / view | size | technique | parameters | AO ms | frame ms | MAE | SSIM | edge MAE |\n\
+         |---|---|---|---|---:|---:|---:|---:|---:|\n"
+    } else {
         "| scene / view | technique | parameters | AO ms | frame ms | MAE | SSIM | edge MAE |\n\
-         |---|---|---|---:|---:|---:|---:|---:|\n",
-    );
+         |---|---|---|---:|---:|---:|---:|---:|\n"
+    });
     for r in &results.runs {
+        let size = if sized {
+            format!(" {}x{} |", r.width, r.height)
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             s,
-            "| {} | `{}` | {} | {} | {} | {} | {} | {} |",
+            "| {} |{size} `{}` | {} | {} | {} | {} | {} | {} |",
             short_scene(&r.scene_view()),
             r.technique,
             cell(&r.label),
