@@ -3,7 +3,7 @@
 //! closes with `<!-- end of generated text -->`; KEY is
 //! - `parameters TECHNIQUE`: the technique's settings table, from its parameter descriptors
 //!   (what `aograph techniques` prints);
-//! - `results STUDY summary` / `results STUDY runs`: tables from the bench output committed in
+//! - `results STUDY summary` / `runs` / `ceilings`: tables from the bench output committed in
 //!   `docs/results/<study>/results.json`, with the command, commit, device and date it records.
 //!
 //! `--check` writes nothing and fails naming every file whose committed text differs, so CI
@@ -158,6 +158,67 @@ fn runs_table(results: &ResultsFile) -> String {
     s
 }
 
+/// Per scene view, the SSIM against the reference of the two ceilings (a) and (b) and their
+/// variants, and of the best screen-space technique (baselines and ray tracers aside: `rtao`
+/// traces the real geometry, so no ceiling binds it), then the mean row.
+fn ceilings_table(results: &ResultsFile) -> String {
+    let mut s = String::from(
+        "| scene / view | reference mean | (a) | (a) + guard band | (a) + two layers | (b) | best screen-space technique |\n\
+         |---|---:|---:|---:|---:|---:|---|\n",
+    );
+    let mut sums = [0.0f64; 4];
+    let mut rows = 0usize;
+    let mut views: Vec<String> = Vec::new();
+    for r in &results.runs {
+        if !views.contains(&r.scene_view()) {
+            views.push(r.scene_view());
+        }
+    }
+    for view in &views {
+        let runs: Vec<_> = results
+            .runs
+            .iter()
+            .filter(|r| &r.scene_view() == view)
+            .collect();
+        let Some(c) = runs.iter().find_map(|r| r.ceilings) else {
+            continue;
+        };
+        let best = (runs.iter())
+            .filter(|r| !r.baseline && r.technique != "rtao" && r.metrics.ssim.is_finite())
+            .max_by(|a, b| a.metrics.ssim.total_cmp(&b.metrics.ssim));
+        let reference = runs.iter().find_map(|r| r.reference_mean);
+        let ssims = [c.gbuffer_ssim, c.guard_ssim, c.two_layer_ssim, c.seen_ssim];
+        for (sum, v) in sums.iter_mut().zip(ssims) {
+            *sum += v;
+        }
+        rows += 1;
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            short_scene(view),
+            reference.map_or("-".into(), |m| num(f64::from(m), 3)),
+            num(ssims[0], 3),
+            num(ssims[1], 3),
+            num(ssims[2], 3),
+            num(ssims[3], 3),
+            best.map_or("-".into(), |r| format!(
+                "{} {}",
+                r.technique,
+                num(r.metrics.ssim, 3)
+            ))
+        );
+    }
+    if rows > 0 {
+        let mean = sums.map(|v| num(v / rows as f64, 3));
+        let _ = writeln!(
+            s,
+            "| **mean** | | **{}** | **{}** | **{}** | **{}** | |",
+            mean[0], mean[1], mean[2], mean[3]
+        );
+    }
+    s
+}
+
 /// The text one marker's key stands for; `page` is the Markdown file (links are relative to
 /// its folder), `root` the repository.
 fn generate(
@@ -171,19 +232,20 @@ fn generate(
         ["parameters", technique] => {
             parameter_table(registry, technique).map_err(|e| e.to_string())
         }
-        ["results", study, table @ ("summary" | "runs")] => {
+        ["results", study, table @ ("summary" | "runs" | "ceilings")] => {
             let file = root.join("docs/results").join(study).join("results.json");
             let results = read_results(&file).map_err(|e| e.to_string())?;
             let link = relative(page.parent().unwrap_or(root), &file);
             let body = match *table {
                 "summary" => summary_table(&results),
+                "ceilings" => ceilings_table(&results),
                 _ => runs_table(&results),
             };
             Ok(body + &provenance(&results, &link))
         }
         _ => Err(format!(
             "unknown generated-text key \"{key}\": allowed are `parameters TECHNIQUE`, \
-             `results STUDY summary` and `results STUDY runs`"
+             `results STUDY summary`, `results STUDY runs` and `results STUDY ceilings`"
         )),
     }
 }

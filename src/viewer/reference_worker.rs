@@ -26,7 +26,7 @@ use aograph_graph::{GpuContext, ShaderLibrary};
 use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::{
     Camera, CpuGBuffer, ReferenceImage, ReferenceNormals, ReferenceParams, Scene, SceneError,
-    SurfaceBuffer, TriangleBvh, reference::ProgressMode,
+    SceneRays, SurfaceBuffer, reference::ProgressMode,
 };
 
 /// The device the reference is traced on, when it is the GPU.
@@ -330,14 +330,15 @@ fn ceilings(
 /// The CPU BVH or the GPU tracer and its scene (compute BVH or acceleration structures), for
 /// one job.
 enum BandTracer {
-    Cpu(TriangleBvh),
+    /// The scene as a two-level BVH: shared meshes are not flattened.
+    Cpu(SceneRays),
     Gpu(GpuReferenceTracer, GpuSceneBvh),
     Hardware(GpuReferenceTracer, HardwareSceneAs),
 }
 
 impl BandTracer {
     fn new(device: Option<&GpuReferenceDevice>, job: &ReferenceJob) -> Result<Self, SceneError> {
-        let cpu = || BandTracer::Cpu(TriangleBvh::new(&job.scene.world_triangles(job.time)));
+        let cpu = || BandTracer::Cpu(SceneRays::new(&job.scene, job.time));
         let Some(d) = device else {
             return Ok(cpu());
         };
@@ -378,6 +379,7 @@ impl BandTracer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use aograph_scene::TriangleBvh;
 
     #[test]
     fn an_open_corners_seen_triangle_ceiling_is_its_reference_and_a_wrong_size_is_an_error() {
