@@ -5,32 +5,11 @@
 //! starting inside boxes, axis-aligned and snapped (coplanar, shared-edge) triangles, many
 //! duplicates, and scales from 1e-4 to 1e4 far from the origin.
 
+mod common;
+
 use aograph_scene::{BruteForceTracer, TriangleBvh};
+use common::Lcg;
 use glam::Vec3;
-
-/// A small deterministic generator (PCG-style LCG), so failures reproduce.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn vec3(&mut self) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next())
-    }
-    fn direction(&mut self) -> Vec3 {
-        loop {
-            let v = self.vec3() * 2.0 - Vec3::ONE;
-            if let Some(d) = v.try_normalize() {
-                return d;
-            }
-        }
-    }
-}
 
 /// A soup of `count` triangles in a box of side `scale` at `offset`; every third soup is
 /// snapped to a 1/4 grid (coplanar and edge-sharing triangles), every fifth has duplicates.

@@ -5,34 +5,16 @@
 //! rotated, scaled non-uniformly, mirrored, sheared, flattened to zero thickness and moved far
 //! from the origin, next to meshes placed once and a skinned one.
 
+mod common;
+
 use aograph_scene::primitives::{cuboid, uv_sphere};
 use aograph_scene::procedural::instanced_field;
 use aograph_scene::{
     BruteForceTracer, Camera, CpuGBuffer, ReferenceMode, ReferenceNormals, ReferenceParams, Scene,
     SceneBuilder, SceneRays, TriangleBvh, load_scene, test_scene, trace_reference,
 };
+use common::Lcg;
 use glam::{Mat4, Quat, Vec3};
-
-/// A small deterministic generator (64-bit LCG, high bits), so failures reproduce.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn direction(&mut self) -> Vec3 {
-        loop {
-            let v = Vec3::new(self.next(), self.next(), self.next()) * 2.0 - Vec3::ONE;
-            if let Some(d) = v.try_normalize() {
-                return d;
-            }
-        }
-    }
-}
 
 /// One box mesh placed under every kind of transform, a sphere placed twice, a sphere placed
 /// once, and a ground.

@@ -1,7 +1,9 @@
-//! Helpers shared by the glTF test files: a per-test temporary folder, the base64 of a
-//! .gltf's embedded buffer, gltfpack, and hand-written files (sparse accessors, a plain triangle).
+//! Helpers shared by the scene crate's test files: a deterministic generator, a per-test
+//! temporary folder, the base64 of a .gltf's embedded buffer, gltfpack, and hand-written files
+//! (sparse accessors, a plain triangle).
 #![allow(dead_code)] // each test file uses some of them
 
+use glam::Vec3;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -135,4 +137,29 @@ pub fn material_triangle() -> (Value, Vec<u8>) {
         "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1.0]}}],
     });
     (gltf, bytes)
+}
+
+/// A small deterministic generator (64-bit LCG, high 24 bits as a float in [0, 1)), so
+/// failures reproduce; the ray tests draw origins and directions from it.
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    pub fn next(&mut self) -> f32 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    pub fn vec3(&mut self) -> Vec3 {
+        Vec3::new(self.next(), self.next(), self.next())
+    }
+    pub fn direction(&mut self) -> Vec3 {
+        loop {
+            let v = self.vec3() * 2.0 - Vec3::ONE;
+            if let Some(d) = v.try_normalize() {
+                return d;
+            }
+        }
+    }
 }
