@@ -270,8 +270,13 @@ fn bench_motion_writes_its_files_and_refuses_bad_flags_by_name() {
     assert_eq!(lines[0], aograph::bench::motion::MotionRecord::CSV_HEADER);
     let frames = std::fs::read_to_string(dir.join("motion_frames.csv")).unwrap();
     assert_eq!(frames.lines().count(), 1 + 2 * 3, "{frames}");
-    let records: Vec<aograph::bench::motion::MotionRecord> =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("motion.json")).unwrap()).unwrap();
+    let file = aograph::bench::motion::read_motion(&dir.join("motion.json")).unwrap();
+    assert!(
+        file.meta.command.starts_with("aograph bench --motion"),
+        "{}",
+        file.meta.command
+    );
+    let records = file.runs;
     assert_eq!(records.len(), 2);
     for r in &records {
         assert_eq!(r.frame_mae.len(), 3);

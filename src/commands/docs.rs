@@ -3,8 +3,11 @@
 //! closes with `<!-- end of generated text -->`; KEY is
 //! - `parameters TECHNIQUE`: the technique's settings table, from its parameter descriptors
 //!   (what `aograph techniques` prints);
-//! - `results STUDY summary` / `runs` / `ceilings`: tables from the bench output committed in
-//!   `docs/results/<study>/results.json`, with the command, commit, device and date it records.
+//! - `results STUDY summary` / `runs` / `ceilings` / `roofline` / `textures`: tables from the
+//!   bench output committed in `docs/results/<study>/results.json`, with the command, commit,
+//!   device and date it records;
+//! - `results STUDY motion`: the table of an `aograph bench --motion` run, from
+//!   `docs/results/<study>/motion.json`.
 //!
 //! `--check` writes nothing and fails naming every file whose committed text differs, so CI
 //! keeps numbers from being typed by hand. Invariant: regenerating twice changes nothing, and
@@ -14,8 +17,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use aograph_ao::TechniqueRegistry;
+use aograph_bench::bench::motion::{MotionFile, read_motion};
 use aograph_bench::bench::plot::short_scene;
-use aograph_bench::bench::report::{ResultsFile, read_results};
+use aograph_bench::bench::report::{BenchMeta, ResultsFile, read_results};
+use aograph_bench::bench::roofline_table::roofline_by_technique;
 
 use crate::error::{AppError, AppResult};
 
@@ -59,8 +64,7 @@ fn num(v: f64, digits: usize) -> String {
 }
 
 /// The line under a results table saying where its numbers come from.
-fn provenance(results: &ResultsFile, file: &str) -> String {
-    let m = &results.meta;
+fn provenance(m: &BenchMeta, file: &str) -> String {
     format!(
         "\n*Written by `aograph docs` from [{file}]({file}): `{}`, commit {}, {}, on {}.*\n",
         m.command,
@@ -219,6 +223,62 @@ fn ceilings_table(results: &ResultsFile) -> String {
     s
 }
 
+/// Per technique and parameter set (its first scene and view): the peak texture memory of its
+/// plan, with the graph's reuse and without it.
+fn textures_table(results: &ResultsFile) -> String {
+    let mib = |b: u64| num(b as f64 / 1_048_576.0, 1);
+    let mut s = String::from(
+        "| technique | parameters | size | textures MiB | without reuse MiB |\n|---|---|---|---:|---:|\n",
+    );
+    let mut seen: Vec<(&str, &str)> = Vec::new();
+    for r in &results.runs {
+        let key = (r.technique.as_str(), r.label.as_str());
+        if seen.contains(&key) {
+            continue;
+        }
+        seen.push(key);
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {}x{} | {} | {} |",
+            r.technique,
+            cell(&r.label),
+            r.width,
+            r.height,
+            mib(r.texture_bytes),
+            mib(r.texture_bytes_unshared)
+        );
+    }
+    s
+}
+
+/// Every run of a motion bench: scene view and motion, technique, parameters, AO and frame
+/// time, mean and worst MAE, SSIM, MAE near moving surfaces and flicker.
+fn motion_table(motion: &MotionFile) -> String {
+    let opt = |v: Option<f64>, digits: usize| v.map_or("-".into(), |v| num(v, digits));
+    let mut s = String::from(
+        "| scene / view | motion | technique | parameters | AO ms | frame ms | MAE | worst MAE | SSIM | MAE near moving | flicker |\n\
+         |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in &motion.runs {
+        let _ = writeln!(
+            s,
+            "| {} | {} | `{}` | {} | {} | {} | {} | {} | {} | {} | {} |",
+            short_scene(&format!("{} / {}", r.scene, r.view)),
+            r.motion,
+            r.technique,
+            cell(&r.label),
+            num(r.times.total_ms.median, 2),
+            num(r.times.frame_ms.median, 2),
+            num(r.mae_mean, 4),
+            num(r.mae_worst, 4),
+            num(r.ssim_mean, 3),
+            opt(r.moving_mae_mean, 4),
+            opt(r.flicker, 5)
+        );
+    }
+    s
+}
+
 /// The text one marker's key stands for; `page` is the Markdown file (links are relative to
 /// its folder), `root` the repository.
 fn generate(
@@ -232,20 +292,33 @@ fn generate(
         ["parameters", technique] => {
             parameter_table(registry, technique).map_err(|e| e.to_string())
         }
-        ["results", study, table @ ("summary" | "runs" | "ceilings")] => {
+        ["results", study, "motion"] => {
+            let file = root.join("docs/results").join(study).join("motion.json");
+            let motion = read_motion(&file).map_err(|e| e.to_string())?;
+            let link = relative(page.parent().unwrap_or(root), &file);
+            Ok(motion_table(&motion) + &provenance(&motion.meta, &link))
+        }
+        [
+            "results",
+            study,
+            table @ ("summary" | "runs" | "ceilings" | "roofline" | "textures"),
+        ] => {
             let file = root.join("docs/results").join(study).join("results.json");
             let results = read_results(&file).map_err(|e| e.to_string())?;
             let link = relative(page.parent().unwrap_or(root), &file);
             let body = match *table {
                 "summary" => summary_table(&results),
                 "ceilings" => ceilings_table(&results),
+                "roofline" => roofline_by_technique(results.meta.peaks.as_ref(), &results.runs),
+                "textures" => textures_table(&results),
                 _ => runs_table(&results),
             };
-            Ok(body + &provenance(&results, &link))
+            Ok(body + &provenance(&results.meta, &link))
         }
         _ => Err(format!(
             "unknown generated-text key \"{key}\": allowed are `parameters TECHNIQUE`, \
-             `results STUDY summary`, `results STUDY runs` and `results STUDY ceilings`"
+             `results STUDY summary|runs|ceilings|roofline|textures` (from results.json) and \
+             `results STUDY motion` (from motion.json)"
         )),
     }
 }

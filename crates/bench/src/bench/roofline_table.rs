@@ -62,3 +62,81 @@ The device's peaks, measured in this run: **{:.3} G texel loads/s** (a \
     }
     s
 }
+
+/// Passes faster than this are left out of [`roofline_by_technique`]: per-pass overhead
+/// (about 0.1 ms on lavapipe) dominates them, so their share of a peak says nothing.
+const SHORT_PASS_MS: f64 = 0.2;
+
+/// The compact form the docs' roofline page shows: the peaks, then one row per technique and
+/// parameter set (its first scene and view) listing each pass of its own (the g-buffer and
+/// passes under 0.2 ms left out) as "name ms share", where the share is of the load peak (L)
+/// when the pass declares its loads and of the byte peak (B) otherwise.
+pub fn roofline_by_technique(peaks: Option<&DevicePeaks>, runs: &[RunRecord]) -> String {
+    let mut s = String::new();
+    if let Some(p) = peaks {
+        let _ = writeln!(
+            s,
+            "Peaks measured in this run: {:.3} G texel loads/s, {:.2} GB/s.\n",
+            p.loads_per_s / 1e9,
+            p.bytes_per_s / 1e9
+        );
+    }
+    s.push_str("| technique | parameters | pass: ms, share of peak |\n|---|---|---|\n");
+    let mut seen: Vec<(&str, &str)> = Vec::new();
+    for r in runs {
+        let key = (r.technique.as_str(), r.label.as_str());
+        if r.roofline.is_empty() || seen.contains(&key) {
+            continue;
+        }
+        seen.push(key);
+        let passes: Vec<String> = (r.roofline.iter())
+            .filter(|p| p.pass != "gbuffer" && p.ms >= SHORT_PASS_MS)
+            .map(|p| {
+                let name = p.pass.split_once('.').map_or(p.pass.as_str(), |(_, n)| n);
+                let share = match p.load_fraction {
+                    Some(f) => format!("{:.1}% L", f * 100.0),
+                    None => format!("{:.1}% B", p.byte_fraction * 100.0),
+                };
+                format!("{name} {} ms {share}", significant(p.ms))
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} |",
+            r.technique,
+            r.label.replace('|', "\\|"),
+            if passes.is_empty() {
+                "-".to_string()
+            } else {
+                passes.join("; ")
+            }
+        );
+    }
+    s
+}
+
+/// `ms` to three significant figures (36.2, 4.36, 0.435).
+fn significant(ms: f64) -> String {
+    if ms >= 100.0 {
+        format!("{ms:.0}")
+    } else if ms >= 10.0 {
+        format!("{ms:.1}")
+    } else if ms >= 1.0 {
+        format!("{ms:.2}")
+    } else {
+        format!("{ms:.3}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::significant;
+
+    #[test]
+    fn times_keep_three_significant_figures() {
+        assert_eq!(significant(135.2), "135");
+        assert_eq!(significant(36.24), "36.2");
+        assert_eq!(significant(4.364), "4.36");
+        assert_eq!(significant(0.4351), "0.435");
+    }
+}

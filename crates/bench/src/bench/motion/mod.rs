@@ -35,7 +35,7 @@ mod report;
 mod reprojection;
 
 use report::write_motion_files;
-pub use report::{MotionRecord, motion_report};
+pub use report::{MotionFile, MotionRecord, motion_report, read_motion};
 pub use reprojection::{
     BilinearTaps, MOVING_PIXELS, Reprojection, SAME_SURFACE_DEPTH, SILHOUETTE_RATIO, dilate,
     moving_pixels,
@@ -47,9 +47,10 @@ use aograph_ao::AoConfig;
 use aograph_scene::{Camera, Scene, TriangleBvh};
 use glam::{Quat, Vec3};
 
+use super::report::BenchMeta;
 use super::run::{BenchContext, BenchSettings, FrameTimeSamples, ao_config, check_gpu_errors};
 use super::sweep::ParamSet;
-use super::{BenchPlan, file_safe, images, progress_bar};
+use super::{BenchPlan, bench_meta, file_safe, images, progress_bar};
 use crate::error::{AppError, AppResult};
 use crate::frame_graph::FrameOutputs;
 use crate::frame_reference::trace_surfaces;
@@ -414,6 +415,10 @@ pub fn run_motion_bench(
     progress: bool,
 ) -> AppResult<Vec<MotionRecord>> {
     let s = &plan.settings;
+    let meta = BenchMeta {
+        rays: m.rays,
+        ..bench_meta(&ctx.gpu, s)
+    };
     if let Some(dir) = out {
         prepare_output_dir(dir)?;
         let images = dir.join("images");
@@ -461,7 +466,7 @@ pub fn run_motion_bench(
                 }
                 records.push(record);
                 if let Some(dir) = out {
-                    write_motion_files(dir, &records)?;
+                    write_motion_files(dir, &meta, &records)?;
                 }
             }
         }

@@ -8,6 +8,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::bench::csv;
+use crate::bench::report::BenchMeta;
 use crate::bench::run::FrameTimes;
 use crate::error::{AppError, AppResult};
 use crate::images::write_atomic;
@@ -105,7 +106,27 @@ impl MotionRecord {
     }
 }
 
-pub(super) fn write_motion_files(dir: &Path, records: &[MotionRecord]) -> AppResult<()> {
+/// motion.json: the device and settings the runs share (with the command, commit and date,
+/// as results.json records them), then one record per finished run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct MotionFile {
+    /// The device and settings every run shares.
+    pub meta: BenchMeta,
+    /// One record per finished run, in the order they finished.
+    pub runs: Vec<MotionRecord>,
+}
+
+/// Reads a motion.json that `aograph bench --motion` wrote.
+pub fn read_motion(path: &Path) -> AppResult<MotionFile> {
+    let text = std::fs::read_to_string(path).map_err(|e| AppError::io("read", path, e))?;
+    serde_json::from_str(&text).map_err(|e| AppError::io("parse", path, e))
+}
+
+pub(super) fn write_motion_files(
+    dir: &Path,
+    meta: &BenchMeta,
+    records: &[MotionRecord],
+) -> AppResult<()> {
     let mut csv = format!("{}\n", MotionRecord::CSV_HEADER);
     let mut per_frame = String::from("scene,view,motion,technique,label,frame,mae\n");
     for r in records {
@@ -126,7 +147,11 @@ pub(super) fn write_motion_files(dir: &Path, records: &[MotionRecord]) -> AppRes
     }
     write_atomic(&dir.join("motion.csv"), csv.as_bytes())?;
     write_atomic(&dir.join("motion_frames.csv"), per_frame.as_bytes())?;
-    let json = serde_json::to_string_pretty(records)
+    let file = MotionFile {
+        meta: meta.clone(),
+        runs: records.to_vec(),
+    };
+    let json = serde_json::to_string_pretty(&file)
         .map_err(|e| AppError::io("serialise", dir.join("motion.json"), e))?;
     write_atomic(&dir.join("motion.json"), json.as_bytes())?;
     write_atomic(&dir.join("motion.md"), motion_report(records).as_bytes())
