@@ -24,6 +24,7 @@ fn context() -> Option<BenchContext> {
 
 fn settings(side: u32, frames: u32, warmup: u32, rays: u32) -> BenchSettings {
     BenchSettings {
+        score_every_frame: false,
         width: side,
         height: side,
         frames,

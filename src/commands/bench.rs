@@ -68,6 +68,11 @@ pub struct BenchArgs {
     /// frame is scored against its own reference. Writes motion.csv, motion.json, motion.md.
     #[arg(long)]
     pub motion: Option<String>,
+    /// Score every frame since a reset instead of the last: N frames, no warm-up (replaces
+    /// --frames and --warmup). Writes convergence.csv and convergence.png / .svg (SSIM against
+    /// frames since the reset) beside the usual files.
+    #[arg(long)]
+    pub convergence: Option<u32>,
     /// Frames per second of a --motion run (frame i is at time i / fps).
     #[arg(long, default_value_t = crate::bench::motion::DEFAULT_FPS)]
     pub fps: f32,
@@ -223,6 +228,7 @@ fn settings(
             edge_band,
             ..MetricOptions::default()
         },
+        score_every_frame: false,
     })
 }
 
@@ -375,7 +381,19 @@ pub(crate) fn view_choice(
 
 pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
-    let settings = args.run.settings(args.edge_band)?;
+    let mut settings = args.run.settings(args.edge_band)?;
+    if let Some(n) = args.convergence {
+        if args.scaling || args.motion.is_some() {
+            return Err(AppError::InvalidArgument {
+                name: "--convergence".into(),
+                value: n.to_string(),
+                allowed: "a still-camera bench: not with --scaling or --motion".into(),
+            });
+        }
+        settings.frames = positive("--convergence", n)?;
+        settings.warmup = 0;
+        settings.score_every_frame = true;
+    }
     let sweep = args.sweep.as_deref().map(Sweep::load).transpose()?;
     let techniques = techniques(&registry, &args.techniques, sweep.as_ref(), false)?;
     let sets = plan_param_sets(&registry, &techniques, sweep.as_ref())?;

@@ -3,7 +3,8 @@
 //! closes with `<!-- end of generated text -->`; KEY is
 //! - `parameters TECHNIQUE`: the technique's settings table, from its parameter descriptors
 //!   (what `aograph techniques` prints);
-//! - `results STUDY summary` / `runs` / `ceilings` / `roofline` / `textures`: tables from the
+//! - `results STUDY summary` / `runs` / `ceilings` / `roofline` / `textures` / `convergence`
+//!   (SSIM and MAE at frames 1, 2, 3, 6, 10, 30, 64, 128 since a reset): tables from the
 //!   bench output committed in `docs/results/<study>/results.json`, with the command, commit,
 //!   device and date it records;
 //! - `results STUDY motion`: the table of an `aograph bench --motion` run, from
@@ -17,6 +18,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use aograph_ao::TechniqueRegistry;
+use aograph_bench::bench::convergence::TABLE_FRAMES;
 use aograph_bench::bench::motion::{MotionFile, read_motion};
 use aograph_bench::bench::plot::short_scene;
 use aograph_bench::bench::report::{BenchMeta, ResultsFile, read_results};
@@ -251,6 +253,46 @@ fn textures_table(results: &ResultsFile) -> String {
     s
 }
 
+/// Per scene view, technique and parameter set: SSIM (and MAE) at chosen frames since the
+/// reset, from a `bench --convergence N` run.
+fn convergence_table(results: &ResultsFile) -> String {
+    let last = (results.runs.iter())
+        .flat_map(|r| r.convergence.iter().map(|p| p.frame))
+        .max()
+        .unwrap_or(0);
+    let frames: Vec<u32> = TABLE_FRAMES
+        .iter()
+        .copied()
+        .filter(|f| *f <= last)
+        .collect();
+    let mut s = String::from("| scene / view | technique | parameters |");
+    for f in &frames {
+        let _ = write!(s, " frame {f} SSIM / MAE |");
+    }
+    s.push_str("\n|---|---|---|");
+    s.push_str(&"---:|".repeat(frames.len()));
+    s.push('\n');
+    for r in results.runs.iter().filter(|r| !r.convergence.is_empty()) {
+        let _ = write!(
+            s,
+            "| {} | `{}` | {} |",
+            short_scene(&r.scene_view()),
+            r.technique,
+            cell(&r.label)
+        );
+        for f in &frames {
+            match r.convergence.iter().find(|p| p.frame == *f) {
+                Some(p) => {
+                    let _ = write!(s, " {} / {} |", num(p.ssim, 3), num(p.mae, 4));
+                }
+                None => s.push_str(" - |"),
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
 /// Every run of a motion bench: scene view and motion, technique, parameters, AO and frame
 /// time, mean and worst MAE, SSIM, MAE near moving surfaces and flicker.
 fn motion_table(motion: &MotionFile) -> String {
@@ -301,7 +343,7 @@ fn generate(
         [
             "results",
             study,
-            table @ ("summary" | "runs" | "ceilings" | "roofline" | "textures"),
+            table @ ("summary" | "runs" | "ceilings" | "roofline" | "textures" | "convergence"),
         ] => {
             let file = root.join("docs/results").join(study).join("results.json");
             let results = read_results(&file).map_err(|e| e.to_string())?;
@@ -311,13 +353,14 @@ fn generate(
                 "ceilings" => ceilings_table(&results),
                 "roofline" => roofline_by_technique(results.meta.peaks.as_ref(), &results.runs),
                 "textures" => textures_table(&results),
+                "convergence" => convergence_table(&results),
                 _ => runs_table(&results),
             };
             Ok(body + &provenance(&results.meta, &link))
         }
         _ => Err(format!(
             "unknown generated-text key \"{key}\": allowed are `parameters TECHNIQUE`, \
-             `results STUDY summary|runs|ceilings|roofline|textures` (from results.json) and \
+             `results STUDY summary|runs|ceilings|roofline|textures|convergence` (from results.json) and \
              `results STUDY motion` (from motion.json)"
         )),
     }

@@ -12,8 +12,10 @@
 //!   (a grid: the summary, then each scene and view); [`images`]: AO | error | reference PNGs;
 //! - [`roofline_table`]: report.md's roofline section;
 //! - [`size_table`]: report.md's table by output size (`--sizes`);
+//! - [`convergence`]: every frame since a reset scored (`--convergence N`), its CSV and plot;
 //! - [`stats`]: median/quartiles and the log-log fit; [`csv`]: the quoting every CSV file uses.
 
+pub mod convergence;
 pub mod csv;
 pub mod images;
 pub mod motion;
@@ -297,6 +299,7 @@ pub fn run_bench(
                         &colours,
                         &meta.time_axis(),
                     )?;
+                    convergence::write_convergence(dir, &w.file.runs)?;
                 }
                 records.push(done.record);
             }

@@ -18,14 +18,14 @@ use super::run::RunRecord;
 use crate::error::{AppError, AppResult};
 use crate::images::{write_atomic, write_rgb_png};
 
-const PANEL: (u32, u32) = (800, 480);
+pub(super) const PANEL: (u32, u32) = (800, 480);
 /// Panels a row: four 800-pixel panels make a 3,200-pixel row, readable at 100 % zoom on a
 /// large screen and scrollable on a small one.
 const GRID_COLUMNS: usize = 4;
 /// Width of the legend strip at the right of each panel.
-const LEGEND_WIDTH: u32 = 160;
+pub(super) const LEGEND_WIDTH: u32 = 160;
 /// Tableau 10: distinguishable, colour-blind aware.
-const PALETTE: [RGBColor; 10] = [
+pub(super) const PALETTE: [RGBColor; 10] = [
     RGBColor(78, 121, 167),
     RGBColor(242, 142, 43),
     RGBColor(225, 87, 89),
@@ -42,18 +42,18 @@ const MIN_MS: f64 = 1e-4;
 
 /// Font sizes in pixels, the same for the SVG and the PNG.
 #[derive(Clone, Copy)]
-struct Fonts {
-    caption: u32,
-    label: u32,
+pub(super) struct Fonts {
+    pub(super) caption: u32,
+    pub(super) label: u32,
 }
-const FONTS: Fonts = Fonts {
+pub(super) const FONTS: Fonts = Fonts {
     caption: 22,
     label: 15,
 };
 
 /// Registers the PNG's font with plotters (once per process): Ubuntu Light under the family
 /// name the charts ask for.
-fn register_font() -> Result<(), String> {
+pub(super) fn register_font() -> Result<(), String> {
     static REGISTER: Once = Once::new();
     let mut result = Ok(());
     REGISTER.call_once(|| {
@@ -318,7 +318,7 @@ fn panels(records: &[RunRecord]) -> Vec<(String, Vec<Point>)> {
 }
 
 /// The plot's size in pixels for `panels` panels.
-fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
+pub(super) fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
     let columns = panels.clamp(1, GRID_COLUMNS);
     let rows = panels.max(1).div_ceil(columns);
     let size = (PANEL.0 * columns as u32, PANEL.1 * rows as u32);
@@ -430,6 +430,7 @@ pub(crate) mod tests {
             roofline: Vec::new(),
             radiance: None,
             ceilings: None,
+            convergence: Vec::new(),
             metrics: crate::metrics::Metrics {
                 pixels: 1,
                 mae,

@@ -23,6 +23,7 @@ use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, pass_costs,
 use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};
 
+use super::convergence::ConvergencePoint;
 use super::roofline::{DevicePeaks, PassRoofline, passes_under};
 pub use super::stats::PassTime;
 use super::stats::Spread;
@@ -63,6 +64,9 @@ pub struct BenchSettings {
     pub tracer: aograph_scene::ReferenceTracer,
     /// Metric knobs (edge band, edge jump, SSIM window and constants).
     pub metrics: MetricOptions,
+    /// Score every measured frame, not only the last (`bench --convergence N`, which also
+    /// renders no warm-up, so the first measured frame is the first since a reset).
+    pub score_every_frame: bool,
 }
 
 impl BenchSettings {
@@ -405,6 +409,10 @@ pub struct RunRecord {
     /// before they existed.
     #[serde(default)]
     pub ceilings: Option<CeilingScores>,
+    /// Every frame since the reset scored against the reference (`bench --convergence N`);
+    /// empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub convergence: Vec<ConvergencePoint>,
 }
 
 fn default_view() -> String {
@@ -491,9 +499,26 @@ pub fn run_technique(
     };
     let mut flicker = FlickerMeter::new();
     let mut last = Vec::new();
+    let mut convergence = Vec::new();
     let times = time_frames(&mut r, s.warmup, s.frames, tick, &mut |r| {
         last = r.read_ao()?;
         flicker.push(&last, &reference.valid);
+        if s.score_every_frame {
+            let m = compare(
+                &last,
+                &reference.accessibility,
+                &reference.depth,
+                extent.width,
+                extent.height,
+                &s.metrics,
+            )?;
+            convergence.push(ConvergencePoint {
+                frame: convergence.len() as u32 + 1,
+                mae: m.mae,
+                ssim: m.ssim,
+                edge_mae: m.edge_mae,
+            });
+        }
         Ok(())
     })?;
     check_gpu_errors(ctx, set)?;
@@ -554,6 +579,7 @@ pub fn run_technique(
         roofline,
         radiance,
         ceilings: Some(reference.ceilings),
+        convergence,
     };
     Ok(RunOutput { record, ao: last })
 }

@@ -1,0 +1,188 @@
+//! `aograph bench --convergence N`: every frame since a reset scored against the reference,
+//! so a temporal technique's first frames (after a camera cut or a disocclusion) are measured
+//! as well as its converged image. Writes convergence.csv (one row per run and frame) and
+//! convergence.png / .svg (SSIM against frames since the reset, one panel per scene view, one
+//! line per technique and parameter set). Invariant: frame 1 is the first frame the renderer
+//! drew, with no history (the bench renders no warm-up frames in this mode).
+
+use std::path::Path;
+
+use plotters::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::csv;
+use super::plot::{FONTS, LEGEND_WIDTH, PALETTE, PANEL, grid, register_font, short_scene};
+use super::run::RunRecord;
+use crate::error::{AppError, AppResult};
+use crate::images::{write_atomic, write_rgb_png};
+
+/// One frame's scores, counted from the reset (frame 1 has no history).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConvergencePoint {
+    /// Frames since the reset, from 1.
+    pub frame: u32,
+    /// Mean absolute error against the reference (non-sky pixels).
+    pub mae: f64,
+    /// SSIM against the reference.
+    pub ssim: f64,
+    /// MAE in the depth-edge band; `None` when the view has no depth edge.
+    pub edge_mae: Option<f64>,
+}
+
+/// The frames the docs' convergence table shows (those the run reached).
+pub const TABLE_FRAMES: [u32; 8] = [1, 2, 3, 6, 10, 30, 64, 128];
+
+/// convergence.csv: one row per run and frame.
+pub fn convergence_csv(records: &[RunRecord]) -> String {
+    let mut s = String::from("scene,view,technique,label,frame,mae,ssim,edge_mae\n");
+    for r in records {
+        for p in &r.convergence {
+            s.push_str(&format!(
+                "{},{},{},{},{},{:.6},{:.6},{}\n",
+                csv::field(&r.scene),
+                csv::field(&r.view),
+                csv::field(&r.technique),
+                csv::field(&r.label),
+                p.frame,
+                p.mae,
+                p.ssim,
+                p.edge_mae.map(|e| format!("{e:.6}")).unwrap_or_default()
+            ));
+        }
+    }
+    s
+}
+
+/// The curves of one panel: (technique, parameter label, points).
+type Curves<'a> = Vec<(&'a str, &'a str, &'a [ConvergencePoint])>;
+
+fn panels(records: &[RunRecord]) -> Vec<(String, Curves<'_>)> {
+    let mut out: Vec<(String, Curves<'_>)> = Vec::new();
+    for r in records.iter().filter(|r| !r.convergence.is_empty()) {
+        let title = short_scene(&r.scene_view());
+        let curve = (r.technique.as_str(), r.label.as_str(), &r.convergence[..]);
+        match out.iter_mut().find(|(t, _)| *t == title) {
+            Some((_, curves)) => curves.push(curve),
+            None => out.push((title, vec![curve])),
+        }
+    }
+    out
+}
+
+fn curve_name(technique: &str, label: &str) -> String {
+    if label == "defaults" {
+        technique.to_string()
+    } else {
+        format!("{technique} {label}")
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    panels: &[(String, Curves<'_>)],
+    names: &[String],
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let (rows, columns, _) = grid(panels.len());
+    let colour = |n: &str| PALETTE[names.iter().position(|x| x == n).unwrap_or(0) % PALETTE.len()];
+    for (area, (title, curves)) in root.split_evenly((rows, columns)).iter().zip(panels) {
+        let (chart_area, key) = area.split_horizontally(PANEL.0 - LEGEND_WIDTH);
+        let last = (curves.iter())
+            .flat_map(|(_, _, p)| p.iter().map(|p| p.frame))
+            .max()
+            .unwrap_or(1)
+            .max(2);
+        let low = (curves.iter())
+            .flat_map(|(_, _, p)| p.iter().map(|p| p.ssim))
+            .filter(|v| v.is_finite())
+            .fold(1.0f64, f64::min);
+        let bottom = ((low - 0.05) * 10.0).floor() / 10.0;
+        let mut chart = ChartBuilder::on(&chart_area)
+            .caption(title, ("sans-serif", FONTS.caption))
+            .margin(16)
+            .margin_right(40)
+            .x_label_area_size(48)
+            .y_label_area_size(84)
+            .build_cartesian_2d((1.0..f64::from(last)).log_scale(), bottom.max(0.0)..1.0)
+            .map_err(e)?;
+        let label = ("sans-serif", FONTS.label);
+        chart
+            .configure_mesh()
+            .x_desc("frames since reset")
+            .y_desc("SSIM vs reference")
+            .x_labels(8)
+            .y_labels(6)
+            .label_style(label)
+            .axis_desc_style(label)
+            .draw()
+            .map_err(e)?;
+        let style = ("sans-serif", FONTS.label).into_font().color(&BLACK);
+        for (k, (technique, label, points)) in curves.iter().enumerate() {
+            let name = curve_name(technique, label);
+            let c = colour(&name);
+            let line = points
+                .iter()
+                .filter(|p| p.ssim.is_finite())
+                .map(|p| (f64::from(p.frame), p.ssim));
+            chart
+                .draw_series(LineSeries::new(line, c.stroke_width(2)))
+                .map_err(e)?;
+            let y = 60 + k as i32 * (FONTS.label as i32 + 8);
+            key.draw(&PathElement::new(vec![(2, y), (18, y)], c.stroke_width(3)))
+                .map_err(e)?;
+            key.draw(&Text::new(
+                name,
+                (22, y - FONTS.label as i32 / 2),
+                style.clone(),
+            ))
+            .map_err(e)?;
+        }
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// Writes convergence.csv, .svg and .png into `dir` for the runs that were scored per frame;
+/// nothing when none was.
+pub fn write_convergence(dir: &Path, records: &[RunRecord]) -> AppResult<()> {
+    let panels = panels(records);
+    if panels.is_empty() {
+        return Ok(());
+    }
+    write_atomic(
+        &dir.join("convergence.csv"),
+        convergence_csv(records).as_bytes(),
+    )?;
+    let mut names: Vec<String> = Vec::new();
+    for (_, curves) in &panels {
+        for (t, l, _) in curves {
+            let n = curve_name(t, l);
+            if !names.contains(&n) {
+                names.push(n);
+            }
+        }
+    }
+    let (_, _, size) = grid(panels.len());
+    let (svg, png) = (dir.join("convergence.svg"), dir.join("convergence.png"));
+    let plot_err = |path: &Path, m: String| AppError::Image {
+        path: path.into(),
+        message: format!("plot: {m}"),
+    };
+    register_font().map_err(|m| plot_err(&png, m))?;
+    let mut text = String::new();
+    draw(
+        SVGBackend::with_string(&mut text, size).into_drawing_area(),
+        &panels,
+        &names,
+    )
+    .map_err(|m| plot_err(&svg, m))?;
+    write_atomic(&svg, text.as_bytes())?;
+    let mut rgb = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    draw(
+        BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
+        &panels,
+        &names,
+    )
+    .map_err(|m| plot_err(&png, m))?;
+    write_rgb_png(&png, size.0, size.1, &rgb)
+}
