@@ -12,21 +12,28 @@
 #include "common/scene_trace.wgsl"
 
 // Occlusion of ray `index` of a pixel (scrambled by `scramble`) from surface point p with
-// unit normal n, mode 0 binary, 1 obscurance; and 1 in y when the occluder moves.
-fn rays_sample(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radius: f32,
-               mode: u32) -> vec2<f32> {
+// unit normal n, mode 0 binary, 1 obscurance; 1 in y when the occluder moves; in z the hit's
+// distance over R (1 on a miss; in binary mode the first hit found, not always the nearest).
+fn rays_sample_hit(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radius: f32,
+                   mode: u32) -> vec3<f32> {
     let origin = p + n * rays_offset_epsilon(p, radius);
     let d = rays_to_world(n, rays_cosine_hemisphere(rays_sobol_2d(index, scramble)));
     let hit = scene_trace(origin, d, 0.0, radius, mode == 0u);
     if (!hit.hit) {
-        return vec2<f32>(0.0);
+        return vec3<f32>(0.0, 0.0, 1.0);
     }
     let moving = f32(hit.moving);
+    let x = clamp(hit.t / radius, 0.0, 1.0);
     if (mode == 0u) {
-        return vec2<f32>(1.0, moving);
+        return vec3<f32>(1.0, moving, x);
     }
-    let x = hit.t / radius;
-    return vec2<f32>(1.0 - min(1.0, x * x), moving);
+    return vec3<f32>(1.0 - x * x, moving, x);
+}
+
+// `rays_sample_hit` without the distance.
+fn rays_sample(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radius: f32,
+               mode: u32) -> vec2<f32> {
+    return rays_sample_hit(p, n, scramble, index, radius, mode).xy;
 }
 
 // The occlusion of `rays_sample` alone.

@@ -5,9 +5,10 @@
 // BVH, from the g-buffer's point and normal taken to world space; frame f traces rays
 // [f N, (f + 1) N) of the pixel's sequence (params.sequence = 1), so frames accumulated by the
 // temporal block continue one low-discrepancy sequence; writes 1 - mean occlusion, the
-// depth-edge weights for blocks/edge_denoise.wgsl, and in `changed` 1 where a ray hit moving
-// geometry (the temporal block then keeps a short history there: blocks/temporal.rs
-// ChangeMask).
+// depth-edge weights for blocks/edge_denoise.wgsl, and in `changed` r = 1 where a ray hit
+// moving geometry (the temporal block then keeps a short history there: blocks/temporal.rs
+// ChangeMask) and g = the nearest hit's distance over R (1: no ray hit), which sets the
+// history denoiser's radius (blocks/history_denoise.rs).
 
 struct RtaoParams {
     rays: u32,
@@ -44,6 +45,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var e = vec4<f32>(0.0);
     var accessibility = 1.0;
     var moving_hit = 0.0;
+    var nearest = 1.0;
     let world_p = (view.inv_view * vec4<f32>(position.xyz, 1.0)).xyz;
     let world_n = (view.inv_view * vec4<f32>(normal, 0.0)).xyz;
     let len = length(world_n);
@@ -56,13 +58,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let first = select(0u, view.frame_index * params.rays, params.sequence == 1u);
         var sum = 0.0;
         for (var i = 0u; i < params.rays; i++) {
-            let s = rays_sample(world_p, n, scramble, first + i, params.radius, params.mode);
+            let s = rays_sample_hit(world_p, n, scramble, first + i, params.radius, params.mode);
             sum += s.x;
             moving_hit = max(moving_hit, s.y);
+            nearest = min(nearest, s.z);
         }
         accessibility = clamp(1.0 - sum / f32(params.rays), 0.0, 1.0);
     }
     textureStore(ao, p, vec4<f32>(accessibility, 0.0, 0.0, 0.0));
     textureStore(edges, p, e);
-    textureStore(changed, p, vec4<f32>(moving_hit, 0.0, 0.0, 0.0));
+    textureStore(changed, p, vec4<f32>(moving_hit, nearest, 0.0, 0.0));
 }

@@ -1,6 +1,7 @@
 //! Shared AO building blocks (subgraphs any technique composes): the linear-depth pyramid and
 //! XeGTAO's depth prefilter, separable Gaussian and bilateral blurs, XeGTAO's edge-aware
-//! denoiser, bilateral upsampling, and temporal reprojection and accumulation (`temporal`,
+//! denoiser, a history-aware denoiser for accumulated ray-traced AO (`history_denoise`),
+//! bilateral upsampling, and temporal reprojection and accumulation (`temporal`,
 //! documented in its own module).
 //!
 //! Each block is one function that adds its passes to a [`GraphBuilder`] and returns the
@@ -31,6 +32,7 @@ pub mod depth_pyramid;
 pub mod edge_denoise;
 pub mod gaussian_blur;
 pub mod half_resolution;
+pub mod history_denoise;
 pub mod temporal;
 
 #[cfg(test)]
@@ -44,6 +46,7 @@ pub use edge_denoise::{EdgeDenoise, edge_denoise};
 pub use gaussian_blur::{
     GaussianBlur, gaussian_blur, gaussian_blur_with_intermediate, gaussian_weights,
 };
+pub use history_denoise::{HistoryDenoise, HistoryDenoiseInputs, history_denoise};
 
 /// Format of every texture a block creates.
 pub const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;

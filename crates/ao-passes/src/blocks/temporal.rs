@@ -34,7 +34,7 @@
 //! |---|---|
 //! | x | accessibility accumulated so far (1 = unoccluded) |
 //! | y | n_t: how many samples (TSSAO) or frames ([`TemporalMode::Average`]) it holds, <= n_max |
-//! | z | the pixel's position in its low-discrepancy sequence (TSSAO's Halton index; 0 otherwise) |
+//! | z | TSSAO: the pixel's position in its low-discrepancy sequence (its Halton index); [`TemporalMode::Average`]: the running mean of A^2 (the second moment, so the variance is z - x^2: [`super::history_denoise`] reads it); 0 otherwise |
 //! | w | linear depth of the pixel when written; **negative** where the surface was moving (its motion differed from the camera-only reprojection by more than [`MOVING_PIXELS`] pixels); 0 = sky / nothing |
 //!
 //! The graph clears an invalid history to zero (first frame, resize, camera cut), which reads
@@ -51,7 +51,7 @@
 //! |---|---|
 //! | x | previous accessibility at the reprojected position: bilinear over the 2x2 history texels that pass Eq. 7, renormalised (the paper: "requires bilinear filtering for reconstruction") |
 //! | y | n_t of the reprojected texel (nearest passing texel), 0 where the history is invalid here |
-//! | z | sequence index of the nearest texel (kept on disocclusion; 0 off screen or without history) |
+//! | z | history.z of the passing texel with the largest bilinear weight (the sequence index, or the second moment; kept from the nearest texel on disocclusion; 0 off screen or without history) |
 //! | w | flags: 1 = history valid here, 2 = this pixel is moving (see history.w) |
 //!
 //! # Decisions the papers leave open (written down here)

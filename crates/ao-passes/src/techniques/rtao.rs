@@ -18,8 +18,14 @@
 //!    the ray-traced counterpart of TSSAO's Eq. 8: AO cast by a walking character changes
 //!    every frame, and a 64-frame mean would lag it; on CesiumMan walking the mean over 64
 //!    frames read MAE 0.0384, over 4 frames 0.0275, at 2 rays). `temporal = false` skips it.
-//! 3. `rtao.denoise1..N` (`blocks::edge_denoise`): XeGTAO's edge-aware 3x3 filter, N =
-//!    `denoise_passes` (0 skips it).
+//! 3. The spatial filter, `denoiser`:
+//!    - `history` (default): `rtao.history_fix` then `rtao.atrous1..K`
+//!      (`blocks::history_denoise`): the history fix for pixels with fewer than 4 frames, then
+//!      variance-guided a-trous iterations whose radius follows the pixel's history length
+//!      (1 / (1 + k (n - 1))) and its nearest hit (the trace writes it), so a new pixel is
+//!      blurred widely and a converged one not at all;
+//!    - `edge`, and whenever `temporal = false`: `rtao.denoise1..N` (`blocks::edge_denoise`),
+//!      XeGTAO's edge-aware 3x3 filter, N = `denoise_passes` (0 skips it).
 //!
 //! Known answers (tests/technique_rtao.rs): with 256 rays, no temporal and no denoise, each
 //! pixel is the reference's estimate from the same rays (within 4 standard errors of the CPU
@@ -47,6 +53,7 @@ use aograph_graph::SizeClass;
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
+use crate::blocks::history_denoise::{self, HistoryDenoise, HistoryDenoiseInputs, history_denoise};
 use crate::blocks::temporal::{
     ChangeMask, DEFAULT_EPSILON, TemporalAccumulation, TemporalMode, add_temporal_with_changes,
     temporal_channels,
@@ -80,8 +87,18 @@ pub struct RtaoParams {
     pub temporal_frames: u32,
     /// The cap where a ray hit moving geometry or the surface itself moves.
     pub moving_frames: u32,
-    /// Edge-aware denoise passes after accumulation (0 to 3).
+    /// The spatial filter after accumulation: "history" (`blocks::history_denoise`, which
+    /// narrows as each pixel's history grows) or "edge" (XeGTAO's fixed 3x3 filter,
+    /// `denoise_passes` times). Without `temporal` there is no history: "edge" runs.
+    pub denoiser: String,
+    /// Edge-aware denoise passes (0 to 3) where the edge denoiser runs.
     pub denoise_passes: u32,
+    /// The history denoiser's a-trous iterations (0 to 5; 0: the history fix alone).
+    pub spatial_iterations: u32,
+    /// The history denoiser's radius in pixels on a new pixel.
+    pub spatial_radius: f32,
+    /// k of the history denoiser's radius shrink 1 / (1 + k (n - 1)) over n frames of history.
+    pub spatial_shrink: f32,
     /// "per-frame": each frame continues the pixel's ray sequence; "fixed": the same rays
     /// every frame.
     pub sequence: String,
@@ -101,7 +118,11 @@ impl Default for RtaoParams {
             temporal: true,
             temporal_frames: 64,
             moving_frames: 4,
+            denoiser: "history".into(),
             denoise_passes: 1,
+            spatial_iterations: HistoryDenoise::default().iterations,
+            spatial_radius: HistoryDenoise::default().base_radius,
+            spatial_shrink: HistoryDenoise::default().shrink,
             sequence: "per-frame".into(),
             mode: "binary".into(),
             resolution: Resolution::Full,
@@ -123,6 +144,7 @@ struct RtaoUniform {
 }
 
 const SEQUENCES: &[&str] = &["per-frame", "fixed"];
+const DENOISERS: &[&str] = &["history", "edge"];
 const MODES: &[&str] = &["binary", "obscurance"];
 
 impl AoTechnique for Rtao {
@@ -142,8 +164,17 @@ impl AoTechnique for Rtao {
             ParamDesc::int("moving_frames", 1, MAX_TEMPORAL_FRAMES).doc(
                 "most frames the mean holds where a ray hit moving geometry or the surface moves",
             ),
+            ParamDesc::choice("denoiser", DENOISERS).doc(
+                "history: wide on new pixels, narrowing to nothing as the history converges (SVGF's variance-guided a-trous, REBLUR's radius and history fix); edge: XeGTAO's fixed 3x3 filter (also what runs with temporal = false)",
+            ),
             ParamDesc::int("denoise_passes", 0, 3)
-                .doc("edge-aware 3x3 denoise passes after accumulation (0: none)"),
+                .doc("edge denoiser: 3x3 passes after accumulation (0: none)"),
+            ParamDesc::int("spatial_iterations", 0, history_denoise::MAX_ITERATIONS)
+                .doc("history denoiser: a-trous iterations at tap spacing 1, 2, 4, ... (0: the history fix alone)"),
+            ParamDesc::float_above("spatial_radius", 0.0, 256.0)
+                .doc("history denoiser: radius in pixels on a pixel with one frame of history"),
+            ParamDesc::float("spatial_shrink", 0.0, 1000.0)
+                .doc("history denoiser: k of the radius' 1 / (1 + k (n - 1)) shrink over n frames"),
             ParamDesc::choice("sequence", SEQUENCES)
                 .doc("per-frame: each frame continues the pixel's Sobol sequence; fixed: the same rays every frame"),
             ParamDesc::choice("mode", MODES)
@@ -191,6 +222,7 @@ impl Rtao {
             radius: ctx.radius,
             _pad1: [0.0; 3],
         };
+        let history_denoiser = p.temporal && p.denoiser == "history";
         let last = !p.temporal && p.denoise_passes == 0;
 
         // Pass 1: the rays. The raw texture is the output itself when nothing follows.
@@ -233,6 +265,7 @@ impl Rtao {
 
         // Pass 2: the running mean over frames.
         let mut out = raw;
+        let mut history = None;
         if p.temporal {
             let t = add_temporal_with_changes(
                 ctx.builder,
@@ -251,10 +284,29 @@ impl Rtao {
                 },
             )?;
             out = t.accumulated;
+            history = Some(t.history.current);
         }
 
-        // Pass 3: edge-aware denoise of the accumulated value.
-        if p.denoise_passes > 0 {
+        // Pass 3: the spatial filter of the accumulated value.
+        if let (true, Some(history)) = (history_denoiser, history) {
+            out = history_denoise(
+                ctx.builder,
+                "rtao",
+                &HistoryDenoiseInputs {
+                    accumulated: out,
+                    history,
+                    positions,
+                    normals,
+                    hits: Some(changed),
+                },
+                &HistoryDenoise {
+                    iterations: p.spatial_iterations,
+                    base_radius: p.spatial_radius,
+                    shrink: p.spatial_shrink,
+                    ..HistoryDenoise::default()
+                },
+            )?;
+        } else if p.denoise_passes > 0 {
             out = edge_denoise(
                 ctx.builder,
                 "rtao",
@@ -304,7 +356,12 @@ mod tests {
             all.iter().any(|n| n == "rtao.temporal.accumulate"),
             "{all:?}"
         );
-        assert_eq!(all.last().map(String::as_str), Some("rtao.denoise1"));
+        assert_eq!(all.last().map(String::as_str), Some("rtao.atrous4"));
+        assert!(all.iter().any(|n| n == "rtao.history_fix"), "{all:?}");
+        assert_eq!(
+            names("denoiser = \"edge\"").last().map(String::as_str),
+            Some("rtao.denoise1")
+        );
         assert_eq!(
             names("temporal = false\ndenoise_passes = 0"),
             ["rtao.trace"]

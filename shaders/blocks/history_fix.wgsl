@@ -1,0 +1,125 @@
+#include "common/history_denoise_params.wgsl"
+#include "common/finite.wgsl"
+// blocks/history_denoise `<prefix>.history_fix` (crates/ao-passes/src/blocks/history_denoise.rs):
+// per pixel, the accessibility, its variance and the spatial filter's radius that the
+// a-trous passes (blocks/atrous_denoise.wgsl) use.
+//   n = frames in the pixel's history (the temporal block's history.y), m1 = the running mean
+//   (accumulated), m2 = the running mean of A^2 (history.z).
+//   - variance of the mean = max(m2 - m1^2, 0) / n, SVGF's temporal moments averaged over the
+//     3x3 neighbourhood on the same surface;
+//   - n < fix_frames (a new or disoccluded pixel; REBLUR's history fix, SVGF's spatial
+//     variance): a sparse 5x5 gather at `fix_stride` pixels over the same surface (plane and
+//     normal weights) with each tap weighted by its own history length, so a disoccluded pixel
+//     borrows converged neighbours' values; the pixel's value moves towards the gather by
+//     (fix_frames - n) / (fix_frames - 1), and the variance is the gather's spatial variance.
+//   radius (pixels) = base_radius * mix(hit_floor, 1, nearest hit / R) / (1 + shrink (n - 1)):
+//   wide on a new pixel, shrinking as the mean converges (REBLUR's 1 / (1 + k N)), narrower
+//   where occluders are close (contact shadows are sharp).
+// guide = (variance, radius, n, nearest hit / R). Sky: accessibility 1, guide 0.
+
+
+@group(0) @binding(0) var<uniform> params: HistoryDenoiseParams;
+@group(0) @binding(1) var accumulated: texture_2d<f32>;
+@group(0) @binding(2) var history: texture_2d<f32>;
+@group(0) @binding(3) var positions: texture_2d<f32>;
+@group(0) @binding(4) var normals: texture_2d<f32>;
+@group(0) @binding(5) var hits: texture_2d<f32>;
+@group(0) @binding(6) var dst: texture_storage_2d<r32float, write>;
+@group(0) @binding(7) var guide: texture_storage_2d<rgba16float, write>;
+
+// Weight of tap q for centre point p with normal n (same surface: near p's tangent plane,
+// facing the same way).
+fn surface_weight(p: vec3<f32>, n: vec3<f32>, q: vec4<f32>, nq: vec3<f32>) -> f32 {
+    if (q.w < 0.5) {
+        return 0.0;
+    }
+    let plane = abs(dot(n, q.xyz - p)) / (params.plane_tolerance * max(length(p), 1e-20));
+    let facing = pow(max(dot(n, nq), 0.0), 64.0);
+    return exp(-plane) * facing;
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<i32>(textureDimensions(dst));
+    let p = vec2<i32>(id.xy);
+    if (p.x >= size.x || p.y >= size.y) {
+        return;
+    }
+    let centre = textureLoad(positions, p, 0);
+    if (centre.w < 0.5) {
+        textureStore(dst, p, vec4<f32>(1.0, 0.0, 0.0, 0.0));
+        textureStore(guide, p, vec4<f32>(0.0));
+        return;
+    }
+    let nc = textureLoad(normals, p, 0).xyz;
+    let a = clamp(textureLoad(accumulated, p, 0).x, 0.0, 1.0);
+    let h = textureLoad(history, p, 0);
+    let n = max(select(1.0, h.y, is_finite_f32(h.y)), 1.0);
+
+    // Over the 3x3 neighbourhood on the same surface: the nearest hit, so one lucky ray does
+    // not decide the radius, and the moments (SVGF filters its variance spatially too: over
+    // a few frames of one ray, m2 - m1^2 of one pixel is often 0 although its mean is far
+    // from converged).
+    var hit = 1.0;
+    var m1 = 0.0;
+    var m2 = 0.0;
+    var msum = 0.0;
+    for (var j = -1; j <= 1; j++) {
+        for (var i = -1; i <= 1; i++) {
+            let q = p + vec2<i32>(i, j);
+            if (any(q < vec2<i32>(0)) || any(q >= size)) {
+                continue;
+            }
+            let w = surface_weight(centre.xyz, nc, textureLoad(positions, q, 0),
+                                   textureLoad(normals, q, 0).xyz);
+            if (w > 0.0) {
+                let hq = textureLoad(history, q, 0);
+                m1 += w * clamp(textureLoad(accumulated, q, 0).x, 0.0, 1.0);
+                m2 += w * clamp(select(0.0, hq.z, is_finite_f32(hq.z)), 0.0, 1.0);
+                msum += w;
+                if (params.has_hits > 0.5) {
+                    hit = min(hit, textureLoad(hits, q, 0).y);
+                }
+            }
+        }
+    }
+    // The centre weighs 1, so msum >= 1.
+    m1 = m1 / msum;
+    m2 = m2 / msum;
+    let radius = params.base_radius * mix(params.hit_floor, 1.0, clamp(hit, 0.0, 1.0))
+        / (1.0 + params.shrink * (n - 1.0));
+
+    var value = a;
+    var variance = max(m2 - m1 * m1, 0.0) / n;
+    if (n < params.fix_frames) {
+        var sum = 0.0;
+        var sum2 = 0.0;
+        var wsum = 0.0;
+        let stride = i32(params.fix_stride);
+        for (var j = -2; j <= 2; j++) {
+            for (var i = -2; i <= 2; i++) {
+                let q = p + vec2<i32>(i, j) * stride;
+                if (any(q < vec2<i32>(0)) || any(q >= size)) {
+                    continue;
+                }
+                let pq = textureLoad(positions, q, 0);
+                let w = surface_weight(centre.xyz, nc, pq, textureLoad(normals, q, 0).xyz)
+                    * max(textureLoad(history, q, 0).y, 1.0);
+                if (w > 0.0) {
+                    let aq = clamp(textureLoad(accumulated, q, 0).x, 0.0, 1.0);
+                    sum += w * aq;
+                    sum2 += w * aq * aq;
+                    wsum += w;
+                }
+            }
+        }
+        if (wsum > 0.0) {
+            let mean = sum / wsum;
+            let t = (params.fix_frames - n) / max(params.fix_frames - 1.0, 1.0);
+            value = mix(a, mean, clamp(t, 0.0, 1.0));
+            variance = max(variance, max(sum2 / wsum - mean * mean, 0.0));
+        }
+    }
+    textureStore(dst, p, vec4<f32>(clamp(value, 0.0, 1.0), 0.0, 0.0, 0.0));
+    textureStore(guide, p, vec4<f32>(variance, radius, n, hit));
+}
