@@ -32,7 +32,7 @@ const TECHNIQUES: [(&str, &str, bool); 7] = [
     ("pyramid-hbao", "temporal = true", true),
     ("gtao", "temporal = true", true),
     ("vbao", "temporal = true", true),
-    ("rtao", "temporal = true\ndenoise_passes = 0", true),
+    ("rtao", "temporal = true\ndenoiser = \"none\"", true),
     ("mssao", "temporal = true", false),
 ];
 

@@ -5,13 +5,13 @@
 // a-trous passes (blocks/atrous_denoise.wgsl) use.
 //   n = frames in the pixel's history (the temporal block's history.y), m1 = the running mean
 //   (accumulated), m2 = the running mean of A^2 (history.z).
-//   - variance of the mean = max(m2 - m1^2, 0) / n, SVGF's temporal moments averaged over the
-//     3x3 neighbourhood on the same surface;
+//   - variance of the mean = v / n, v = the pixels' own temporal variances max(m2 - m1^2, 0)
+//     (SVGF's temporal moments) averaged over the 3x3 neighbourhood on the same surface;
 //   - n < fix_frames (a new or disoccluded pixel; REBLUR's history fix, SVGF's spatial
 //     variance): a sparse 5x5 gather at `fix_stride` pixels over the same surface (plane and
 //     normal weights) with each tap weighted by its own history length, so a disoccluded pixel
 //     borrows converged neighbours' values; the pixel's value moves towards the gather by
-//     (fix_frames - n) / (fix_frames - 1), and the variance is the gather's spatial variance.
+//     (fix_frames - n) / (fix_frames - 1), and the variance is spatial: the larger of the gather's and the 3x3 pooled moments'.
 //   radius (pixels) = base_radius * mix(hit_floor, 1, nearest hit / R) / (1 + shrink (n - 1)):
 //   wide on a new pixel, shrinking as the mean converges (REBLUR's 1 / (1 + k N)), narrower
 //   where occluders are close (contact shadows are sharp).
@@ -57,12 +57,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let n = max(select(1.0, h.y, is_finite_f32(h.y)), 1.0);
 
     // Over the 3x3 neighbourhood on the same surface: the nearest hit, so one lucky ray does
-    // not decide the radius, and the moments (SVGF filters its variance spatially too: over
-    // a few frames of one ray, m2 - m1^2 of one pixel is often 0 although its mean is far
-    // from converged).
+    // not decide the radius, and the mean of the pixels' own temporal variances m2 - m1^2
+    // (SVGF filters its variance spatially too: over a few frames of one ray, one pixel's
+    // samples often all agree although its mean is far from converged). Each pixel's own
+    // variance, not the variance of the pooled moments: differences between the pixels'
+    // means are signal, not noise.
     var hit = 1.0;
-    var m1 = 0.0;
-    var m2 = 0.0;
+    var temporal_variance = 0.0;
+    var pooled_m1 = 0.0;
+    var pooled_m2 = 0.0;
     var msum = 0.0;
     for (var j = -1; j <= 1; j++) {
         for (var i = -1; i <= 1; i++) {
@@ -74,8 +77,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                                    textureLoad(normals, q, 0).xyz);
             if (w > 0.0) {
                 let hq = textureLoad(history, q, 0);
-                m1 += w * clamp(textureLoad(accumulated, q, 0).x, 0.0, 1.0);
-                m2 += w * clamp(select(0.0, hq.z, is_finite_f32(hq.z)), 0.0, 1.0);
+                let m1 = clamp(textureLoad(accumulated, q, 0).x, 0.0, 1.0);
+                let m2 = clamp(select(0.0, hq.z, is_finite_f32(hq.z)), 0.0, 1.0);
+                temporal_variance += w * max(m2 - m1 * m1, 0.0);
+                pooled_m1 += w * m1;
+                pooled_m2 += w * m2;
                 msum += w;
                 if (params.has_hits > 0.5) {
                     hit = min(hit, textureLoad(hits, q, 0).y);
@@ -84,13 +90,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     // The centre weighs 1, so msum >= 1.
-    m1 = m1 / msum;
-    m2 = m2 / msum;
+    temporal_variance = temporal_variance / msum;
+    let pooled_variance = max(pooled_m2 / msum - (pooled_m1 / msum) * (pooled_m1 / msum), 0.0);
     let radius = params.base_radius * mix(params.hit_floor, 1.0, clamp(hit, 0.0, 1.0))
         / (1.0 + params.shrink * (n - 1.0));
 
     var value = a;
-    var variance = max(m2 - m1 * m1, 0.0) / n;
+    var variance = temporal_variance / n;
     if (n < params.fix_frames) {
         var sum = 0.0;
         var sum2 = 0.0;
@@ -117,7 +123,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let mean = sum / wsum;
             let t = (params.fix_frames - n) / max(params.fix_frames - 1.0, 1.0);
             value = mix(a, mean, clamp(t, 0.0, 1.0));
-            variance = max(variance, max(sum2 / wsum - mean * mean, 0.0));
+            // Spatial variance while the history is short (SVGF): the gather's and the 3x3
+            // pooled moments', whichever is larger.
+            variance = max(variance, max(max(sum2 / wsum - mean * mean, 0.0), pooled_variance));
         }
     }
     textureStore(dst, p, vec4<f32>(clamp(value, 0.0, 1.0), 0.0, 0.0, 0.0));

@@ -254,8 +254,9 @@ fn textures_table(results: &ResultsFile) -> String {
 }
 
 /// Per scene view, technique and parameter set: SSIM (and MAE) at chosen frames since the
-/// reset, from a `bench --convergence N` run.
-fn convergence_table(results: &ResultsFile) -> String {
+/// reset, from a `bench --convergence N` run; with `scene`, only that scene view's rows (its
+/// short name, as the table shows it).
+fn convergence_table(results: &ResultsFile, scene: Option<&str>) -> String {
     let last = (results.runs.iter())
         .flat_map(|r| r.convergence.iter().map(|p| p.frame))
         .max()
@@ -272,7 +273,10 @@ fn convergence_table(results: &ResultsFile) -> String {
     s.push_str("\n|---|---|---|");
     s.push_str(&"---:|".repeat(frames.len()));
     s.push('\n');
-    for r in results.runs.iter().filter(|r| !r.convergence.is_empty()) {
+    let shown = |r: &&aograph_bench::bench::run::RunRecord| {
+        !r.convergence.is_empty() && scene.is_none_or(|s| short_scene(&r.scene_view()) == s)
+    };
+    for r in results.runs.iter().filter(shown) {
         let _ = write!(
             s,
             "| {} | `{}` | {} |",
@@ -334,6 +338,12 @@ fn generate(
         ["parameters", technique] => {
             parameter_table(registry, technique).map_err(|e| e.to_string())
         }
+        ["results", study, "convergence", scene] => {
+            let file = root.join("docs/results").join(study).join("results.json");
+            let results = read_results(&file).map_err(|e| e.to_string())?;
+            let link = relative(page.parent().unwrap_or(root), &file);
+            Ok(convergence_table(&results, Some(scene)) + &provenance(&results.meta, &link))
+        }
         ["results", study, "motion"] => {
             let file = root.join("docs/results").join(study).join("motion.json");
             let motion = read_motion(&file).map_err(|e| e.to_string())?;
@@ -353,14 +363,15 @@ fn generate(
                 "ceilings" => ceilings_table(&results),
                 "roofline" => roofline_by_technique(results.meta.peaks.as_ref(), &results.runs),
                 "textures" => textures_table(&results),
-                "convergence" => convergence_table(&results),
+                "convergence" => convergence_table(&results, None),
                 _ => runs_table(&results),
             };
             Ok(body + &provenance(&results.meta, &link))
         }
         _ => Err(format!(
             "unknown generated-text key \"{key}\": allowed are `parameters TECHNIQUE`, \
-             `results STUDY summary|runs|ceilings|roofline|textures|convergence` (from results.json) and \
+             `results STUDY summary|runs|ceilings|roofline|textures|convergence [SCENE]` (from \
+             results.json) and \
              `results STUDY motion` (from motion.json)"
         )),
     }

@@ -58,13 +58,13 @@ pub struct HistoryDenoise {
 impl Default for HistoryDenoise {
     fn default() -> Self {
         Self {
-            iterations: 4,
-            base_radius: 16.0,
-            shrink: 0.25,
+            iterations: 3,
+            base_radius: 8.0,
+            shrink: 0.1,
             sigma_ao: 4.0,
             plane_tolerance: 0.02,
             fix_frames: 4,
-            fix_stride: 3,
+            fix_stride: 2,
             hit_floor: 0.5,
         }
     }
@@ -151,6 +151,12 @@ impl HistoryDenoise {
         Ok(())
     }
 
+    /// The history fix's stride for a filter of radius `base_radius`: its 5x5 gather reaches
+    /// two strides, about 0.4 of the radius, on each side (2 pixels at the default 8).
+    pub fn fix_stride_for(base_radius: f32) -> u32 {
+        ((base_radius / 5.0).round() as u32).clamp(1, 16)
+    }
+
     fn uniform(&self, step: u32, has_hits: bool) -> HistoryDenoiseUniform {
         HistoryDenoiseUniform {
             base_radius: self.base_radius,
@@ -174,13 +180,23 @@ pub fn radius_px(p: &HistoryDenoise, n: f32, hit: f32) -> f32 {
     p.base_radius * hit_scale / (1.0 + p.shrink * (n.max(1.0) - 1.0))
 }
 
-/// Adds the history fix and the a-trous iterations; returns the R32Float output.
+/// What [`history_denoise`] wrote.
+#[derive(Clone, Copy, Debug)]
+pub struct HistoryDenoised {
+    /// The filtered accessibility (R32Float).
+    pub accessibility: TextureHandle,
+    /// The guide (Rgba16Float): variance of the pixel's value, radius in pixels, frames of
+    /// history n, nearest hit over R; for inspection and tests.
+    pub guide: TextureHandle,
+}
+
+/// Adds the history fix and the a-trous iterations.
 pub fn history_denoise(
     b: &mut GraphBuilder,
     prefix: &str,
     inputs: &HistoryDenoiseInputs,
     params: &HistoryDenoise,
-) -> AoResult<TextureHandle> {
+) -> AoResult<HistoryDenoised> {
     params.validate(prefix)?;
     let size = desc_of(b, prefix, "accumulated", inputs.accumulated)?.size;
     let has_hits = inputs.hits.is_some();
@@ -226,7 +242,10 @@ pub fn history_denoise(
         p.dispatch_over(out);
         src = out;
     }
-    Ok(src)
+    Ok(HistoryDenoised {
+        accessibility: src,
+        guide,
+    })
 }
 
 #[cfg(test)]
@@ -236,14 +255,14 @@ mod tests {
     #[test]
     fn the_radius_shrinks_as_one_over_one_plus_k_n_and_with_close_hits() {
         let p = HistoryDenoise::default();
-        assert_eq!(radius_px(&p, 1.0, 1.0), 16.0);
-        // 16 / (1 + 0.25 * 9)
-        assert!((radius_px(&p, 10.0, 1.0) - 16.0 / 3.25).abs() < 1e-6);
+        assert_eq!(radius_px(&p, 1.0, 1.0), 8.0);
+        // 8 / (1 + 0.1 * 9)
+        assert!((radius_px(&p, 10.0, 1.0) - 8.0 / 1.9).abs() < 1e-6);
         // A hit at distance 0 halves it (hit_floor 0.5).
-        assert_eq!(radius_px(&p, 1.0, 0.0), 8.0);
-        // 64 frames: 16 / 16.75, about a pixel: only the first iteration (spacing 1) still
-        // runs at full reach, the second (spacing 2) just.
-        assert!((radius_px(&p, 64.0, 1.0) - 16.0 / 16.75).abs() < 1e-6);
+        assert_eq!(radius_px(&p, 1.0, 0.0), 4.0);
+        // 64 frames: 8 / 7.3, about a pixel: the iterations at spacing 1 and 2 still run,
+        // the one at spacing 4 no longer does.
+        assert!((radius_px(&p, 64.0, 1.0) - 8.0 / 7.3).abs() < 1e-6);
     }
 
     #[test]

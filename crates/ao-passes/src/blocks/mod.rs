@@ -46,7 +46,7 @@ pub use edge_denoise::{EdgeDenoise, edge_denoise};
 pub use gaussian_blur::{
     GaussianBlur, gaussian_blur, gaussian_blur_with_intermediate, gaussian_weights,
 };
-pub use history_denoise::{HistoryDenoise, HistoryDenoiseInputs, history_denoise};
+pub use history_denoise::{HistoryDenoise, HistoryDenoiseInputs, HistoryDenoised, history_denoise};
 
 /// Format of every texture a block creates.
 pub const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;

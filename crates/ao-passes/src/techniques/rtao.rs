@@ -24,8 +24,10 @@
 //!      variance-guided a-trous iterations whose radius follows the pixel's history length
 //!      (1 / (1 + k (n - 1))) and its nearest hit (the trace writes it), so a new pixel is
 //!      blurred widely and a converged one not at all;
-//!    - `edge`, and whenever `temporal = false`: `rtao.denoise1..N` (`blocks::edge_denoise`),
-//!      XeGTAO's edge-aware 3x3 filter, N = `denoise_passes` (0 skips it).
+//!    - `edge`, and `history` when `temporal = false`: `rtao.denoise1..N`
+//!      (`blocks::edge_denoise`), XeGTAO's edge-aware 3x3 filter, N = `denoise_passes` (0
+//!      skips it);
+//!    - `none`: no spatial filter.
 //!
 //! Known answers (tests/technique_rtao.rs): with 256 rays, no temporal and no denoise, each
 //! pixel is the reference's estimate from the same rays (within 4 standard errors of the CPU
@@ -33,8 +35,10 @@
 //! `rays` goes to 256 so one frame can match the 256-ray reference exactly; real-time use is
 //! 1 to 8 with temporal accumulation.
 //!
-//! Extra output `rtao_changed` (Rgba8Unorm, r = 1 where a ray hit moving geometry this frame)
-//! unless the trace pass is the last.
+//! Extra outputs: `rtao_changed` (Rgba8Unorm, r = 1 where a ray hit moving geometry this frame,
+//! g = the nearest hit over R) unless the trace pass is the last; `rtao_guide` (Rgba16Float:
+//! variance, radius in pixels, frames of history, nearest hit over R) with the history
+//! denoiser.
 //!
 //! Backends (`tracer`, crate::RayTracer): the trace pass's shader is written once against
 //! shaders/common/scene_trace.wgsl; on `compute` it traverses the scene's BVH in the compute
@@ -88,8 +92,9 @@ pub struct RtaoParams {
     /// The cap where a ray hit moving geometry or the surface itself moves.
     pub moving_frames: u32,
     /// The spatial filter after accumulation: "history" (`blocks::history_denoise`, which
-    /// narrows as each pixel's history grows) or "edge" (XeGTAO's fixed 3x3 filter,
-    /// `denoise_passes` times). Without `temporal` there is no history: "edge" runs.
+    /// narrows as each pixel's history grows), "edge" (XeGTAO's fixed 3x3 filter,
+    /// `denoise_passes` times) or "none". Without `temporal` there is no history: "history"
+    /// runs the edge filter.
     pub denoiser: String,
     /// Edge-aware denoise passes (0 to 3) where the edge denoiser runs.
     pub denoise_passes: u32,
@@ -144,7 +149,7 @@ struct RtaoUniform {
 }
 
 const SEQUENCES: &[&str] = &["per-frame", "fixed"];
-const DENOISERS: &[&str] = &["history", "edge"];
+const DENOISERS: &[&str] = &["history", "edge", "none"];
 const MODES: &[&str] = &["binary", "obscurance"];
 
 impl AoTechnique for Rtao {
@@ -165,7 +170,7 @@ impl AoTechnique for Rtao {
                 "most frames the mean holds where a ray hit moving geometry or the surface moves",
             ),
             ParamDesc::choice("denoiser", DENOISERS).doc(
-                "history: wide on new pixels, narrowing to nothing as the history converges (SVGF's variance-guided a-trous, REBLUR's radius and history fix); edge: XeGTAO's fixed 3x3 filter (also what runs with temporal = false)",
+                "history: wide on new pixels, narrowing to nothing as the history converges (SVGF's variance-guided a-trous, REBLUR's radius and history fix); edge: XeGTAO's fixed 3x3 filter (also what history runs with temporal = false); none: no spatial filter",
             ),
             ParamDesc::int("denoise_passes", 0, 3)
                 .doc("edge denoiser: 3x3 passes after accumulation (0: none)"),
@@ -223,7 +228,12 @@ impl Rtao {
             _pad1: [0.0; 3],
         };
         let history_denoiser = p.temporal && p.denoiser == "history";
-        let last = !p.temporal && p.denoise_passes == 0;
+        let edge_passes = match p.denoiser.as_str() {
+            "none" => 0,
+            _ if history_denoiser => 0,
+            _ => p.denoise_passes,
+        };
+        let last = !p.temporal && edge_passes == 0;
 
         // Pass 1: the rays. The raw texture is the output itself when nothing follows.
         let raw = if last {
@@ -288,8 +298,9 @@ impl Rtao {
         }
 
         // Pass 3: the spatial filter of the accumulated value.
+        let mut guide = None;
         if let (true, Some(history)) = (history_denoiser, history) {
-            out = history_denoise(
+            let d = history_denoise(
                 ctx.builder,
                 "rtao",
                 &HistoryDenoiseInputs {
@@ -303,10 +314,13 @@ impl Rtao {
                     iterations: p.spatial_iterations,
                     base_radius: p.spatial_radius,
                     shrink: p.spatial_shrink,
+                    fix_stride: HistoryDenoise::fix_stride_for(p.spatial_radius),
                     ..HistoryDenoise::default()
                 },
             )?;
-        } else if p.denoise_passes > 0 {
+            out = d.accessibility;
+            guide = Some(d.guide);
+        } else if edge_passes > 0 {
             out = edge_denoise(
                 ctx.builder,
                 "rtao",
@@ -314,7 +328,7 @@ impl Rtao {
                 edges,
                 depth,
                 &EdgeDenoise {
-                    passes: p.denoise_passes,
+                    passes: edge_passes,
                     ..EdgeDenoise::default()
                 },
                 ctx.intermediate_format,
@@ -324,6 +338,11 @@ impl Rtao {
         // Where this frame's rays hit moving geometry (r = 1): the pixels whose history is
         // held to `moving_frames`, for inspection.
         output.extra.push(("rtao_changed".into(), changed));
+        if let Some(guide) = guide {
+            // The history denoiser's guide: variance, radius in pixels, frames of history,
+            // nearest hit over R.
+            output.extra.push(("rtao_guide".into(), guide));
+        }
         if p.temporal {
             // This frame's own rays, before the running mean (as the shared temporal option
             // outputs it), so the mean can be checked against its frames.
@@ -356,11 +375,15 @@ mod tests {
             all.iter().any(|n| n == "rtao.temporal.accumulate"),
             "{all:?}"
         );
-        assert_eq!(all.last().map(String::as_str), Some("rtao.atrous4"));
+        assert_eq!(all.last().map(String::as_str), Some("rtao.atrous3"));
         assert!(all.iter().any(|n| n == "rtao.history_fix"), "{all:?}");
         assert_eq!(
             names("denoiser = \"edge\"").last().map(String::as_str),
             Some("rtao.denoise1")
+        );
+        assert_eq!(
+            names("denoiser = \"none\"").last().map(String::as_str),
+            Some("rtao.temporal.accumulate")
         );
         assert_eq!(
             names("temporal = false\ndenoise_passes = 0"),
