@@ -18,9 +18,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use aograph_ao::TechniqueRegistry;
-use aograph_bench::bench::convergence::TABLE_FRAMES;
+use aograph_bench::bench::convergence::{TABLE_FRAMES, write_convergence_png};
 use aograph_bench::bench::motion::{MotionFile, read_motion};
-use aograph_bench::bench::plot::short_scene;
+use aograph_bench::bench::plot::{short_scene, write_pareto_png};
 use aograph_bench::bench::report::{BenchMeta, ResultsFile, read_results};
 use aograph_bench::bench::roofline_table::roofline_by_technique;
 
@@ -455,6 +455,33 @@ fn pages(root: &Path) -> Vec<PathBuf> {
 
 /// Regenerates every page under `root`; with `check`, writes nothing and fails naming the
 /// pages whose text differs. Returns the pages that changed (or would change).
+/// Redraws each study's committed plots (`pareto.png`, `convergence.png`, where the folder has
+/// them) from its results.json, so a change to how plots are drawn reaches every study
+/// without rerunning a bench.
+fn redraw_plots(root: &Path) -> AppResult<()> {
+    let dir = root.join("docs/results");
+    let Ok(studies) = std::fs::read_dir(&dir) else {
+        return Ok(());
+    };
+    let colours = TechniqueRegistry::with_builtins().names();
+    for study in studies.flatten().map(|e| e.path()) {
+        let file = study.join("results.json");
+        if !file.is_file() {
+            continue;
+        }
+        let results = read_results(&file)?;
+        let pareto = study.join("pareto.png");
+        if pareto.is_file() {
+            write_pareto_png(&pareto, &results.runs, &colours, &results.meta.time_axis())?;
+        }
+        let convergence = study.join("convergence.png");
+        if convergence.is_file() {
+            write_convergence_png(&convergence, &results.runs)?;
+        }
+    }
+    Ok(())
+}
+
 pub fn regenerate_all(root: &Path, check: bool) -> AppResult<Vec<PathBuf>> {
     let registry = TechniqueRegistry::with_builtins();
     let mut changed = Vec::new();
@@ -467,6 +494,9 @@ pub fn regenerate_all(root: &Path, check: bool) -> AppResult<Vec<PathBuf>> {
             }
             changed.push(page);
         }
+    }
+    if !check {
+        redraw_plots(root)?;
     }
     if check && !changed.is_empty() {
         let files: Vec<String> = (changed.iter())

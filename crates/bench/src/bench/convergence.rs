@@ -11,7 +11,7 @@ use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::csv;
-use super::plot::{FONTS, LEGEND_WIDTH, PALETTE, PANEL, grid, register_font, short_scene};
+use super::plot::{FONTS, PALETTE, PANEL, register_font, short_scene};
 use super::run::RunRecord;
 use crate::error::{AppError, AppResult};
 use crate::images::{write_atomic, write_rgb_png};
@@ -27,6 +27,25 @@ pub struct ConvergencePoint {
     pub ssim: f64,
     /// MAE in the depth-edge band; `None` when the view has no depth edge.
     pub edge_mae: Option<f64>,
+}
+
+/// A panel's width: the chart as wide as the Pareto plot's, and a legend strip wide enough
+/// for a technique with its parameter label (about 45 characters).
+const PANEL_WIDTH: u32 = 1000;
+/// The legend strip's width.
+const KEY_WIDTH: u32 = 360;
+/// Panels a row.
+const COLUMNS: usize = 3;
+
+/// Rows, columns and the picture's size in pixels for `panels` panels.
+fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
+    let columns = panels.clamp(1, COLUMNS);
+    let rows = panels.max(1).div_ceil(columns);
+    (
+        rows,
+        columns,
+        (PANEL_WIDTH * columns as u32, PANEL.1 * rows as u32),
+    )
 }
 
 /// The frames the docs' convergence table shows (those the run reached).
@@ -87,7 +106,7 @@ fn draw<DB: DrawingBackend>(
     let (rows, columns, _) = grid(panels.len());
     let colour = |n: &str| PALETTE[names.iter().position(|x| x == n).unwrap_or(0) % PALETTE.len()];
     for (area, (title, curves)) in root.split_evenly((rows, columns)).iter().zip(panels) {
-        let (chart_area, key) = area.split_horizontally(PANEL.0 - LEGEND_WIDTH);
+        let (chart_area, key) = area.split_horizontally(PANEL_WIDTH - KEY_WIDTH);
         let last = (curves.iter())
             .flat_map(|(_, _, p)| p.iter().map(|p| p.frame))
             .max()
@@ -145,14 +164,50 @@ fn draw<DB: DrawingBackend>(
 /// Writes convergence.csv, .svg and .png into `dir` for the runs that were scored per frame;
 /// nothing when none was.
 pub fn write_convergence(dir: &Path, records: &[RunRecord]) -> AppResult<()> {
-    let panels = panels(records);
-    if panels.is_empty() {
+    if panels(records).is_empty() {
         return Ok(());
     }
     write_atomic(
         &dir.join("convergence.csv"),
         convergence_csv(records).as_bytes(),
     )?;
+    let svg = dir.join("convergence.svg");
+    let mut text = String::new();
+    draw_with(records, &svg, |panels, names, size| {
+        draw(
+            SVGBackend::with_string(&mut text, size).into_drawing_area(),
+            panels,
+            names,
+        )
+    })?;
+    write_atomic(&svg, text.as_bytes())?;
+    write_convergence_png(&dir.join("convergence.png"), records)
+}
+
+/// Writes only the PNG of [`write_convergence`] (what the docs commit beside a results file).
+pub fn write_convergence_png(png: &Path, records: &[RunRecord]) -> AppResult<()> {
+    let mut size = (0, 0);
+    let mut rgb = Vec::new();
+    draw_with(records, png, |panels, names, s| {
+        size = s;
+        rgb = vec![255u8; s.0 as usize * s.1 as usize * 3];
+        draw(
+            BitMapBackend::with_buffer(&mut rgb, s).into_drawing_area(),
+            panels,
+            names,
+        )
+    })?;
+    write_rgb_png(png, size.0, size.1, &rgb)
+}
+
+/// Lays out the panels and the curve names of `records` and calls `draw` with them and the
+/// picture's size; errors name `path`.
+fn draw_with(
+    records: &[RunRecord],
+    path: &Path,
+    draw: impl FnOnce(&[(String, Curves<'_>)], &[String], (u32, u32)) -> Result<(), String>,
+) -> AppResult<()> {
+    let panels = panels(records);
     let mut names: Vec<String> = Vec::new();
     for (_, curves) in &panels {
         for (t, l, _) in curves {
@@ -163,26 +218,11 @@ pub fn write_convergence(dir: &Path, records: &[RunRecord]) -> AppResult<()> {
         }
     }
     let (_, _, size) = grid(panels.len());
-    let (svg, png) = (dir.join("convergence.svg"), dir.join("convergence.png"));
-    let plot_err = |path: &Path, m: String| AppError::Image {
+    let err = |m: String| AppError::Image {
         path: path.into(),
         message: format!("plot: {m}"),
     };
-    register_font().map_err(|m| plot_err(&png, m))?;
-    let mut text = String::new();
-    draw(
-        SVGBackend::with_string(&mut text, size).into_drawing_area(),
-        &panels,
-        &names,
-    )
-    .map_err(|m| plot_err(&svg, m))?;
-    write_atomic(&svg, text.as_bytes())?;
-    let mut rgb = vec![255u8; size.0 as usize * size.1 as usize * 3];
-    draw(
-        BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
-        &panels,
-        &names,
-    )
-    .map_err(|m| plot_err(&png, m))?;
-    write_rgb_png(&png, size.0, size.1, &rgb)
+    // Both backends lay text out with the registered font.
+    register_font().map_err(err)?;
+    draw(&panels, &names, size).map_err(err)
 }

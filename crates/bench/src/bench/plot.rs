@@ -23,7 +23,7 @@ pub(super) const PANEL: (u32, u32) = (800, 480);
 /// large screen and scrollable on a small one.
 const GRID_COLUMNS: usize = 4;
 /// Width of the legend strip at the right of each panel.
-pub(super) const LEGEND_WIDTH: u32 = 160;
+const LEGEND_WIDTH: u32 = 160;
 /// Tableau 10: distinguishable, colour-blind aware.
 pub(super) const PALETTE: [RGBColor; 10] = [
     RGBColor(78, 121, 167),
@@ -318,7 +318,7 @@ fn panels(records: &[RunRecord]) -> Vec<(String, Vec<Point>)> {
 }
 
 /// The plot's size in pixels for `panels` panels.
-pub(super) fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
+fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
     let columns = panels.clamp(1, GRID_COLUMNS);
     let rows = panels.max(1).div_ceil(columns);
     let size = (PANEL.0 * columns as u32, PANEL.1 * rows as u32);
@@ -342,6 +342,13 @@ fn draw<DB: DrawingBackend>(
     root.present().map_err(|e| e.to_string())
 }
 
+fn plot_err(path: &Path, m: String) -> AppError {
+    AppError::Image {
+        path: path.into(),
+        message: format!("plot: {m}"),
+    }
+}
+
 /// Writes `svg` and `png` for `records`; `techniques` fixes the colour order.
 pub fn write_pareto(
     svg: &Path,
@@ -352,10 +359,6 @@ pub fn write_pareto(
 ) -> AppResult<()> {
     let panels = panels(records);
     let (_, _, size) = grid(panels.len());
-    let plot_err = |path: &Path, m: String| AppError::Image {
-        path: path.into(),
-        message: format!("plot: {m}"),
-    };
     // Both backends lay text out with the registered font.
     register_font().map_err(|m| plot_err(png, m))?;
     let mut text = String::new();
@@ -367,6 +370,19 @@ pub fn write_pareto(
     )
     .map_err(|m| plot_err(svg, m))?;
     write_atomic(svg, text.as_bytes())?;
+    write_pareto_png(png, records, techniques, time_label)
+}
+
+/// Writes only the PNG of [`write_pareto`] (what the docs commit beside a results file).
+pub fn write_pareto_png(
+    png: &Path,
+    records: &[RunRecord],
+    techniques: &[String],
+    time_label: &str,
+) -> AppResult<()> {
+    let panels = panels(records);
+    let (_, _, size) = grid(panels.len());
+    register_font().map_err(|m| plot_err(png, m))?;
     let mut rgb = vec![255u8; size.0 as usize * size.1 as usize * 3];
     draw(
         BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
