@@ -2,7 +2,7 @@
 //! against known answers, at odd non-square sizes:
 //! - converged, it is the reference: 1 ray a frame over 256 still frames traces exactly the
 //!   reference's 256 rays (the sequence continues frame to frame); the filter's radius has
-//!   shrunk below a third of a pixel, so the output is the running mean bit for bit, within 4
+//!   shrunk below half a pixel, so the output is the running mean bit for bit, within 4
 //!   standard errors of the 256-ray reference on >= 99 % of pixels;
 //! - its first frame after a reset, at one ray a pixel, scores a higher SSIM against the
 //!   reference than gtao high's frame on `columns` and `cornell-box` (the history fix and
@@ -38,7 +38,7 @@ fn converged_rtao_with_the_history_denoiser_is_the_reference_within_four_standar
         let params = "rays = 1\ntemporal_frames = 256";
         let config = common::ao_config("rtao", radius, params);
         let run = common::render_ao(s.clone(), &config, SIZE, 256).expect("a GPU");
-        // Converged, the radius is 8 / (1 + 0.1 * 255) = 0.30 pixels or less, under a third of
+        // Converged, the radius is 8 / (1 + 0.1 * 255) = 0.30 pixels or less, under half of
         // the first iteration's spacing: every iteration leaves every pixel as it is, so the
         // output is the running mean itself, bit for bit.
         let none = format!("{params}\ndenoiser = \"none\"");

@@ -1,10 +1,11 @@
 #include "common/history_denoise_params.wgsl"
+#include "common/view.wgsl"
 // blocks/history_denoise `<prefix>.atrous<k>` (crates/ao-passes/src/blocks/history_denoise.rs):
 // one a-trous iteration (SVGF, Schied et al. 2017, Eqs. 1-5) at tap spacing `step` = 2^(k-1):
 // a 3x3 B-spline kernel (1/4, 1/2, 1/4) times
 //   - a Gaussian of the tap's distance in pixels with the pixel's own radius from the guide
 //     (blocks/history_fix.wgsl), so the filter narrows as the history grows and a pixel whose
-//     radius is below a third of the step keeps its value (the iteration is skipped there);
+//     radius is below half the step keeps its value (the iteration is skipped there);
 //   - the same surface: exp(-plane distance / (tolerance * distance to the camera)) and
 //     max(n.n_q, 0)^64 (SVGF's sigma_n = 128, halved for a 3x3 kernel);
 //   - the AO difference over the pixel's standard deviation: exp(-|a_p - a_q| / (sigma_ao
@@ -17,9 +18,26 @@
 @group(0) @binding(0) var<uniform> params: HistoryDenoiseParams;
 @group(0) @binding(1) var src: texture_2d<f32>;
 @group(0) @binding(2) var guide: texture_2d<f32>;
-@group(0) @binding(3) var positions: texture_2d<f32>;
+@group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var normals: texture_2d<f32>;
 @group(0) @binding(5) var dst: texture_storage_2d<r32float, write>;
+@group(0) @binding(6) var<uniform> view: View;
+
+// Whether linear depth z is a surface (0 marks sky; the g-buffer never writes NaN there).
+fn is_surface(z: f32) -> bool {
+    return z > 0.0 && z < 3.0e38;
+}
+
+// max(c, 0)^64 by six squarings (pow is an exp and a log).
+fn facing_weight(c: f32) -> f32 {
+    var x = max(c, 0.0);
+    x = x * x;
+    x = x * x;
+    x = x * x;
+    x = x * x;
+    x = x * x;
+    return x * x;
+}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -28,22 +46,29 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (p.x >= size.x || p.y >= size.y) {
         return;
     }
-    let centre = textureLoad(positions, p, 0);
-    if (centre.w < 0.5) {
+    let zc = textureLoad(depth, p, 0).x;
+    if (!is_surface(zc)) {
         textureStore(dst, p, vec4<f32>(1.0, 0.0, 0.0, 0.0));
         return;
     }
+    // Points rebuilt from linear depth at pixel centres (4 bytes a tap, not a 16-byte
+    // position), in the view block's own pixel grid.
+    let to_view = pixel_to_view(view, view.inv_size);
+    let centre = pixel_view_position(to_view, vec2<f32>(p) + 0.5, zc);
     let a = textureLoad(src, p, 0).x;
     let g = textureLoad(guide, p, 0);
     let radius = g.y;
-    if (!(radius * 3.0 >= params.step)) {
+    if (!(radius * 2.0 >= params.step)) {
         textureStore(dst, p, vec4<f32>(clamp(a, 0.0, 1.0), 0.0, 0.0, 0.0));
         return;
     }
     let nc = textureLoad(normals, p, 0).xyz;
     let sigma = params.sigma_ao * sqrt(max(g.x, 0.0)) + 1e-4;
-    let to_camera = max(length(centre.xyz), 1e-20);
+    let to_camera = max(length(centre), 1e-20);
     let step = i32(params.step);
+    let inv_two_r2 = 1.0 / (2.0 * radius * radius);
+    let inv_plane = 1.0 / (params.plane_tolerance * to_camera);
+    let inv_sigma = 1.0 / sigma;
     var sum = 0.0;
     var wsum = 0.0;
     for (var j = -1; j <= 1; j++) {
@@ -52,18 +77,19 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if (any(q < vec2<i32>(0)) || any(q >= size)) {
                 continue;
             }
-            let pq = textureLoad(positions, q, 0);
-            if (pq.w < 0.5) {
+            let zq = textureLoad(depth, q, 0).x;
+            if (!is_surface(zq)) {
                 continue;
             }
+            let pq = pixel_view_position(to_view, vec2<f32>(q) + 0.5, zq);
             let aq = textureLoad(src, q, 0).x;
             let kernel = (0.5 - 0.25 * f32(abs(i))) * (0.5 - 0.25 * f32(abs(j)));
             let d2 = f32(i * i + j * j) * params.step * params.step;
-            let distance_w = exp(-d2 / (2.0 * radius * radius));
-            let plane = abs(dot(nc, pq.xyz - centre.xyz)) / (params.plane_tolerance * to_camera);
-            let facing = pow(max(dot(nc, textureLoad(normals, q, 0).xyz), 0.0), 64.0);
-            let value_w = exp(-abs(a - aq) / sigma);
-            let w = kernel * distance_w * exp(-plane) * facing * value_w;
+            let plane = abs(dot(nc, pq - centre)) * inv_plane;
+            let facing = facing_weight(dot(nc, textureLoad(normals, q, 0).xyz));
+            // The distance, plane and value weights' exponentials in one.
+            let w = kernel * facing
+                * exp(-(d2 * inv_two_r2 + plane + abs(a - aq) * inv_sigma));
             sum += w * aq;
             wsum += w;
         }

@@ -1,5 +1,6 @@
 #include "common/history_denoise_params.wgsl"
 #include "common/finite.wgsl"
+#include "common/view.wgsl"
 // blocks/history_denoise `<prefix>.history_fix` (crates/ao-passes/src/blocks/history_denoise.rs):
 // per pixel, the accessibility, its variance and the spatial filter's radius that the
 // a-trous passes (blocks/atrous_denoise.wgsl) use.
@@ -21,20 +22,33 @@
 @group(0) @binding(0) var<uniform> params: HistoryDenoiseParams;
 @group(0) @binding(1) var accumulated: texture_2d<f32>;
 @group(0) @binding(2) var history: texture_2d<f32>;
-@group(0) @binding(3) var positions: texture_2d<f32>;
+@group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var normals: texture_2d<f32>;
 @group(0) @binding(5) var hits: texture_2d<f32>;
 @group(0) @binding(6) var dst: texture_storage_2d<r32float, write>;
 @group(0) @binding(7) var guide: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(8) var<uniform> view: View;
 
 // Weight of tap q for centre point p with normal n (same surface: near p's tangent plane,
 // facing the same way).
-fn surface_weight(p: vec3<f32>, n: vec3<f32>, q: vec4<f32>, nq: vec3<f32>) -> f32 {
-    if (q.w < 0.5) {
+// Whether linear depth z is a surface (0 marks sky).
+fn is_surface(z: f32) -> bool {
+    return z > 0.0 && z < 3.0e38;
+}
+
+fn surface_weight(p: vec3<f32>, n: vec3<f32>, q: vec3<f32>, zq: f32, nq: vec3<f32>) -> f32 {
+    if (!is_surface(zq)) {
         return 0.0;
     }
-    let plane = abs(dot(n, q.xyz - p)) / (params.plane_tolerance * max(length(p), 1e-20));
-    let facing = pow(max(dot(n, nq), 0.0), 64.0);
+    let plane = abs(dot(n, q - p)) / (params.plane_tolerance * max(length(p), 1e-20));
+    // max(n.nq, 0)^64 by six squarings (pow is an exp and a log).
+    var facing = max(dot(n, nq), 0.0);
+    facing = facing * facing;
+    facing = facing * facing;
+    facing = facing * facing;
+    facing = facing * facing;
+    facing = facing * facing;
+    facing = facing * facing;
     return exp(-plane) * facing;
 }
 
@@ -45,12 +59,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (p.x >= size.x || p.y >= size.y) {
         return;
     }
-    let centre = textureLoad(positions, p, 0);
-    if (centre.w < 0.5) {
+    let zc = textureLoad(depth, p, 0).x;
+    if (!is_surface(zc)) {
         textureStore(dst, p, vec4<f32>(1.0, 0.0, 0.0, 0.0));
         textureStore(guide, p, vec4<f32>(0.0));
         return;
     }
+    // Points rebuilt from linear depth at pixel centres (4 bytes a tap, not a 16-byte
+    // position), in the view block's own pixel grid.
+    let to_view = pixel_to_view(view, view.inv_size);
+    let centre = pixel_view_position(to_view, vec2<f32>(p) + 0.5, zc);
     let nc = textureLoad(normals, p, 0).xyz;
     let a = clamp(textureLoad(accumulated, p, 0).x, 0.0, 1.0);
     let h = textureLoad(history, p, 0);
@@ -73,11 +91,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if (any(q < vec2<i32>(0)) || any(q >= size)) {
                 continue;
             }
-            let w = surface_weight(centre.xyz, nc, textureLoad(positions, q, 0),
-                                   textureLoad(normals, q, 0).xyz);
+            let zq = textureLoad(depth, q, 0).x;
+            let w = surface_weight(centre, nc, pixel_view_position(to_view, vec2<f32>(q) + 0.5, zq),
+                                   zq, textureLoad(normals, q, 0).xyz);
             if (w > 0.0) {
+                // history.x is the accumulated value the temporal block also output.
                 let hq = textureLoad(history, q, 0);
-                let m1 = clamp(textureLoad(accumulated, q, 0).x, 0.0, 1.0);
+                let m1 = clamp(hq.x, 0.0, 1.0);
                 let m2 = clamp(select(0.0, hq.z, is_finite_f32(hq.z)), 0.0, 1.0);
                 temporal_variance += w * max(m2 - m1 * m1, 0.0);
                 pooled_m1 += w * m1;
@@ -108,11 +128,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 if (any(q < vec2<i32>(0)) || any(q >= size)) {
                     continue;
                 }
-                let pq = textureLoad(positions, q, 0);
-                let w = surface_weight(centre.xyz, nc, pq, textureLoad(normals, q, 0).xyz)
-                    * max(textureLoad(history, q, 0).y, 1.0);
+                let zq = textureLoad(depth, q, 0).x;
+                let pq = pixel_view_position(to_view, vec2<f32>(q) + 0.5, zq);
+                let hq = textureLoad(history, q, 0);
+                let w = surface_weight(centre, nc, pq, zq, textureLoad(normals, q, 0).xyz)
+                    * max(hq.y, 1.0);
                 if (w > 0.0) {
-                    let aq = clamp(textureLoad(accumulated, q, 0).x, 0.0, 1.0);
+                    let aq = clamp(hq.x, 0.0, 1.0);
                     sum += w * aq;
                     sum2 += w * aq * aq;
                     wsum += w;

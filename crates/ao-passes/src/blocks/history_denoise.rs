@@ -15,15 +15,15 @@
 //! 1. `<prefix>.history_fix` (shaders/blocks/history_fix.wgsl): the value after the history
 //!    fix, and the guide (variance, radius in pixels, n, nearest hit / R), Rgba16Float;
 //! 2. `<prefix>.atrous1..K` (shaders/blocks/atrous_denoise.wgsl): a-trous iterations at tap
-//!    spacing 1, 2, 4, ..., each skipped at pixels whose radius is below a third of its
-//!    spacing.
+//!    spacing 1, 2, 4, ..., each skipped at pixels whose radius is below half its spacing.
 //!
 //! Invariant: the output is R32Float accessibility in [0, 1], exactly 1 on sky, a convex
-//! combination of accumulated values; a pixel whose radius is below a third of a pixel (a
+//! combination of accumulated values; a pixel whose radius is below half a pixel (a
 //! converged history) passes through every iteration unchanged, so with a long enough history
 //! the filter is the identity. The guide is the one four-channel texture the block creates
 //! (the variance, radius and history length the iterations share).
 
+use aograph_frame::ReadsView;
 use aograph_graph::{GraphBuilder, TextureDesc, TextureHandle};
 use bytemuck::{Pod, Zeroable};
 
@@ -93,13 +93,15 @@ pub struct HistoryDenoiseInputs {
     pub accumulated: TextureHandle,
     /// The temporal block's history as written this frame (x mean, y n, z second moment).
     pub history: TextureHandle,
-    /// The g-buffer's view-space positions (w = 1 on geometry).
-    pub positions: TextureHandle,
+    /// The g-buffer's linear depth (0 = sky); points are rebuilt from it with `view`.
+    pub depth: TextureHandle,
     /// The g-buffer's view-space normals.
     pub normals: TextureHandle,
     /// Where `.g` is the nearest hit's distance over R this frame (rtao's trace writes it);
     /// `None`: no hit distance, the radius does not narrow near occluders.
     pub hits: Option<TextureHandle>,
+    /// The view block of the size the inputs have.
+    pub view: aograph_graph::BufferHandle,
 }
 
 impl HistoryDenoise {
@@ -212,13 +214,15 @@ pub fn history_denoise(
     p.uniform("params", bytemuck::bytes_of(&params.uniform(1, has_hits)));
     p.sample("accumulated", inputs.accumulated)
         .sample("history", inputs.history)
-        .sample("positions", inputs.positions)
+        .sample("depth", inputs.depth)
         .sample("normals", inputs.normals)
         // Without hit distances the shader never reads `hits` (has_hits = 0).
         .sample("hits", inputs.hits.unwrap_or(inputs.accumulated));
-    // Centre value, history, point, normal, 9 hit distances; the history fix's 25 taps
-    // (point, normal, history, value) run only on pixels with a short history.
-    p.loads_per_invocation(13.0);
+    p.read_view(inputs.view);
+    // Centre value, history, depth and normal, and the 3x3 neighbours' depth, normal,
+    // history and hit distance; the history fix's 25 taps (depth, normal, history) run only
+    // on pixels with a short history.
+    p.loads_per_invocation(36.0);
     let mut src = p.write_storage("dst", fixed);
     let guide = p.write_storage("guide", guide);
     p.dispatch_over(src);
@@ -234,9 +238,10 @@ pub fn history_denoise(
         );
         p.sample("src", src)
             .sample("guide", guide)
-            .sample("positions", inputs.positions)
+            .sample("depth", inputs.depth)
             .sample("normals", inputs.normals);
-        // Centre value, guide, point and normal; 8 taps' point, normal and value.
+        p.read_view(inputs.view);
+        // Centre value, guide, depth and normal; 8 taps' depth, normal and value.
         p.loads_per_invocation(28.0);
         let out = p.write_storage("dst", out);
         p.dispatch_over(out);

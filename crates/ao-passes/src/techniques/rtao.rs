@@ -306,9 +306,10 @@ impl Rtao {
                 &HistoryDenoiseInputs {
                     accumulated: out,
                     history,
-                    positions,
+                    depth,
                     normals,
                     hits: Some(changed),
+                    view: ctx.view,
                 },
                 &HistoryDenoise {
                     iterations: p.spatial_iterations,
