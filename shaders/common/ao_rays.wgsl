@@ -16,8 +16,13 @@
 // distance over R (1 on a miss; in binary mode the first hit found, not always the nearest).
 fn rays_sample_hit(p: vec3<f32>, n: vec3<f32>, scramble: vec2<u32>, index: u32, radius: f32,
                    mode: u32) -> vec3<f32> {
+    return rays_sample_at(p, n, rays_sobol_2d(index, scramble), radius, mode);
+}
+
+// `rays_sample_hit` for the unit-square point u (lifted to the cosine-weighted hemisphere).
+fn rays_sample_at(p: vec3<f32>, n: vec3<f32>, u: vec2<f32>, radius: f32, mode: u32) -> vec3<f32> {
     let origin = p + n * rays_offset_epsilon(p, radius);
-    let d = rays_to_world(n, rays_cosine_hemisphere(rays_sobol_2d(index, scramble)));
+    let d = rays_to_world(n, rays_cosine_hemisphere(u));
     let hit = scene_trace(origin, d, 0.0, radius, mode == 0u);
     if (!hit.hit) {
         return vec3<f32>(0.0, 0.0, 1.0);

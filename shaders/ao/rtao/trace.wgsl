@@ -14,7 +14,8 @@ struct RtaoParams {
     rays: u32,
     // 0 binary, 1 obscurance.
     mode: u32,
-    // 1: advance the sequence every frame; 0: the same rays every frame.
+    // 0: the same rays every frame; 1: advance the pixel's sequence every frame; 2: blue
+    // noise (every pixel the same Sobol point of the frame, shifted by its own dither offset).
     sequence: u32,
     pad0: u32,
     radius: f32,
@@ -32,6 +33,19 @@ alias IntermediateStorage = texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var ao: IntermediateStorage;
 @group(0) @binding(9) var edges: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(10) var changed: texture_storage_2d<rgba8unorm, write>;
+
+// The pixel's offset of the blue-noise sequence: two dither masks with blue-noise spectra,
+// Roberts' R2 mask (the plastic number's 2D Kronecker weights) and Jimenez's interleaved
+// gradient noise, so neighbouring pixels take distant points of the unit square and the error
+// left at one ray a pixel is high-frequency, which the spatial filter removes best.
+fn blue_noise_offset(p: vec2<u32>) -> vec2<f32> {
+    let x = f32(p.x);
+    let y = f32(p.y);
+    return vec2<f32>(
+        fract(0.7548776662 * x + 0.5698402910 * y),
+        fract(52.9829189 * fract(0.06711056 * x + 0.00583715 * y)),
+    );
+}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -55,10 +69,19 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let n = world_n * (1.0 / len);
         let pixel = id.y * size.x + id.x;
         let scramble = rays_pixel_scramble(pixel);
-        let first = select(0u, view.frame_index * params.rays, params.sequence == 1u);
+        let first = select(0u, view.frame_index * params.rays, params.sequence >= 1u);
+        let offset = blue_noise_offset(id.xy);
         var sum = 0.0;
         for (var i = 0u; i < params.rays; i++) {
-            let s = rays_sample_hit(world_p, n, scramble, first + i, params.radius, params.mode);
+            // Blue noise: the frame's shared (unscrambled) Sobol point rotated by the pixel's
+            // offset, modulo 1; each pixel's points over frames are still a rotated (0,2)
+            // sequence, uniform on the square, so the rays stay cosine-distributed.
+            let u = select(
+                rays_sobol_2d(first + i, scramble),
+                fract(rays_sobol_2d(first + i, vec2<u32>(0u)) + offset),
+                params.sequence == 2u
+            );
+            let s = rays_sample_at(world_p, n, u, params.radius, params.mode);
             sum += s.x;
             moving_hit = max(moving_hit, s.y);
             nearest = min(nearest, s.z);

@@ -104,8 +104,9 @@ pub struct RtaoParams {
     pub spatial_radius: f32,
     /// k of the history denoiser's radius shrink 1 / (1 + k (n - 1)) over n frames of history.
     pub spatial_shrink: f32,
-    /// "per-frame": each frame continues the pixel's ray sequence; "fixed": the same rays
-    /// every frame.
+    /// "per-frame": each frame continues the pixel's ray sequence (the reference's rays);
+    /// "fixed": the same rays every frame; "blue-noise": the frame's Sobol point shifted by
+    /// the pixel's blue-noise offset.
     pub sequence: String,
     /// "binary" or "obscurance" (the reference's modes).
     pub mode: String,
@@ -148,7 +149,7 @@ struct RtaoUniform {
     _pad1: [f32; 3],
 }
 
-const SEQUENCES: &[&str] = &["per-frame", "fixed"];
+const SEQUENCES: &[&str] = &["per-frame", "fixed", "blue-noise"];
 const DENOISERS: &[&str] = &["history", "edge", "none"];
 const MODES: &[&str] = &["binary", "obscurance"];
 
@@ -181,7 +182,7 @@ impl AoTechnique for Rtao {
             ParamDesc::float("spatial_shrink", 0.0, 1000.0)
                 .doc("history denoiser: k of the radius' 1 / (1 + k (n - 1)) shrink over n frames"),
             ParamDesc::choice("sequence", SEQUENCES)
-                .doc("per-frame: each frame continues the pixel's Sobol sequence; fixed: the same rays every frame"),
+                .doc("per-frame: each frame continues the pixel's scrambled Sobol sequence (the reference's rays); fixed: the same rays every frame; blue-noise: every pixel the frame's Sobol point shifted by its own blue-noise dither offset, so the error left at 1 ray a pixel is high-frequency"),
             ParamDesc::choice("mode", MODES)
                 .doc("binary: a hit within R occludes; obscurance: a hit at d occludes by 1 - (d/R)^2"),
             Resolution::param(),
@@ -222,7 +223,11 @@ impl Rtao {
         let uniform = RtaoUniform {
             rays: p.rays,
             mode: (p.mode == "obscurance") as u32,
-            sequence: (p.sequence == "per-frame") as u32,
+            sequence: match p.sequence.as_str() {
+                "fixed" => 0,
+                "blue-noise" => 2,
+                _ => 1,
+            },
             _pad0: 0,
             radius: ctx.radius,
             _pad1: [0.0; 3],
@@ -408,6 +413,6 @@ mod tests {
             .check(&toml::from_str("sequence = \"halton\"").unwrap())
             .unwrap_err()
             .to_string();
-        assert!(e.contains("per-frame") && e.contains("fixed"), "{e}");
+        assert!(e.contains("per-frame") && e.contains("blue-noise"), "{e}");
     }
 }
