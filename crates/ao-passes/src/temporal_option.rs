@@ -18,14 +18,15 @@
 //! defines its own filter, Eqs. 12-14) keep their own `temporal` parameters; `rtao` has had
 //! the same accumulation since it was written.
 
-use aograph_frame::GBufferChannels;
+use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::PassBuilder;
 use serde::{Deserialize, Serialize};
 
+use crate::blocks::history_denoise::{HistoryDenoise, HistoryDenoiseInputs, history_denoise};
 use crate::blocks::temporal::{
     DEFAULT_EPSILON, MAX_N_MAX, TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
-use crate::error::AoResult;
+use crate::error::{AoError, AoResult};
 use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput};
 
@@ -40,6 +41,9 @@ pub const PER_FRAME_OUTPUT: &str = "per_frame_accessibility";
 /// Default cap of the running mean: the known-answer test's 32 frames average exactly.
 pub const DEFAULT_TEMPORAL_FRAMES: u32 = 32;
 
+/// The values of `temporal_denoiser`.
+const TEMPORAL_DENOISERS: &[&str] = &["none", "history"];
+
 /// The temporal option, flattened into each spatial technique's parameter table.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -50,6 +54,19 @@ pub struct TemporalOption {
     pub temporal_frames: u32,
     /// The disocclusion test's relative depth tolerance (TSSAO Eq. 7).
     pub temporal_epsilon: f32,
+    /// The spatial filter after the running mean: "none" or "history"
+    /// (`blocks::history_denoise`: wide where a pixel's history is short, none once converged).
+    pub temporal_denoiser: TemporalDenoiser,
+}
+
+/// The spatial filter the temporal option runs after the running mean.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TemporalDenoiser {
+    /// The running mean as it is.
+    None,
+    /// `blocks::history_denoise`.
+    History,
 }
 
 impl Default for TemporalOption {
@@ -58,6 +75,7 @@ impl Default for TemporalOption {
             temporal: false,
             temporal_frames: DEFAULT_TEMPORAL_FRAMES,
             temporal_epsilon: DEFAULT_EPSILON,
+            temporal_denoiser: TemporalDenoiser::None,
         }
     }
 }
@@ -73,6 +91,9 @@ impl TemporalOption {
                 .doc("most frames the running mean holds (its per-pixel count's cap)"),
             ParamDesc::float("temporal_epsilon", 0.0001, 1.0).doc(
                 "history is dropped where |1 - d_new/d_old| reaches this (disocclusion; 0.03)",
+            ),
+            ParamDesc::choice("temporal_denoiser", TEMPORAL_DENOISERS).doc(
+                "after the running mean: none, or history (rtao's history denoiser: wide where a pixel's history is short, none once converged)",
             ),
         ]
     }
@@ -116,6 +137,28 @@ impl TemporalOption {
         out.extra
             .push((PER_FRAME_OUTPUT.to_string(), out.accessibility));
         out.accessibility = t.accumulated;
+        if self.temporal_denoiser == TemporalDenoiser::History {
+            let channel = |c: GBufferChannel| {
+                ctx.gbuffer.get(c).ok_or_else(|| AoError::MissingChannel {
+                    technique: ctx.technique.to_string(),
+                    channel: c.name().into(),
+                })
+            };
+            let d = history_denoise(
+                ctx.builder,
+                &format!("{}.temporal", ctx.technique),
+                &HistoryDenoiseInputs {
+                    accumulated: t.accumulated,
+                    history: t.history.current,
+                    depth: channel(GBufferChannel::LinearDepth)?,
+                    normals: channel(GBufferChannel::Normals)?,
+                    hits: None,
+                    view: ctx.view,
+                },
+                &HistoryDenoise::default(),
+            )?;
+            out.accessibility = d.accessibility;
+        }
         Ok(out)
     }
 }
