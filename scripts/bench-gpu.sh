@@ -6,8 +6,9 @@
 # and <out>/device.txt.
 #
 # Then rtao converged: 1, 2, 4 and 8 rays a frame accumulated over 64 frames
-# (<out>/<size>-rtao-converged), rtao's denoisers scored on every frame after a reset
-# (<out>/<size>-rtao-denoisers, configs/sweeps/rtao-denoisers.toml), on both backends of the ray tracer where the device has ray
+# (<out>/<size>-rtao-converged); rtao's denoisers scored on every frame after a reset
+# (<out>/<size>-rtao-denoisers, configs/sweeps/rtao-denoisers.toml, the compute or hardware
+# backend as `auto` picks); on both backends of the ray tracer where the device has ray
 # queries (configs/sweeps/ray-tracers.toml; the compute backend only otherwise), and the CPU,
 # compute and hardware tracers in rays per second (<out>/ray-throughput.txt, criterion's
 # reference bench).
@@ -61,11 +62,12 @@ for size in $sizes; do
         --scenes "$scenes" --techniques rtao --sweep "$rtao_sweep" \
         --width "$w" --height "$h" --frames "$rtao_frames" --warmup 2 --rays "$rays" \
         --quiet --out "$out/$size-rtao-converged"
-    # rtao's denoisers frame by frame after a reset (every pass's ms in its report.md: the
-    # history denoiser's history_fix and atrous passes at this size).
+    # rtao's denoisers frame by frame after a reset, as many frames as the converged run
+    # renders (its warm-up included). The converged run's report.md has the history
+    # denoiser's history_fix and atrous passes' ms at this size; these include cold frames.
     "./target/$profile/aograph" bench \
         --scenes "$scenes" --sweep configs/sweeps/rtao-denoisers.toml \
-        --width "$w" --height "$h" --convergence "$rtao_frames" --rays "$rays" \
+        --width "$w" --height "$h" --convergence "$((rtao_frames + 2))" --rays "$rays" \
         --quiet --out "$out/$size-rtao-denoisers"
 done
 if [ "$profile" = release ]; then

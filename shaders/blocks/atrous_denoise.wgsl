@@ -1,5 +1,6 @@
 #include "common/history_denoise_params.wgsl"
 #include "common/view.wgsl"
+#include "common/same_surface.wgsl"
 // blocks/history_denoise `<prefix>.atrous<k>` (crates/ao-passes/src/blocks/history_denoise.rs):
 // one a-trous iteration (SVGF, Schied et al. 2017, Eqs. 1-5) at tap spacing `step` = 2^(k-1):
 // a 3x3 B-spline kernel (1/4, 1/2, 1/4) times
@@ -22,22 +23,6 @@
 @group(0) @binding(4) var normals: texture_2d<f32>;
 @group(0) @binding(5) var dst: texture_storage_2d<r32float, write>;
 @group(0) @binding(6) var<uniform> view: View;
-
-// Whether linear depth z is a surface (0 marks sky; the g-buffer never writes NaN there).
-fn is_surface(z: f32) -> bool {
-    return z > 0.0 && z < 3.0e38;
-}
-
-// max(c, 0)^64 by six squarings (pow is an exp and a log).
-fn facing_weight(c: f32) -> f32 {
-    var x = max(c, 0.0);
-    x = x * x;
-    x = x * x;
-    x = x * x;
-    x = x * x;
-    x = x * x;
-    return x * x;
-}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -64,10 +49,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let nc = textureLoad(normals, p, 0).xyz;
     let sigma = params.sigma_ao * sqrt(max(g.x, 0.0)) + 1e-4;
-    let to_camera = max(length(centre), 1e-20);
     let step = i32(params.step);
     let inv_two_r2 = 1.0 / (2.0 * radius * radius);
-    let inv_plane = 1.0 / (params.plane_tolerance * to_camera);
     let inv_sigma = 1.0 / sigma;
     var sum = 0.0;
     var wsum = 0.0;
@@ -85,7 +68,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let aq = textureLoad(src, q, 0).x;
             let kernel = (0.5 - 0.25 * f32(abs(i))) * (0.5 - 0.25 * f32(abs(j)));
             let d2 = f32(i * i + j * j) * params.step * params.step;
-            let plane = abs(dot(nc, pq - centre)) * inv_plane;
+            let plane = plane_distance(centre, nc, pq, params.plane_tolerance);
             let facing = facing_weight(dot(nc, textureLoad(normals, q, 0).xyz));
             // The distance, plane and value weights' exponentials in one.
             let w = kernel * facing
@@ -94,6 +77,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             wsum += w;
         }
     }
-    // The centre always weighs (kernel 1/4, every other factor 1), so wsum > 0.
-    textureStore(dst, p, vec4<f32>(clamp(sum / wsum, 0.0, 1.0), 0.0, 0.0, 0.0));
+    // The centre weighs about 1/4 (its own normal, f16-rounded); a degenerate normal keeps
+    // the pixel's value.
+    let filtered = select(a, sum / wsum, wsum > 0.0);
+    textureStore(dst, p, vec4<f32>(clamp(filtered, 0.0, 1.0), 0.0, 0.0, 0.0));
 }

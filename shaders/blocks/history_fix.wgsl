@@ -1,6 +1,7 @@
 #include "common/history_denoise_params.wgsl"
 #include "common/finite.wgsl"
 #include "common/view.wgsl"
+#include "common/same_surface.wgsl"
 // blocks/history_denoise `<prefix>.history_fix` (crates/ao-passes/src/blocks/history_denoise.rs):
 // per pixel, the accessibility, its variance and the spatial filter's radius that the
 // a-trous passes (blocks/atrous_denoise.wgsl) use.
@@ -12,7 +13,8 @@
 //     variance): a sparse 5x5 gather at `fix_stride` pixels over the same surface (plane and
 //     normal weights) with each tap weighted by its own history length, so a disoccluded pixel
 //     borrows converged neighbours' values; the pixel's value moves towards the gather by
-//     (fix_frames - n) / (fix_frames - 1), and the variance is spatial: the larger of the gather's and the 3x3 pooled moments'.
+//     (fix_frames - n) / (fix_frames - 1), and the variance is the largest of the temporal
+//     one, the gather's spatial variance and the 3x3 neighbours' pooled moments'.
 //   radius (pixels) = base_radius * mix(hit_floor, 1, nearest hit / R) / (1 + shrink (n - 1)):
 //   wide on a new pixel, shrinking as the mean converges (REBLUR's 1 / (1 + k N)), narrower
 //   where occluders are close (contact shadows are sharp).
@@ -29,27 +31,13 @@
 @group(0) @binding(7) var guide: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(8) var<uniform> view: View;
 
-// Weight of tap q for centre point p with normal n (same surface: near p's tangent plane,
-// facing the same way).
-// Whether linear depth z is a surface (0 marks sky).
-fn is_surface(z: f32) -> bool {
-    return z > 0.0 && z < 3.0e38;
-}
-
+// Weight of tap q (depth zq, normal nq) for centre point p with normal n: the same surface
+// (common/same_surface.wgsl).
 fn surface_weight(p: vec3<f32>, n: vec3<f32>, q: vec3<f32>, zq: f32, nq: vec3<f32>) -> f32 {
     if (!is_surface(zq)) {
         return 0.0;
     }
-    let plane = abs(dot(n, q - p)) / (params.plane_tolerance * max(length(p), 1e-20));
-    // max(n.nq, 0)^64 by six squarings (pow is an exp and a log).
-    var facing = max(dot(n, nq), 0.0);
-    facing = facing * facing;
-    facing = facing * facing;
-    facing = facing * facing;
-    facing = facing * facing;
-    facing = facing * facing;
-    facing = facing * facing;
-    return exp(-plane) * facing;
+    return exp(-plane_distance(p, n, q, params.plane_tolerance)) * facing_weight(dot(n, nq));
 }
 
 @compute @workgroup_size(8, 8)
@@ -109,7 +97,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    // The centre weighs 1, so msum >= 1.
+    // The centre weighs about 1 (its own normal, f16-rounded); the floor keeps a degenerate
+    // normal from dividing by zero.
+    msum = max(msum, 1e-6);
     temporal_variance = temporal_variance / msum;
     let pooled_variance = max(pooled_m2 / msum - (pooled_m1 / msum) * (pooled_m1 / msum), 0.0);
     let radius = params.base_radius * mix(params.hit_floor, 1.0, clamp(hit, 0.0, 1.0))

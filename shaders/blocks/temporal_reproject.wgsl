@@ -7,7 +7,8 @@
 //
 // reprojected = (previous accessibility, bilinear over the 2x2 texels that pass Eq. 7;
 //                n_t of the nearest passing texel, 0 when invalid;
-//                sequence index of the nearest texel;
+//                history.z of the passing texel with the largest weight (the sequence index,
+//                or the second moment; the nearest texel's on disocclusion);
 //                flags: 1 = history valid here, 2 = the pixel is moving)
 
 struct ReprojectParams {

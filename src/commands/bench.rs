@@ -383,11 +383,13 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
     let mut settings = args.run.settings(args.edge_band)?;
     if let Some(n) = args.convergence {
-        if args.scaling || args.motion.is_some() {
+        if args.scaling || args.motion.is_some() || !args.sizes.is_empty() {
             return Err(AppError::InvalidArgument {
                 name: "--convergence".into(),
                 value: n.to_string(),
-                allowed: "a still-camera bench: not with --scaling or --motion".into(),
+                allowed:
+                    "a still-camera bench at one size: not with --scaling, --motion or --sizes"
+                        .into(),
             });
         }
         settings.frames = positive("--convergence", n)?;

@@ -4,7 +4,8 @@
 //! - `parameters TECHNIQUE`: the technique's settings table, from its parameter descriptors
 //!   (what `aograph techniques` prints);
 //! - `results STUDY summary` / `runs` / `ceilings` / `roofline` / `textures` / `convergence`
-//!   (SSIM and MAE at frames 1, 2, 3, 6, 10, 30, 64, 128 since a reset): tables from the
+//!   (SSIM and MAE at frames 1, 2, 3, 6, 10, 30, 64, 128 since a reset; `convergence SCENE`
+//!   keeps one scene's rows, its short name without spaces): tables from the
 //!   bench output committed in `docs/results/<study>/results.json`, with the command, commit,
 //!   device and date it records;
 //! - `results STUDY motion`: the table of an `aograph bench --motion` run, from
@@ -309,7 +310,11 @@ fn motion_table(motion: &MotionFile) -> String {
         let _ = writeln!(
             s,
             "| {} | {} | `{}` | {} | {} | {} | {} | {} | {} | {} | {} |",
-            short_scene(&format!("{} / {}", r.scene, r.view)),
+            short_scene(&if r.view == "default" {
+                r.scene.clone()
+            } else {
+                format!("{} / {}", r.scene, r.view)
+            }),
             r.motion,
             r.technique,
             cell(&r.label),
@@ -453,8 +458,6 @@ fn pages(root: &Path) -> Vec<PathBuf> {
     out
 }
 
-/// Regenerates every page under `root`; with `check`, writes nothing and fails naming the
-/// pages whose text differs. Returns the pages that changed (or would change).
 /// Redraws each study's committed plots (`pareto.png`, `convergence.png`, where the folder has
 /// them) from its results.json, so a change to how plots are drawn reaches every study
 /// without rerunning a bench.
@@ -482,6 +485,8 @@ fn redraw_plots(root: &Path) -> AppResult<()> {
     Ok(())
 }
 
+/// Regenerates every page under `root`; with `check`, writes nothing and fails naming the
+/// pages whose text differs. Returns the pages that changed (or would change).
 pub fn regenerate_all(root: &Path, check: bool) -> AppResult<Vec<PathBuf>> {
     let registry = TechniqueRegistry::with_builtins();
     let mut changed = Vec::new();

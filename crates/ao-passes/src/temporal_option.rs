@@ -9,7 +9,8 @@
 //! [`TEMPORAL_NOISE`] keeps its default (false), so the noise is the same every frame.
 //!
 //! With it, the plan gains `<technique>.temporal.reproject`, `.accumulate` (and `.zero_motion`
-//! on a scene without motion vectors): reprojection through the camera or the g-buffer's
+//! on a scene without motion vectors; with `temporal_denoiser = "history"` also
+//! `.history_fix` and `.atrous1..3`, `blocks::history_denoise`): reprojection through the camera or the g-buffer's
 //! motion, the disocclusion test |1 - d_new/d_old| < `temporal_epsilon` (history dropped where
 //! it fails), a per-pixel count capped at `temporal_frames`, and a reset on a camera cut or
 //! resize. The technique's own per-frame accessibility stays readable as the extra output
@@ -26,7 +27,7 @@ use crate::blocks::history_denoise::{HistoryDenoise, HistoryDenoiseInputs, histo
 use crate::blocks::temporal::{
     DEFAULT_EPSILON, MAX_N_MAX, TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
-use crate::error::{AoError, AoResult};
+use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{AoBuildContext, AoOutput};
 
@@ -55,7 +56,8 @@ pub struct TemporalOption {
     /// The disocclusion test's relative depth tolerance (TSSAO Eq. 7).
     pub temporal_epsilon: f32,
     /// The spatial filter after the running mean: "none" or "history"
-    /// (`blocks::history_denoise`: wide where a pixel's history is short, none once converged).
+    /// (`blocks::history_denoise`: wide where a pixel's history is short, narrowing as it
+    /// grows).
     pub temporal_denoiser: TemporalDenoiser,
 }
 
@@ -93,7 +95,7 @@ impl TemporalOption {
                 "history is dropped where |1 - d_new/d_old| reaches this (disocclusion; 0.03)",
             ),
             ParamDesc::choice("temporal_denoiser", TEMPORAL_DENOISERS).doc(
-                "after the running mean: none, or history (rtao's history denoiser: wide where a pixel's history is short, none once converged)",
+                "after the running mean: none, or history (rtao's history denoiser: wide where a pixel's history is short, narrowing as it grows)",
             ),
         ]
     }
@@ -138,20 +140,16 @@ impl TemporalOption {
             .push((PER_FRAME_OUTPUT.to_string(), out.accessibility));
         out.accessibility = t.accumulated;
         if self.temporal_denoiser == TemporalDenoiser::History {
-            let channel = |c: GBufferChannel| {
-                ctx.gbuffer.get(c).ok_or_else(|| AoError::MissingChannel {
-                    technique: ctx.technique.to_string(),
-                    channel: c.name().into(),
-                })
-            };
+            let depth = ctx.channel(GBufferChannel::LinearDepth)?;
+            let normals = ctx.channel(GBufferChannel::Normals)?;
             let d = history_denoise(
                 ctx.builder,
                 &format!("{}.temporal", ctx.technique),
                 &HistoryDenoiseInputs {
                     accumulated: t.accumulated,
                     history: t.history.current,
-                    depth: channel(GBufferChannel::LinearDepth)?,
-                    normals: channel(GBufferChannel::Normals)?,
+                    depth,
+                    normals,
                     hits: None,
                     view: ctx.view,
                 },

@@ -1,8 +1,9 @@
 //! A history-aware spatial denoiser for accumulated Monte Carlo AO (rtao's; any technique
 //! whose temporal block runs in [`TemporalMode::Average`](super::temporal::TemporalMode)):
-//! the filter is wide where a pixel's history is short and shrinks to nothing as its mean
-//! converges, so the first frames after a camera cut or a disocclusion are smooth and the
-//! converged image keeps its detail. It combines, in our own words:
+//! the filter is wide where a pixel's history is short and narrows as its mean converges
+//! (to about a pixel at rtao's 64-frame cap, to nothing from about 150 frames), so the first
+//! frames after a camera cut or a disocclusion are smooth and the converged image keeps its
+//! detail. It combines, in our own words:
 //! - SVGF (Schied et al. 2017): per-pixel variance from the temporal moments (the history's
 //!   running mean of A^2), spatial variance while the history is short, and a-trous
 //!   iterations whose AO weight is the difference over the local standard deviation (Eq. 5),
@@ -18,9 +19,10 @@
 //!    spacing 1, 2, 4, ..., each skipped at pixels whose radius is below half its spacing.
 //!
 //! Invariant: the output is R32Float accessibility in [0, 1], exactly 1 on sky, a convex
-//! combination of accumulated values; a pixel whose radius is below half a pixel (a
-//! converged history) passes through every iteration unchanged, so with a long enough history
-//! the filter is the identity. The guide is the one four-channel texture the block creates
+//! combination of accumulated values; a pixel whose radius is below half a pixel passes
+//! through every iteration unchanged, so with a long enough history (n >= 1 + (2 r0 - 1) / k:
+//! 152 frames at the defaults with no close hit, 72 with one) the filter is the identity; at
+//! rtao's default 64-frame cap it still averages over about a pixel. The guide is the one four-channel texture the block creates
 //! (the variance, radius and history length the iterations share).
 
 use aograph_frame::ReadsView;
@@ -97,7 +99,9 @@ pub struct HistoryDenoiseInputs {
     pub depth: TextureHandle,
     /// The g-buffer's view-space normals.
     pub normals: TextureHandle,
-    /// Where `.g` is the nearest hit's distance over R this frame (rtao's trace writes it);
+    /// Where `.g` is a hit's distance over R this frame (rtao's trace writes the nearest of
+    /// its rays' hits; in binary mode each ray's is the first hit found, not always its
+    /// nearest);
     /// `None`: no hit distance, the radius does not narrow near occluders.
     pub hits: Option<TextureHandle>,
     /// The view block of the size the inputs have.
@@ -220,9 +224,9 @@ pub fn history_denoise(
         .sample("hits", inputs.hits.unwrap_or(inputs.accumulated));
     p.read_view(inputs.view);
     // Centre value, history, depth and normal, and the 3x3 neighbours' depth, normal,
-    // history and hit distance; the history fix's 25 taps (depth, normal, history) run only
-    // on pixels with a short history.
-    p.loads_per_invocation(36.0);
+    // history and hit distance (4 + 9 x 4); the history fix's 25 taps (depth, normal,
+    // history) run only on pixels with a short history.
+    p.loads_per_invocation(40.0);
     let mut src = p.write_storage("dst", fixed);
     let guide = p.write_storage("guide", guide);
     p.dispatch_over(src);
@@ -241,8 +245,8 @@ pub fn history_denoise(
             .sample("depth", inputs.depth)
             .sample("normals", inputs.normals);
         p.read_view(inputs.view);
-        // Centre value, guide, depth and normal; 8 taps' depth, normal and value.
-        p.loads_per_invocation(28.0);
+        // Centre value, guide, depth and normal; 9 taps' depth, normal and value (4 + 9 x 3).
+        p.loads_per_invocation(31.0);
         let out = p.write_storage("dst", out);
         p.dispatch_over(out);
         src = out;

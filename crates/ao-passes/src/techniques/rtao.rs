@@ -10,7 +10,8 @@
 //! 1. `rtao.trace` (shaders/ao/rtao/trace.wgsl): N rays per pixel; frame f traces rays
 //!    [f N, (f + 1) N) of each pixel's sequence (`sequence = "per-frame"`), so frames the
 //!    temporal block averages continue one low-discrepancy sequence; also writes XeGTAO's
-//!    depth-edge weights for the denoiser.
+//!    depth-edge weights for the edge denoiser and, in `rtao_changed.g`, the nearest hit of
+//!    the pixel's rays over R for the history denoiser.
 //! 2. `rtao.temporal.*` (`blocks::temporal::add_temporal`, [`TemporalMode::Average`]): a running
 //!    mean over up to `temporal_frames` frames, reprojected through the g-buffer's motion,
 //!    reset where the disocclusion test fails, and held to `moving_frames` frames where a ray
@@ -23,7 +24,7 @@
 //!      (`blocks::history_denoise`): the history fix for pixels with fewer than 4 frames, then
 //!      variance-guided a-trous iterations whose radius follows the pixel's history length
 //!      (1 / (1 + k (n - 1))) and its nearest hit (the trace writes it), so a new pixel is
-//!      blurred widely and a converged one not at all;
+//!      blurred widely and a converged one over about a pixel at the 64-frame cap;
 //!    - `edge`, and `history` when `temporal = false`: `rtao.denoise1..N`
 //!      (`blocks::edge_denoise`), XeGTAO's edge-aware 3x3 filter, N = `denoise_passes` (0
 //!      skips it);
@@ -157,7 +158,7 @@ impl AoTechnique for Rtao {
     type Params = RtaoParams;
     const NAME: &'static str = "rtao";
     fn description(&self) -> &'static str {
-        "ray-traced AO against the scene's BVH: the reference's rays, N per pixel, temporal accumulation, edge-aware denoise"
+        "ray-traced AO against the scene's BVH: the reference's rays, N per pixel, temporal accumulation, a denoiser that follows each pixel's history"
     }
     fn params(&self) -> Vec<ParamDesc> {
         vec![
@@ -171,7 +172,7 @@ impl AoTechnique for Rtao {
                 "most frames the mean holds where a ray hit moving geometry or the surface moves",
             ),
             ParamDesc::choice("denoiser", DENOISERS).doc(
-                "history: wide on new pixels, narrowing to nothing as the history converges (SVGF's variance-guided a-trous, REBLUR's radius and history fix); edge: XeGTAO's fixed 3x3 filter (also what history runs with temporal = false); none: no spatial filter",
+                "history: wide on new pixels, narrowing as the history converges (SVGF's variance-guided a-trous, REBLUR's radius and history fix); edge: XeGTAO's fixed 3x3 filter (also what history runs with temporal = false); none: no spatial filter",
             ),
             ParamDesc::int("denoise_passes", 0, 3)
                 .doc("edge denoiser: 3x3 passes after accumulation (0: none)"),

@@ -11,9 +11,9 @@ use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::csv;
-use super::plot::{FONTS, PALETTE, PANEL, register_font, short_scene};
+use super::plot::{FONTS, PALETTE, PANEL, grid_of, plot_err, register_font, short_scene};
 use super::run::RunRecord;
-use crate::error::{AppError, AppResult};
+use crate::error::AppResult;
 use crate::images::{write_atomic, write_rgb_png};
 
 /// One frame's scores, counted from the reset (frame 1 has no history).
@@ -39,13 +39,7 @@ const COLUMNS: usize = 3;
 
 /// Rows, columns and the picture's size in pixels for `panels` panels.
 fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
-    let columns = panels.clamp(1, COLUMNS);
-    let rows = panels.max(1).div_ceil(columns);
-    (
-        rows,
-        columns,
-        (PANEL_WIDTH * columns as u32, PANEL.1 * rows as u32),
-    )
+    grid_of(panels, COLUMNS, (PANEL_WIDTH, PANEL.1))
 }
 
 /// The frames the docs' convergence table shows (those the run reached).
@@ -218,10 +212,7 @@ fn draw_with(
         }
     }
     let (_, _, size) = grid(panels.len());
-    let err = |m: String| AppError::Image {
-        path: path.into(),
-        message: format!("plot: {m}"),
-    };
+    let err = |m: String| plot_err(path, m);
     // Both backends lay text out with the registered font.
     register_font().map_err(err)?;
     draw(&panels, &names, size).map_err(err)

@@ -319,9 +319,19 @@ fn panels(records: &[RunRecord]) -> Vec<(String, Vec<Point>)> {
 
 /// The plot's size in pixels for `panels` panels.
 fn grid(panels: usize) -> (usize, usize, (u32, u32)) {
-    let columns = panels.clamp(1, GRID_COLUMNS);
+    grid_of(panels, GRID_COLUMNS, PANEL)
+}
+
+/// Rows, columns and the picture's size in pixels for `panels` panels of `panel` pixels, at
+/// most `columns` a row.
+pub(super) fn grid_of(
+    panels: usize,
+    columns: usize,
+    panel: (u32, u32),
+) -> (usize, usize, (u32, u32)) {
+    let columns = panels.clamp(1, columns.max(1));
     let rows = panels.max(1).div_ceil(columns);
-    let size = (PANEL.0 * columns as u32, PANEL.1 * rows as u32);
+    let size = (panel.0 * columns as u32, panel.1 * rows as u32);
     (rows, columns, size)
 }
 
@@ -342,7 +352,7 @@ fn draw<DB: DrawingBackend>(
     root.present().map_err(|e| e.to_string())
 }
 
-fn plot_err(path: &Path, m: String) -> AppError {
+pub(super) fn plot_err(path: &Path, m: String) -> AppError {
     AppError::Image {
         path: path.into(),
         message: format!("plot: {m}"),

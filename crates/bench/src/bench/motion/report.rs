@@ -270,7 +270,31 @@ mod tests {
         let r = record("scenes/hall, east.gltf", "Camera \"A\"", "x, \"y\"");
         let dir = std::env::temp_dir().join(format!("aograph-motion-csv-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("temp dir");
-        write_motion_files(&dir, &[r]).expect("written");
+        let meta = BenchMeta {
+            device: "test device".into(),
+            backend: "Vulkan".into(),
+            software: true,
+            timestamps: false,
+            width: 8,
+            height: 8,
+            frames: 2,
+            warmup: 0,
+            radius: None,
+            rays: 4,
+            mode: "binary".into(),
+            normals: "geometric".into(),
+            ssim: String::new(),
+            edge_band: 3,
+            edge_jump: 0.1,
+            peaks: None,
+            command: "aograph bench --motion orbit".into(),
+            commit: None,
+            date: "2026-12-06".into(),
+        };
+        write_motion_files(&dir, &meta, std::slice::from_ref(&r)).expect("written");
+        // motion.json holds the meta beside the runs.
+        let file = read_motion(&dir.join("motion.json")).expect("motion.json");
+        assert_eq!((file.meta, file.runs), (meta, vec![r]));
         let names = [
             "scenes/hall, east.gltf",
             "Camera \"A\"",
