@@ -34,7 +34,7 @@
 //! |---|---|
 //! | x | accessibility accumulated so far (1 = unoccluded) |
 //! | y | n_t: how many samples (TSSAO) or frames ([`TemporalMode::Average`]) it holds, <= n_max |
-//! | z | TSSAO: the pixel's position in its low-discrepancy sequence (its Halton index); [`TemporalMode::Average`]: the running mean of A^2 (the second moment, so the variance is z - x^2: [`super::history_denoise`] reads it); 0 otherwise |
+//! | z | TSSAO: the pixel's position in its low-discrepancy sequence (its Halton index); [`TemporalMode::Average`]: the running mean of A^2 (the second moment, so the variance is z - x^2: [`mod@super::history_denoise`] reads it); 0 otherwise |
 //! | w | linear depth of the pixel when written; **negative** where the surface was moving (its motion differed from the camera-only reprojection by more than [`MOVING_PIXELS`] pixels); 0 = sky / nothing |
 //!
 //! The graph clears an invalid history to zero (first frame, resize, camera cut), which reads
