@@ -3,6 +3,7 @@
 
 mod bench;
 pub mod docs;
+mod docs_tables;
 mod graph;
 mod montage;
 mod reference;

@@ -500,24 +500,30 @@ pub fn run_technique(
     let mut flicker = FlickerMeter::new();
     let mut last = Vec::new();
     let mut convergence = Vec::new();
+    // The last frame's scores, when every frame is scored (the run's metrics are the same).
+    let mut scored = None;
+    let score = |ao: &[f32]| {
+        compare(
+            ao,
+            &reference.accessibility,
+            &reference.depth,
+            extent.width,
+            extent.height,
+            &s.metrics,
+        )
+    };
     let times = time_frames(&mut r, s.warmup, s.frames, tick, &mut |r| {
         last = r.read_ao()?;
         flicker.push(&last, &reference.valid);
         if s.score_every_frame {
-            let m = compare(
-                &last,
-                &reference.accessibility,
-                &reference.depth,
-                extent.width,
-                extent.height,
-                &s.metrics,
-            )?;
+            let m = score(&last)?;
             convergence.push(ConvergencePoint {
                 frame: convergence.len() as u32 + 1,
                 mae: m.mae,
                 ssim: m.ssim,
                 edge_mae: m.edge_mae,
             });
+            scored = Some(m);
         }
         Ok(())
     })?;
@@ -541,14 +547,10 @@ pub fn run_technique(
     } else {
         None
     };
-    let mut metrics = compare(
-        &last,
-        &reference.accessibility,
-        &reference.depth,
-        extent.width,
-        extent.height,
-        &s.metrics,
-    )?;
+    let mut metrics = match scored {
+        Some(m) => m,
+        None => score(&last)?,
+    };
     metrics.flicker = flicker.value();
     let (bytes, unshared) = texture_bytes(&r.plan, extent);
     let roofline = ctx
