@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use crate::error::{AoError, AoResult};
+use crate::error::{AoError, AoResult, unknown_key};
 use crate::radius::RadiusSetting;
 use crate::registry::TechniqueRegistry;
 use crate::technique::ConfiguredTechnique;
@@ -82,21 +82,6 @@ impl Default for AoConfig {
             params: BTreeMap::new(),
         }
     }
-}
-
-/// The candidate closest to `word` by edit distance (the one rule of `aograph_graph`).
-pub use aograph_graph::nearest_name as nearest;
-
-/// The message for an unknown `key` in `[section]`, suggesting the nearest of `allowed`:
-/// "unknown key `x` in \[section\]; did you mean `y`? (allowed: ...)".
-pub fn unknown_key(section: &str, key: &str, allowed: &[&str]) -> String {
-    let hint = nearest(key, allowed.iter().copied())
-        .map(|n| format!("; did you mean `{n}`?"))
-        .unwrap_or_default();
-    format!(
-        "unknown key `{key}` in [{section}]{hint} (allowed: {})",
-        allowed.join(", ")
-    )
 }
 
 impl AoConfig {

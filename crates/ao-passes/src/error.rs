@@ -121,3 +121,18 @@ pub fn check_one_of<T: PartialEq + std::fmt::Display>(
         })
     }
 }
+
+/// The candidate closest to `word` by edit distance (the one rule of `aograph_graph`).
+pub use aograph_graph::nearest_name as nearest;
+
+/// The message for an unknown `key` in `[section]`, suggesting the nearest of `allowed`:
+/// "unknown key `x` in \[section\]; did you mean `y`? (allowed: ...)".
+pub fn unknown_key(section: &str, key: &str, allowed: &[&str]) -> String {
+    let hint = nearest(key, allowed.iter().copied())
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default();
+    format!(
+        "unknown key `{key}` in [{section}]{hint} (allowed: {})",
+        allowed.join(", ")
+    )
+}

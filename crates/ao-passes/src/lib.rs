@@ -51,19 +51,21 @@ mod radius;
 mod registry;
 mod resolution;
 mod shader_mount;
+mod spatial_options;
 mod technique;
 pub mod techniques;
 mod temporal_option;
 mod tracer;
 
-pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat, nearest, unknown_key};
-pub use error::{AoError, AoResult, check_one_of, check_param};
+pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat};
+pub use error::{AoError, AoResult, check_one_of, check_param, nearest, unknown_key};
 pub use levels::Levels;
 pub use param::{ParamDesc, ParamKind};
 pub use radius::{RADIUS_ALLOWED, Radius, RadiusSetting};
 pub use registry::TechniqueRegistry;
 pub use resolution::{HALF_DEPTH_OUTPUT, Resolution};
 pub use shader_mount::{shader_library, shader_mount};
+pub use spatial_options::SpatialOptions;
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,
     DeclaredInputs, DynAoTechnique, RadianceEnvironment, RadianceOutput,

@@ -25,7 +25,7 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::sync::Arc;
 
-use crate::config::unknown_key;
+use crate::error::unknown_key;
 use crate::error::{AoError, AoResult};
 use crate::param::ParamDesc;
 use crate::tracer::{RayTracer, TraceBackend, TracingSupport};

@@ -77,9 +77,8 @@ use super::slices::{DepthLayers, ExtraOutput, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
-use crate::resolution::Resolution;
+use crate::spatial_options::SpatialOptions;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
-use crate::temporal_option::TemporalOption;
 
 pub use super::slices::{GtaoPreset, MAX_SLICES, MAX_STEPS, SliceCounts};
 
@@ -131,11 +130,9 @@ pub struct GtaoParams {
     pub bent_normals: bool,
     /// Also output the multi-bounce fit from the albedo (`gtao_multibounce`, spec §7).
     pub multibounce: bool,
-    /// The size the slice passes run at (crate::Resolution).
-    pub resolution: Resolution,
-    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    /// `resolution` and the temporal option (crate::SpatialOptions).
     #[serde(flatten)]
-    pub accumulation: TemporalOption,
+    pub spatial: SpatialOptions,
     /// `layers`: 1, or 2 with the g-buffer's second depth layer (crate module docs).
     #[serde(flatten)]
     pub depth_layers: DepthLayers,
@@ -157,8 +154,7 @@ impl Default for GtaoParams {
             blur_beta: 1.2,
             bent_normals: false,
             multibounce: false,
-            resolution: Resolution::Full,
-            accumulation: TemporalOption::default(),
+            spatial: SpatialOptions::default(),
             depth_layers: DepthLayers::default(),
         }
     }
@@ -238,24 +234,21 @@ impl AoTechnique for Gtao {
             ),
         ]);
         d.push(DepthLayers::param());
-        d.push(Resolution::param());
-        d.extend(TemporalOption::params());
+        d.extend(SpatialOptions::params());
         d
     }
     fn validate(&self, p: &GtaoParams) -> AoResult<()> {
-        p.depth_layers.validate(Self::NAME, p.resolution)
+        p.depth_layers.validate(Self::NAME, p.spatial.resolution)
     }
     fn channels(&self, p: &GtaoParams) -> GBufferChannels {
         // The multi-bounce fit reads the albedo at the output size, after the slices.
-        let slices = p
-            .depth_layers
-            .channels(p.resolution.channels(depth_and_normals()));
+        let slices = p.depth_layers.channels(depth_and_normals());
         let c = if p.multibounce {
             slices.with(GBufferChannel::Albedo)
         } else {
             slices
         };
-        p.accumulation.channels(c)
+        p.spatial.channels(c)
     }
     fn dropping_channel(&self, p: &GtaoParams, channel: GBufferChannel) -> Option<&'static str> {
         if p.multibounce && channel == GBufferChannel::Albedo {
@@ -264,7 +257,7 @@ impl AoTechnique for Gtao {
         p.depth_layers.dropping(channel)
     }
     fn is_temporal(&self, p: &GtaoParams) -> bool {
-        p.accumulation.temporal
+        p.spatial.is_temporal()
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &GtaoParams) -> AoResult<AoOutput> {
         // §4 prefilter, §1-§3 slices (ao/gtao/ao.wgsl), §6 denoiser: `slice_passes`.
@@ -305,15 +298,14 @@ impl AoTechnique for Gtao {
                 output: "gtao_bent_normals",
                 format: wgpu::TextureFormat::Rgba16Float,
             }),
-            accumulation: p.accumulation,
+            accumulation: p.spatial.accumulation,
             layers: p.depth_layers,
         };
-        let out = p
-            .resolution
+        // At the chosen resolution, then the optional running mean over frames
+        // (crate::SpatialOptions), before the multi-bounce fit reads the accessibility.
+        let mut out = p
+            .spatial
             .build(ctx, depth_and_normals(), |ctx| slice_passes(ctx, &slices))?;
-        // The running mean over frames, when asked (crate::TemporalOption), before the
-        // multi-bounce fit reads the accessibility.
-        let mut out = p.accumulation.apply(ctx, out)?;
         // §7: the multi-bounce fit, an extra output for shading.
         if p.multibounce {
             let albedo = ctx.channel(GBufferChannel::Albedo)?;

@@ -57,9 +57,8 @@ use super::depth_and_normals;
 use crate::blocks::{GaussianBlur, gaussian_blur_with_intermediate};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
-use crate::resolution::Resolution;
+use crate::spatial_options::SpatialOptions;
 use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
-use crate::temporal_option::TemporalOption;
 
 /// Largest D (Table 1a's largest row is D = 64).
 pub const MAX_DIRECTIONS: u32 = 64;
@@ -126,11 +125,9 @@ pub struct HbaoParams {
     pub blur: bool,
     /// Cap of the projected radius, as a fraction of the image height.
     pub max_screen_radius: f32,
-    /// The size the passes run at (crate::Resolution).
-    pub resolution: Resolution,
-    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    /// `resolution` and the temporal option (crate::SpatialOptions).
     #[serde(flatten)]
-    pub accumulation: TemporalOption,
+    pub spatial: SpatialOptions,
 }
 
 impl HbaoParams {
@@ -154,8 +151,7 @@ impl Default for HbaoParams {
             steps: 10,
             blur: true,
             max_screen_radius: 0.5,
-            resolution: Resolution::Full,
-            accumulation: TemporalOption::default(),
+            spatial: SpatialOptions::default(),
         }
     }
 }
@@ -204,30 +200,26 @@ impl AoTechnique for Hbao {
             ParamDesc::flag("blur").doc("separable Gaussian, sigma 1.5, 5 taps per axis (paper §3.5)"),
             ParamDesc::float("max_screen_radius", 0.01, 2.0)
                 .doc("cap of the projected radius R, as a fraction of the image height"),
-            Resolution::param(),
         ]
         .into_iter()
-        .chain(TemporalOption::params())
+        .chain(SpatialOptions::params())
         .collect()
     }
     fn reach_pixels(&self, p: &HbaoParams, height: u32, r: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
-        p.resolution
+        p.spatial
             .reach(height, r, |h, _| Some(p.max_screen_radius * h as f32))
     }
     fn channels(&self, p: &HbaoParams) -> GBufferChannels {
-        p.accumulation
-            .channels(p.resolution.channels(depth_and_normals()))
+        p.spatial.channels(depth_and_normals())
     }
     fn is_temporal(&self, p: &HbaoParams) -> bool {
-        p.accumulation.temporal
+        p.spatial.is_temporal()
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &HbaoParams) -> AoResult<AoOutput> {
-        let spatial = p
-            .resolution
-            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))?;
-        // Optional: the running mean over frames (crate::TemporalOption).
-        p.accumulation.apply(ctx, spatial)
+        // At the chosen resolution, then the optional running mean (crate::SpatialOptions).
+        p.spatial
+            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))
     }
 }
 
@@ -268,7 +260,7 @@ impl Hbao {
         pass.loads_per_invocation(2.0 + (p.directions * p.steps) as f32);
         pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
-        p.accumulation.vary_noise(&mut pass);
+        p.spatial.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);
         if !p.blur {

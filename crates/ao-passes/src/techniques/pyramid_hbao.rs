@@ -68,9 +68,8 @@ use crate::blocks::{DepthReduction, GaussianBlur, depth_pyramid, gaussian_blur_w
 use crate::error::AoResult;
 use crate::levels::Levels;
 use crate::param::ParamDesc;
-use crate::resolution::Resolution;
+use crate::spatial_options::SpatialOptions;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
-use crate::temporal_option::TemporalOption;
 
 /// Pyramid reduction factor K (spec §2.2).
 const K: u32 = 3;
@@ -106,11 +105,9 @@ pub struct PyramidHbaoParams {
     pub blur_sigma: f32,
     /// Gaussian taps per axis (paper: 5).
     pub blur_taps: u32,
-    /// The size the passes run at (crate::Resolution).
-    pub resolution: Resolution,
-    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    /// `resolution` and the temporal option (crate::SpatialOptions).
     #[serde(flatten)]
-    pub accumulation: TemporalOption,
+    pub spatial: SpatialOptions,
 }
 
 impl Default for PyramidHbaoParams {
@@ -124,8 +121,7 @@ impl Default for PyramidHbaoParams {
             blur: true,
             blur_sigma: 1.5,
             blur_taps: 5,
-            resolution: Resolution::Full,
-            accumulation: TemporalOption::default(),
+            spatial: SpatialOptions::default(),
         }
     }
 }
@@ -179,18 +175,16 @@ impl AoTechnique for PyramidHbao {
             ParamDesc::flag("blur").doc("run the separable Gaussian denoiser"),
             ParamDesc::float("blur_sigma", 0.1, 8.0).doc("Gaussian sigma in pixels (paper: 1.5)"),
             ParamDesc::odd("blur_taps", 1, 31).doc("Gaussian taps per axis (paper: 5)"),
-            Resolution::param(),
         ]
         .into_iter()
-        .chain(TemporalOption::params())
+        .chain(SpatialOptions::params())
         .collect()
     }
     fn channels(&self, p: &PyramidHbaoParams) -> GBufferChannels {
-        p.accumulation
-            .channels(p.resolution.channels(depth_and_normals()))
+        p.spatial.channels(depth_and_normals())
     }
     fn is_temporal(&self, p: &PyramidHbaoParams) -> bool {
-        p.accumulation.temporal
+        p.spatial.is_temporal()
     }
     fn needs_radius_pixels(&self, p: &PyramidHbaoParams) -> bool {
         p.levels == Levels::Auto
@@ -201,15 +195,14 @@ impl AoTechnique for PyramidHbao {
         _: u32,
         radius_pixels: Option<f32>,
     ) -> Option<f32> {
-        p.resolution
+        p.spatial
             .reach(0, radius_pixels, |_, r| Some(p.reach(p.levels_for(r))))
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &PyramidHbaoParams) -> AoResult<AoOutput> {
-        let spatial = p
-            .resolution
-            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))?;
-        // 4. Optional: the running mean over frames (crate::TemporalOption).
-        p.accumulation.apply(ctx, spatial)
+        // At the chosen resolution; 4. optional: the running mean over frames
+        // (crate::SpatialOptions).
+        p.spatial
+            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))
     }
 }
 
@@ -263,7 +256,7 @@ impl PyramidHbao {
         // drops the levels the pyramid lacks (shader, `STEP_COUNT`, `LEVELS`).
         pass.constant("STEP_COUNT", p.step_count as f64);
         pass.constant("LEVELS", levels as f64);
-        p.accumulation.vary_noise(&mut pass);
+        p.spatial.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", target);
         pass.dispatch_over(raw);
         if !p.blur {

@@ -51,9 +51,8 @@ use serde::{Deserialize, Serialize};
 use super::depth_and_normals;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
-use crate::resolution::Resolution;
+use crate::spatial_options::SpatialOptions;
 use crate::technique::{ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique};
-use crate::temporal_option::TemporalOption;
 
 /// Largest sample count (size of the kernel array in the uniform block).
 pub const MAX_SAMPLES: u32 = 64;
@@ -65,7 +64,7 @@ pub struct Ssao;
 
 /// `[ao.ssao]` parameters.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct SsaoParams {
     /// Sample points per pixel.
     pub samples: u32,
@@ -73,11 +72,9 @@ pub struct SsaoParams {
     pub bias: f32,
     /// Cap of the projected radius, as a fraction of the image height.
     pub max_screen_radius: f32,
-    /// The size the passes run at (crate::Resolution).
-    pub resolution: Resolution,
-    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    /// `resolution` and the temporal option (crate::SpatialOptions).
     #[serde(flatten)]
-    pub accumulation: TemporalOption,
+    pub spatial: SpatialOptions,
 }
 
 impl Default for SsaoParams {
@@ -86,8 +83,7 @@ impl Default for SsaoParams {
             samples: 16,
             bias: 0.025,
             max_screen_radius: 0.5,
-            resolution: Resolution::Full,
-            accumulation: TemporalOption::default(),
+            spatial: SpatialOptions::default(),
         }
     }
 }
@@ -153,30 +149,26 @@ impl AoTechnique for Ssao {
             ),
             ParamDesc::float("max_screen_radius", 0.01, 2.0)
                 .doc("cap of the projected radius R, as a fraction of the image height"),
-            Resolution::param(),
         ]
         .into_iter()
-        .chain(TemporalOption::params())
+        .chain(SpatialOptions::params())
         .collect()
     }
     fn reach_pixels(&self, p: &SsaoParams, height: u32, r: Option<f32>) -> Option<f32> {
         // The projected radius is capped at max_screen_radius x height (R shrinks to match).
-        p.resolution
+        p.spatial
             .reach(height, r, |h, _| Some(p.max_screen_radius * h as f32))
     }
     fn channels(&self, p: &SsaoParams) -> GBufferChannels {
-        p.accumulation
-            .channels(p.resolution.channels(depth_and_normals()))
+        p.spatial.channels(depth_and_normals())
     }
     fn is_temporal(&self, p: &SsaoParams) -> bool {
-        p.accumulation.temporal
+        p.spatial.is_temporal()
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &SsaoParams) -> AoResult<AoOutput> {
-        let spatial = p
-            .resolution
-            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))?;
-        // Optional: the running mean over frames (crate::TemporalOption).
-        p.accumulation.apply(ctx, spatial)
+        // At the chosen resolution, then the optional running mean (crate::SpatialOptions).
+        p.spatial
+            .build(ctx, depth_and_normals(), |ctx| self.spatial(ctx, p))
     }
 }
 
@@ -209,7 +201,7 @@ impl Ssao {
         pass.loads_per_invocation(2.0 + p.samples as f32);
         pass.read_view(ctx.view);
         pass.uniform("params", bytemuck::bytes_of(&uniform));
-        p.accumulation.vary_noise(&mut pass);
+        p.spatial.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);
 

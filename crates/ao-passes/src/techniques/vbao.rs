@@ -49,9 +49,8 @@ use super::slices::{DepthLayers, SliceCounts, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
-use crate::resolution::Resolution;
+use crate::spatial_options::SpatialOptions;
 use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
-use crate::temporal_option::TemporalOption;
 
 /// Most sectors per slice: one u32 of bits.
 pub const MAX_SECTORS: u32 = 32;
@@ -115,11 +114,9 @@ pub struct VbaoParams {
     pub denoise_passes: u32,
     /// The denoiser's centre weight on its last pass (1.2).
     pub blur_beta: f32,
-    /// The size the slice passes run at (crate::Resolution).
-    pub resolution: Resolution,
-    /// `temporal`, `temporal_frames`, `temporal_epsilon` (crate::TemporalOption).
+    /// `resolution` and the temporal option (crate::SpatialOptions).
     #[serde(flatten)]
-    pub accumulation: TemporalOption,
+    pub spatial: SpatialOptions,
     /// `layers`: 1, or 2 with the g-buffer's second depth layer (crate module docs).
     #[serde(flatten)]
     pub depth_layers: DepthLayers,
@@ -140,8 +137,7 @@ impl Default for VbaoParams {
             final_value_power: 1.0,
             denoise_passes: 1,
             blur_beta: 1.2,
-            resolution: Resolution::Full,
-            accumulation: TemporalOption::default(),
+            spatial: SpatialOptions::default(),
             depth_layers: DepthLayers::default(),
         }
     }
@@ -215,24 +211,21 @@ impl AoTechnique for Vbao {
                 .doc("the denoiser's centre weight on its last pass"),
         ]);
         d.push(DepthLayers::param());
-        d.push(Resolution::param());
-        d.extend(TemporalOption::params());
+        d.extend(SpatialOptions::params());
         d
     }
     fn validate(&self, p: &VbaoParams) -> AoResult<()> {
-        p.depth_layers.validate(Self::NAME, p.resolution)
+        p.depth_layers.validate(Self::NAME, p.spatial.resolution)
     }
     fn channels(&self, p: &VbaoParams) -> GBufferChannels {
-        p.accumulation.channels(
-            p.depth_layers
-                .channels(p.resolution.channels(depth_and_normals())),
-        )
+        p.spatial
+            .channels(p.depth_layers.channels(depth_and_normals()))
     }
     fn dropping_channel(&self, p: &VbaoParams, channel: GBufferChannel) -> Option<&'static str> {
         p.depth_layers.dropping(channel)
     }
     fn is_temporal(&self, p: &VbaoParams) -> bool {
-        p.accumulation.temporal
+        p.spatial.is_temporal()
     }
     fn build(&self, ctx: &mut AoBuildContext<'_>, p: &VbaoParams) -> AoResult<AoOutput> {
         let effect_radius = ctx.radius * p.radius_multiplier;
@@ -263,14 +256,12 @@ impl AoTechnique for Vbao {
                 blur_beta: p.blur_beta,
             },
             extra_output: None,
-            accumulation: p.accumulation,
+            accumulation: p.spatial.accumulation,
             layers: p.depth_layers,
         };
-        let spatial = p
-            .resolution
-            .build(ctx, depth_and_normals(), |ctx| slice_passes(ctx, &slices))?;
-        // The running mean over frames, when asked (crate::TemporalOption).
-        p.accumulation.apply(ctx, spatial)
+        // At the chosen resolution, then the optional running mean (crate::SpatialOptions).
+        p.spatial
+            .build(ctx, depth_and_normals(), |ctx| slice_passes(ctx, &slices))
     }
 }
 
