@@ -84,7 +84,28 @@ impl Default for AoConfig {
     }
 }
 
+/// What decides a technique's frame graph, compared by value: the technique, its own
+/// parameter table, how R is chosen and the intermediate format. Plan caches (the renderer's,
+/// the embedding's) key on it; other techniques' tables do not enter it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraphSettings {
+    technique: String,
+    params: toml::Table,
+    radius: RadiusSetting,
+    intermediate_format: IntermediateFormat,
+}
+
 impl AoConfig {
+    /// The settings that decide this config's graph ([`GraphSettings`]).
+    pub fn graph_settings(&self) -> GraphSettings {
+        GraphSettings {
+            technique: self.technique.clone(),
+            params: self.params_for(&self.technique),
+            radius: self.radius,
+            intermediate_format: self.intermediate_format,
+        }
+    }
+
     /// Parses an `[ao]` table and validates it against the registry (technique name, radius,
     /// and every technique table that is present).
     pub fn from_table(t: &toml::Table, registry: &TechniqueRegistry) -> AoResult<Self> {

@@ -57,7 +57,7 @@ pub mod techniques;
 mod temporal_option;
 mod tracer;
 
-pub use config::{AoConfig, DEFAULT_TECHNIQUE, IntermediateFormat};
+pub use config::{AoConfig, DEFAULT_TECHNIQUE, GraphSettings, IntermediateFormat};
 pub use error::{AoError, AoResult, check_one_of, check_param, nearest, unknown_key};
 pub use levels::Levels;
 pub use param::{ParamDesc, ParamKind};

@@ -13,7 +13,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use aograph_ao::{
-    AoBuildContext, AoConfig, ConfiguredTechnique, TechniqueRegistry, TracingSupport,
+    AoBuildContext, AoConfig, ConfiguredTechnique, GraphSettings, TechniqueRegistry, TracingSupport,
 };
 use aograph_frame::{VIEW_BUFFER, ViewMatrices, ViewUniforms};
 use aograph_graph::{
@@ -37,10 +37,11 @@ use crate::settings::{feedable_techniques, parse_config, resolve};
 const MAX_PLANS: usize = 32;
 
 /// Which plan a frame runs: the settings, the inputs' shape and the output format.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct PlanKey {
-    /// Technique, parameters, radius and precision (written once per `set_config`).
-    settings: Arc<str>,
+    /// Technique, parameters, radius and precision: the index of their [`GraphSettings`] in
+    /// `AmbientOcclusion::seen_settings` (found once per `set_config` or `prepare`).
+    settings: usize,
     layout: InputLayout,
     output: AoOutputFormat,
 }
@@ -60,7 +61,10 @@ pub struct AmbientOcclusion {
     config: AoConfig,
     technique: Arc<dyn ConfiguredTechnique>,
     radius: f32,
-    settings: Arc<str>,
+    settings: usize,
+    /// The settings plans were built for, indexed by [`PlanKey::settings`]; cleared with
+    /// `plans`.
+    seen_settings: Vec<GraphSettings>,
     output_format: AoOutputFormat,
     exec: Executor,
     compiler: GraphCompiler,
@@ -159,7 +163,8 @@ impl AmbientOcclusion {
             config: config.clone(),
             technique,
             radius,
-            settings,
+            settings: 0,
+            seen_settings: vec![settings],
             output_format: AoOutputFormat::default(),
             exec,
             compiler: GraphCompiler::new(),
@@ -184,7 +189,7 @@ impl AmbientOcclusion {
         self.config = config.clone();
         self.technique = technique;
         self.radius = radius;
-        self.settings = settings;
+        self.settings = self.settings_index(settings);
         Ok(())
     }
 
@@ -369,7 +374,7 @@ impl AmbientOcclusion {
     ) -> EmbedResult<()> {
         let (technique, radius, settings) = resolve(&self.gpu, &self.registry, config)?;
         let key = PlanKey {
-            settings,
+            settings: self.settings_index(settings),
             layout,
             output,
         };
@@ -417,23 +422,40 @@ impl AmbientOcclusion {
         if let Some((key, plan)) = &self.current
             && key.layout == layout
             && key.output == output
-            && Arc::ptr_eq(&key.settings, &self.settings)
+            && key.settings == self.settings
         {
             return Ok(plan.clone());
         }
         let key = PlanKey {
-            settings: self.settings.clone(),
+            settings: self.settings,
             layout,
             output,
         };
         let plan = self.kept_or_built(
-            key.clone(),
+            key,
             self.technique.clone(),
             self.radius,
             self.config.intermediate_format.wgpu(),
         )?;
         self.current = Some((key, plan.clone()));
         Ok(plan)
+    }
+
+    /// The index of `settings` among those seen, added when new. The list is bounded with the
+    /// plans: when it reaches [`MAX_PLANS`], both start again from the current settings.
+    fn settings_index(&mut self, settings: GraphSettings) -> usize {
+        if let Some(i) = self.seen_settings.iter().position(|s| *s == settings) {
+            return i;
+        }
+        if self.seen_settings.len() >= MAX_PLANS {
+            let current = self.seen_settings[self.settings].clone();
+            self.seen_settings = vec![current];
+            self.settings = 0;
+            self.plans.clear();
+            self.current = None;
+        }
+        self.seen_settings.push(settings);
+        self.seen_settings.len() - 1
     }
 
     /// The plan kept under `key`, or one built now for `technique` at `radius` (intermediates

@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, ConfiguredTechnique, RadiusSetting, TechniqueRegistry};
+use aograph_ao::{AoConfig, ConfiguredTechnique, GraphSettings, RadiusSetting, TechniqueRegistry};
 use aograph_graph::GpuContext;
 
 use crate::adapters::producible;
@@ -50,7 +50,7 @@ pub(crate) fn resolve(
     gpu: &GpuContext,
     registry: &TechniqueRegistry,
     config: &AoConfig,
-) -> EmbedResult<(Arc<dyn ConfiguredTechnique>, f32, Arc<str>)> {
+) -> EmbedResult<(Arc<dyn ConfiguredTechnique>, f32, GraphSettings)> {
     config.validate(registry)?;
     let radius = match config.radius {
         RadiusSetting::Units(r) => r.get(),
@@ -85,10 +85,5 @@ pub(crate) fn resolve(
         });
     }
     let technique = config.resolve(registry)?;
-    let settings: Arc<str> = format!(
-        "{}|{:?}|{:?}|{:?}",
-        config.technique, config.params, config.radius, config.intermediate_format
-    )
-    .into();
-    Ok((technique, radius, settings))
+    Ok((technique, radius, config.graph_settings()))
 }

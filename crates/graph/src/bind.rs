@@ -60,6 +60,8 @@ pub(crate) fn bind_resources(
         state.serials[s] = t.bound.serial;
         state.slots[s] = Some(t);
     }
+    // Import names resolve once per plan (again only after a new name was imported).
+    src.imports.resolve(plan, &mut state.import_slots);
     state.textures.fill(None);
     state.frame_buffers.fill(None);
     state.frame_acceleration_structures.fill(None);
@@ -71,15 +73,20 @@ pub(crate) fn bind_resources(
             ResourceKind::Texture(d) => *d,
             ResourceKind::AccelerationStructure => {
                 // Imported only (the builder offers no other origin).
-                state.frame_acceleration_structures[r] =
-                    Some(src.imports.acceleration_structure(res)?.clone());
+                state.frame_acceleration_structures[r] = Some(
+                    src.imports
+                        .acceleration_structure(&state.import_slots, r as u32, res)?
+                        .clone(),
+                );
                 continue;
             }
             ResourceKind::Buffer(_) => {
                 state.frame_buffers[r] = match res.origin {
-                    ResourceOrigin::Imported => {
-                        Some(src.imports.buffer(plan.key(), r as u32, res)?.clone())
-                    }
+                    ResourceOrigin::Imported => Some(
+                        src.imports
+                            .buffer(plan.key(), &state.import_slots, r as u32, res)?
+                            .clone(),
+                    ),
                     _ => state.buffers[r].clone(),
                 };
                 continue;
@@ -95,19 +102,29 @@ pub(crate) fn bind_resources(
             }
             ResourceOrigin::Imported => src
                 .imports
-                .texture(plan.key(), r as u32, res, &desc, extent, plan.usage[r])?
+                .texture(
+                    plan.key(),
+                    &state.import_slots,
+                    r as u32,
+                    res,
+                    &desc,
+                    extent,
+                    plan.usage[r],
+                )?
                 .clone(),
-            ResourceOrigin::HistoryPrevious { history }
-            | ResourceOrigin::HistoryCurrent { history } => {
+            ResourceOrigin::HistoryPrevious { .. } | ResourceOrigin::HistoryCurrent { .. } => {
+                let slot = plan.history_of[r].ok_or(GraphError::Internal(
+                    "a history resource without the slot compile gives every history",
+                ))?;
                 let key = PoolKey {
                     format: desc.format,
                     extent,
                     mip_levels: desc.mip_levels,
-                    usage: history_usage(plan, history),
+                    usage: plan.histories[slot].usage,
                 };
                 let (pair, valid) =
                     src.history
-                        .prepare(device, src.pool, plan.key(), history, key, src.frame);
+                        .prepare(device, src.pool, plan.key(), slot, key, src.frame);
                 if matches!(res.origin, ResourceOrigin::HistoryPrevious { .. }) {
                     if !valid {
                         clear_texture(src.gpu, encoder, &pair.previous().bound.texture);
@@ -273,14 +290,4 @@ fn clear_texture(gpu: &GpuContext, encoder: &mut wgpu::CommandEncoder, texture: 
             },
         );
     }
-}
-
-/// Usage of a history's textures: everything its two halves are used for, plus copies.
-fn history_usage(plan: &CompiledGraph, history: &str) -> wgpu::TextureUsages {
-    plan.decl
-        .resources
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| matches!(&r.origin, ResourceOrigin::HistoryPrevious { history: h } | ResourceOrigin::HistoryCurrent { history: h } if h == history))
-        .fold(wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING, |acc, (i, _)| acc | plan.usage[i])
 }

@@ -16,6 +16,7 @@ use petgraph::visit::{Dfs, Reversed};
 use crate::binding_slots::BindingSlot;
 use crate::declaration::*;
 use crate::error::{GraphError, GraphResult};
+use crate::history_slots::{HistorySlot, resolve_histories};
 use crate::lifetime::{Lifetime, PhysicalTexture, plan_lifetimes};
 use crate::resource::TextureAccess;
 use crate::sampler::SamplerDesc;
@@ -84,6 +85,10 @@ pub struct CompiledGraph {
     pub binding_slots: Vec<Vec<BindingSlot>>,
     /// The distinct samplers the kept passes bind, indexed by `BindingSource::Sampler`.
     pub samplers: Vec<SamplerDesc>,
+    /// The plan's histories, resolved here (`history_slots.rs`).
+    pub histories: Vec<HistorySlot>,
+    /// Per resource: the history (index into `histories`) it is a half of.
+    pub history_of: Vec<Option<usize>>,
 }
 
 impl CompiledGraph {
@@ -104,6 +109,8 @@ impl CompiledGraph {
             shaders: self.shaders.clone(),
             binding_slots: self.binding_slots.clone(),
             samplers: self.samplers.clone(),
+            histories: self.histories.clone(),
+            history_of: self.history_of.clone(),
         }
     }
     /// Identifies the plan for the executor: structure and compile options. Plans with equal
@@ -332,6 +339,7 @@ fn compile_hashed(
     let plan = plan_lifetimes(&decl, &order, options.reuse);
     edges.sort();
     edges.dedup();
+    let (histories, history_of) = resolve_histories(&decl, &plan.usage);
     Ok(CompiledGraph {
         hash,
         options,
@@ -345,6 +353,8 @@ fn compile_hashed(
         shaders: pass_shaders,
         binding_slots,
         samplers,
+        histories,
+        history_of,
         decl: Arc::new(decl),
     })
 }

@@ -23,6 +23,7 @@ use crate::error::{GraphError, GraphResult};
 use crate::gpu::GpuContext;
 use crate::history::HistoryStore;
 use crate::imports::ImportTable;
+use crate::name_lookups::count_name_lookup;
 use crate::pipeline::PipelineCache;
 use crate::plan_state::{PlanState, PlanStates};
 use crate::pool::{PoolKey, TexturePool};
@@ -173,11 +174,8 @@ impl Executor {
     pub fn reset_history(&mut self) {
         self.history.reset();
     }
-    fn history_key(plan: &CompiledGraph, name: &str, output: Extent) -> Option<PoolKey> {
-        let r = plan.decl.resources.iter().find(
-            |r| matches!(&r.origin, ResourceOrigin::HistoryCurrent { history } if history == name),
-        )?;
-        let desc = r.texture_desc()?;
+    fn history_key(plan: &CompiledGraph, slot: usize, output: Extent) -> Option<PoolKey> {
+        let desc = plan.decl.resources[plan.histories[slot].current].texture_desc()?;
         Some(PoolKey {
             format: desc.format,
             extent: desc.size.resolve(output),
@@ -188,17 +186,24 @@ impl Executor {
     /// Whether history `name` will hold a valid previous value in the next frame of `plan` at
     /// output size `output`: false on the plan's first frame, after a resize or format change,
     /// after a reset, and when another plan ran since this plan's last frame.
+    /// (A query by name, for tests and tools; a frame uses [`Executor::all_history_valid`].)
     pub fn history_valid(&self, plan: &CompiledGraph, name: &str, output: Extent) -> bool {
-        Self::history_key(plan, name, output)
-            .is_some_and(|key| self.history.is_valid(plan.key(), name, &key, self.frames))
+        plan.histories
+            .iter()
+            .position(|h| {
+                count_name_lookup();
+                h.name == name
+            })
+            .is_some_and(|slot| self.history_slot_valid(plan, slot, output))
+    }
+    fn history_slot_valid(&self, plan: &CompiledGraph, slot: usize, output: Extent) -> bool {
+        Self::history_key(plan, slot, output)
+            .is_some_and(|key| self.history.is_valid(plan.key(), slot, &key, self.frames))
     }
     /// Whether every history of `plan` will be valid in its next frame at `output` (what a
     /// technique with one history writes into the view block's `frame.y`).
     pub fn all_history_valid(&self, plan: &CompiledGraph, output: Extent) -> bool {
-        plan.decl.resources.iter().all(|r| match &r.origin {
-            ResourceOrigin::HistoryCurrent { history } => self.history_valid(plan, history, output),
-            _ => true,
-        })
+        (0..plan.histories.len()).all(|slot| self.history_slot_valid(plan, slot, output))
     }
     /// Textures the pool holds (lent to frames, retained by plans, or free). History and
     /// imported textures are not counted.
@@ -443,12 +448,8 @@ impl Executor {
     /// and validation errors raised meanwhile become the frame's error.
     fn end_frame(&mut self, plan: &Arc<CompiledGraph>, frame: FrameId) -> GraphResult<FrameId> {
         let key = plan.key();
-        let written = plan.decl.resources.iter().filter_map(|r| match &r.origin {
-            ResourceOrigin::HistoryCurrent { history } if r.latest_version() > 0 => {
-                Some(history.as_str())
-            }
-            _ => None,
-        });
+        let written =
+            (plan.histories.iter().enumerate()).filter_map(|(s, h)| h.written.then_some(s));
         self.history.end_frame(key, written, frame.0);
         let state = self.plans.get_mut(key).ok_or(GraphError::Internal(
             "a plan's state vanished between its lookup and its use",
@@ -541,10 +542,8 @@ impl Executor {
         };
         let state = self.plans.get(plan.key()).ok_or_else(not_run)?;
         let last = state.last_frame.ok_or_else(not_run)?;
-        if let ResourceOrigin::HistoryPrevious { history }
-        | ResourceOrigin::HistoryCurrent { history } = &res.origin
-        {
-            if !self.history.holds_frame(plan.key(), history, last) {
+        if let Some(slot) = plan.history_of[r] {
+            if !self.history.holds_frame(plan.key(), slot, last) {
                 return Err(GraphError::MissingResource {
                     resource: res.name.clone(),
                     message: "the history was evicted or rebound since this plan's last frame"

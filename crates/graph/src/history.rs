@@ -1,5 +1,6 @@
 //! History (ping-pong) textures: last frame's value readable while this frame's is written,
-//! kept per plan and name.
+//! kept per plan and history slot (the index compile gave the history:
+//! [`crate::HistorySlot`]), so a frame finds them without comparing names.
 //!
 //! Invariant: a history's previous value is valid only when the same plan wrote it in the
 //! executor's immediately preceding frame, at the same size and format, and no reset (camera
@@ -17,7 +18,8 @@ use crate::pool::{PoolKey, PooledTexture, TexturePool};
 
 /// Both textures of one history and which one is written this frame.
 pub struct HistoryPair {
-    pub name: String,
+    /// The plan's history slot ([`crate::CompiledGraph::histories`]).
+    pub slot: usize,
     pub textures: [PooledTexture; 2],
     pub current: usize,
     pub key: PoolKey,
@@ -38,7 +40,7 @@ impl HistoryPair {
     }
 }
 
-/// Histories by plan, then by name.
+/// Histories by plan, then by slot.
 #[derive(Default)]
 pub struct HistoryStore {
     plans: HashMap<PlanKey, Vec<HistoryPair>>,
@@ -55,16 +57,16 @@ impl HistoryStore {
     /// Frames a history waits, unbound, before its textures return to the pool.
     pub const IDLE_FRAMES: u64 = 8;
 
-    /// Whether `plan`'s history `name` will hold a valid previous value in `frame`, for
+    /// Whether `plan`'s history `slot` will hold a valid previous value in `frame`, for
     /// textures of `key` (see the module invariant).
-    pub fn is_valid(&self, plan: PlanKey, name: &str, key: &PoolKey, frame: u64) -> bool {
+    pub fn is_valid(&self, plan: PlanKey, slot: usize, key: &PoolKey, frame: u64) -> bool {
         !self.reset
             && self
-                .pair(plan, name)
+                .pair(plan, slot)
                 .is_some_and(|p| fits(&p.key, key) && p.written.is_some_and(|w| w + 1 == frame))
     }
-    fn pair(&self, plan: PlanKey, name: &str) -> Option<&HistoryPair> {
-        self.plans.get(&plan)?.iter().find(|p| p.name == name)
+    fn pair(&self, plan: PlanKey, slot: usize) -> Option<&HistoryPair> {
+        self.plans.get(&plan)?.iter().find(|p| p.slot == slot)
     }
     /// Invalidates every history (a camera cut) for the next frame.
     pub fn reset(&mut self) {
@@ -77,24 +79,24 @@ impl HistoryStore {
         device: &wgpu::Device,
         pool: &mut TexturePool,
         plan: PlanKey,
-        name: &str,
+        slot: usize,
         key: PoolKey,
         frame: u64,
     ) -> (&HistoryPair, bool) {
-        let valid = self.is_valid(plan, name, &key, frame);
+        let valid = self.is_valid(plan, slot, &key, frame);
         let list = self.plans.entry(plan).or_default();
-        let i = match list.iter().position(|p| p.name == name) {
+        let i = match list.iter().position(|p| p.slot == slot) {
             Some(i) if list[i].key == key => i,
             Some(i) => {
                 let old = list.swap_remove(i);
                 let [a, b] = old.textures;
                 pool.release(a);
                 pool.release(b);
-                list.push(new_pair(device, pool, name, key));
+                list.push(new_pair(device, pool, slot, key));
                 list.len() - 1
             }
             None => {
-                list.push(new_pair(device, pool, name, key));
+                list.push(new_pair(device, pool, slot, key));
                 list.len() - 1
             }
         };
@@ -104,15 +106,10 @@ impl HistoryStore {
     }
     /// After `plan`'s frame was submitted: each history it wrote swaps, so this frame's value
     /// becomes the next frame's previous one.
-    pub fn end_frame<'a>(
-        &mut self,
-        plan: PlanKey,
-        written: impl Iterator<Item = &'a str>,
-        frame: u64,
-    ) {
+    pub fn end_frame(&mut self, plan: PlanKey, written: impl Iterator<Item = usize>, frame: u64) {
         if let Some(list) = self.plans.get_mut(&plan) {
-            for name in written {
-                if let Some(p) = list.iter_mut().find(|p| p.name == name) {
+            for slot in written {
+                if let Some(p) = list.iter_mut().find(|p| p.slot == slot) {
                     p.current = 1 - p.current;
                     p.written = Some(frame);
                 }
@@ -136,10 +133,10 @@ impl HistoryStore {
         }
         self.plans.retain(|_, l| !l.is_empty());
     }
-    /// True when `plan`'s history `name` still holds what `frame` bound (not evicted or
+    /// True when `plan`'s history `slot` still holds what `frame` bound (not evicted or
     /// replaced since), so a read-back of that frame's history texture is what it wrote.
-    pub fn holds_frame(&self, plan: PlanKey, name: &str, frame: u64) -> bool {
-        self.pair(plan, name).is_some_and(|p| p.bound == frame)
+    pub fn holds_frame(&self, plan: PlanKey, slot: usize, frame: u64) -> bool {
+        self.pair(plan, slot).is_some_and(|p| p.bound == frame)
     }
     /// Number of history textures held (two per history).
     pub fn texture_count(&self) -> usize {
@@ -150,11 +147,11 @@ impl HistoryStore {
 fn new_pair(
     device: &wgpu::Device,
     pool: &mut TexturePool,
-    name: &str,
+    slot: usize,
     key: PoolKey,
 ) -> HistoryPair {
     HistoryPair {
-        name: name.to_string(),
+        slot,
         textures: [pool.acquire(device, key, 0), pool.acquire(device, key, 0)],
         current: 0,
         key,

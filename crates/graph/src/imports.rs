@@ -12,34 +12,85 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::compile::PlanKey;
+use crate::compile::{CompiledGraph, PlanKey};
 use crate::custom::BoundTexture;
-use crate::declaration::ResourceDecl;
+use crate::declaration::{ResourceDecl, ResourceOrigin};
 use crate::error::{GraphError, GraphResult};
+use crate::name_lookups::count_name_lookup;
 use crate::resource::{Extent, TextureDesc};
 
-/// Textures and buffers provided for imported resources: by name for every plan, and by
-/// (plan, resource index) for one plan.
+/// What is bound to one import name for every plan.
+#[derive(Default)]
+struct NamedImport {
+    texture: Option<BoundTexture>,
+    buffer: Option<wgpu::Buffer>,
+    acceleration_structure: Option<Arc<wgpu::Tlas>>,
+}
+
+/// Textures and buffers provided for imported resources: by name for every plan (each name
+/// interned once into a slot), and by (plan, resource index) for one plan.
 #[derive(Default)]
 pub(crate) struct ImportTable {
-    textures: HashMap<String, BoundTexture>,
-    buffers: HashMap<String, wgpu::Buffer>,
+    /// Index of each name ever imported by name: consulted when a name is imported and when a
+    /// plan resolves its imports ([`ImportSlots`]), never on a frame that reuses them.
+    slot_of_name: HashMap<String, usize>,
+    named: Vec<NamedImport>,
     plan_textures: HashMap<(PlanKey, u32), BoundTexture>,
     plan_buffers: HashMap<(PlanKey, u32), wgpu::Buffer>,
-    acceleration_structures: HashMap<String, Arc<wgpu::Tlas>>,
+}
+
+/// A plan's imported resources resolved to the table's name slots: per resource, the slot of
+/// its name (if anything was imported under it), valid while the table holds `names` names.
+#[derive(Default)]
+pub(crate) struct ImportSlots {
+    slots: Vec<Option<usize>>,
+    names: usize,
+    resolved: bool,
 }
 
 impl ImportTable {
+    fn slot(&mut self, name: &str) -> usize {
+        count_name_lookup();
+        if let Some(&s) = self.slot_of_name.get(name) {
+            return s;
+        }
+        self.named.push(NamedImport::default());
+        self.slot_of_name
+            .insert(name.to_string(), self.named.len() - 1);
+        self.named.len() - 1
+    }
     pub fn set_texture(&mut self, name: &str, texture: wgpu::Texture, serial: u64) {
-        self.textures
-            .insert(name.to_string(), BoundTexture::new(texture, serial));
+        let s = self.slot(name);
+        self.named[s].texture = Some(BoundTexture::new(texture, serial));
     }
     pub fn set_buffer(&mut self, name: &str, buffer: wgpu::Buffer) {
-        self.buffers.insert(name.to_string(), buffer);
+        let s = self.slot(name);
+        self.named[s].buffer = Some(buffer);
     }
     pub fn set_acceleration_structure(&mut self, name: &str, tlas: wgpu::Tlas) {
-        self.acceleration_structures
-            .insert(name.to_string(), Arc::new(tlas));
+        let s = self.slot(name);
+        self.named[s].acceleration_structure = Some(Arc::new(tlas));
+    }
+    /// Resolves `plan`'s imported resources to name slots, unless `slots` already holds them
+    /// for the names the table has now (a name imported since makes it resolve again).
+    pub fn resolve(&self, plan: &CompiledGraph, slots: &mut ImportSlots) {
+        if slots.resolved && slots.names == self.named.len() {
+            return;
+        }
+        slots.slots.clear();
+        slots.slots.extend(plan.decl.resources.iter().map(|r| {
+            if !matches!(r.origin, ResourceOrigin::Imported) {
+                return None;
+            }
+            count_name_lookup();
+            self.slot_of_name.get(&r.name).copied()
+        }));
+        slots.names = self.named.len();
+        slots.resolved = true;
+    }
+    fn named(&self, slots: &ImportSlots, resource: u32) -> Option<&NamedImport> {
+        let s = (*slots.slots.get(resource as usize)?)?;
+        self.named.get(s)
     }
     /// `texture` behind resource `resource` of the plan `plan` only.
     pub fn set_plan_texture(
@@ -58,9 +109,11 @@ impl ImportTable {
     }
     /// The texture for `res`, checked against its descriptor at `extent` and the `usage` the
     /// plan needs.
+    #[allow(clippy::too_many_arguments)]
     pub fn texture(
         &self,
         plan: PlanKey,
+        slots: &ImportSlots,
         resource: u32,
         res: &ResourceDecl,
         desc: &TextureDesc,
@@ -70,7 +123,7 @@ impl ImportTable {
         let t = self
             .plan_textures
             .get(&(plan, resource))
-            .or_else(|| self.textures.get(&res.name))
+            .or_else(|| self.named(slots, resource)?.texture.as_ref())
             .ok_or_else(|| GraphError::MissingResource {
                 resource: res.name.clone(),
                 message: "imported texture not provided; call Executor::bind_import_texture \
@@ -107,12 +160,13 @@ impl ImportTable {
     pub fn buffer(
         &self,
         plan: PlanKey,
+        slots: &ImportSlots,
         resource: u32,
         res: &ResourceDecl,
     ) -> GraphResult<&wgpu::Buffer> {
         self.plan_buffers
             .get(&(plan, resource))
-            .or_else(|| self.buffers.get(&res.name))
+            .or_else(|| self.named(slots, resource)?.buffer.as_ref())
             .ok_or_else(|| GraphError::MissingResource {
                 resource: res.name.clone(),
                 message: "imported buffer not provided; call Executor::bind_import_buffer (this \
@@ -121,9 +175,14 @@ impl ImportTable {
             })
     }
     /// The acceleration structure for imported resource `res`.
-    pub fn acceleration_structure(&self, res: &ResourceDecl) -> GraphResult<&Arc<wgpu::Tlas>> {
-        self.acceleration_structures
-            .get(&res.name)
+    pub fn acceleration_structure(
+        &self,
+        slots: &ImportSlots,
+        resource: u32,
+        res: &ResourceDecl,
+    ) -> GraphResult<&Arc<wgpu::Tlas>> {
+        self.named(slots, resource)
+            .and_then(|n| n.acceleration_structure.as_ref())
             .ok_or_else(|| GraphError::MissingResource {
                 resource: res.name.clone(),
                 message: "imported acceleration structure not provided; call \

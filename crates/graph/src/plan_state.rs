@@ -21,6 +21,7 @@ use crate::custom::BoundTexture;
 use crate::declaration::{GraphDecl, ResourceKind, ResourceOrigin};
 use crate::error::{GraphError, GraphResult};
 use crate::gpu::GpuContext;
+use crate::imports::ImportSlots;
 use crate::pipeline::{PassPipeline, PipelineCache, pipeline_key};
 use crate::pool::{PooledTexture, TexturePool};
 use crate::sampler::SamplerCache;
@@ -58,6 +59,8 @@ pub(crate) struct PlanState {
     pub frame_acceleration_structures: Vec<Option<Arc<wgpu::Tlas>>>,
     /// The last frame this plan executed.
     pub last_frame: Option<u64>,
+    /// Its imported resources resolved to the executor's import names, once.
+    pub import_slots: ImportSlots,
 }
 
 impl PlanState {
@@ -173,6 +176,7 @@ impl PlanState {
             frame_buffers: vec![None; n],
             frame_acceleration_structures: vec![None; n],
             last_frame: None,
+            import_slots: ImportSlots::default(),
         })
     }
 

@@ -7,10 +7,9 @@
 //! same declaration and plan (no graph rebuilt, no pipeline or g-buffer upload), and the one
 //! executor keeps each plan's state and shares pipelines and textures between them.
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry, TracingSupport};
+use aograph_ao::{AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport};
 use aograph_frame::{GBufferChannel, LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
@@ -99,6 +98,22 @@ pub type GraphExtension =
 /// beyond that the kept ones are dropped and rebuilt when asked for again.
 const MAX_BUILT_GRAPHS: usize = 32;
 
+/// What a built graph was built for: the settings that decide it and the output size.
+#[derive(Clone, Debug, PartialEq)]
+struct SettingsKey {
+    settings: GraphSettings,
+    output: Extent,
+}
+
+impl SettingsKey {
+    fn of(ao: &AoConfig, output: Extent) -> Self {
+        Self {
+            settings: ao.graph_settings(),
+            output,
+        }
+    }
+}
+
 /// One scene, one technique at a time, frames on demand.
 pub struct Renderer {
     /// The device frames render on.
@@ -122,10 +137,11 @@ pub struct Renderer {
     options: CompileOptions,
     compiler: GraphCompiler,
     extension: Option<GraphExtension>,
-    /// Graphs built before, by their settings (see the module docs).
-    built: HashMap<String, (FrameGraph, Arc<CompiledGraph>)>,
+    /// Graphs built before, with the settings and output size they were built for (see the
+    /// module docs); at most [`MAX_BUILT_GRAPHS`], found by comparing settings.
+    built: Vec<(SettingsKey, FrameGraph, Arc<CompiledGraph>)>,
     /// The settings key of `graph` and `plan`.
-    current_key: String,
+    current_key: SettingsKey,
     /// The g-buffer's GPU state, shared by every graph of the current scene.
     gbuffer: GBufferStates,
     view_buffer: wgpu::Buffer,
@@ -226,8 +242,8 @@ impl Renderer {
             options,
             compiler,
             extension: None,
-            built: HashMap::new(),
-            current_key: String::new(),
+            built: Vec::new(),
+            current_key: SettingsKey::of(ao, output),
             gbuffer,
             view_buffer,
             lighting_buffer,
@@ -264,15 +280,8 @@ impl Renderer {
     }
 
     /// The key of the current settings in `built`.
-    fn settings_key(&self) -> String {
-        format!(
-            "{}|{:?}|{:?}|{:?}|{}",
-            self.ao.technique,
-            self.ao.params,
-            self.ao.radius,
-            self.ao.intermediate_format,
-            self.output
-        )
+    fn settings_key(&self) -> SettingsKey {
+        SettingsKey::of(&self.ao, self.output)
     }
 
     /// Makes the graph for the current settings current: the one built before, or a new one
@@ -282,9 +291,13 @@ impl Renderer {
         if !force && key == self.current_key {
             return Ok(());
         }
-        let cached = if force { None } else { self.built.remove(&key) };
+        let cached = if force {
+            None
+        } else {
+            (self.built.iter().position(|(k, _, _)| *k == key)).map(|i| self.built.swap_remove(i))
+        };
         let (graph, plan) = match cached {
-            Some(built) => built,
+            Some((_, graph, plan)) => (graph, plan),
             None => {
                 let mut graph = build_frame_graph_with(
                     &self.registry,
@@ -314,7 +327,7 @@ impl Renderer {
             if self.built.len() >= MAX_BUILT_GRAPHS {
                 self.built.clear();
             }
-            self.built.insert(old_key, (old_graph, old_plan));
+            self.built.push((old_key, old_graph, old_plan));
         }
         Ok(())
     }
