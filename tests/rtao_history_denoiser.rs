@@ -147,7 +147,9 @@ fn a_camera_cut_resets_the_history_length_and_the_radius_widens() {
     let p = HistoryDenoise::default();
     // The guide's radius is the CPU mirror's for the pixel's n and nearest hit (f16: 3 digits).
     let check = |r: &aograph::Renderer, frames: f32| {
-        let guide = r.read_extra("rtao_guide").unwrap();
+        let guide = r
+            .read_extra(aograph_ao::techniques::rtao::GUIDE_OUTPUT)
+            .unwrap();
         let depth = r.read_linear_depth().unwrap();
         let mut geometry = 0;
         for (i, g) in guide.chunks_exact(4).enumerate() {

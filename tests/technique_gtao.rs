@@ -224,7 +224,10 @@ fn bent_normals_follow_the_visible_cone_and_leave_the_ao_unchanged() {
         plain.ao, run.ao,
         "the bent-normal variant must not change the AO"
     );
-    let bent = run.renderer.read_extra("gtao_bent_normals").unwrap();
+    let bent = run
+        .renderer
+        .read_extra(aograph_ao::techniques::gtao::BENT_NORMALS_OUTPUT)
+        .unwrap();
     let centre = (size.height / 2 * size.width + size.width / 2) as usize;
     let b = &bent[centre * 4..centre * 4 + 4];
     // The camera looks straight down the axis: the axis is view-space +z.
@@ -250,7 +253,10 @@ fn bent_normals_follow_the_visible_cone_and_leave_the_ao_unchanged() {
         1,
     )
     .unwrap();
-    let bent = run.renderer.read_extra("gtao_bent_normals").unwrap();
+    let bent = run
+        .renderer
+        .read_extra(aograph_ao::techniques::gtao::BENT_NORMALS_OUTPUT)
+        .unwrap();
     let worst = run
         .depth
         .iter()
@@ -278,7 +284,10 @@ fn multibounce_is_gtaos_cubic_of_the_output() {
     ) else {
         return;
     };
-    let mb = run.renderer.read_extra("gtao_multibounce").unwrap();
+    let mb = run
+        .renderer
+        .read_extra(aograph_ao::techniques::gtao::MULTIBOUNCE_OUTPUT)
+        .unwrap();
     let rho = 0.8f32; // 204 / 255 in the Rgba8Unorm albedo: exact
     let (a, b, c) = (
         2.0404 * rho - 0.3324,

@@ -301,7 +301,9 @@ fn where_rays_hit_moving_geometry_the_history_is_held_to_moving_frames() {
     ) else {
         return;
     };
-    let changed = held.read_extra("rtao_changed").unwrap();
+    let changed = held
+        .read_extra(aograph_ao::techniques::rtao::CHANGED_OUTPUT)
+        .unwrap();
     let a = held.read_ao().unwrap();
     let marked: Vec<usize> = (0..a.len()).filter(|&i| changed[i * 4] > 0.5).collect();
     assert!(
@@ -330,7 +332,9 @@ fn where_rays_hit_moving_geometry_the_history_is_held_to_moving_frames() {
         "elsewhere the history is kept ({kept} pixels differ from one frame)"
     );
     let columns = render("columns", "rays = 1", 3).unwrap();
-    let changed = columns.read_extra("rtao_changed").unwrap();
+    let changed = columns
+        .read_extra(aograph_ao::techniques::rtao::CHANGED_OUTPUT)
+        .unwrap();
     // r marks moving hits (g holds the nearest hit's distance, for the history denoiser).
     assert!(
         changed.chunks_exact(4).all(|t| t[0] == 0.0),

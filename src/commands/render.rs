@@ -90,7 +90,7 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     for (name, _) in r.graph.extra.clone() {
         // Each extra at its own size and channel count: one channel (a per-frame
         // accessibility, a half-size depth) as grey, more as RGB with the sRGB curve.
-        let readback = r.read_extra_readback(&name)?;
+        let readback = r.read_extra_readback(name)?;
         let (extent, channels) = (readback.extent, readback.channels().max(1));
         let values = readback.to_f32()?;
         let path = args.out.join(format!("{name}.png"));

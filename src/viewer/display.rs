@@ -103,11 +103,7 @@ pub fn display_extension() -> GraphExtension {
             TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
         );
         // The technique's own image of this frame where it accumulates (else its output).
-        let per_frame = fg
-            .extra
-            .iter()
-            .find(|(name, _)| name == PER_FRAME_OUTPUT)
-            .map_or(fg.ao, |(_, h)| *h);
+        let per_frame = fg.extra(PER_FRAME_OUTPUT).unwrap_or(fg.ao);
         let mut p = b.fullscreen_pass(DISPLAY_PASS, "viewer/display.wgsl", "vs", "fs");
         p.sample("ao", fg.ao)
             .sample("shaded", shaded)

@@ -107,8 +107,12 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
     let (raw, counts) = raw_passes(&frame, &u);
     let cpu = blur(&frame, &u, &blur(&frame, &u, &raw, (1, 0)), (0, 1));
     let ao = r.read_ao().expect("ao");
-    let direct = r.read_extra("ssdo_direct").expect("ssdo_direct");
-    let indirect = r.read_extra("ssdo_indirect").expect("ssdo_indirect");
+    let direct = r
+        .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+        .expect("ssdo_direct");
+    let indirect = r
+        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .expect("ssdo_indirect");
     let gpu = (0..(w * h) as usize)
         .map(|i| Raw {
             direct: Vec4::new(direct[4 * i], direct[4 * i + 1], direct[4 * i + 2], ao[i]),

@@ -10,7 +10,10 @@ use super::*;
 /// Mean (red, green) of `ssdo_indirect` over floor pixels of the Cornell box with x in `xs`.
 fn floor_indirect(run: &common::AoRun, xs: std::ops::Range<f32>) -> (f32, f32, usize) {
     let s = common::surfaces(run);
-    let rgba = run.renderer.read_extra("ssdo_indirect").unwrap();
+    let rgba = run
+        .renderer
+        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .unwrap();
     let (mut r, mut g, mut n) = (0.0f64, 0.0f64, 0usize);
     for i in common::cornell_floor_pixels(&s, xs) {
         r += rgba[i * 4] as f64;
@@ -97,7 +100,10 @@ fn cornell_box_bounce_carries_the_walls_colour_onto_the_floor() {
     ) else {
         return;
     };
-    let indirect = off.renderer.read_extra("ssdo_indirect").unwrap();
+    let indirect = off
+        .renderer
+        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .unwrap();
     assert!(
         indirect.chunks_exact(4).all(|px| px[..3] == [0.0; 3]),
         "bounce = false: the indirect term is exactly zero"
@@ -107,8 +113,12 @@ fn cornell_box_bounce_carries_the_walls_colour_onto_the_floor() {
         "the bounce does not change the accessibility"
     );
     assert_eq!(
-        off.renderer.read_extra("ssdo_direct").unwrap(),
-        run.renderer.read_extra("ssdo_direct").unwrap(),
+        off.renderer
+            .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+            .unwrap(),
+        run.renderer
+            .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+            .unwrap(),
         "nor the direct term"
     );
 }
@@ -204,7 +214,10 @@ fn cornell_box_bounce_under_the_sky_has_the_references_colour() {
     )
     .expect("radiance reference traces");
     let s = common::surfaces(&run);
-    let gpu = run.renderer.read_extra("ssdo_indirect").unwrap();
+    let gpu = run
+        .renderer
+        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .unwrap();
     let px = |i: usize| glam::Vec3::new(gpu[4 * i], gpu[4 * i + 1], gpu[4 * i + 2]);
     let ratio = |c: glam::Vec3| c.x / c.y.max(1e-9);
     for (wall, xs) in [("red", -1.0..-0.75), ("green", 0.75..1.0)] {

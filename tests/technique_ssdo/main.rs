@@ -21,7 +21,10 @@ const RADIUS: f32 = 1.0;
 /// Accessibility valid, radiance finite, non-negative and zero on sky.
 fn assert_valid(run: &common::AoRun, what: &str) {
     common::assert_valid_ao(&run.ao, &run.depth, what);
-    for name in ["ssdo_direct", "ssdo_indirect"] {
+    for name in [
+        aograph_ao::techniques::ssdo::DIRECT_OUTPUT,
+        aograph_ao::techniques::ssdo::INDIRECT_OUTPUT,
+    ] {
         let rgba = run
             .renderer
             .read_extra(name)

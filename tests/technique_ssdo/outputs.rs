@@ -131,8 +131,14 @@ fn unoccluded_plane_has_the_known_direct_radiance_and_no_indirect_light() {
         let Some(run) = common::render_ao(scene, &config, Extent::new(48, 48), 1) else {
             return;
         };
-        let direct = run.renderer.read_extra("ssdo_direct").unwrap();
-        let indirect = run.renderer.read_extra("ssdo_indirect").unwrap();
+        let direct = run
+            .renderer
+            .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+            .unwrap();
+        let indirect = run
+            .renderer
+            .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+            .unwrap();
         let (mut checked, mut worst) = (0, 0.0f32);
         for (i, d) in run.depth.iter().enumerate() {
             if *d <= 0.0 {

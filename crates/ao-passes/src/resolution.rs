@@ -18,11 +18,11 @@ use crate::blocks::half_resolution::{HALF_CHANNELS, half_gbuffer};
 use crate::blocks::{BilateralUpsample, UpsampleInputs, bilateral_upsample};
 use crate::error::{AoError, AoResult};
 use crate::param::ParamDesc;
-use crate::technique::{AoBuildContext, AoOutput};
+use crate::technique::{AoBuildContext, AoOutput, ExtraOutput};
 
 /// The name, in [`AoOutput::extra`], of the half-size linear depth the technique ran on
 /// (present at `half`), for inspection and tests.
-pub const HALF_DEPTH_OUTPUT: &str = "half_linear_depth";
+pub const HALF_DEPTH_OUTPUT: ExtraOutput = ExtraOutput::new("half_linear_depth");
 
 /// The size a technique's own passes run at.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -132,7 +132,7 @@ impl Resolution {
         )?;
         let mut out = out;
         out.accessibility = accessibility;
-        out.extra.push((HALF_DEPTH_OUTPUT.to_string(), half_depth));
+        out.extra.push((HALF_DEPTH_OUTPUT, half_depth));
         Ok(out)
     }
 }

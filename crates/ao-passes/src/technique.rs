@@ -183,8 +183,34 @@ pub struct AoOutput {
     pub accessibility: TextureHandle,
     /// Radiance, where the technique computes it ([`AoTechnique::radiance`]).
     pub radiance: Option<RadianceOutput>,
-    /// Further named outputs for inspection (e.g. gtao's bent normals).
-    pub extra: Vec<(String, TextureHandle)>,
+    /// Further outputs for inspection (e.g. gtao's bent normals), each under its key.
+    pub extra: Vec<(ExtraOutput, TextureHandle)>,
+}
+
+/// The key of an extra output: declared once, as a constant beside the technique or block
+/// that writes it (`techniques::gtao::BENT_NORMALS_OUTPUT`, [`crate::PER_FRAME_OUTPUT`]), and
+/// passed by whoever reads it back (`Renderer::read_extra`). Its name is what files and
+/// listings show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ExtraOutput {
+    name: &'static str,
+}
+
+impl ExtraOutput {
+    /// The key of the extra output named `name` (snake_case, prefixed by the technique).
+    pub const fn new(name: &'static str) -> Self {
+        Self { name }
+    }
+    /// Its name, as files and listings show it.
+    pub const fn name(self) -> &'static str {
+        self.name
+    }
+}
+
+impl std::fmt::Display for ExtraOutput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name)
+    }
 }
 
 /// Linear RGB radiance a technique writes besides accessibility (Rgba16Float or Rgba32Float,
@@ -216,6 +242,10 @@ impl AoOutput {
             radiance: None,
             extra: Vec::new(),
         }
+    }
+    /// The extra output under `key`, if the technique wrote one.
+    pub fn extra(&self, key: ExtraOutput) -> Option<TextureHandle> {
+        self.extra.iter().find(|(k, _)| *k == key).map(|(_, h)| *h)
     }
 }
 

@@ -29,7 +29,7 @@ use crate::blocks::temporal::{
 };
 use crate::error::AoResult;
 use crate::param::ParamDesc;
-use crate::technique::{AoBuildContext, AoOutput};
+use crate::technique::{AoBuildContext, AoOutput, ExtraOutput};
 
 /// The pipeline constant (shaders/common/noise.wgsl) that makes a technique's noise follow
 /// the frame index.
@@ -37,7 +37,7 @@ pub const TEMPORAL_NOISE: &str = "TEMPORAL_NOISE";
 
 /// The name, in [`AoOutput::extra`], of the technique's own accessibility of this frame
 /// (before accumulation), present when `temporal = true`.
-pub const PER_FRAME_OUTPUT: &str = "per_frame_accessibility";
+pub const PER_FRAME_OUTPUT: ExtraOutput = ExtraOutput::new("per_frame_accessibility");
 
 /// Default cap of the running mean: the known-answer test's 32 frames average exactly.
 pub const DEFAULT_TEMPORAL_FRAMES: u32 = 32;
@@ -136,8 +136,7 @@ impl TemporalOption {
             },
         )?;
         let mut out = spatial;
-        out.extra
-            .push((PER_FRAME_OUTPUT.to_string(), out.accessibility));
+        out.extra.push((PER_FRAME_OUTPUT, out.accessibility));
         out.accessibility = t.accumulated;
         if self.temporal_denoiser == TemporalDenoiser::History {
             let depth = ctx.channel(GBufferChannel::LinearDepth)?;

@@ -7,7 +7,8 @@ use aograph_frame::ReadsView;
 use std::sync::Arc;
 
 use aograph_ao::{
-    AoBuildContext, AoConfig, DeclaredInputs, RadianceOutput, TechniqueRegistry, TracingSupport,
+    AoBuildContext, AoConfig, DeclaredInputs, ExtraOutput, RadianceOutput, TechniqueRegistry,
+    TracingSupport,
 };
 use aograph_frame::{
     DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms,
@@ -59,8 +60,8 @@ pub struct FrameGraph {
     pub gbuffer: GBufferTextures,
     /// Which channels the g-buffer writes, with its depth format.
     pub channels: GBufferChannels,
-    /// The technique's extra outputs by name (e.g. `per_frame_accessibility`).
-    pub extra: Vec<(String, TextureHandle)>,
+    /// The technique's extra outputs, each under its key (e.g. `aograph_ao::PER_FRAME_OUTPUT`).
+    pub extra: Vec<(ExtraOutput, TextureHandle)>,
     /// The technique's radiance outputs, where it computes radiance.
     pub radiance: Option<RadianceOutput>,
     /// Which part of the frame declared each pass (timings total by owner).
@@ -72,6 +73,13 @@ pub struct FrameGraph {
     /// Frame inputs the technique declared (the scene BVH, for ray-traced AO): the renderer
     /// builds and binds exactly these.
     pub declared: DeclaredInputs,
+}
+
+impl FrameGraph {
+    /// The technique's extra output under `key`, if it wrote one.
+    pub fn extra(&self, key: ExtraOutput) -> Option<TextureHandle> {
+        self.extra.iter().find(|(k, _)| *k == key).map(|(_, h)| *h)
+    }
 }
 
 /// Declares the whole frame for `scene` (seen from its camera at t = 0) at `size` with the

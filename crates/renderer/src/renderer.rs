@@ -9,7 +9,9 @@
 
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport};
+use aograph_ao::{
+    AoConfig, ExtraOutput, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport,
+};
 use aograph_frame::{GBufferChannel, LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
@@ -450,21 +452,19 @@ impl Renderer {
         Ok(self.read_channel(Some(self.graph.ao), "ao")?.channel(0)?)
     }
 
-    /// An extra output of the technique (e.g. SSDO's radiance) as RGBA floats.
-    pub fn read_extra(&self, name: &str) -> RenderResult<Vec<f32>> {
-        Ok(self.read_extra_readback(name)?.to_f32()?)
+    /// An extra output of the technique (e.g. SSDO's radiance, `ssdo::DIRECT_OUTPUT`) as RGBA
+    /// floats.
+    pub fn read_extra(&self, key: ExtraOutput) -> RenderResult<Vec<f32>> {
+        Ok(self.read_extra_readback(key)?.to_f32()?)
     }
 
     /// An extra output of the technique as read back: its own size (a technique at
     /// `resolution = "half"` leaves its extras at half size) and format.
-    pub fn read_extra_readback(&self, name: &str) -> RenderResult<aograph_graph::TextureReadback> {
-        let h = self
-            .graph
-            .extra
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, h)| *h);
-        self.read_channel(h, name)
+    pub fn read_extra_readback(
+        &self,
+        key: ExtraOutput,
+    ) -> RenderResult<aograph_graph::TextureReadback> {
+        self.read_channel(self.graph.extra(key), key.name())
     }
 
     /// The technique's radiance outputs (direct, indirect) as RGBA floats, or an error when

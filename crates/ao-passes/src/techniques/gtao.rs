@@ -73,12 +73,19 @@ use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
 use super::depth_and_normals;
-use super::slices::{DepthLayers, ExtraOutput, SlicePasses, slice_passes};
+use super::slices::{DepthLayers, SliceExtra, SlicePasses, slice_passes};
 use crate::blocks::EdgeDenoise;
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::spatial_options::SpatialOptions;
-use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique, ExtraOutput};
+
+/// The extra output `gtao_bent_normals` (`bent_normals = true`): view-space bent normal xyz,
+/// raw accessibility w (XeGTAO Algorithm 2), Rgba16Float.
+pub const BENT_NORMALS_OUTPUT: ExtraOutput = ExtraOutput::new("gtao_bent_normals");
+/// The extra output `gtao_multibounce` (`multibounce = true`): GTAO's multi-bounce fit per
+/// colour channel, Rgba16Float.
+pub const MULTIBOUNCE_OUTPUT: ExtraOutput = ExtraOutput::new("gtao_multibounce");
 
 pub use super::slices::{GtaoPreset, MAX_SLICES, MAX_STEPS, SliceCounts};
 
@@ -293,9 +300,9 @@ impl AoTechnique for Gtao {
                 passes: p.denoise_passes,
                 blur_beta: p.blur_beta,
             },
-            extra_output: p.bent_normals.then_some(ExtraOutput {
+            extra_output: p.bent_normals.then_some(SliceExtra {
                 binding: "bent",
-                output: "gtao_bent_normals",
+                output: BENT_NORMALS_OUTPUT,
                 format: wgpu::TextureFormat::Rgba16Float,
             }),
             accumulation: p.spatial.accumulation,
@@ -320,7 +327,7 @@ impl AoTechnique for Gtao {
                 .sample("albedo", albedo);
             let dst = pass.write_storage("dst", dst);
             pass.dispatch_over(dst);
-            out.extra.push(("gtao_multibounce".into(), dst));
+            out.extra.push((MULTIBOUNCE_OUTPUT, dst));
         }
         Ok(out)
     }

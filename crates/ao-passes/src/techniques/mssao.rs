@@ -352,8 +352,7 @@ impl Mssao {
         let mut out = AoOutput::new(t.accumulated);
         // This frame's own Eq. 11 output, before Eq. 14's blend (as the shared temporal
         // option outputs it).
-        out.extra
-            .push((PER_FRAME_OUTPUT.to_string(), accessibility));
+        out.extra.push((PER_FRAME_OUTPUT, accessibility));
         Ok(out)
     }
 }

@@ -67,7 +67,14 @@ use crate::blocks::{EdgeDenoise, edge_denoise};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::resolution::Resolution;
-use crate::technique::{AoBuildContext, AoOutput, AoTechnique};
+use crate::technique::{AoBuildContext, AoOutput, AoTechnique, ExtraOutput};
+
+/// The extra output `rtao_changed`: r, 1 where a ray hit moving geometry this frame;
+/// g, the nearest hit over R (the history denoiser's radius guide).
+pub const CHANGED_OUTPUT: ExtraOutput = ExtraOutput::new("rtao_changed");
+/// The extra output `rtao_guide` (`denoiser = "history"`): the history denoiser's variance,
+/// radius, history length and hit (`blocks::history_denoise`).
+pub const GUIDE_OUTPUT: ExtraOutput = ExtraOutput::new("rtao_guide");
 use crate::temporal_option::PER_FRAME_OUTPUT;
 use crate::tracer::RayTracer;
 
@@ -344,16 +351,16 @@ impl Rtao {
         let mut output = AoOutput::new(out);
         // Where this frame's rays hit moving geometry (r = 1): the pixels whose history is
         // held to `moving_frames`, for inspection.
-        output.extra.push(("rtao_changed".into(), changed));
+        output.extra.push((CHANGED_OUTPUT, changed));
         if let Some(guide) = guide {
             // The history denoiser's guide: variance, radius in pixels, frames of history,
             // nearest hit over R.
-            output.extra.push(("rtao_guide".into(), guide));
+            output.extra.push((GUIDE_OUTPUT, guide));
         }
         if p.temporal {
             // This frame's own rays, before the running mean (as the shared temporal option
             // outputs it), so the mean can be checked against its frames.
-            output.extra.push((PER_FRAME_OUTPUT.to_string(), raw));
+            output.extra.push((PER_FRAME_OUTPUT, raw));
         }
         Ok(output)
     }

@@ -15,7 +15,7 @@ use crate::blocks::{EdgeDenoise, depth_prefilter, edge_denoise};
 use crate::error::{AoError, AoResult};
 use crate::param::ParamDesc;
 use crate::resolution::Resolution;
-use crate::technique::{AoBuildContext, AoOutput};
+use crate::technique::{AoBuildContext, AoOutput, ExtraOutput};
 use crate::temporal_option::TemporalOption;
 use aograph_frame::GBufferChannels;
 
@@ -158,11 +158,11 @@ impl DepthLayers {
 }
 
 /// A further storage output of a slice technique's AO pass.
-pub(crate) struct ExtraOutput {
+pub(crate) struct SliceExtra {
     /// The shader's binding name.
     pub binding: &'static str,
-    /// The name in [`AoOutput::extra`].
-    pub output: &'static str,
+    /// Its key in [`AoOutput::extra`].
+    pub output: ExtraOutput,
     pub format: wgpu::TextureFormat,
 }
 
@@ -180,7 +180,7 @@ pub(crate) struct SlicePasses<'a> {
     /// The denoiser (0 passes: the AO pass writes the output).
     pub denoise: EdgeDenoise,
     /// A further texture the AO pass writes (gtao's bent normals).
-    pub extra_output: Option<ExtraOutput>,
+    pub extra_output: Option<SliceExtra>,
     /// Texel loads of the AO pass per pixel (for the bench's roofline): the centre's depth,
     /// normal and four edge neighbours, and two depth taps per step and slice.
     pub loads_per_pixel: f32,
@@ -234,7 +234,7 @@ pub(crate) fn slice_passes(
             &format!("{}.{}", s.prefix, e.binding),
             TextureDesc::new(e.format, SizeClass::FULL),
         );
-        (e.output.to_string(), t, e.binding)
+        (e.output, t, e.binding)
     });
     let mut pass = ctx
         .builder

@@ -79,8 +79,13 @@ use serde::{Deserialize, Serialize};
 use crate::error::AoResult;
 use crate::param::ParamDesc;
 use crate::technique::{
-    AoBuildContext, AoOutput, AoTechnique, RadianceEnvironment, RadianceOutput,
+    AoBuildContext, AoOutput, AoTechnique, ExtraOutput, RadianceEnvironment, RadianceOutput,
 };
+
+/// The extra output `ssdo_direct`: direct radiance past the occlusion, linear RGB (Eq. 1).
+pub const DIRECT_OUTPUT: ExtraOutput = ExtraOutput::new("ssdo_direct");
+/// The extra output `ssdo_indirect`: one indirect bounce, linear RGB (Eq. 2).
+pub const INDIRECT_OUTPUT: ExtraOutput = ExtraOutput::new("ssdo_indirect");
 pub use kernel::MAX_SAMPLES;
 
 /// Format of the radiance outputs (the intermediates follow `intermediate_format`).
@@ -294,10 +299,7 @@ impl AoTechnique for Ssdo {
                 direct: direct_out,
                 indirect: indirect_out,
             }),
-            extra: vec![
-                ("ssdo_direct".into(), direct_out),
-                ("ssdo_indirect".into(), indirect_out),
-            ],
+            extra: vec![(DIRECT_OUTPUT, direct_out), (INDIRECT_OUTPUT, indirect_out)],
         })
     }
 }
@@ -338,7 +340,11 @@ mod tests {
         let out = AoTechnique::build(&Ssdo, &mut ctx, params).unwrap();
         b.export(out.accessibility);
         out.extra.iter().for_each(|(_, h)| b.export(*h));
-        let extra = out.extra.iter().map(|(n, _)| n.clone()).collect();
+        let extra = out
+            .extra
+            .iter()
+            .map(|(n, _)| n.name().to_string())
+            .collect();
         let shaders = crate::shader_library().unwrap();
         let plan = compile(b.build(), &shaders, CompileOptions::default()).unwrap();
         (
