@@ -58,7 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             TextureDesc::new(wgpu::TextureFormat::Rgba8Unorm, SizeClass::FULL),
         );
         let mut pass = builder.compute_pass("user.tint", TINT, "main");
-        pass.sample("ao", frame.ao);
+        pass.sample("ao", frame.accessibility()?);
         let t = pass.write_storage("image", target);
         pass.dispatch_over(t);
         builder.export(t);

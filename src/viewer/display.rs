@@ -90,6 +90,7 @@ pub fn display_uniform(mode: DisplayMode, split: f32, error_scale: f32) -> Vec<u
 /// The display pass as a frame-graph extension (see the module docs).
 pub fn display_extension() -> GraphExtension {
     Arc::new(|b: &mut GraphBuilder, fg: &FrameGraph| {
+        let ao = fg.accessibility()?;
         let shaded = fg
             .shaded
             .ok_or_else(|| aograph_renderer::RenderError::InvalidArgument {
@@ -103,9 +104,9 @@ pub fn display_extension() -> GraphExtension {
             TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
         );
         // The technique's own image of this frame where it accumulates (else its output).
-        let per_frame = fg.extra(PER_FRAME_OUTPUT).unwrap_or(fg.ao);
+        let per_frame = fg.extra(PER_FRAME_OUTPUT).unwrap_or(ao);
         let mut p = b.fullscreen_pass(DISPLAY_PASS, "viewer/display.wgsl", "vs", "fs");
-        p.sample("ao", fg.ao)
+        p.sample("ao", ao)
             .sample("shaded", shaded)
             .sample("reference", reference)
             .sample("per_frame", per_frame);

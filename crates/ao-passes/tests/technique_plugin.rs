@@ -82,7 +82,9 @@ impl AoTechnique for DepthContrast {
                 TextureDesc::new(wgpu::TextureFormat::R32Float, SizeClass::FULL),
             );
             let copy = ctx.builder.copy_pass("contrast.debug", out, copy);
-            output.extra.push((aograph_ao::ExtraOutput::new("debug"), copy));
+            output
+                .extra
+                .push((aograph_ao::ExtraOutput::new("debug"), copy));
         }
         Ok(output)
     }

@@ -7,8 +7,8 @@ use aograph_frame::ReadsView;
 use std::sync::Arc;
 
 use aograph_ao::{
-    AoBuildContext, AoConfig, DeclaredInputs, ExtraOutput, RadianceOutput, TechniqueRegistry,
-    TracingSupport,
+    AoBuildContext, AoConfig, ConfiguredTechnique, DeclaredInputs, ExtraOutput, RadianceOutput,
+    RadiusSetting, TechniqueRegistry, TracingSupport,
 };
 use aograph_frame::{
     DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms,
@@ -52,8 +52,9 @@ pub struct FrameOutputs {
 pub struct FrameGraph {
     /// The declaration (compile it with `aograph_graph::GraphCompiler`).
     pub decl: GraphDecl,
-    /// The technique's accessibility output (R32Float, 1 = unoccluded).
-    pub ao: TextureHandle,
+    /// The technique's accessibility output (R32Float, 1 = unoccluded); `None` in a
+    /// g-buffer-only frame ([`build_gbuffer_graph`]).
+    pub ao: Option<TextureHandle>,
     /// shaded.png's texture, when `FrameOutputs::shaded` asked for it.
     pub shaded: Option<TextureHandle>,
     /// The g-buffer channels written (None for those not needed).
@@ -76,6 +77,15 @@ pub struct FrameGraph {
 }
 
 impl FrameGraph {
+    /// The technique's accessibility output, or an error saying this frame runs none (a
+    /// g-buffer-only frame).
+    pub fn accessibility(&self) -> RenderResult<TextureHandle> {
+        self.ao.ok_or_else(|| RenderError::InvalidArgument {
+            name: "accessibility".into(),
+            value: "a g-buffer-only frame".into(),
+            allowed: "a frame of a technique (Renderer::new, or Renderer::set_ao)".into(),
+        })
+    }
     /// The technique's extra output under `key`, if it wrote one.
     pub fn extra(&self, key: ExtraOutput) -> Option<TextureHandle> {
         self.extra.iter().find(|(k, _)| *k == key).map(|(_, h)| *h)
@@ -117,10 +127,50 @@ pub fn build_frame_graph_with(
 ) -> RenderResult<FrameGraph> {
     // Parsed and validated once; everything below asks the configured technique.
     let technique = ao.resolve(registry)?;
-    let radius = crate::scene_radius::resolve_radius(&scene, ao.radius)
+    declare_frame(
+        scene,
+        Some((&*technique, ao)),
+        outputs,
+        size,
+        gbuffer,
+        tracing,
+    )
+}
+
+/// The g-buffer alone for `scene` at `size` with the read-backs `outputs` asks for: no AO
+/// technique runs (what every reference starts its rays from). `outputs.shaded` is refused:
+/// shading needs an accessibility.
+pub fn build_gbuffer_graph(
+    scene: Arc<Scene>,
+    outputs: FrameOutputs,
+    size: Extent,
+    gbuffer: &GBufferStates,
+) -> RenderResult<FrameGraph> {
+    declare_frame(
+        scene,
+        None,
+        outputs,
+        size,
+        gbuffer,
+        &TracingSupport::default(),
+    )
+}
+
+/// The frame: the g-buffer, then `technique` (configured from `ao`) when there is one, then
+/// the shading and exports `outputs` asks for.
+fn declare_frame(
+    scene: Arc<Scene>,
+    technique: Option<(&dyn ConfiguredTechnique, &AoConfig)>,
+    outputs: FrameOutputs,
+    size: Extent,
+    gbuffer: &GBufferStates,
+    tracing: &TracingSupport,
+) -> RenderResult<FrameGraph> {
+    let radius_setting = technique.map_or(RadiusSetting::Auto, |(_, ao)| ao.radius);
+    let radius = crate::scene_radius::resolve_radius(&scene, radius_setting)
         .0
         .get();
-    let mut requested = technique.channels();
+    let mut requested = technique.map_or_else(GBufferChannels::default, |(t, _)| t.channels());
     if outputs.shaded {
         requested = requested
             .with(GBufferChannel::Albedo)
@@ -135,7 +185,7 @@ pub fn build_frame_graph_with(
                 allowed: format!(
                     "the kind technique `{}` reads ({}); trace the reference from a g-buffer of \
                      its own (frame_reference)",
-                    ao.technique,
+                    technique.map_or("", |(t, _)| t.name()),
                     if requested.face_normals {
                         "geometric"
                     } else {
@@ -179,6 +229,29 @@ pub fn build_frame_graph_with(
     });
     // What an automatic level count must reach: R at the view's closest geometry, at most the
     // image's diagonal (`ProjectedRadius::reach_needed_px`).
+    let Some((technique, ao)) = technique else {
+        if outputs.shaded {
+            return Err(aograph_ao::AoError::MissingChannel {
+                technique: "shading".into(),
+                channel: "accessibility (a g-buffer-only frame runs no technique)".into(),
+            }
+            .into());
+        }
+        export_gbuffer(&mut b, &gbuffer, &outputs);
+        return Ok(FrameGraph {
+            decl: b.build(),
+            ao: None,
+            shaded: None,
+            gbuffer,
+            channels,
+            extra: Vec::new(),
+            radiance: None,
+            owners,
+            clock,
+            temporal: false,
+            declared: DeclaredInputs::default(),
+        });
+    };
     let radius_pixels = if technique.needs_radius_pixels() {
         aograph_scene::projected_radius(
             &scene,
@@ -222,6 +295,24 @@ pub fn build_frame_graph_with(
     } else {
         None
     };
+    export_gbuffer(&mut b, &gbuffer, &outputs);
+    Ok(FrameGraph {
+        decl: b.build(),
+        ao: Some(out.accessibility),
+        shaded,
+        gbuffer,
+        channels,
+        extra: out.extra,
+        radiance: out.radiance,
+        owners,
+        clock,
+        temporal,
+        declared,
+    })
+}
+
+/// Exports the g-buffer channels `outputs` reads back.
+fn export_gbuffer(b: &mut GraphBuilder, gbuffer: &GBufferTextures, outputs: &FrameOutputs) {
     if outputs.surfaces {
         gbuffer
             .positions
@@ -244,19 +335,6 @@ pub fn build_frame_graph_with(
     if outputs.direct_light {
         gbuffer.direct_light.into_iter().for_each(|h| b.export(h));
     }
-    Ok(FrameGraph {
-        decl: b.build(),
-        ao: out.accessibility,
-        shaded,
-        gbuffer,
-        channels,
-        extra: out.extra,
-        radiance: out.radiance,
-        owners,
-        clock,
-        temporal,
-        declared,
-    })
 }
 
 /// shaded = albedo * ambient * accessibility + direct light, in sRGB-encoded 8-bit.

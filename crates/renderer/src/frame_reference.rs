@@ -15,7 +15,6 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary};
 use aograph_scene::SceneError;
 use aograph_scene::ray_tracing::{
@@ -103,27 +102,15 @@ pub fn reference_surfaces(
     Ok((r.surfaces()?, r.read_linear_depth()?))
 }
 
-/// A renderer with no AO technique (`none`) that has drawn `view` once with `outputs`: the
-/// g-buffer every reference starts its rays from.
+/// A g-buffer-only renderer that has drawn `view` once with `outputs`: the g-buffer every
+/// reference starts its rays from.
 fn gbuffer_frame(
     gpu: Arc<GpuContext>,
     shaders: Arc<ShaderLibrary>,
     view: &FrameView,
     outputs: FrameOutputs,
 ) -> RenderResult<Renderer> {
-    let ao = AoConfig {
-        technique: aograph_ao::techniques::none::BASELINE.into(),
-        ..AoConfig::default()
-    };
-    let mut r = Renderer::new(
-        gpu,
-        shaders,
-        &TechniqueRegistry::with_builtins(),
-        view.scene.clone(),
-        &ao,
-        outputs,
-        view.extent,
-    )?;
+    let mut r = Renderer::gbuffer_only(gpu, shaders, view.scene.clone(), outputs, view.extent)?;
     r.render_with_camera(view.time, view.camera)?;
     Ok(r)
 }

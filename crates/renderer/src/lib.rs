@@ -40,7 +40,9 @@ mod scene_tracing;
 mod shader_mount;
 
 pub use error::{RenderError, RenderResult};
-pub use frame_graph::{FrameGraph, FrameOutputs, build_frame_graph, build_frame_graph_with};
+pub use frame_graph::{
+    FrameGraph, FrameOutputs, build_frame_graph, build_frame_graph_with, build_gbuffer_graph,
+};
 pub use frame_reference::{FrameView, ReferenceSettings, frame_reference};
 pub use output_size::{MAX_SIDE, check_size};
 pub use pass_owner::{PassOwner, PassOwners};

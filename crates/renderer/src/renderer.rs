@@ -24,7 +24,7 @@ use aograph_scene::{Camera, Scene, SurfaceBuffer};
 use glam::{Mat4, Vec3};
 
 use crate::error::{RenderError, RenderResult};
-use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with};
+use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with, build_gbuffer_graph};
 use crate::scene_tracing::SceneTracing;
 
 /// R16Float intermediates are written as r16float storage textures, which core WebGPU does not
@@ -103,14 +103,15 @@ const MAX_BUILT_GRAPHS: usize = 32;
 /// What a built graph was built for: the settings that decide it and the output size.
 #[derive(Clone, Debug, PartialEq)]
 struct SettingsKey {
-    settings: GraphSettings,
+    /// `None`: the g-buffer alone.
+    settings: Option<GraphSettings>,
     output: Extent,
 }
 
 impl SettingsKey {
-    fn of(ao: &AoConfig, output: Extent) -> Self {
+    fn of(ao: Option<&AoConfig>, output: Extent) -> Self {
         Self {
-            settings: ao.graph_settings(),
+            settings: ao.map(AoConfig::graph_settings),
             output,
         }
     }
@@ -132,8 +133,11 @@ pub struct Renderer {
     pub scene: Arc<Scene>,
     /// The output size in pixels.
     pub output: Extent,
-    /// The settings the current graph was built for.
+    /// The settings the current graph was built for (the defaults, unused, while the renderer
+    /// draws the g-buffer alone: [`Renderer::gbuffer_only`]).
     pub ao: AoConfig,
+    /// No technique runs: the frame is the g-buffer alone.
+    gbuffer_only: bool,
     registry: TechniqueRegistry,
     outputs: FrameOutputs,
     options: CompileOptions,
@@ -194,19 +198,70 @@ impl Renderer {
         output: Extent,
         options: CompileOptions,
     ) -> RenderResult<Self> {
-        crate::output_size::check_size("width", output.width)?;
-        crate::output_size::check_size("height", output.height)?;
-        check_intermediate_format(&gpu, ao)?;
-        let gbuffer = GBufferStates::default();
-        let graph = build_frame_graph_with(
+        Self::create(
+            gpu,
+            shaders,
             registry,
-            scene.clone(),
-            ao,
+            scene,
+            Some(ao),
             outputs,
             output,
-            &gbuffer,
-            &TracingSupport::of(&gpu),
-        )?;
+            options,
+        )
+    }
+
+    /// A renderer of `scene` that draws the g-buffer alone, no AO technique (what every
+    /// reference starts its rays from): [`Renderer::read_ao`] is an error until
+    /// [`Renderer::set_ao`] gives it a technique (a built-in one).
+    pub fn gbuffer_only(
+        gpu: Arc<GpuContext>,
+        shaders: Arc<ShaderLibrary>,
+        scene: Arc<Scene>,
+        outputs: FrameOutputs,
+        output: Extent,
+    ) -> RenderResult<Self> {
+        Self::create(
+            gpu,
+            shaders,
+            &TechniqueRegistry::with_builtins(),
+            scene,
+            None,
+            outputs,
+            output,
+            CompileOptions::default(),
+        )
+    }
+
+    /// A renderer drawing `ao`'s technique, or the g-buffer alone when `ao` is `None`.
+    #[allow(clippy::too_many_arguments)]
+    fn create(
+        gpu: Arc<GpuContext>,
+        shaders: Arc<ShaderLibrary>,
+        registry: &TechniqueRegistry,
+        scene: Arc<Scene>,
+        ao: Option<&AoConfig>,
+        outputs: FrameOutputs,
+        output: Extent,
+        options: CompileOptions,
+    ) -> RenderResult<Self> {
+        crate::output_size::check_size("width", output.width)?;
+        crate::output_size::check_size("height", output.height)?;
+        if let Some(ao) = ao {
+            check_intermediate_format(&gpu, ao)?;
+        }
+        let gbuffer = GBufferStates::default();
+        let graph = match ao {
+            Some(ao) => build_frame_graph_with(
+                registry,
+                scene.clone(),
+                ao,
+                outputs,
+                output,
+                &gbuffer,
+                &TracingSupport::of(&gpu),
+            )?,
+            None => build_gbuffer_graph(scene.clone(), outputs, output, &gbuffer)?,
+        };
         let mut compiler = GraphCompiler::new();
         let plan = compiler.compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
@@ -238,14 +293,15 @@ impl Renderer {
             graph,
             scene,
             output,
-            ao: ao.clone(),
+            ao: ao.cloned().unwrap_or_default(),
+            gbuffer_only: ao.is_none(),
             registry: registry.clone(),
             outputs,
             options,
             compiler,
             extension: None,
             built: Vec::new(),
-            current_key: SettingsKey::of(ao, output),
+            current_key: SettingsKey::of(None, output),
             gbuffer,
             view_buffer,
             lighting_buffer,
@@ -274,8 +330,10 @@ impl Renderer {
         check_intermediate_format(&self.gpu, ao)?;
         ao.validate(&self.registry)?;
         let old = std::mem::replace(&mut self.ao, ao.clone());
+        let was_gbuffer_only = std::mem::replace(&mut self.gbuffer_only, false);
         if let Err(e) = self.rebuild(false) {
             self.ao = old;
+            self.gbuffer_only = was_gbuffer_only;
             return Err(e);
         }
         Ok(())
@@ -283,7 +341,7 @@ impl Renderer {
 
     /// The key of the current settings in `built`.
     fn settings_key(&self) -> SettingsKey {
-        SettingsKey::of(&self.ao, self.output)
+        SettingsKey::of((!self.gbuffer_only).then_some(&self.ao), self.output)
     }
 
     /// Makes the graph for the current settings current: the one built before, or a new one
@@ -301,15 +359,24 @@ impl Renderer {
         let (graph, plan) = match cached {
             Some((_, graph, plan)) => (graph, plan),
             None => {
-                let mut graph = build_frame_graph_with(
-                    &self.registry,
-                    self.scene.clone(),
-                    &self.ao,
-                    self.outputs,
-                    self.output,
-                    &self.gbuffer,
-                    &TracingSupport::of(&self.gpu),
-                )?;
+                let mut graph = if self.gbuffer_only {
+                    build_gbuffer_graph(
+                        self.scene.clone(),
+                        self.outputs,
+                        self.output,
+                        &self.gbuffer,
+                    )?
+                } else {
+                    build_frame_graph_with(
+                        &self.registry,
+                        self.scene.clone(),
+                        &self.ao,
+                        self.outputs,
+                        self.output,
+                        &self.gbuffer,
+                        &TracingSupport::of(&self.gpu),
+                    )?
+                };
                 if let Some(ext) = &self.extension {
                     let mut b = GraphBuilder::from_decl(graph.decl.clone());
                     ext(&mut b, &graph)?;
@@ -342,10 +409,12 @@ impl Renderer {
         let old_scene = std::mem::replace(&mut self.scene, scene);
         let old_ao = std::mem::replace(&mut self.ao, ao.clone());
         let old_gbuffer = std::mem::take(&mut self.gbuffer);
+        let was_gbuffer_only = std::mem::replace(&mut self.gbuffer_only, false);
         if let Err(e) = self.rebuild(true) {
             self.scene = old_scene;
             self.ao = old_ao;
             self.gbuffer = old_gbuffer;
+            self.gbuffer_only = was_gbuffer_only;
             return Err(e);
         }
         self.built.clear();
@@ -449,7 +518,8 @@ impl Renderer {
 
     /// Accessibility of the last frame, row-major, top row first.
     pub fn read_ao(&self) -> RenderResult<Vec<f32>> {
-        Ok(self.read_channel(Some(self.graph.ao), "ao")?.channel(0)?)
+        let ao = self.graph.accessibility()?;
+        Ok(self.exec.read_texture(&self.plan, ao)?.channel(0)?)
     }
 
     /// An extra output of the technique (e.g. SSDO's radiance, `ssdo::DIRECT_OUTPUT`) as RGBA

@@ -34,7 +34,7 @@ pub mod sweep;
 
 use std::path::Path;
 
-use aograph_ao::{AoConfig, Radius};
+use aograph_ao::Radius;
 use aograph_graph::{Extent, GpuContext};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -358,16 +358,10 @@ pub fn run_scaling(
         if results.radii.is_empty() {
             results.radii = radii.clone();
         }
-        let probe_config = AoConfig {
-            technique: aograph_ao::techniques::none::BASELINE.into(),
-            ..AoConfig::default()
-        };
-        let mut probe = Renderer::new(
+        let mut probe = Renderer::gbuffer_only(
             ctx.gpu.clone(),
             ctx.shaders.clone(),
-            &ctx.registry,
             scene.clone(),
-            &probe_config,
             FrameOutputs {
                 linear_depth: true,
                 ..Default::default()

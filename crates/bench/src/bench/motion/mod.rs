@@ -43,7 +43,6 @@ pub use reprojection::{
 
 use std::path::Path;
 
-use aograph_ao::AoConfig;
 use aograph_scene::{Camera, Scene, TriangleBvh};
 use glam::{Quat, Vec3};
 
@@ -185,17 +184,11 @@ pub fn motion_frames(
 ) -> AppResult<Vec<MotionFrame>> {
     let scene = prepared.scene.clone();
     let instances_move = scene.instances.iter().any(|i| i.is_moving());
-    let none = AoConfig {
-        technique: aograph_ao::techniques::none::BASELINE.into(),
-        ..AoConfig::default()
-    };
     let extent = s.extent();
-    let mut r = Renderer::new(
+    let mut r = Renderer::gbuffer_only(
         ctx.gpu.clone(),
         ctx.shaders.clone(),
-        &ctx.registry,
         scene.clone(),
-        &none,
         FrameOutputs {
             surfaces: true,
             surface_normals: s.normals,
