@@ -34,6 +34,7 @@ pub mod frame_graph;
 pub mod frame_reference;
 mod output_size;
 pub mod pass_owner;
+mod readback;
 pub mod renderer;
 mod scene_radius;
 mod scene_tracing;

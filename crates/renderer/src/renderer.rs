@@ -9,19 +9,16 @@
 
 use std::sync::Arc;
 
-use aograph_ao::{
-    AoConfig, ExtraOutput, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport,
-};
-use aograph_frame::{GBufferChannel, LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
+use aograph_ao::{AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport};
+use aograph_frame::{LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
-    PassTimings, ShaderLibrary, TextureHandle,
+    PassTimings, ShaderLibrary,
 };
 use aograph_scene::gbuffer::{GBufferFrame, GBufferStates};
 use aograph_scene::ray_tracing::{AsWork, GpuSceneBvh};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
-use aograph_scene::{Camera, Scene, SurfaceBuffer};
-use glam::{Mat4, Vec3};
+use aograph_scene::{Camera, Scene};
 
 use crate::error::{RenderError, RenderResult};
 use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with, build_gbuffer_graph};
@@ -501,106 +498,6 @@ impl Renderer {
         self.time = time;
         self.frame_index = self.frame_index.wrapping_add(1);
         Ok(())
-    }
-
-    fn read_channel(
-        &self,
-        h: Option<TextureHandle>,
-        what: &str,
-    ) -> RenderResult<aograph_graph::TextureReadback> {
-        let h = h.ok_or_else(|| RenderError::InvalidArgument {
-            name: what.into(),
-            value: "not requested".into(),
-            allowed: "request it in FrameOutputs".into(),
-        })?;
-        Ok(self.exec.read_texture(&self.plan, h)?)
-    }
-
-    /// Accessibility of the last frame, row-major, top row first.
-    pub fn read_ao(&self) -> RenderResult<Vec<f32>> {
-        let ao = self.graph.accessibility()?;
-        Ok(self.exec.read_texture(&self.plan, ao)?.channel(0)?)
-    }
-
-    /// An extra output of the technique (e.g. SSDO's radiance, `ssdo::DIRECT_OUTPUT`) as RGBA
-    /// floats.
-    pub fn read_extra(&self, key: ExtraOutput) -> RenderResult<Vec<f32>> {
-        Ok(self.read_extra_readback(key)?.to_f32()?)
-    }
-
-    /// An extra output of the technique as read back: its own size (a technique at
-    /// `resolution = "half"` leaves its extras at half size) and format.
-    pub fn read_extra_readback(
-        &self,
-        key: ExtraOutput,
-    ) -> RenderResult<aograph_graph::TextureReadback> {
-        self.read_channel(self.graph.extra(key), key.name())
-    }
-
-    /// The technique's radiance outputs (direct, indirect) as RGBA floats, or an error when
-    /// the technique computes no radiance.
-    pub fn read_radiance(&self) -> RenderResult<(Vec<f32>, Vec<f32>)> {
-        let r = self.graph.radiance;
-        Ok((
-            self.read_channel(r.map(|r| r.direct), "radiance (direct)")?
-                .to_f32()?,
-            self.read_channel(r.map(|r| r.indirect), "radiance (indirect)")?
-                .to_f32()?,
-        ))
-    }
-
-    /// shaded.png's pixels (RGBA8, sRGB-encoded).
-    pub fn read_shaded(&self) -> RenderResult<Vec<u8>> {
-        Ok(self.read_channel(self.graph.shaded, "shaded")?.bytes)
-    }
-
-    /// A g-buffer channel of the last frame as stored, for the channels [`FrameOutputs`]
-    /// keeps readable: with `surfaces`, positions and the normals in whichever encodings the
-    /// frame wrote (`normals`, `normals_oct`); with `linear_depth`, linear depth.
-    pub fn read_gbuffer(&self, c: GBufferChannel) -> RenderResult<aograph_graph::TextureReadback> {
-        self.read_channel(self.graph.gbuffer.get(c), c.name())
-    }
-
-    /// Linear depth of the last frame (0 = sky).
-    pub fn read_linear_depth(&self) -> RenderResult<Vec<f32>> {
-        Ok(self
-            .read_channel(self.graph.gbuffer.linear_depth, "linear_depth")?
-            .channel(0)?)
-    }
-
-    /// World-space points and normals of the last frame from the g-buffer, for the reference.
-    pub fn surfaces(&self) -> RenderResult<SurfaceBuffer> {
-        let pos = self
-            .read_channel(self.graph.gbuffer.positions, "positions")?
-            .to_f32()?;
-        let nrm = self
-            .read_channel(self.graph.gbuffer.normals, "normals")?
-            .to_f32()?;
-        let inv_view: Mat4 = self.scene.camera_at(self.time).view().inverse();
-        let camera = self.prev.map(|(_, c)| c);
-        let inv_view = camera.map(|c| c.view().inverse()).unwrap_or(inv_view);
-        let n = (self.output.width * self.output.height) as usize;
-        let mut s = SurfaceBuffer {
-            width: self.output.width,
-            height: self.output.height,
-            points: Vec::with_capacity(n),
-            normals: Vec::with_capacity(n),
-            valid: Vec::with_capacity(n),
-        };
-        for i in 0..n {
-            let p = &pos[i * 4..i * 4 + 4];
-            let q = &nrm[i * 4..i * 4 + 4];
-            let valid = p[3] > 0.5;
-            s.points
-                .push(inv_view.transform_point3(Vec3::new(p[0], p[1], p[2])));
-            s.normals.push(
-                inv_view
-                    .transform_vector3(Vec3::new(q[0], q[1], q[2]))
-                    .normalize_or_zero(),
-            );
-            s.valid.push(valid);
-        }
-        Ok(s)
     }
 
     /// Per-pass times of the last frame. Waits for the GPU to finish it: for one-shot runs and
