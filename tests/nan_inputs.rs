@@ -16,11 +16,11 @@ use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
 use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry, TracingSupport};
-use aograph_frame::{
-    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, LIGHTING_BUFFER,
-    LightingUniforms, SCENE_AS_INSTANCES_BUFFER, SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS,
-};
 use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
+use aograph_frame::{
+    LIGHTING_BUFFER, LightingUniforms, SceneAcceleration, SceneAccelerationResources, SceneBvh,
+    SceneBvhBuffers,
+};
 use aograph_graph::{
     BufferDesc, CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, compile,
     test_gpu,
@@ -264,18 +264,24 @@ fn nan_and_infinite_gbuffer_texels_give_finite_accessibility_for_every_technique
         exec.import_buffer(LIGHTING_BUFFER, buffer("lighting", lighting.bytes()));
         // A technique that declared the scene's BVH (rtao) gets the scene's, as the renderer
         // would give it: the rays start from the poisoned points and normals.
-        if declared.scene_bvh.is_some() {
+        if declared.contains::<SceneBvh>() {
             let bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).expect("the BVH fits");
-            exec.import_buffer(BVH_NODES_BUFFER, bvh.nodes.clone());
-            exec.import_buffer(BVH_INSTANCES_BUFFER, bvh.instances.clone());
-            exec.import_buffer(BVH_TRIANGLES_BUFFER, bvh.triangles.clone());
+            let buffers = SceneBvhBuffers {
+                nodes: bvh.nodes.clone(),
+                instances: bvh.instances.clone(),
+                triangles: bvh.triangles.clone(),
+            };
+            (declared.bind::<SceneBvh>(&mut exec, &plan, &buffers)).expect("binds");
         }
         // And the acceleration structures to one that declared them (rtao on ray queries).
-        if declared.scene_acceleration.is_some() {
+        if declared.contains::<SceneAcceleration>() {
             let a = HardwareSceneAs::build(&gpu, &scene, 0.0).expect("the structures build");
-            exec.import_acceleration_structure(SCENE_TLAS, a.tlas.clone());
-            exec.import_buffer(SCENE_AS_INSTANCES_BUFFER, a.instances.clone());
-            exec.import_buffer(SCENE_AS_PRIMITIVES_BUFFER, a.primitives.clone());
+            let resources = SceneAccelerationResources {
+                tlas: a.tlas.clone(),
+                instances: a.instances.clone(),
+                primitives: a.primitives.clone(),
+            };
+            (declared.bind::<SceneAcceleration>(&mut exec, &plan, &resources)).expect("binds");
         }
         for (c, bytes) in &data {
             let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {

@@ -40,10 +40,7 @@ fn rtao_with_256_rays_in_one_frame_matches_the_reference_within_four_standard_er
             let name = format!("{name} ({tracer})");
             common::assert_valid_ao(&run.ao, &run.depth, &name);
             assert_eq!(
-                run.renderer
-                    .graph
-                    .declared
-                    .trace_backend()
+                aograph_ao::TraceBackend::declared_by(&run.renderer.graph.declared)
                     .map(|b| b.name()),
                 Some(tracer)
             );

@@ -56,7 +56,7 @@ pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
         {
             println!("{}", reach.line(&config.ao.technique));
         }
-        if let Some(backend) = fg.declared.trace_backend() {
+        if let Some(backend) = aograph_ao::TraceBackend::declared_by(&fg.declared) {
             println!(
                 "ray tracer: {} (planned for {})",
                 backend.name(),

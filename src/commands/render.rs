@@ -51,7 +51,7 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     )?;
     // Which backend of the GPU ray tracer the technique's rays take, for a technique that
     // traces (rtao): said before any frame, and in timings.txt.
-    let tracer_line = r.graph.declared.trace_backend().map(|b| {
+    let tracer_line = aograph_ao::TraceBackend::declared_by(&r.graph.declared).map(|b| {
         format!(
             "ray tracer: {} ({}) on {}",
             b.name(),

@@ -431,7 +431,7 @@ impl<'a> Rig<'a> {
             self.variant.label(),
             self.scene_name
         );
-        let traces = r.graph.declared.trace_backend().is_some();
+        let traces = aograph_ao::TraceBackend::declared_by(&r.graph.declared).is_some();
         let expect = match expect {
             Expect::Occluded if !occludes(&self.variant.technique) => Expect::Valid,
             Expect::Flat if traces => Expect::FlatBesideCreases,
@@ -503,7 +503,7 @@ impl<'a> Rig<'a> {
     pub(crate) fn traces_geometry(&self) -> bool {
         self.renderer
             .as_ref()
-            .is_some_and(|r| r.graph.declared.trace_backend().is_some())
+            .is_some_and(|r| aograph_ao::TraceBackend::declared_by(&r.graph.declared).is_some())
     }
 
     pub(crate) fn cut(&mut self) {

@@ -12,15 +12,15 @@
 
 use std::sync::Arc;
 
-use aograph_frame::{GBufferTextures, VIEW_BUFFER, ViewUniforms};
+use aograph_frame::{DeclaredInputs, GBufferTextures, ViewBlock};
 use aograph_graph::{
-    BufferDesc, CompileOptions, CompiledGraph, GraphBuilder, GraphDecl, ShaderLibrary, SizeClass,
-    TextureDesc, compile,
+    CompileOptions, CompiledGraph, GraphBuilder, GraphDecl, ShaderLibrary, SizeClass, TextureDesc,
+    compile,
 };
 
 use crate::error::{AoError, AoResult};
 use crate::param::{ParamDesc, ParamKind};
-use crate::technique::{AoBuildContext, ConfiguredTechnique, DeclaredInputs, DynAoTechnique};
+use crate::technique::{AoBuildContext, ConfiguredTechnique, DynAoTechnique};
 
 /// The compiled plan of `technique` over an imported g-buffer holding the channels it asks
 /// for, with R = 1 and no known view (automatic level counts take the paper's default).
@@ -46,12 +46,8 @@ fn declare_plan(
     intermediate_format: wgpu::TextureFormat,
 ) -> AoResult<(GraphDecl, DeclaredInputs)> {
     let mut b = GraphBuilder::new();
-    let view = b.import_buffer(
-        VIEW_BUFFER,
-        BufferDesc {
-            size: std::mem::size_of::<ViewUniforms>() as u64,
-        },
-    );
+    let mut declared = DeclaredInputs::default();
+    let view = declared.declare::<ViewBlock>(&mut b);
     let mut gbuffer = GBufferTextures::default();
     for c in technique.channels().iter() {
         let name = format!("gbuffer.{}", c.name());
@@ -68,7 +64,7 @@ fn declare_plan(
         intermediate_format,
         technique: technique.name(),
         radius_pixels: None,
-        declared: Default::default(),
+        declared,
         // As for a device with ray queries, so a hardware tracer's plan builds (and its
         // shader variant compiles) here too; compile touches no device.
         tracing: crate::TracingSupport {

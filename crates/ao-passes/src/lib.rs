@@ -68,7 +68,7 @@ pub use shader_mount::{shader_library, shader_mount};
 pub use spatial_options::SpatialOptions;
 pub use technique::{
     ACCESSIBILITY_FORMAT, AoBuildContext, AoOutput, AoTechnique, ConfiguredTechnique,
-    DeclaredInputs, DynAoTechnique, ExtraOutput, RadianceEnvironment, RadianceOutput,
+    DynAoTechnique, ExtraOutput, RadianceEnvironment, RadianceOutput,
 };
 pub use temporal_option::{
     DEFAULT_TEMPORAL_FRAMES, PER_FRAME_OUTPUT, TEMPORAL_NOISE, TemporalOption,

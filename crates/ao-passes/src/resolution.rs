@@ -109,7 +109,7 @@ impl Resolution {
             intermediate_format: ctx.intermediate_format,
             technique: ctx.technique,
             radius_pixels: ctx.radius_pixels.map(|r| r * 0.5),
-            declared: ctx.declared,
+            declared: std::mem::take(&mut ctx.declared),
             tracing: ctx.tracing.clone(),
         };
         let out = spatial(&mut inner);

@@ -12,14 +12,11 @@
 //! reads the typed parameters it holds.
 
 use aograph_frame::{
-    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, GBufferChannel, GBufferChannels,
-    GBufferTextures, LIGHTING_BUFFER, LightingUniforms, SCENE_AS_INSTANCES_BUFFER,
-    SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS, SceneAccelerationInputs, SceneBvhInputs,
-    SceneTraceInputs, intermediate_shader,
+    DeclaredInputs, FrameInput, GBufferChannel, GBufferChannels, GBufferTextures,
+    SceneAcceleration, SceneBvh, SceneBvhInputs, SceneLighting, SceneTraceInputs,
+    intermediate_shader,
 };
-use aograph_graph::{
-    BufferDesc, BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle,
-};
+use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc, TextureHandle};
 use serde::Deserialize;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -56,33 +53,13 @@ pub struct AoBuildContext<'a> {
     /// is built for a known view (for `levels = "auto"`; see [`crate::Levels`]). Filled in
     /// only for techniques whose [`ConfiguredTechnique::needs_radius_pixels`] says so.
     pub radius_pixels: Option<f32>,
-    /// Frame inputs the build declared beyond the view block (filled in by the build: whoever
-    /// runs the graph provides what is declared here, and nothing else is built).
+    /// The frame inputs declared so far: the `View` block (declared by whoever builds the
+    /// frame, `view` above) and those the build asks for ([`AoBuildContext::input`]); whoever
+    /// runs the graph binds what is declared here, per plan, and builds nothing else.
     pub declared: DeclaredInputs,
     /// What the device the graph is built for offers ray tracing (`tracer = "auto"` resolves
     /// against it); the default has no ray queries.
     pub tracing: TracingSupport,
-}
-
-/// The optional frame inputs a technique's build declared.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct DeclaredInputs {
-    /// The scene's ray-tracing BVH ([`AoBuildContext::scene_bvh`]).
-    pub scene_bvh: Option<SceneBvhInputs>,
-    /// The scene's acceleration structures ([`AoBuildContext::scene_trace`] on the hardware
-    /// backend).
-    pub scene_acceleration: Option<SceneAccelerationInputs>,
-}
-
-impl DeclaredInputs {
-    /// The backend of the GPU ray tracer the build's passes trace on, if any traces rays.
-    pub fn trace_backend(&self) -> Option<TraceBackend> {
-        if self.scene_acceleration.is_some() {
-            Some(TraceBackend::Hardware)
-        } else {
-            self.scene_bvh.map(|_| TraceBackend::Compute)
-        }
-    }
 }
 
 impl AoBuildContext<'_> {
@@ -93,33 +70,20 @@ impl AoBuildContext<'_> {
             channel: c.name().into(),
         })
     }
-    /// The scene's lighting block (light, ambient, sky: `aograph_frame::LightingUniforms`), a
-    /// frame input the technique declares by asking for it; whoever runs the graph provides it
-    /// under [`aograph_frame::LIGHTING_BUFFER`].
-    pub fn scene_lighting(&mut self) -> BufferHandle {
-        self.builder.import_buffer(
-            LIGHTING_BUFFER,
-            BufferDesc {
-                size: std::mem::size_of::<LightingUniforms>() as u64,
-            },
-        )
+    /// Frame input `I` (`aograph_frame::FrameInput`): declared the first time a build asks
+    /// for it, its handles returned every time; whoever runs the graph binds it, per plan.
+    pub fn input<I: FrameInput>(&mut self) -> I::Handles {
+        self.declared.declare::<I>(self.builder)
     }
-    /// The scene's two-level BVH (shaders/common/bvh.wgsl), a frame input the technique
-    /// declares by asking for it: the graph imports its three buffers once, and whoever runs
-    /// the graph builds and binds it only then (`DeclaredInputs::scene_bvh`).
+    /// The scene's lighting block (light, ambient, sky: `aograph_frame::LightingUniforms`),
+    /// the frame input [`SceneLighting`].
+    pub fn scene_lighting(&mut self) -> BufferHandle {
+        self.input::<SceneLighting>()
+    }
+    /// The scene's two-level BVH (shaders/common/bvh.wgsl), the frame input [`SceneBvh`]:
+    /// whoever runs the graph builds and binds it only when a build asked for it.
     pub fn scene_bvh(&mut self) -> SceneBvhInputs {
-        if let Some(bvh) = self.declared.scene_bvh {
-            return bvh;
-        }
-        // Sizes are the device's business (the BVH is checked against its limits when built).
-        let desc = BufferDesc { size: 32 };
-        let bvh = SceneBvhInputs {
-            nodes: self.builder.import_buffer(BVH_NODES_BUFFER, desc),
-            instances: self.builder.import_buffer(BVH_INSTANCES_BUFFER, desc),
-            triangles: self.builder.import_buffer(BVH_TRIANGLES_BUFFER, desc),
-        };
-        self.declared.scene_bvh = Some(bvh);
-        bvh
+        self.input::<SceneBvh>()
     }
     /// The scene as the ray tracer `tracer` resolves to on this device (`tracer.rs`): the BVH
     /// buffers or the acceleration structures, declared as frame inputs (imported once) that
@@ -128,23 +92,7 @@ impl AoBuildContext<'_> {
     pub fn scene_trace(&mut self, tracer: RayTracer) -> AoResult<SceneTraceInputs> {
         Ok(match tracer.resolve(&self.tracing, self.technique)? {
             TraceBackend::Compute => SceneTraceInputs::Compute(self.scene_bvh()),
-            TraceBackend::Hardware => {
-                SceneTraceInputs::Hardware(match self.declared.scene_acceleration {
-                    Some(a) => a,
-                    None => {
-                        let desc = BufferDesc { size: 16 };
-                        let a = SceneAccelerationInputs {
-                            tlas: self.builder.import_acceleration_structure(SCENE_TLAS),
-                            instances: self.builder.import_buffer(SCENE_AS_INSTANCES_BUFFER, desc),
-                            primitives: self
-                                .builder
-                                .import_buffer(SCENE_AS_PRIMITIVES_BUFFER, desc),
-                        };
-                        self.declared.scene_acceleration = Some(a);
-                        a
-                    }
-                })
-            }
+            TraceBackend::Hardware => SceneTraceInputs::Hardware(self.input::<SceneAcceleration>()),
         })
     }
     /// A new full-size accessibility texture.

@@ -8,6 +8,7 @@
 //! it offers ([`TracingSupport`]); asking for hardware on a device without ray queries is a
 //! named error listing the adapter and the backends it has, never a silent fallback.
 
+use aograph_frame::{DeclaredInputs, SceneAcceleration, SceneBvh};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{AoError, AoResult};
@@ -36,6 +37,17 @@ pub enum TraceBackend {
 }
 
 impl TraceBackend {
+    /// The backend of the GPU ray tracer a graph's passes trace on, from the frame inputs
+    /// it declared (`None`: nothing traces rays).
+    pub fn declared_by(declared: &DeclaredInputs) -> Option<Self> {
+        if declared.contains::<SceneAcceleration>() {
+            Some(TraceBackend::Hardware)
+        } else if declared.contains::<SceneBvh>() {
+            Some(TraceBackend::Compute)
+        } else {
+            None
+        }
+    }
     /// The config spelling ("compute" or "hardware").
     pub fn name(self) -> &'static str {
         match self {

@@ -15,22 +15,24 @@ use std::sync::Arc;
 use aograph_ao::{
     AoBuildContext, AoConfig, ConfiguredTechnique, GraphSettings, TechniqueRegistry, TracingSupport,
 };
-use aograph_frame::{VIEW_BUFFER, ViewMatrices, ViewUniforms};
+use aograph_frame::{
+    DeclaredInputs, FrameInput, InputBindings, ViewBlock, ViewMatrices, ViewUniforms,
+};
 use aograph_graph::{
-    BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder,
-    GraphCompiler, ShaderLibrary, ShaderMount,
+    CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
+    ShaderLibrary, ShaderMount,
 };
 use glam::Mat4;
 
 use crate::adapters::{
     DEPTH_IMPORT, MOTION_IMPORT, NORMALS_IMPORT, OUTPUT_IMPORT, VIEWPORT_BYTES, VIEWPORT_IMPORT,
-    declare_inputs, declare_output, producible,
+    declare_inputs, declare_output,
 };
 use crate::error::{EmbedError, EmbedResult};
 use crate::inputs::{AoInputs, InputLayout};
 use crate::output::{AoOutputFormat, AoOutputView, OUTPUT_USAGE};
 use crate::projection::DepthConvention;
-use crate::settings::{feedable_techniques, parse_config, resolve};
+use crate::settings::{check_inputs, parse_config, resolve};
 
 /// Plans kept for settings and layouts seen before; beyond that they are dropped and rebuilt
 /// when asked for again (a window dragged through many sizes builds one per size).
@@ -68,7 +70,10 @@ pub struct AmbientOcclusion {
     output_format: AoOutputFormat,
     exec: Executor,
     compiler: GraphCompiler,
-    plans: HashMap<PlanKey, Arc<CompiledGraph>>,
+    plans: HashMap<PlanKey, (Arc<CompiledGraph>, DeclaredInputs)>,
+    /// The frame inputs supplied: the View block, and those the application binds
+    /// ([`AmbientOcclusion::bind_input`]).
+    inputs: InputBindings,
     current: Option<(PlanKey, Arc<CompiledGraph>)>,
     view_buffer: wgpu::Buffer,
     /// The viewport's corner (`adapters::VIEWPORT_IMPORT`), and what it holds now.
@@ -134,7 +139,6 @@ impl AmbientOcclusion {
             device.clone(),
             queue.clone(),
         ));
-        let (technique, radius, settings) = resolve(&gpu, &registry, config)?;
         let shaders = crate::shader_mount::shader_library()?;
         for mount in mounts {
             shaders.mount(mount)?;
@@ -148,7 +152,9 @@ impl AmbientOcclusion {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
+        let mut inputs = InputBindings::default();
+        inputs.set::<ViewBlock>(view_buffer.clone());
+        let (technique, radius, settings) = resolve(&gpu, &registry, config, &inputs)?;
         let viewport_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("aograph viewport"),
             size: VIEWPORT_BYTES,
@@ -160,6 +166,7 @@ impl AmbientOcclusion {
             gpu,
             shaders,
             registry,
+            inputs,
             config: config.clone(),
             technique,
             radius,
@@ -181,11 +188,27 @@ impl AmbientOcclusion {
         })
     }
 
+    /// Supplies `resources` for the frame input `I` (an application's own, for a technique
+    /// that reads it: docs/guide/writing-a-technique.md), bound to every plan that declares it,
+    /// kept ones included. Bind it before choosing such a technique: `set_config` refuses a
+    /// technique reading an input nothing supplies.
+    pub fn bind_input<I: FrameInput>(&mut self, resources: I::Resources) -> EmbedResult<()>
+    where
+        I::Resources: Sized + Send + Sync,
+    {
+        self.inputs.set::<I>(resources);
+        for (plan, declared) in self.plans.values() {
+            self.inputs.bind(&mut self.exec, plan, declared)?;
+        }
+        Ok(())
+    }
+
     /// Switches technique or parameters from the next frame on. Settings seen before come back
     /// with the plan they were built with: nothing is compiled or created. On an error the
     /// current settings stay.
     pub fn set_config(&mut self, config: &AoConfig) -> EmbedResult<()> {
-        let (technique, radius, settings) = resolve(&self.gpu, &self.registry, config)?;
+        let (technique, radius, settings) =
+            resolve(&self.gpu, &self.registry, config, &self.inputs)?;
         self.config = config.clone();
         self.technique = technique;
         self.radius = radius;
@@ -372,7 +395,8 @@ impl AmbientOcclusion {
         layout: InputLayout,
         output: AoOutputFormat,
     ) -> EmbedResult<()> {
-        let (technique, radius, settings) = resolve(&self.gpu, &self.registry, config)?;
+        let (technique, radius, settings) =
+            resolve(&self.gpu, &self.registry, config, &self.inputs)?;
         let key = PlanKey {
             settings: self.settings_index(settings),
             layout,
@@ -467,14 +491,16 @@ impl AmbientOcclusion {
         radius: f32,
         intermediate: wgpu::TextureFormat,
     ) -> EmbedResult<Arc<CompiledGraph>> {
-        if let Some(plan) = self.plans.get(&key) {
+        if let Some((plan, _)) = self.plans.get(&key) {
             return Ok(plan.clone());
         }
-        let plan = self.build_plan(technique, radius, intermediate, &key.layout, key.output)?;
+        let (plan, declared) =
+            self.build_plan(technique, radius, intermediate, &key.layout, key.output)?;
+        self.inputs.bind(&mut self.exec, &plan, &declared)?;
         if self.plans.len() >= MAX_PLANS {
             self.plans.clear();
         }
-        self.plans.insert(key, plan.clone());
+        self.plans.insert(key, (plan.clone(), declared));
         Ok(plan)
     }
 
@@ -487,28 +513,12 @@ impl AmbientOcclusion {
         intermediate: wgpu::TextureFormat,
         layout: &InputLayout,
         output: AoOutputFormat,
-    ) -> EmbedResult<Arc<CompiledGraph>> {
+    ) -> EmbedResult<(Arc<CompiledGraph>, DeclaredInputs)> {
+        // Channels and frame inputs were checked when the settings were resolved.
         let wanted = technique.channels();
-        if let Some(c) = wanted.iter().find(|c| !producible(*c)) {
-            return Err(EmbedError::UnsupportedTechnique {
-                technique: technique.name().into(),
-                what: format!("the g-buffer channel `{}`", c.name()),
-                fix: match technique.dropping_channel(c) {
-                    Some(setting) => format!("set {setting}"),
-                    None => format!(
-                        "choose a technique that reads depth, normals and motion only ({})",
-                        feedable_techniques(&self.registry).join(", ")
-                    ),
-                },
-            });
-        }
         let mut b = GraphBuilder::new();
-        let view = b.import_buffer(
-            VIEW_BUFFER,
-            BufferDesc {
-                size: std::mem::size_of::<ViewUniforms>() as u64,
-            },
-        );
+        let mut declared = DeclaredInputs::default();
+        let view = declared.declare::<ViewBlock>(&mut b);
         let gbuffer = declare_inputs(&mut b, layout, wanted, view);
         // `levels = "auto"` reaches R projected at the view's closest geometry, which an
         // application's frame does not tell before it is drawn: the image's diagonal bounds it
@@ -522,24 +532,18 @@ impl AmbientOcclusion {
             intermediate_format: intermediate,
             technique: technique.name(),
             radius_pixels: technique.needs_radius_pixels().then_some(diagonal),
-            declared: Default::default(),
+            declared,
             tracing: TracingSupport::of(&self.gpu),
         };
         let out = technique.build(&mut ctx)?;
-        if ctx.declared.trace_backend().is_some() {
-            return Err(EmbedError::UnsupportedTechnique {
-                technique: technique.name().into(),
-                what: "the scene's triangles (it traces rays through a BVH or acceleration structures)".into(),
-                fix: format!(
-                    "choose a screen-space technique ({})",
-                    feedable_techniques(&self.registry).join(", ")
-                ),
-            });
-        }
+        let declared = ctx.declared;
+        // Checked at `set_config` on the technique's plan without a layout; this layout's
+        // plan is checked too.
+        check_inputs(&self.registry, technique.name(), &declared, &self.inputs)?;
         declare_output(&mut b, out.accessibility, output.wgpu());
         let plan = self
             .compiler
             .compile(b.build(), &self.shaders, CompileOptions::default())?;
-        Ok(plan)
+        Ok((plan, declared))
     }
 }

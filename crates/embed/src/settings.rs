@@ -1,21 +1,25 @@
 //! The settings an application chooses, checked before any plan is built: `[ao]` TOML parsed,
 //! the technique resolved and checked against the device (the radius a number, r16float
-//! intermediates only where the device writes them), and which techniques an application's
-//! frame can feed, for the errors that suggest them.
+//! intermediates only where the device writes them) and against the frame inputs the
+//! application supplies, and which techniques an application's frame can feed, for the errors
+//! that suggest them.
 //!
 //! Invariant: a settings key names technique, parameters, radius and precision exactly, so two
 //! configs with one key build the same plan.
 
+use std::any::TypeId;
 use std::sync::Arc;
 
 use aograph_ao::{AoConfig, ConfiguredTechnique, GraphSettings, RadiusSetting, TechniqueRegistry};
+use aograph_frame::{DeclaredInputs, InputBindings, SceneAcceleration, SceneBvh, ViewBlock};
 use aograph_graph::GpuContext;
 
 use crate::adapters::producible;
 use crate::error::{EmbedError, EmbedResult};
 
 /// The techniques of `registry` an application's frame can feed at their defaults: each
-/// channel they read is one the input adapters make, and they trace no scene (the cost floor,
+/// channel they read is one the input adapters make, and they read no frame input beyond the
+/// View block (no scene to trace, no lighting; the cost floor,
 /// `none`, left out). Asked of the techniques, not listed by name, so a user's technique
 /// registered with the embedding is offered too.
 pub(crate) fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
@@ -32,7 +36,7 @@ pub(crate) fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
             !configured.is_baseline()
                 && configured.channels().iter().all(producible)
                 && aograph_ao::contract::declared_inputs(configured.as_ref())
-                    .is_ok_and(|d| d.trace_backend().is_none())
+                    .is_ok_and(|d| d.iter().all(|(t, _)| t == TypeId::of::<ViewBlock>()))
         })
         .collect()
 }
@@ -45,11 +49,14 @@ pub(crate) fn parse_config(text: &str, registry: &TechniqueRegistry) -> EmbedRes
     Ok(AoConfig::from_table(&table, registry)?)
 }
 
-/// The configured technique, its radius and the settings key, checked against the device.
+/// The configured technique, its radius and the settings key, checked against the device and
+/// against the frame inputs `inputs` supplies (a technique reading one the application cannot
+/// give is refused here, naming it, not at its first frame).
 pub(crate) fn resolve(
     gpu: &GpuContext,
     registry: &TechniqueRegistry,
     config: &AoConfig,
+    inputs: &InputBindings,
 ) -> EmbedResult<(Arc<dyn ConfiguredTechnique>, f32, GraphSettings)> {
     config.validate(registry)?;
     let radius = match config.radius {
@@ -85,5 +92,50 @@ pub(crate) fn resolve(
         });
     }
     let technique = config.resolve(registry)?;
+    if let Some(c) = technique.channels().iter().find(|c| !producible(*c)) {
+        return Err(EmbedError::UnsupportedTechnique {
+            technique: technique.name().into(),
+            what: format!("the g-buffer channel `{}`", c.name()),
+            fix: match technique.dropping_channel(c) {
+                Some(setting) => format!("set {setting}"),
+                None => format!(
+                    "choose a technique that reads depth, normals and motion only ({})",
+                    feedable_techniques(registry).join(", ")
+                ),
+            },
+        });
+    }
+    let declared = aograph_ao::contract::declared_inputs(technique.as_ref())?;
+    check_inputs(registry, technique.name(), &declared, inputs)?;
     Ok((technique, radius, config.graph_settings()))
+}
+
+/// Refuses `technique` when it declared a frame input `inputs` does not supply, naming it.
+pub(crate) fn check_inputs(
+    registry: &TechniqueRegistry,
+    technique: &str,
+    declared: &DeclaredInputs,
+    inputs: &InputBindings,
+) -> EmbedResult<()> {
+    let Some(input) = inputs.missing(declared) else {
+        return Ok(());
+    };
+    let feedable = feedable_techniques(registry).join(", ");
+    let tracing = declared.contains::<SceneBvh>() || declared.contains::<SceneAcceleration>();
+    Err(EmbedError::UnsupportedTechnique {
+        technique: technique.into(),
+        what: if tracing {
+            "the scene's triangles (it traces rays through a BVH or acceleration structures)".into()
+        } else {
+            format!("the frame input {input}")
+        },
+        fix: if tracing {
+            format!("choose a screen-space technique ({feedable})")
+        } else {
+            format!(
+                "supply it with AmbientOcclusion::bind_input before choosing the technique, or \
+                 choose one that reads only the depth, normals and motion given ({feedable})"
+            )
+        },
+    })
 }

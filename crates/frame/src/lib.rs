@@ -54,6 +54,7 @@
 #![warn(missing_docs)]
 
 mod channels;
+mod frame_input;
 mod lighting;
 pub mod normal_oct;
 mod precision;
@@ -64,14 +65,21 @@ mod shader_mount;
 mod view;
 
 pub use channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
-pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SkyColours};
+pub use frame_input::{DeclaredInputs, FrameInput, InputBindings};
+pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SceneLighting, SkyColours};
 pub use precision::{INTERMEDIATE_ALIAS, intermediate_shader};
 pub use scene_acceleration::{
-    SCENE_AS_INSTANCES_BUFFER, SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS, SceneAccelerationInputs,
+    SCENE_AS_INSTANCES_BUFFER, SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS, SceneAcceleration,
+    SceneAccelerationInputs, SceneAccelerationResources,
 };
-pub use scene_bvh::{BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, SceneBvhInputs};
+pub use scene_bvh::{
+    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, SceneBvh, SceneBvhBuffers,
+    SceneBvhInputs,
+};
 pub use scene_trace::SceneTraceInputs;
 pub use shader_mount::{
     RAY_TRACER, SCENE_TRACE, SCENE_TRACE_HARDWARE, ray_tracer_variant, shader_mount,
 };
-pub use view::{Mat4Cols, ReadsView, VIEW_BINDING, VIEW_BUFFER, ViewMatrices, ViewUniforms};
+pub use view::{
+    Mat4Cols, ReadsView, VIEW_BINDING, VIEW_BUFFER, ViewBlock, ViewMatrices, ViewUniforms,
+};

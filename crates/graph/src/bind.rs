@@ -75,7 +75,7 @@ pub(crate) fn bind_resources(
                 // Imported only (the builder offers no other origin).
                 state.frame_acceleration_structures[r] = Some(
                     src.imports
-                        .acceleration_structure(&state.import_slots, r as u32, res)?
+                        .acceleration_structure(plan.key(), &state.import_slots, r as u32, res)?
                         .clone(),
                 );
                 continue;

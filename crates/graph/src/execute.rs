@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use crate::bind::{BindSources, bind_groups, bind_resources};
 use crate::compile::CompiledGraph;
-use crate::declaration::{ResourceOrigin, UniformHandle};
+use crate::declaration::{ResourceKind, ResourceOrigin, UniformHandle};
 use crate::error::{GraphError, GraphResult};
 use crate::gpu::GpuContext;
 use crate::history::HistoryStore;
@@ -29,7 +29,7 @@ use crate::plan_state::{PlanState, PlanStates};
 use crate::pool::{PoolKey, TexturePool};
 use crate::readback::{TextureReadback, read_texture};
 use crate::record::{RecordContext, record_pass};
-use crate::resource::{BufferHandle, Extent, TextureHandle};
+use crate::resource::{AccelerationStructureHandle, BufferHandle, Extent, TextureHandle};
 use crate::sampler::SamplerCache;
 use crate::shader::ShaderLibrary;
 use crate::timing::{FrameId, PassTimings, TimestampRing, TimingMode, TimingSource};
@@ -168,6 +168,32 @@ impl Executor {
     ) -> GraphResult<()> {
         let r = imported_resource(plan, handle.id, false)?;
         self.imports.set_plan_buffer(plan.key(), r, buffer);
+        Ok(())
+    }
+    /// Provides the acceleration structure behind `plan`'s import `handle`, for that plan only
+    /// (see [`Executor::bind_import_texture`]). The graph binds it as it is: whoever built it
+    /// rebuilds it (same object) when the scene moves, before the frame executes.
+    pub fn bind_import_acceleration_structure(
+        &mut self,
+        plan: &CompiledGraph,
+        handle: AccelerationStructureHandle,
+        tlas: wgpu::Tlas,
+    ) -> GraphResult<()> {
+        let r = handle.id;
+        let is_import = plan.decl.resources.get(r as usize).is_some_and(|res| {
+            matches!(res.origin, ResourceOrigin::Imported)
+                && matches!(res.kind, ResourceKind::AccelerationStructure)
+        });
+        if !is_import {
+            return Err(GraphError::MissingResource {
+                resource: format!("#{r}"),
+                message: "not an imported acceleration structure of this plan: bind only \
+                          handles from `import_acceleration_structure`"
+                    .into(),
+            });
+        }
+        self.imports
+            .set_plan_acceleration_structure(plan.key(), r, tlas);
         Ok(())
     }
     /// Invalidates every history: the next frame reads zeros with `valid == false` (a cut).

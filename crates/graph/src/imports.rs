@@ -37,6 +37,7 @@ pub(crate) struct ImportTable {
     named: Vec<NamedImport>,
     plan_textures: HashMap<(PlanKey, u32), BoundTexture>,
     plan_buffers: HashMap<(PlanKey, u32), wgpu::Buffer>,
+    plan_acceleration_structures: HashMap<(PlanKey, u32), Arc<wgpu::Tlas>>,
 }
 
 /// A plan's imported resources resolved to the table's name slots: per resource, the slot of
@@ -102,6 +103,16 @@ impl ImportTable {
     ) {
         self.plan_textures
             .insert((plan, resource), BoundTexture::new(texture, serial));
+    }
+    /// `tlas` behind resource `resource` of the plan `plan` only.
+    pub fn set_plan_acceleration_structure(
+        &mut self,
+        plan: PlanKey,
+        resource: u32,
+        tlas: wgpu::Tlas,
+    ) {
+        self.plan_acceleration_structures
+            .insert((plan, resource), Arc::new(tlas));
     }
     /// `buffer` behind resource `resource` of the plan `plan` only.
     pub fn set_plan_buffer(&mut self, plan: PlanKey, resource: u32, buffer: wgpu::Buffer) {
@@ -177,16 +188,18 @@ impl ImportTable {
     /// The acceleration structure for imported resource `res`.
     pub fn acceleration_structure(
         &self,
+        plan: PlanKey,
         slots: &ImportSlots,
         resource: u32,
         res: &ResourceDecl,
     ) -> GraphResult<&Arc<wgpu::Tlas>> {
-        self.named(slots, resource)
-            .and_then(|n| n.acceleration_structure.as_ref())
+        (self.plan_acceleration_structures.get(&(plan, resource)))
+            .or_else(|| self.named(slots, resource)?.acceleration_structure.as_ref())
             .ok_or_else(|| GraphError::MissingResource {
                 resource: res.name.clone(),
                 message: "imported acceleration structure not provided; call \
-                          Executor::import_acceleration_structure"
+                          Executor::bind_import_acceleration_structure (this plan) or \
+                          Executor::import_acceleration_structure (every plan)"
                     .into(),
             })
     }

@@ -7,15 +7,13 @@ use aograph_frame::ReadsView;
 use std::sync::Arc;
 
 use aograph_ao::{
-    AoBuildContext, AoConfig, ConfiguredTechnique, DeclaredInputs, ExtraOutput, RadianceOutput,
-    RadiusSetting, TechniqueRegistry, TracingSupport,
+    AoBuildContext, AoConfig, ConfiguredTechnique, ExtraOutput, RadianceOutput, RadiusSetting,
+    TechniqueRegistry, TracingSupport,
 };
 use aograph_frame::{
-    DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, VIEW_BUFFER, ViewUniforms,
+    DeclaredInputs, DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, ViewBlock,
 };
-use aograph_graph::{
-    BufferDesc, Extent, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle,
-};
+use aograph_graph::{Extent, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle};
 use aograph_scene::gbuffer::{GBufferClock, GBufferStates, add_gbuffer_shared, required_channels};
 use aograph_scene::{ReferenceNormals, Scene};
 
@@ -71,7 +69,8 @@ pub struct FrameGraph {
     pub clock: GBufferClock,
     /// The technique carries history between frames.
     pub temporal: bool,
-    /// Frame inputs the technique declared (the scene BVH, for ray-traced AO): the renderer
+    /// Frame inputs the frame declared: the View block, and what the technique asked for
+    /// (the scene's lighting, its BVH for ray-traced AO, ...): the renderer
     /// builds and binds exactly these.
     pub declared: DeclaredInputs,
 }
@@ -216,12 +215,8 @@ fn declare_frame(
         .with_depth_format(outputs.depth_format)
         .with_radius(radius);
     let mut b = GraphBuilder::new();
-    let view = b.import_buffer(
-        VIEW_BUFFER,
-        BufferDesc {
-            size: std::mem::size_of::<ViewUniforms>() as u64,
-        },
-    );
+    let mut declared = DeclaredInputs::default();
+    let view = declared.declare::<ViewBlock>(&mut b);
     let clock = GBufferClock::default();
     let mut owners = PassOwners::default();
     let gbuffer = owners.record(&mut b, PassOwner::GBuffer, |b| {
@@ -249,7 +244,7 @@ fn declare_frame(
             owners,
             clock,
             temporal: false,
-            declared: DeclaredInputs::default(),
+            declared,
         });
     };
     let radius_pixels = if technique.needs_radius_pixels() {
@@ -273,7 +268,7 @@ fn declare_frame(
             intermediate_format: ao.intermediate_format.wgpu(),
             technique: technique.name(),
             radius_pixels,
-            declared: DeclaredInputs::default(),
+            declared,
             tracing: tracing.clone(),
         };
         let out = technique.build(&mut ctx)?;

@@ -10,10 +10,12 @@
 use std::sync::Arc;
 
 use aograph_ao::{AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport};
-use aograph_frame::{LIGHTING_BUFFER, LightingUniforms, SkyColours, VIEW_BUFFER};
+use aograph_frame::{
+    FrameInput, InputBindings, LightingUniforms, SceneLighting, SkyColours, ViewBlock,
+};
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
-    PassTimings, ShaderLibrary,
+    PassTimings, PlanKey, ShaderLibrary,
 };
 use aograph_scene::gbuffer::{GBufferFrame, GBufferStates};
 use aograph_scene::ray_tracing::{AsWork, GpuSceneBvh};
@@ -153,6 +155,12 @@ pub struct Renderer {
     /// The scene's BVH and acceleration structures on the device, each built the first time
     /// a graph declares it (rtao) and moved to each frame's time.
     tracing: SceneTracing,
+    /// The frame inputs the renderer supplies (the View block, the scene's lighting, its BVH
+    /// or acceleration structures once built) and those an application binds
+    /// ([`Renderer::bind_input`]).
+    inputs: InputBindings,
+    /// The plan whose frame inputs are bound (`None`: bind before the next frame).
+    inputs_bound: Option<PlanKey>,
     frame_index: u32,
     prev: Option<(f32, Camera)>,
     cut: bool,
@@ -269,7 +277,6 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        exec.import_buffer(VIEW_BUFFER, view_buffer.clone());
         // The scene's light, ambient and sky, for techniques that shade (SSDO); unused
         // otherwise.
         let lighting = lighting_of(&scene);
@@ -281,7 +288,9 @@ impl Renderer {
         });
         gpu.queue
             .write_buffer(&lighting_buffer, 0, lighting.bytes());
-        exec.import_buffer(LIGHTING_BUFFER, lighting_buffer.clone());
+        let mut inputs = InputBindings::default();
+        inputs.set::<ViewBlock>(view_buffer.clone());
+        inputs.set::<SceneLighting>(lighting_buffer.clone());
         let mut r = Self {
             gpu,
             shaders,
@@ -303,6 +312,8 @@ impl Renderer {
             view_buffer,
             lighting_buffer,
             tracing: SceneTracing::default(),
+            inputs,
+            inputs_bound: None,
             frame_index: 0,
             prev: None,
             cut: false,
@@ -416,6 +427,7 @@ impl Renderer {
         }
         self.built.clear();
         self.tracing = SceneTracing::default();
+        self.inputs_bound = None;
         self.gpu
             .queue
             .write_buffer(&self.lighting_buffer, 0, lighting_of(&self.scene).bytes());
@@ -448,6 +460,36 @@ impl Renderer {
         crate::output_size::check_size("height", output.height)?;
         self.output = output;
         self.rebuild(false)
+    }
+
+    /// Supplies `resources` for the frame input `I` (an application's own, for a technique
+    /// that reads it: docs/guide/writing-a-technique.md), bound to every plan that declares it
+    /// from the next frame on.
+    pub fn bind_input<I: FrameInput>(&mut self, resources: I::Resources)
+    where
+        I::Resources: Sized + Send + Sync,
+    {
+        self.inputs.set::<I>(resources);
+        self.inputs_bound = None;
+    }
+
+    /// Binds the frame inputs the current plan declared; an input nothing supplies is an error
+    /// naming it.
+    fn bind_inputs(&mut self) -> RenderResult<()> {
+        let declared = &self.graph.declared;
+        if let Some(input) = self.inputs.missing(declared) {
+            return Err(RenderError::InvalidArgument {
+                name: "frame input".into(),
+                value: format!("{input}, which technique `{}` reads", self.ao.technique),
+                allowed: "the inputs the renderer supplies (the View block, the scene's \
+                          lighting, BVH and acceleration structures) and those bound with \
+                          Renderer::bind_input"
+                    .into(),
+            });
+        }
+        self.inputs.bind(&mut self.exec, &self.plan, declared)?;
+        self.inputs_bound = Some(self.plan.key());
+        Ok(())
     }
 
     /// Renders the frame at scene time `time` (seconds).
@@ -485,13 +527,13 @@ impl Renderer {
             prev_time,
             reversed_z: Some(reversed_z),
         });
-        self.tracing.update(
-            &self.gpu,
-            &mut self.exec,
-            &self.scene,
-            &self.graph.declared,
-            time,
-        )?;
+        let built = (self.tracing).update(&self.gpu, &self.scene, &self.graph.declared, time)?;
+        if built {
+            self.tracing.supply(&mut self.inputs);
+        }
+        if built || self.inputs_bound != Some(self.plan.key()) {
+            self.bind_inputs()?;
+        }
         self.exec.execute(&self.plan, self.output)?;
         self.prev = Some((time, camera));
         self.cut = false;

@@ -1,20 +1,20 @@
 //! The scene as the renderer's ray-tracing passes read it: the BVH buffers (compute backend)
 //! and the acceleration structures (hardware backend), each built the first time a graph
-//! declares it (`DeclaredInputs`), imported into the executor under the names the graph binds,
-//! and moved to each frame's time before the frame runs. A static scene builds once and does
-//! no per-frame work; moving instances rebuild the TLAS; moving skins rebuild their BLAS.
+//! declares it (the frame inputs `SceneBvh`, `SceneAcceleration`), bound per plan behind the
+//! handles the graph declared, and moved to each frame's time before the frame runs. A static
+//! scene builds once and does no per-frame work; moving instances rebuild the TLAS; moving
+//! skins rebuild their BLAS.
 //!
-//! Invariant: what the executor binds under the import names is the structure built for the
-//! current scene, moved to the time of the frame about to execute.
+//! Invariant: what a plan binds behind those handles is the structure built for the current
+//! scene, moved to the time of the frame about to execute.
 
 use std::sync::Arc;
 
-use aograph_ao::DeclaredInputs;
 use aograph_frame::{
-    BVH_INSTANCES_BUFFER, BVH_NODES_BUFFER, BVH_TRIANGLES_BUFFER, SCENE_AS_INSTANCES_BUFFER,
-    SCENE_AS_PRIMITIVES_BUFFER, SCENE_TLAS,
+    DeclaredInputs, InputBindings, SceneAcceleration, SceneAccelerationResources, SceneBvh,
+    SceneBvhBuffers,
 };
-use aograph_graph::{Executor, GpuContext};
+use aograph_graph::GpuContext;
 use aograph_scene::Scene;
 use aograph_scene::ray_tracing::{AsWork, GpuSceneBvh, HardwareSceneAs};
 
@@ -30,45 +30,57 @@ pub(crate) struct SceneTracing {
 }
 
 impl SceneTracing {
-    /// Builds what `declared` asks for and has not been built, binds it in `exec`, and moves
-    /// everything built to `time`.
+    /// Builds what `declared` asks for and has not been built, and moves everything built to
+    /// `time`. Returns whether something was built (to supply: [`Self::supply`]).
     pub fn update(
         &mut self,
         gpu: &Arc<GpuContext>,
-        exec: &mut Executor,
         scene: &Scene,
         declared: &DeclaredInputs,
         time: f32,
-    ) -> RenderResult<()> {
-        if declared.scene_bvh.is_some() {
+    ) -> RenderResult<bool> {
+        let mut built = false;
+        if declared.contains::<SceneBvh>() {
             match &mut self.bvh {
                 Some(bvh) => {
                     bvh.update(scene, time)?;
                 }
                 None => {
-                    let bvh = GpuSceneBvh::new(gpu.clone(), scene, time)?;
-                    exec.import_buffer(BVH_NODES_BUFFER, bvh.nodes.clone());
-                    exec.import_buffer(BVH_INSTANCES_BUFFER, bvh.instances.clone());
-                    exec.import_buffer(BVH_TRIANGLES_BUFFER, bvh.triangles.clone());
-                    self.bvh = Some(bvh);
+                    self.bvh = Some(GpuSceneBvh::new(gpu.clone(), scene, time)?);
+                    built = true;
                 }
             }
         }
-        if declared.scene_acceleration.is_some() {
+        if declared.contains::<SceneAcceleration>() {
             match &mut self.acceleration {
                 Some(a) => {
                     a.update(gpu, scene, time)?;
                 }
                 None => {
-                    let a = HardwareSceneAs::build(gpu, scene, time)?;
-                    exec.import_acceleration_structure(SCENE_TLAS, a.tlas.clone());
-                    exec.import_buffer(SCENE_AS_INSTANCES_BUFFER, a.instances.clone());
-                    exec.import_buffer(SCENE_AS_PRIMITIVES_BUFFER, a.primitives.clone());
-                    self.acceleration = Some(a);
+                    self.acceleration = Some(HardwareSceneAs::build(gpu, scene, time)?);
+                    built = true;
                 }
             }
         }
-        Ok(())
+        Ok(built)
+    }
+
+    /// Supplies what is built to `inputs`, for every plan declaring it.
+    pub fn supply(&self, inputs: &mut InputBindings) {
+        if let Some(bvh) = &self.bvh {
+            inputs.set::<SceneBvh>(SceneBvhBuffers {
+                nodes: bvh.nodes.clone(),
+                instances: bvh.instances.clone(),
+                triangles: bvh.triangles.clone(),
+            });
+        }
+        if let Some(a) = &self.acceleration {
+            inputs.set::<SceneAcceleration>(SceneAccelerationResources {
+                tlas: a.tlas.clone(),
+                instances: a.instances.clone(),
+                primitives: a.primitives.clone(),
+            });
+        }
     }
 
     /// What the last update of the acceleration structures did (`None` before one is built).
