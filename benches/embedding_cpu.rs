@@ -15,7 +15,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_embed::{AmbientOcclusion, AoInputs, DepthInput};
 use aograph_graph::{Extent, GpuContext, TimingMode};
 use criterion::Criterion;
@@ -29,8 +29,8 @@ const SIZE: Extent = Extent {
 fn config(radius: f32) -> AoConfig {
     AoConfig {
         technique: "gtao".into(),
-        radius: aograph_ao::RadiusSetting::Units(
-            aograph_ao::Radius::new("R", radius).expect("a positive radius"),
+        radius: aograph_ao_passes::RadiusSetting::Units(
+            aograph_ao_passes::Radius::new("R", radius).expect("a positive radius"),
         ),
         ..AoConfig::default()
     }

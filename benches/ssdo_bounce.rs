@@ -12,7 +12,7 @@
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, PassOwner, Renderer};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext};
 use criterion::Criterion;
 
@@ -22,7 +22,7 @@ const MAX_BOUNCE_RATIO: f64 = 2.5;
 fn renderer(gpu: &Arc<GpuContext>, bounce: bool) -> Renderer {
     let mut config = AoConfig {
         technique: "ssdo".into(),
-        radius: aograph_ao::RadiusSetting::Units(aograph_ao::Radius::UNIT),
+        radius: aograph_ao_passes::RadiusSetting::Units(aograph_ao_passes::Radius::UNIT),
         ..AoConfig::default()
     };
     let params: toml::Table = format!("samples = 8\nbounce = {bounce}")

@@ -10,7 +10,7 @@
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::{GpuContext, ShaderMount, SizeClass, TextureDesc, TextureHandle};
 use aograph_renderer::{FrameOutputs, GraphExtension, Renderer};
 

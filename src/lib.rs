@@ -5,7 +5,7 @@
 //! `aograph-bench`; the frame graph aograph renders, its `Renderer` and the reference of its
 //! frames are `aograph-renderer` (both re-exported here under their old paths); aograph's AO in
 //! an application's own renderer is `aograph-embed`, which needs neither; techniques are
-//! `aograph-ao`, scenes and tracers `aograph-scene`, the render graph `aograph-graph`. The
+//! `aograph-ao-passes`, scenes and tracers `aograph-scene`, the render graph `aograph-graph`. The
 //! viewer (`aograph view`: winit, egui) is behind the default `viewer` feature.
 
 pub mod commands;

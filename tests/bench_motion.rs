@@ -9,7 +9,7 @@ use aograph::config::RadiusSetting;
 use aograph::metrics::MetricOptions;
 use aograph::prepared_scene::PreparedScene;
 use aograph::shader_library;
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_scene::views::SceneView;
 use aograph_scene::{ReferenceMode, ReferenceNormals};
 

@@ -10,7 +10,7 @@ use std::process::Command;
 use aograph::bench::ResultsFile;
 use aograph::bench::report::CSV_HEADER;
 use aograph::metrics::{MetricOptions, compare};
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -424,8 +424,10 @@ fn bench_runs_each_view_as_a_row_with_its_radius_and_reach() {
     for r in &json.runs {
         let view = aograph_scene::views::find_view(&room, &r.view).unwrap();
         let viewed = aograph::camera_spec::apply_view(&room, &view);
-        let (auto, note) =
-            aograph::prepared_scene::resolve_radius(&viewed, aograph_ao::RadiusSetting::Auto);
+        let (auto, note) = aograph::prepared_scene::resolve_radius(
+            &viewed,
+            aograph_ao_passes::RadiusSetting::Auto,
+        );
         assert!(note.contains("an interior view"), "{}: {note}", r.view);
         assert_eq!(
             r.radius,

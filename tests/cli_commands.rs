@@ -54,7 +54,7 @@ fn every_shipped_config_prints_a_dot_graph_and_a_plan() {
 fn techniques_lists_every_registered_technique_with_parameters() {
     let (ok, out, _) = aograph(&["techniques"]);
     assert!(ok);
-    for name in aograph_ao::TechniqueRegistry::with_builtins().names() {
+    for name in aograph_ao_passes::TechniqueRegistry::with_builtins().names() {
         assert!(
             out.contains(&format!("{name}:")),
             "{name} missing from:\n{out}"

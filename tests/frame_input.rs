@@ -9,7 +9,9 @@ mod common;
 
 use std::sync::Arc;
 
-use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, ParamDesc, TechniqueRegistry};
+use aograph_ao_passes::{
+    AoBuildContext, AoOutput, AoResult, AoTechnique, ParamDesc, TechniqueRegistry,
+};
 use aograph_frame::{FrameInput, GBufferChannels};
 use aograph_graph::{
     BufferAccess, BufferDesc, BufferHandle, CompiledGraph, Executor, Extent, GraphBuilder,

@@ -9,8 +9,10 @@ const SIZE: aograph_graph::Extent = aograph_graph::Extent {
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, build_frame_graph};
-use aograph_ao::ParamDesc;
-use aograph_ao::{AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry};
+use aograph_ao_passes::ParamDesc;
+use aograph_ao_passes::{
+    AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry,
+};
 use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{CompileOptions, compile};
 use serde::{Deserialize, Serialize};

@@ -387,7 +387,7 @@ fn compact_normals_decode_to_the_wide_normals_on_every_procedural_scene() {
     // component by up to 2^-11 of 1 (5e-4 rad), the octahedral code by under 1e-4 rad. Sky
     // (depth 0) carries code 0.
     use aograph::{FrameOutputs, Renderer, shader_library};
-    use aograph_ao::{AoConfig, TechniqueRegistry};
+    use aograph_ao_passes::{AoConfig, TechniqueRegistry};
     use aograph_frame::{GBufferChannel, normal_oct};
     let Some(gpu) = test_gpu() else { return };
     let registry = TechniqueRegistry::with_builtins();

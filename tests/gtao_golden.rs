@@ -8,7 +8,7 @@
 
 mod common;
 
-use aograph_ao::blocks::depth_prefilter::prefilter_cpu;
+use aograph_ao_passes::blocks::depth_prefilter::prefilter_cpu;
 use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
 use glam::{Mat4, Vec2, Vec3};
@@ -266,7 +266,7 @@ fn compare(scene: &str, s: &Settings, radius: f32, size: Extent) -> Option<(f64,
     let mut r = aograph::Renderer::new(
         gpu,
         aograph::shader_library(),
-        &aograph_ao::TechniqueRegistry::with_builtins(),
+        &aograph_ao_passes::TechniqueRegistry::with_builtins(),
         std::sync::Arc::new(procedural_scene(scene).unwrap()),
         &config,
         outputs,

@@ -11,7 +11,7 @@
 
 mod common;
 
-use aograph_ao::{HALF_DEPTH_OUTPUT, RadiusSetting};
+use aograph_ao_passes::{HALF_DEPTH_OUTPUT, RadiusSetting};
 use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
 

@@ -6,7 +6,7 @@
 
 mod common;
 
-use aograph_ao::blocks::temporal::TemporalMode;
+use aograph_ao_passes::blocks::temporal::TemporalMode;
 use aograph_frame::GBufferChannel;
 use aograph_graph::Extent;
 use aograph_scene::primitives::cuboid;

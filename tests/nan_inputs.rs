@@ -15,7 +15,7 @@ mod common;
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{AoBuildContext, AoConfig, TechniqueRegistry, TracingSupport};
+use aograph_ao_passes::{AoBuildContext, AoConfig, TechniqueRegistry, TracingSupport};
 use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_frame::{
     LIGHTING_BUFFER, LightingUniforms, SceneAcceleration, SceneAccelerationResources, SceneBvh,

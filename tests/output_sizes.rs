@@ -20,7 +20,7 @@
 mod common;
 
 use aograph::Renderer;
-use aograph_ao::{PER_FRAME_OUTPUT, RadiusSetting, TechniqueRegistry};
+use aograph_ao_passes::{PER_FRAME_OUTPUT, RadiusSetting, TechniqueRegistry};
 use aograph_graph::Extent;
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::Vec3;

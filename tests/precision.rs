@@ -11,7 +11,7 @@ mod common;
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, IntermediateFormat, TechniqueRegistry};
 use aograph_graph::{Extent, test_gpu};
 use aograph_scene::procedural_scene;
 

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use std::collections::BTreeMap;
 
 use aograph::{AppConfig, FrameOutputs, Renderer, build_frame_graph};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, test_gpu};
 use aograph_scene::{Scene, SceneError};
 use proptest::prelude::*;
@@ -61,7 +61,9 @@ fn parse_and_build(
     };
     let ao = AoConfig {
         radius: match config.ao.radius {
-            aograph::RadiusSetting::Auto => aograph::RadiusSetting::Units(aograph_ao::Radius::UNIT),
+            aograph::RadiusSetting::Auto => {
+                aograph::RadiusSetting::Units(aograph_ao_passes::Radius::UNIT)
+            }
             units => units,
         },
         ..config.ao.clone()

@@ -14,7 +14,7 @@ mod common;
 
 use aograph::ReferenceSettings;
 use aograph::metrics::{MetricOptions, compare};
-use aograph_ao::blocks::history_denoise::{HistoryDenoise, radius_px};
+use aograph_ao_passes::blocks::history_denoise::{HistoryDenoise, radius_px};
 use aograph_graph::Extent;
 
 const SIZE: Extent = Extent {
@@ -148,7 +148,7 @@ fn a_camera_cut_resets_the_history_length_and_the_radius_widens() {
     // The guide's radius is the CPU mirror's for the pixel's n and nearest hit (f16: 3 digits).
     let check = |r: &aograph::Renderer, frames: f32| {
         let guide = r
-            .read_extra(aograph_ao::techniques::rtao::GUIDE_OUTPUT)
+            .read_extra(aograph_ao_passes::techniques::rtao::GUIDE_OUTPUT)
             .unwrap();
         let depth = r.read_linear_depth().unwrap();
         let mut geometry = 0;

@@ -126,7 +126,7 @@ fn the_second_pass_is_drawn_only_for_two_layers_and_half_resolution_refuses_them
         let e = aograph::Renderer::new(
             gpu,
             aograph::shader_library(),
-            &aograph_ao::TechniqueRegistry::with_builtins(),
+            &aograph_ao_passes::TechniqueRegistry::with_builtins(),
             std::sync::Arc::new(slab_over_floor()),
             &config,
             aograph::FrameOutputs::default(),

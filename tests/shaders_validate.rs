@@ -17,7 +17,7 @@ fn every_embedded_shader_is_mounted_by_exactly_one_crate() {
         lib.mounts(),
         [
             "aograph-frame",
-            "aograph-ao",
+            "aograph-ao-passes",
             "aograph-scene",
             "aograph-renderer",
             "aograph-embed",
@@ -37,7 +37,7 @@ fn a_file_of_an_unmounted_crate_is_an_error_naming_the_mounts() {
     };
     let e = e.to_string();
     assert!(e.contains("embed/linear_depth.wgsl"), "{e}");
-    assert!(e.contains("`aograph-ao` (ao/, blocks/)"), "{e}");
+    assert!(e.contains("`aograph-ao-passes` (ao/, blocks/)"), "{e}");
     assert!(e.contains("ShaderLibrary::mount"), "{e}");
 }
 

@@ -14,7 +14,7 @@
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer, shader_library};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_frame::GBufferChannel;
 use aograph_graph::{Extent, test_gpu};
 use aograph_scene::{Camera, CpuGBuffer, TriangleBvh, load_scene};

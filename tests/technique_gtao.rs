@@ -226,7 +226,7 @@ fn bent_normals_follow_the_visible_cone_and_leave_the_ao_unchanged() {
     );
     let bent = run
         .renderer
-        .read_extra(aograph_ao::techniques::gtao::BENT_NORMALS_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::gtao::BENT_NORMALS_OUTPUT)
         .unwrap();
     let centre = (size.height / 2 * size.width + size.width / 2) as usize;
     let b = &bent[centre * 4..centre * 4 + 4];
@@ -255,7 +255,7 @@ fn bent_normals_follow_the_visible_cone_and_leave_the_ao_unchanged() {
     .unwrap();
     let bent = run
         .renderer
-        .read_extra(aograph_ao::techniques::gtao::BENT_NORMALS_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::gtao::BENT_NORMALS_OUTPUT)
         .unwrap();
     let worst = run
         .depth
@@ -286,7 +286,7 @@ fn multibounce_is_gtaos_cubic_of_the_output() {
     };
     let mb = run
         .renderer
-        .read_extra(aograph_ao::techniques::gtao::MULTIBOUNCE_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::gtao::MULTIBOUNCE_OUTPUT)
         .unwrap();
     let rho = 0.8f32; // 204 / 255 in the Rgba8Unorm albedo: exact
     let (a, b, c) = (

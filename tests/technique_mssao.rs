@@ -7,7 +7,7 @@
 mod common;
 
 use aograph::{FrameOutputs, build_frame_graph};
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, texture_bytes};
 use aograph_scene::procedural_scene;
 

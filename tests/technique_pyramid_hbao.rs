@@ -9,7 +9,7 @@ mod common;
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::{Extent, test_gpu};
 use aograph_scene::{Camera, procedural_scene};
 use glam::Vec3;

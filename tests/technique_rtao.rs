@@ -40,7 +40,7 @@ fn rtao_with_256_rays_in_one_frame_matches_the_reference_within_four_standard_er
             let name = format!("{name} ({tracer})");
             common::assert_valid_ao(&run.ao, &run.depth, &name);
             assert_eq!(
-                aograph_ao::TraceBackend::declared_by(&run.renderer.graph.declared)
+                aograph_ao_passes::TraceBackend::declared_by(&run.renderer.graph.declared)
                     .map(|b| b.name()),
                 Some(tracer)
             );
@@ -271,7 +271,7 @@ fn where_rays_hit_moving_geometry_the_history_is_held_to_moving_frames() {
         let scene = aograph_scene::procedural_scene(name).unwrap();
         let radius = aograph_scene::suggested_radius(&scene).radius;
         let gpu = aograph_graph::test_gpu()?;
-        let registry = aograph_ao::TechniqueRegistry::with_builtins();
+        let registry = aograph_ao_passes::TechniqueRegistry::with_builtins();
         let outputs = aograph::FrameOutputs {
             linear_depth: true,
             ..Default::default()
@@ -299,7 +299,7 @@ fn where_rays_hit_moving_geometry_the_history_is_held_to_moving_frames() {
         return;
     };
     let changed = held
-        .read_extra(aograph_ao::techniques::rtao::CHANGED_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::rtao::CHANGED_OUTPUT)
         .unwrap();
     let a = held.read_ao().unwrap();
     let marked: Vec<usize> = (0..a.len()).filter(|&i| changed[i * 4] > 0.5).collect();
@@ -330,7 +330,7 @@ fn where_rays_hit_moving_geometry_the_history_is_held_to_moving_frames() {
     );
     let columns = render("columns", "rays = 1", 3).unwrap();
     let changed = columns
-        .read_extra(aograph_ao::techniques::rtao::CHANGED_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::rtao::CHANGED_OUTPUT)
         .unwrap();
     // r marks moving hits (g holds the nearest hit's distance, for the history denoiser).
     assert!(

@@ -16,7 +16,7 @@
 mod common;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{PER_FRAME_OUTPUT, RadiusSetting};
+use aograph_ao_passes::{PER_FRAME_OUTPUT, RadiusSetting};
 use aograph_frame::GBufferChannel;
 use aograph_graph::Extent;
 use aograph_scene::{Camera, procedural_scene};

@@ -1,13 +1,13 @@
 //! A user technique gets the technique contract with no code of its own: the one in
 //! examples/custom_pipeline.rs, written as any user would, is checked by the same call the
-//! built-ins are (`aograph_ao::contract::check_contract`), and its descriptions are what the
+//! built-ins are (`aograph_ao_passes::contract::check_contract`), and its descriptions are what the
 //! viewer's controls and `aograph techniques` read.
 
 #[path = "../examples/custom_pipeline/unsharp_depth.rs"]
 mod unsharp_depth;
 
-use aograph_ao::contract::check_contract;
-use aograph_ao::{ParamKind, TechniqueRegistry};
+use aograph_ao_passes::contract::check_contract;
+use aograph_ao_passes::{ParamKind, TechniqueRegistry};
 
 #[test]
 fn the_example_user_technique_keeps_the_contract() {

@@ -39,8 +39,10 @@ fn outside_views_keep_the_scene_radius_within_2x() {
             let outside = view.name.starts_with("outside");
             // `auto` is exactly the scene rule wherever the view is not an interior.
             let viewed = aograph::camera_spec::apply_view(scene, &view);
-            let (auto, _) =
-                aograph::prepared_scene::resolve_radius(&viewed, aograph_ao::RadiusSetting::Auto);
+            let (auto, _) = aograph::prepared_scene::resolve_radius(
+                &viewed,
+                aograph_ao_passes::RadiusSetting::Auto,
+            );
             let expected = if v.interior { v.radius } else { scene_r };
             if auto.get() != expected {
                 failures.push(format!(
@@ -76,7 +78,7 @@ mod common;
 /// own diagonal; in a building of several rooms the diagonal spans all of them.
 #[test]
 fn room_interior_views_get_a_radius_every_technique_can_measure() {
-    use aograph_ao::{RadiusSetting, TechniqueRegistry};
+    use aograph_ao_passes::{RadiusSetting, TechniqueRegistry};
     use aograph_graph::Extent;
     let room = aograph_scene::procedural_scene("room").unwrap();
     let size = Extent::new(96, 54);

@@ -208,7 +208,7 @@ fn a_scripted_session_swaps_techniques_live_and_matches_render() {
 fn every_technique_swaps_live_while_flying_through_columns() {
     let Some(xvfb) = xvfb_run() else { return };
     let dir = temp_dir("every");
-    let techniques = aograph_ao::TechniqueRegistry::with_builtins().names();
+    let techniques = aograph_ao_passes::TechniqueRegistry::with_builtins().names();
     let mut script = String::from("size 96 64\nwait 1\n");
     for (i, t) in techniques.iter().enumerate() {
         // Fly in and turn, render, then come back: every picture looks down the hall.

@@ -1,9 +1,9 @@
 //! The user technique of examples/custom_pipeline.rs: depth-buffer unsharp masking (Luft et
 //! al. 2006), written as any user would, with no code for its controls, listing or tests (the
-//! viewer and `aograph_ao::contract` read its parameter descriptions; the contract runs over it
+//! viewer and `aograph_ao_passes::contract` read its parameter descriptions; the contract runs over it
 //! in tests/user_technique_contract.rs).
 
-use aograph_ao::{AoBuildContext, AoOutput, AoResult, AoTechnique, ParamDesc};
+use aograph_ao_passes::{AoBuildContext, AoOutput, AoResult, AoTechnique, ParamDesc};
 use aograph_frame::{GBufferChannel, GBufferChannels, ReadsView};
 use aograph_graph::ShaderMount;
 use serde::{Deserialize, Serialize};

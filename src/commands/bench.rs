@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 
 use super::gpu;
 use crate::bench::motion::{MotionKind, MotionSettings, run_motion_bench};
@@ -174,7 +174,7 @@ fn positive(name: &str, v: u32) -> AppResult<u32> {
 }
 
 fn check_radius(name: &str, r: f32) -> AppResult<f32> {
-    Ok(aograph_ao::Radius::new(name, r)?.get())
+    Ok(aograph_ao_passes::Radius::new(name, r)?.get())
 }
 
 /// Validated run settings from the shared flags.
@@ -241,10 +241,12 @@ pub(crate) fn scenes(names: &[String]) -> AppResult<Vec<SceneSource>> {
             SceneSource::Procedural(p)
                 if !aograph_scene::PROCEDURAL_SCENE_NAMES.contains(&p.as_str()) =>
             {
-                let hint =
-                    aograph_ao::nearest(p, aograph_scene::PROCEDURAL_SCENE_NAMES.iter().copied())
-                        .map(|h| format!("did you mean `{h}`? "))
-                        .unwrap_or_default();
+                let hint = aograph_ao_passes::nearest(
+                    p,
+                    aograph_scene::PROCEDURAL_SCENE_NAMES.iter().copied(),
+                )
+                .map(|h| format!("did you mean `{h}`? "))
+                .unwrap_or_default();
                 return Err(AppError::InvalidArgument {
                     name: "--scenes".into(),
                     value: p.clone(),

@@ -17,7 +17,7 @@
 
 use std::path::{Path, PathBuf};
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_bench::bench::convergence::write_convergence_png;
 use aograph_bench::bench::motion::read_motion;
 use aograph_bench::bench::plot::write_pareto_png;

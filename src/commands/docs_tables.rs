@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_bench::bench::convergence::TABLE_FRAMES;
 use aograph_bench::bench::motion::MotionFile;
 use aograph_bench::bench::plot::short_scene;

@@ -2,7 +2,7 @@
 //! device `aograph render` would use (a ray tracer set to `auto` takes the backend that device
 //! offers); without a device, for one without ray queries.
 
-use aograph_ao::{TechniqueRegistry, TracingSupport};
+use aograph_ao_passes::{TechniqueRegistry, TracingSupport};
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, summary, to_dot};
 use aograph_scene::gbuffer::GBufferStates;
 
@@ -56,7 +56,7 @@ pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
         {
             println!("{}", reach.line(&config.ao.technique));
         }
-        if let Some(backend) = aograph_ao::TraceBackend::declared_by(&fg.declared) {
+        if let Some(backend) = aograph_ao_passes::TraceBackend::declared_by(&fg.declared) {
             println!(
                 "ray tracer: {} (planned for {})",
                 backend.name(),

@@ -15,7 +15,7 @@ mod tune_search;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::GpuContext;
 
 pub use bench::{BenchArgs, bench};

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 use aograph_scene::ReferenceNormals;
 

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 
 use super::{CommonArgs, gpu};
@@ -51,13 +51,14 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     )?;
     // Which backend of the GPU ray tracer the technique's rays take, for a technique that
     // traces (rtao): said before any frame, and in timings.txt.
-    let tracer_line = aograph_ao::TraceBackend::declared_by(&r.graph.declared).map(|b| {
+    let tracer_line = aograph_ao_passes::TraceBackend::declared_by(&r.graph.declared).map(|b| {
         format!(
             "ray tracer: {} ({}) on {}",
             b.name(),
             match b {
-                aograph_ao::TraceBackend::Hardware => "ray queries on acceleration structures",
-                aograph_ao::TraceBackend::Compute => "BVH traversal in a compute shader",
+                aograph_ao_passes::TraceBackend::Hardware =>
+                    "ray queries on acceleration structures",
+                aograph_ao_passes::TraceBackend::Compute => "BVH traversal in a compute shader",
             },
             r.gpu.describe()
         )

@@ -5,7 +5,7 @@
 
 use std::fmt::Write as _;
 
-use aograph_ao::RadiusSetting;
+use aograph_ao_passes::RadiusSetting;
 use aograph_scene::views::scene_views;
 use aograph_scene::{Projection, Scene, import_gltf, procedural_scene, suggested_radius};
 use glam::{Mat3, Vec3};

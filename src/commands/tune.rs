@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 
 use super::bench::{RunFlags, scenes, techniques};
 use super::gpu;

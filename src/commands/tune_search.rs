@@ -11,7 +11,7 @@
 
 use std::fmt::Write as _;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 
 use super::bench::{scenes, view_choice};
 use super::gpu;

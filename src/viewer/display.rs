@@ -9,7 +9,7 @@
 
 use std::sync::Arc;
 
-use aograph_ao::PER_FRAME_OUTPUT;
+use aograph_ao_passes::PER_FRAME_OUTPUT;
 use aograph_graph::{ColorTarget, Extent, GpuContext, GraphBuilder, SizeClass, TextureDesc};
 
 use crate::error::{AppError, AppResult};

@@ -21,7 +21,7 @@ mod session;
 
 use std::path::PathBuf;
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 
 pub use display::DisplayMode;

@@ -1,5 +1,5 @@
 //! The viewer's control panel (egui): scene, technique, parameters generated from each
-//! technique's parameter descriptions (`aograph_ao::ParamDesc`: a user technique gets its
+//! technique's parameter descriptions (`aograph_ao_passes::ParamDesc`: a user technique gets its
 //! controls with no code of its own), the shared R and the intermediate precision, display mode, camera,
 //! per-pass timings as bars with moving averages, texture memory, culled passes, the
 //! reference's progress, and saving. Every change goes through the session, which checks it;
@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use aograph_ao::{IntermediateFormat, ParamDesc, ParamKind, Radius};
+use aograph_ao_passes::{IntermediateFormat, ParamDesc, ParamKind, Radius};
 use aograph_graph::texture_bytes;
 
 use super::camera_control::CameraMode;

@@ -60,8 +60,8 @@ fn config_text(s: &Session) -> String {
         toml::Value::from(set.ao.technique.as_str()),
         float(s.radius()),
         toml::Value::from(match set.ao.intermediate_format {
-            aograph_ao::IntermediateFormat::R16Float => "r16float",
-            aograph_ao::IntermediateFormat::R32Float => "r32float",
+            aograph_ao_passes::IntermediateFormat::R16Float => "r16float",
+            aograph_ao_passes::IntermediateFormat::R32Float => "r32float",
         })
     );
     for (technique, params) in &set.ao.params {

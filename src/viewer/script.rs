@@ -44,7 +44,7 @@ pub enum Action {
     Technique(String),
     Param(String, toml::Value),
     Radius(RadiusSetting),
-    Precision(aograph_ao::IntermediateFormat),
+    Precision(aograph_ao_passes::IntermediateFormat),
     Display(DisplayMode),
     Split(f32),
     View(String),
@@ -149,7 +149,7 @@ fn parse_line(text: &str) -> Result<Option<Action>, String> {
         "precision" => {
             need(1)?;
             Action::Precision(
-                aograph_ao::IntermediateFormat::parse(args[0]).map_err(|e| e.to_string())?,
+                aograph_ao_passes::IntermediateFormat::parse(args[0]).map_err(|e| e.to_string())?,
             )
         }
         "display" => {

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-use aograph_ao::{AoConfig, DynAoTechnique, IntermediateFormat, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, DynAoTechnique, IntermediateFormat, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext};
 use aograph_scene::{Camera, Scene};
 

@@ -1,7 +1,7 @@
 //! The Gaussian and bilateral blurs and the bilateral upsample against CPU arithmetic:
 //! constants kept, impulses give the weights, no blending across depth or normal edges.
 
-use aograph_ao::blocks::*;
+use aograph_ao_passes::blocks::*;
 use aograph_graph::{Extent, GraphBuilder, SizeClass, TextureHandle};
 use wgpu::TextureFormat::Rgba32Float;
 

@@ -1,6 +1,6 @@
 //! XeGTAO's edge-aware denoiser against its CPU mirror: constants and sky kept.
 
-use aograph_ao::blocks::*;
+use aograph_ao_passes::blocks::*;
 use aograph_graph::{Extent, SizeClass};
 use wgpu::TextureFormat::R32Float;
 

@@ -17,7 +17,7 @@ mod pyramids;
 
 use std::sync::Arc;
 
-use aograph_ao::blocks::*;
+use aograph_ao_passes::blocks::*;
 use aograph_graph::{
     CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, TextureHandle, compile,
     test_gpu,

@@ -1,8 +1,8 @@
 //! Depth pyramids on the GPU against the CPU: the 3x3 average exactly on integer data, min and
 //! max at odd sizes, and XeGTAO's depth prefilter.
 
-use aograph_ao::blocks::depth_pyramid::reduce_cpu;
-use aograph_ao::blocks::*;
+use aograph_ao_passes::blocks::depth_pyramid::reduce_cpu;
+use aograph_ao_passes::blocks::*;
 use aograph_graph::{Extent, SizeClass};
 
 use super::*;
@@ -96,7 +96,7 @@ fn pyramids_of_odd_sizes_match_the_cpu_per_level() {
 
 #[test]
 fn depth_prefilter_matches_the_cpu_per_level_and_keeps_sky() {
-    use aograph_ao::blocks::depth_prefilter::prefilter_cpu;
+    use aograph_ao_passes::blocks::depth_prefilter::prefilter_cpu;
     // 13x7: odd sizes, partial edge blocks; depths 1..3 with a sky column, so some blocks mix
     // children near and far (weights below 1) and some are all sky.
     let (w, h) = (13u32, 7u32);

@@ -8,7 +8,7 @@ pub mod user_frame;
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, ReferenceSettings, Renderer};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, test_gpu};
 use aograph_scene::Scene;
 
@@ -24,8 +24,8 @@ pub struct AoRun {
 pub fn ao_config(technique: &str, radius: f32, params_toml: &str) -> AoConfig {
     let mut c = AoConfig {
         technique: technique.into(),
-        radius: aograph_ao::RadiusSetting::Units(
-            aograph_ao::Radius::new("R", radius).expect("test radii are positive"),
+        radius: aograph_ao_passes::RadiusSetting::Units(
+            aograph_ao_passes::Radius::new("R", radius).expect("test radii are positive"),
         ),
         ..AoConfig::default()
     };

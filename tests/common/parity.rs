@@ -6,10 +6,10 @@ use aograph_frame::ReadsView;
 use std::sync::Arc;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::blocks::temporal::{
+use aograph_ao_passes::blocks::temporal::{
     TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
-use aograph_ao::{
+use aograph_ao_passes::{
     AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, ParamDesc, TechniqueRegistry,
 };
 use aograph_frame::GBufferChannels;
@@ -89,7 +89,7 @@ pub fn renderer(mode: TemporalMode, scene: Scene, size: Extent) -> Option<Render
     shaders.add_inline("test/parity.wgsl", PARITY_SHADER);
     let config = AoConfig {
         technique: "parity-temporal".into(),
-        radius: aograph_ao::RadiusSetting::Units(aograph_ao::Radius::UNIT),
+        radius: aograph_ao_passes::RadiusSetting::Units(aograph_ao_passes::Radius::UNIT),
         ..AoConfig::default()
     };
     let outputs = FrameOutputs {

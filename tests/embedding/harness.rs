@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use crate::common::user_frame::{depth_buffer, upload};
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_embed::{
     AmbientOcclusion, AoInputs, DepthInput, EmbedError, NormalEncoding, NormalSpace, NormalsInput,
 };

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use crate::common::user_frame::{oct_encode, pack_rgb10a2, upload};
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_embed::{AoInputs, DepthInput, NormalEncoding, NormalSpace, NormalsInput};
 use aograph_frame::GBufferChannel;
 use aograph_graph::{GpuContext, test_gpu};

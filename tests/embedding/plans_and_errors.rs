@@ -103,7 +103,7 @@ pub(crate) fn wrong_inputs_and_settings_are_named_errors() {
     // Settings: "auto" radius, a technique that needs what an application's frame lacks, and
     // an unknown technique; each leaves the current settings in place.
     let mut auto = config.clone();
-    auto.radius = aograph_ao::RadiusSetting::Auto;
+    auto.radius = aograph_ao_passes::RadiusSetting::Auto;
     let m = ao.set_config(&auto).unwrap_err().to_string();
     assert!(
         m.contains("radius") && m.contains("view matrix's units"),

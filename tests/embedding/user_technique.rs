@@ -6,7 +6,7 @@
 #[path = "../../examples/custom_pipeline/unsharp_depth.rs"]
 mod unsharp_depth;
 
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_embed::{AmbientOcclusion, AoInputs, DepthInput};
 use aograph_graph::test_gpu;
 

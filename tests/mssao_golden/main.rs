@@ -9,7 +9,7 @@
 
 use std::sync::Arc;
 
-use aograph_ao::{AoBuildContext, TechniqueRegistry};
+use aograph_ao_passes::{AoBuildContext, TechniqueRegistry};
 use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_graph::{
     BufferDesc, CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder,

@@ -30,7 +30,7 @@ mod mirror;
 
 use mirror::{Frame, MirrorCounts, Raw, blur, normalize, raw_passes};
 
-use aograph_ao::techniques::ssdo::SsdoParams;
+use aograph_ao_passes::techniques::ssdo::SsdoParams;
 use aograph_frame::GBufferChannel;
 use aograph_graph::Extent;
 use aograph_scene::{Scene, procedural_scene};
@@ -54,7 +54,7 @@ fn without_light(mut scene: Scene) -> Scene {
 fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Compared> {
     let config = {
         let mut c = common::ao_config("ssdo", radius, params);
-        c.intermediate_format = aograph_ao::IntermediateFormat::R32Float;
+        c.intermediate_format = aograph_ao_passes::IntermediateFormat::R32Float;
         c
     };
     let ambient = Vec3::from(scene.ambient);
@@ -108,10 +108,10 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
     let cpu = blur(&frame, &u, &blur(&frame, &u, &raw, (1, 0)), (0, 1));
     let ao = r.read_ao().expect("ao");
     let direct = r
-        .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::ssdo::DIRECT_OUTPUT)
         .expect("ssdo_direct");
     let indirect = r
-        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::ssdo::INDIRECT_OUTPUT)
         .expect("ssdo_indirect");
     let gpu = (0..(w * h) as usize)
         .map(|i| Raw {

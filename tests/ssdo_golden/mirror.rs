@@ -8,7 +8,7 @@
 // The mirror keeps the shaders' `!(x > y)` tests, which are false for NaN as in WGSL.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use aograph_ao::techniques::ssdo::kernel::SsdoUniform;
+use aograph_ao_passes::techniques::ssdo::kernel::SsdoUniform;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
 /// What the shaders read, read back from the GPU frame.

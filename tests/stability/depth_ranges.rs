@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use aograph_ao::IntermediateFormat;
+use aograph_ao_passes::IntermediateFormat;
 use aograph_frame::DepthFormat;
 use aograph_graph::test_gpu;
 use aograph_scene::{Camera, Projection};

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use aograph::{FrameOutputs, Renderer};
-use aograph_ao::{AoConfig, IntermediateFormat, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, IntermediateFormat, TechniqueRegistry};
 use aograph_frame::DepthFormat;
 use aograph_graph::{Extent, GpuContext};
 use aograph_scene::{Camera, Scene};
@@ -75,8 +75,8 @@ pub(crate) fn deepest_pyramids() -> Vec<Variant> {
         let t = registry.get(&name).expect("listed");
         if let Some(spec) = t.parameters().into_iter().find(|p| p.name == "levels") {
             let max = match spec.kind {
-                aograph_ao::ParamKind::WordOrNumber { max, .. }
-                | aograph_ao::ParamKind::Range { max, .. } => max as u32,
+                aograph_ao_passes::ParamKind::WordOrNumber { max, .. }
+                | aograph_ao_passes::ParamKind::Range { max, .. } => max as u32,
                 _ => panic!("{name}: levels allowed {}", spec.allowed()),
             };
             let params: &'static str = Box::leak(format!("levels = {max}").into_boxed_str());
@@ -431,7 +431,7 @@ impl<'a> Rig<'a> {
             self.variant.label(),
             self.scene_name
         );
-        let traces = aograph_ao::TraceBackend::declared_by(&r.graph.declared).is_some();
+        let traces = aograph_ao_passes::TraceBackend::declared_by(&r.graph.declared).is_some();
         let expect = match expect {
             Expect::Occluded if !occludes(&self.variant.technique) => Expect::Valid,
             Expect::Flat if traces => Expect::FlatBesideCreases,
@@ -501,9 +501,9 @@ impl<'a> Rig<'a> {
 
     /// True when the variant's graph traces the real geometry (it declared the scene BVH or acceleration structures).
     pub(crate) fn traces_geometry(&self) -> bool {
-        self.renderer
-            .as_ref()
-            .is_some_and(|r| aograph_ao::TraceBackend::declared_by(&r.graph.declared).is_some())
+        self.renderer.as_ref().is_some_and(|r| {
+            aograph_ao_passes::TraceBackend::declared_by(&r.graph.declared).is_some()
+        })
     }
 
     pub(crate) fn cut(&mut self) {

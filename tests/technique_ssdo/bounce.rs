@@ -1,7 +1,7 @@
 //! `ssdo`'s indirect bounce carries a wall's colour onto the floor (against the reference's
 //! colour under the sky), and its accessibility stays within `ssao`'s error.
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
 
@@ -12,7 +12,7 @@ fn floor_indirect(run: &common::AoRun, xs: std::ops::Range<f32>) -> (f32, f32, u
     let s = common::surfaces(run);
     let rgba = run
         .renderer
-        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::ssdo::INDIRECT_OUTPUT)
         .unwrap();
     let (mut r, mut g, mut n) = (0.0f64, 0.0f64, 0usize);
     for i in common::cornell_floor_pixels(&s, xs) {
@@ -102,7 +102,7 @@ fn cornell_box_bounce_carries_the_walls_colour_onto_the_floor() {
     };
     let indirect = off
         .renderer
-        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::ssdo::INDIRECT_OUTPUT)
         .unwrap();
     assert!(
         indirect.chunks_exact(4).all(|px| px[..3] == [0.0; 3]),
@@ -114,10 +114,10 @@ fn cornell_box_bounce_carries_the_walls_colour_onto_the_floor() {
     );
     assert_eq!(
         off.renderer
-            .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+            .read_extra(aograph_ao_passes::techniques::ssdo::DIRECT_OUTPUT)
             .unwrap(),
         run.renderer
-            .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+            .read_extra(aograph_ao_passes::techniques::ssdo::DIRECT_OUTPUT)
             .unwrap(),
         "nor the direct term"
     );
@@ -216,7 +216,7 @@ fn cornell_box_bounce_under_the_sky_has_the_references_colour() {
     let s = common::surfaces(&run);
     let gpu = run
         .renderer
-        .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+        .read_extra(aograph_ao_passes::techniques::ssdo::INDIRECT_OUTPUT)
         .unwrap();
     let px = |i: usize| glam::Vec3::new(gpu[4 * i], gpu[4 * i + 1], gpu[4 * i + 2]);
     let ratio = |c: glam::Vec3| c.x / c.y.max(1e-9);

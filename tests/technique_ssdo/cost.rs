@@ -1,7 +1,7 @@
 //! What the direct term and the bounce cost, as ratios to `ssao` (printed: speed targets live
 //! in benchmarks).
 
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
 

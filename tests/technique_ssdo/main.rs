@@ -22,8 +22,8 @@ const RADIUS: f32 = 1.0;
 fn assert_valid(run: &common::AoRun, what: &str) {
     common::assert_valid_ao(&run.ao, &run.depth, what);
     for name in [
-        aograph_ao::techniques::ssdo::DIRECT_OUTPUT,
-        aograph_ao::techniques::ssdo::INDIRECT_OUTPUT,
+        aograph_ao_passes::techniques::ssdo::DIRECT_OUTPUT,
+        aograph_ao_passes::techniques::ssdo::INDIRECT_OUTPUT,
     ] {
         let rgba = run
             .renderer

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use crate::common::plane_at;
 use aograph::{FrameOutputs, build_frame_graph};
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_frame::GBufferChannel;
 use aograph_graph::Extent;
 use aograph_scene::procedural_scene;
@@ -124,8 +124,8 @@ fn unoccluded_plane_has_the_known_direct_radiance_and_no_indirect_light() {
                 rho8 * scene.ambient[c] + sun
             })
             .collect();
-        let config = aograph_ao::AoConfig {
-            intermediate_format: aograph_ao::IntermediateFormat::R32Float,
+        let config = aograph_ao_passes::AoConfig {
+            intermediate_format: aograph_ao_passes::IntermediateFormat::R32Float,
             ..common::ao_config("ssdo", RADIUS, "sky_gradient = 0.0")
         };
         let Some(run) = common::render_ao(scene, &config, Extent::new(48, 48), 1) else {
@@ -133,11 +133,11 @@ fn unoccluded_plane_has_the_known_direct_radiance_and_no_indirect_light() {
         };
         let direct = run
             .renderer
-            .read_extra(aograph_ao::techniques::ssdo::DIRECT_OUTPUT)
+            .read_extra(aograph_ao_passes::techniques::ssdo::DIRECT_OUTPUT)
             .unwrap();
         let indirect = run
             .renderer
-            .read_extra(aograph_ao::techniques::ssdo::INDIRECT_OUTPUT)
+            .read_extra(aograph_ao_passes::techniques::ssdo::INDIRECT_OUTPUT)
             .unwrap();
         let (mut checked, mut worst) = (0, 0.0f32);
         for (i, d) in run.depth.iter().enumerate() {

@@ -2,8 +2,8 @@
 //! example config, and the temporal block's averaging.
 
 use aograph::Renderer;
-use aograph_ao::TechniqueRegistry;
-use aograph_ao::blocks::temporal::TemporalMode;
+use aograph_ao_passes::TechniqueRegistry;
+use aograph_ao_passes::blocks::temporal::TemporalMode;
 use aograph_graph::{Extent, test_gpu};
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::{Mat4, Vec3};

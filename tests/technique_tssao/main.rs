@@ -19,7 +19,7 @@ mod moving;
 mod still;
 
 use aograph::{PassOwner, ReferenceSettings, Renderer};
-use aograph_ao::AoConfig;
+use aograph_ao_passes::AoConfig;
 use aograph_graph::{Extent, PassTimings};
 use aograph_scene::Scene;
 

@@ -1,8 +1,8 @@
 //! `tssao` under a still camera: a plane, sphere-on-plane, convergence against `ssao`, flicker.
 
 use crate::common::plane_at;
-use aograph_ao::AoConfig;
-use aograph_ao::TechniqueRegistry;
+use aograph_ao_passes::AoConfig;
+use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 use aograph_scene::{Camera, procedural_scene};
 use glam::Vec3;

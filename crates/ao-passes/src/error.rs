@@ -1,4 +1,4 @@
-//! The one error type of aograph-ao: unknown techniques, bad parameters and graph errors, each
+//! The one error type of aograph-ao-passes: unknown techniques, bad parameters and graph errors, each
 //! with what is allowed.
 
 use aograph_graph::GraphError;
@@ -79,7 +79,7 @@ pub enum AoError {
     },
 }
 
-/// The result of every fallible operation of aograph-ao.
+/// The result of every fallible operation of aograph-ao-passes.
 pub type AoResult<T> = Result<T, AoError>;
 
 /// Checks `lo <= value <= hi` for a technique parameter.

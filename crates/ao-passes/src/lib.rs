@@ -9,7 +9,7 @@
 //! reads before any graph is built.
 //!
 //! ```
-//! use aograph_ao::{AoConfig, TechniqueRegistry};
+//! use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 //!
 //! let registry = TechniqueRegistry::with_builtins();
 //! let config: toml::Table = toml::from_str(

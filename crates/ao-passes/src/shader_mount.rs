@@ -9,7 +9,7 @@ use aograph_graph::{GraphResult, ShaderLibrary, ShaderMount};
 
 /// shaders/ao/ and shaders/blocks/.
 pub fn shader_mount() -> ShaderMount {
-    ShaderMount::new("aograph-ao")
+    ShaderMount::new("aograph-ao-passes")
         .with_files(aograph_shaders::AO)
         .with_files(aograph_shaders::BLOCKS)
 }

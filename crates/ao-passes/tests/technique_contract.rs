@@ -1,11 +1,11 @@
-//! The technique contract (`aograph_ao::contract`) over every built-in technique, and proof
+//! The technique contract (`aograph_ao_passes::contract`) over every built-in technique, and proof
 //! that it catches a technique that breaks it. A user technique runs the same check with one
 //! call (tests/user_technique_contract.rs does it for examples/custom_pipeline.rs's).
 
 use std::sync::Arc;
 
-use aograph_ao::contract::check_contract;
-use aograph_ao::{
+use aograph_ao_passes::contract::check_contract;
+use aograph_ao_passes::{
     AoBuildContext, AoOutput, AoResult, AoTechnique, DynAoTechnique, ParamDesc, TechniqueRegistry,
 };
 use aograph_frame::{GBufferChannel, GBufferChannels};
@@ -13,7 +13,7 @@ use aograph_graph::ShaderLibrary;
 use serde::{Deserialize, Serialize};
 
 fn shaders() -> ShaderLibrary {
-    aograph_ao::shader_library().unwrap()
+    aograph_ao_passes::shader_library().unwrap()
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //! technique is built into a graph and compiled. (These cases replace the graph crate's
 //! former `GraphPlugin` tests: the graph no longer has a plugin system of its own.)
 
-use aograph_ao::{
+use aograph_ao_passes::{
     AoBuildContext, AoConfig, AoError, AoOutput, AoResult, AoTechnique, ParamDesc,
     TechniqueRegistry,
 };
@@ -84,7 +84,7 @@ impl AoTechnique for DepthContrast {
             let copy = ctx.builder.copy_pass("contrast.debug", out, copy);
             output
                 .extra
-                .push((aograph_ao::ExtraOutput::new("debug"), copy));
+                .push((aograph_ao_passes::ExtraOutput::new("debug"), copy));
         }
         Ok(output)
     }
@@ -140,7 +140,7 @@ fn build_and_compile(
     for (_, h) in &out.extra {
         b.export(*h);
     }
-    let lib = aograph_ao::shader_library().unwrap();
+    let lib = aograph_ao_passes::shader_library().unwrap();
     lib.add_inline("contrast.wgsl", SHADER);
     Ok(compile(b.build(), &lib, CompileOptions::default())?)
 }

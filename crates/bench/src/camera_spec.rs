@@ -134,7 +134,7 @@ fn from_pairs<'a>(
             "far" => p.far = Some(finite_positive(key, value.number(key)?)?),
             "orthographic" => p.orthographic = Some(finite_positive(key, value.number(key)?)?),
             other => {
-                return Err(aograph_ao::unknown_key("camera", other, KEYS));
+                return Err(aograph_ao_passes::unknown_key("camera", other, KEYS));
             }
         }
     }

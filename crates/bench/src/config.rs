@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use aograph_ao::{AoConfig, TechniqueRegistry, unknown_key};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry, unknown_key};
 use aograph_scene::{ReferenceMode, ReferenceNormals, ReferenceTracer};
 
 /// The scene rendered when none is given.
@@ -62,7 +62,7 @@ impl SceneSource {
 }
 
 /// How R is chosen: `auto` or a number (`[ao] radius`, `--radius`), checked in one place.
-pub use aograph_ao::RadiusSetting;
+pub use aograph_ao_passes::RadiusSetting;
 
 /// Everything `aograph render` and friends need.
 #[derive(Clone, Debug, PartialEq)]

@@ -15,7 +15,7 @@ pub enum AppError {
     Graph(#[from] aograph_graph::GraphError),
     /// A technique or its parameters (or R) were refused; its message is kept as is.
     #[error(transparent)]
-    Ao(#[from] aograph_ao::AoError),
+    Ao(#[from] aograph_ao_passes::AoError),
     /// A scene could not be built, loaded or traced (unknown procedural name, missing or
     /// malformed glTF, ...); its message is kept as is.
     #[error(transparent)]

@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, Radius, RadiusSetting};
+use aograph_ao_passes::{AoConfig, Radius, RadiusSetting};
 use aograph_scene::Scene;
 use aograph_scene::views::SceneView;
 

@@ -5,7 +5,7 @@
 //! geometry can need more than they reach; the plan summary (`aograph graph`) and the bench
 //! report say so with the fraction of R reached instead of cutting R silently.
 
-use aograph_ao::{AoConfig, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::Extent;
 use aograph_scene::{ProjectedRadius, Scene, projected_radius};
 

@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use aograph_ao::{
+use aograph_ao_passes::{
     AoBuildContext, AoConfig, ConfiguredTechnique, GraphSettings, TechniqueRegistry, TracingSupport,
 };
 use aograph_frame::{

@@ -8,7 +8,7 @@ use thiserror::Error;
 pub enum EmbedError {
     /// The technique, its parameters or the radius were refused.
     #[error(transparent)]
-    Ao(#[from] aograph_ao::AoError),
+    Ao(#[from] aograph_ao_passes::AoError),
     /// The frame graph refused the frame (an input of the wrong size or usage, say).
     #[error(transparent)]
     Graph(#[from] aograph_graph::GraphError),

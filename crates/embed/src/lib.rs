@@ -9,7 +9,7 @@
 //! pipelines for settings seen before.
 //!
 //! Layers: `aograph-graph` (the frame graph: declare, compile, execute), `aograph-frame` (the
-//! view block and g-buffer channels), `aograph-ao` (the techniques), this crate (the
+//! view block and g-buffer channels), `aograph-ao-passes` (the techniques), this crate (the
 //! application's frame in, AO out). aograph's own renderer, scenes, reference and tools are in
 //! other crates; none of them is a dependency here.
 //!
@@ -59,4 +59,4 @@ pub use projection::DepthConvention;
 pub use shader_mount::{shader_library, shader_mount};
 
 /// The `[ao]` settings type (technique, radius, per-technique tables), re-exported.
-pub use aograph_ao::AoConfig;
+pub use aograph_ao_passes::AoConfig;

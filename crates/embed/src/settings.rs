@@ -10,7 +10,9 @@
 use std::any::TypeId;
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, ConfiguredTechnique, GraphSettings, RadiusSetting, TechniqueRegistry};
+use aograph_ao_passes::{
+    AoConfig, ConfiguredTechnique, GraphSettings, RadiusSetting, TechniqueRegistry,
+};
 use aograph_frame::{DeclaredInputs, InputBindings, SceneAcceleration, SceneBvh, ViewBlock};
 use aograph_graph::GpuContext;
 
@@ -35,7 +37,7 @@ pub(crate) fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
             };
             !configured.is_baseline()
                 && configured.channels().iter().all(producible)
-                && aograph_ao::contract::declared_inputs(configured.as_ref())
+                && aograph_ao_passes::contract::declared_inputs(configured.as_ref())
                     .is_ok_and(|d| d.iter().all(|(t, _)| t == TypeId::of::<ViewBlock>()))
         })
         .collect()
@@ -44,7 +46,7 @@ pub(crate) fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
 /// Parses `[ao]` TOML text (the section's keys at the top level).
 pub(crate) fn parse_config(text: &str, registry: &TechniqueRegistry) -> EmbedResult<AoConfig> {
     let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-        aograph_ao::AoError::Config(format!("not valid TOML: {}", e.message()))
+        aograph_ao_passes::AoError::Config(format!("not valid TOML: {}", e.message()))
     })?;
     Ok(AoConfig::from_table(&table, registry)?)
 }
@@ -77,7 +79,7 @@ pub(crate) fn resolve(
         }
     };
     let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
-    if config.intermediate_format == aograph_ao::IntermediateFormat::R16Float
+    if config.intermediate_format == aograph_ao_passes::IntermediateFormat::R16Float
         && !gpu.supports(wgpu::TextureFormat::R16Float, usage)
     {
         return Err(EmbedError::InvalidSetting {
@@ -105,7 +107,7 @@ pub(crate) fn resolve(
             },
         });
     }
-    let declared = aograph_ao::contract::declared_inputs(technique.as_ref())?;
+    let declared = aograph_ao_passes::contract::declared_inputs(technique.as_ref())?;
     check_inputs(registry, technique.name(), &declared, inputs)?;
     Ok((technique, radius, config.graph_settings()))
 }

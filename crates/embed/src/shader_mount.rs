@@ -12,12 +12,12 @@ pub fn shader_mount() -> ShaderMount {
     ShaderMount::new("aograph-embed").with_files(aograph_shaders::EMBED)
 }
 
-/// The embedding's library: `aograph_frame`'s, `aograph_ao`'s and this crate's mounts, with
+/// The embedding's library: `aograph_frame`'s, `aograph_ao_passes`'s and this crate's mounts, with
 /// the folder `AOGRAPH_SHADERS` names (if set) shadowing them for hot edits.
 pub fn shader_library() -> GraphResult<ShaderLibrary> {
     let lib = ShaderLibrary::from_mounts([
         aograph_frame::shader_mount(),
-        aograph_ao::shader_mount(),
+        aograph_ao_passes::shader_mount(),
         shader_mount(),
     ])?;
     Ok(match std::env::var_os("AOGRAPH_SHADERS") {

@@ -1,5 +1,5 @@
 //! G-buffer channels: the small type the g-buffer node (aograph-scene) and the techniques
-//! (aograph-ao) share without depending on each other. A technique states which channels it
+//! (aograph-ao-passes) share without depending on each other. A technique states which channels it
 //! reads; the g-buffer node writes only those. The set also carries the hardware depth format
 //! ([`DepthFormat`], Depth32Float unless the application asks for Depth24Plus): techniques read
 //! linear depth, never the depth buffer's encoding, so they work with either.
@@ -68,7 +68,7 @@ impl GBufferChannel {
         }
     }
     /// The channel's name (`"linear_depth"`, `"normals_oct"`, ...): the g-buffer names its
-    /// texture `gbuffer.<name>`, and aograph-ao's errors name a missing channel by it.
+    /// texture `gbuffer.<name>`, and aograph-ao-passes's errors name a missing channel by it.
     pub fn name(self) -> &'static str {
         match self {
             Self::Depth => "depth",

@@ -1,4 +1,4 @@
-//! What the g-buffer node (aograph-scene) and the AO techniques (aograph-ao) share, on top of
+//! What the g-buffer node (aograph-scene) and the AO techniques (aograph-ao-passes) share, on top of
 //! the render graph, without depending on each other: the g-buffer's channels (a technique
 //! states which it reads; the g-buffer writes only those), the frame inputs (the per-frame `View`
 //! block every pass may bind, the scene's lighting block and ray-tracing BVH a technique

@@ -11,7 +11,7 @@ pub enum RenderError {
     Graph(#[from] aograph_graph::GraphError),
     /// The technique or its parameters were refused.
     #[error(transparent)]
-    Ao(#[from] aograph_ao::AoError),
+    Ao(#[from] aograph_ao_passes::AoError),
     /// The scene, its g-buffer or the reference tracer failed.
     #[error(transparent)]
     Scene(#[from] aograph_scene::SceneError),

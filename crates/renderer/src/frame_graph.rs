@@ -6,7 +6,7 @@
 use aograph_frame::ReadsView;
 use std::sync::Arc;
 
-use aograph_ao::{
+use aograph_ao_passes::{
     AoBuildContext, AoConfig, ConfiguredTechnique, ExtraOutput, RadianceOutput, RadiusSetting,
     TechniqueRegistry, TracingSupport,
 };
@@ -59,7 +59,7 @@ pub struct FrameGraph {
     pub gbuffer: GBufferTextures,
     /// Which channels the g-buffer writes, with its depth format.
     pub channels: GBufferChannels,
-    /// The technique's extra outputs, each under its key (e.g. `aograph_ao::PER_FRAME_OUTPUT`).
+    /// The technique's extra outputs, each under its key (e.g. `aograph_ao_passes::PER_FRAME_OUTPUT`).
     pub extra: Vec<(ExtraOutput, TextureHandle)>,
     /// The technique's radiance outputs, where it computes radiance.
     pub radiance: Option<RadianceOutput>,
@@ -226,7 +226,7 @@ fn declare_frame(
     // image's diagonal (`ProjectedRadius::reach_needed_px`).
     let Some((technique, ao)) = technique else {
         if outputs.shaded {
-            return Err(aograph_ao::AoError::MissingChannel {
+            return Err(aograph_ao_passes::AoError::MissingChannel {
                 technique: "shading".into(),
                 channel: "accessibility (a g-buffer-only frame runs no technique)".into(),
             }
@@ -272,7 +272,7 @@ fn declare_frame(
             tracing: tracing.clone(),
         };
         let out = technique.build(&mut ctx)?;
-        Ok::<_, aograph_ao::AoError>((out, ctx.declared))
+        Ok::<_, aograph_ao_passes::AoError>((out, ctx.declared))
     })?;
     let temporal = technique.is_temporal();
     b.export(out.accessibility);
@@ -341,7 +341,7 @@ fn add_shading(
     view: aograph_graph::BufferHandle,
 ) -> RenderResult<TextureHandle> {
     let (Some(albedo), Some(direct)) = (g.albedo, g.direct_light) else {
-        return Err(aograph_ao::AoError::MissingChannel {
+        return Err(aograph_ao_passes::AoError::MissingChannel {
             technique: "shading".into(),
             channel: "albedo/direct_light".into(),
         }

@@ -5,14 +5,14 @@
 //! ([`frame_reference()`]).
 //!
 //! Layers: `aograph-graph` (declare, compile, execute), `aograph-frame` (channels, View
-//! block), `aograph-ao` (techniques), `aograph-scene` (scenes, g-buffer node, tracers), this
+//! block), `aograph-ao-passes` (techniques), `aograph-scene` (scenes, g-buffer node, tracers), this
 //! crate (a scene's frames), then the `aograph` CLI (config files, commands, bench, viewer) on
 //! top. An application with its own renderer wants `aograph-embed` instead, which needs no
 //! scene.
 //!
 //! ```no_run
 //! use std::sync::Arc;
-//! use aograph_ao::{AoConfig, TechniqueRegistry};
+//! use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 //! use aograph_graph::{Extent, GpuContext};
 //! use aograph_renderer::{FrameOutputs, Renderer, shader_library};
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -5,7 +5,7 @@
 //! Invariant: every read-back is of the last frame rendered, and asking for something the
 //! frame does not output is an error naming it and how to request it, never a panic.
 
-use aograph_ao::ExtraOutput;
+use aograph_ao_passes::ExtraOutput;
 use aograph_frame::GBufferChannel;
 use aograph_graph::TextureHandle;
 use aograph_scene::SurfaceBuffer;

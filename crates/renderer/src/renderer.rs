@@ -9,7 +9,9 @@
 
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport};
+use aograph_ao_passes::{
+    AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport,
+};
 use aograph_frame::{
     FrameInput, InputBindings, LightingUniforms, SceneLighting, SkyColours, ViewBlock,
 };

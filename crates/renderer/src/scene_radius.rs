@@ -2,7 +2,7 @@
 //! diagonal / 9, `aograph_scene::suggested_radius`), with the words that say where it came
 //! from. Every command and the renderer resolve R here, so they agree.
 
-use aograph_ao::{Radius, RadiusSetting};
+use aograph_ao_passes::{Radius, RadiusSetting};
 use aograph_scene::Scene;
 
 /// R and its derivation for `scene` seen from its camera under `setting`: `auto` is the scene

@@ -18,7 +18,7 @@ pub fn shader_mount() -> ShaderMount {
 pub fn renderer_mounts() -> Vec<ShaderMount> {
     vec![
         aograph_frame::shader_mount(),
-        aograph_ao::shader_mount(),
+        aograph_ao_passes::shader_mount(),
         aograph_scene::shader_mount(),
         shader_mount(),
     ]

@@ -34,7 +34,7 @@ pub mod sweep;
 
 use std::path::Path;
 
-use aograph_ao::Radius;
+use aograph_ao_passes::Radius;
 use aograph_graph::{Extent, GpuContext};
 use indicatif::{ProgressBar, ProgressStyle};
 

@@ -431,7 +431,7 @@ pub(crate) mod tests {
             scene: scene.into(),
             view: "default".into(),
             technique: technique.into(),
-            baseline: aograph_ao::TechniqueRegistry::with_builtins()
+            baseline: aograph_ao_passes::TechniqueRegistry::with_builtins()
                 .get(technique)
                 .is_ok_and(|t| t.is_baseline()),
             label: label.into(),

@@ -18,7 +18,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use aograph_ao::{AoConfig, RadianceEnvironment, Radius, RadiusSetting, TechniqueRegistry};
+use aograph_ao_passes::{AoConfig, RadianceEnvironment, Radius, RadiusSetting, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, pass_costs, texture_bytes};
 use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};

@@ -44,10 +44,12 @@ impl ScalingRadii {
         match self {
             ScalingRadii::Units(r) => r.clone(),
             ScalingRadii::Factors(f) => {
-                let r =
-                    crate::prepared_scene::resolve_radius(scene, aograph_ao::RadiusSetting::Auto)
-                        .0
-                        .get();
+                let r = crate::prepared_scene::resolve_radius(
+                    scene,
+                    aograph_ao_passes::RadiusSetting::Auto,
+                )
+                .0
+                .get();
                 f.iter().map(|k| k * r).collect()
             }
         }

@@ -23,7 +23,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use aograph_ao::{TechniqueRegistry, nearest};
+use aograph_ao_passes::{TechniqueRegistry, nearest};
 
 use crate::error::{AppError, AppResult};
 
