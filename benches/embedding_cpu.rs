@@ -14,10 +14,11 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_embed::{AmbientOcclusion, AoInputs, DepthInput};
 use aograph_graph::{Extent, GpuContext, TimingMode};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use criterion::Criterion;
 use glam::Mat4;
 

@@ -15,8 +15,8 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use aograph::SceneSource;
 use aograph::commands::scene_info_text;
+use aograph_bench::SceneSource;
 use aograph_scene::{
     CpuGBuffer, ReferenceNormals, ReferenceParams, SceneRays, TriangleBvh, load_scene,
     trace_reference,

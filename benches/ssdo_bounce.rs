@@ -11,9 +11,11 @@
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, PassOwner, Renderer};
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, GpuContext};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::PassOwner;
+use aograph_renderer::Renderer;
 use criterion::Criterion;
 
 /// The most the bounce may cost, as a multiple of the direct term's passes.

@@ -167,6 +167,26 @@ impl Common {
     }
 }
 
+/// `aograph view`: the flags over the config file, then the viewer.
+#[cfg(feature = "viewer")]
+fn view(
+    common: commands::CommonArgs,
+    script: Option<std::path::PathBuf>,
+) -> aograph_bench::AppResult<()> {
+    let config = common.resolve(&aograph_ao_passes::TechniqueRegistry::with_builtins())?;
+    // A size is fixed only when asked for; the config's default size is not a request.
+    let size = match (common.width, common.height) {
+        (Some(w), Some(h)) => Some(aograph_graph::Extent::new(w, h)),
+        (None, None) => None,
+        _ => Some(aograph_graph::Extent::new(config.width, config.height)),
+    };
+    aograph::viewer::view(&aograph::viewer::ViewArgs {
+        config,
+        size,
+        script,
+    })
+}
+
 fn main() -> ExitCode {
     aograph::runtime_dir::ensure_runtime_dir();
     let cli = Cli::parse();
@@ -183,12 +203,9 @@ fn main() -> ExitCode {
             every,
         }),
         #[cfg(feature = "viewer")]
-        Command::View { common, script } => aograph::viewer::view(&aograph::viewer::ViewArgs {
-            common: common.into_args(),
-            script,
-        }),
+        Command::View { common, script } => view(common.into_args(), script),
         #[cfg(not(feature = "viewer"))]
-        Command::View { .. } => Err(aograph::AppError::InvalidArgument {
+        Command::View { .. } => Err(aograph_bench::AppError::InvalidArgument {
             name: "view".into(),
             value: "this aograph was built without the viewer".into(),
             allowed: "a build with the `viewer` feature (on by default: cargo build, or \
@@ -226,7 +243,7 @@ fn main() -> ExitCode {
             action: SceneAction::Info { scene, scene_flag },
         } => match scene.or(scene_flag) {
             Some(scene) => commands::scene_info(&scene),
-            None => Err(aograph::AppError::InvalidArgument {
+            None => Err(aograph_bench::AppError::InvalidArgument {
                 name: "scene info".into(),
                 value: "no scene".into(),
                 allowed: "a scene name or file, as an argument or --scene".into(),

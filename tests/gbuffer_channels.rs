@@ -8,13 +8,14 @@ const SIZE: aograph_graph::Extent = aograph_graph::Extent {
 };
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, build_frame_graph};
 use aograph_ao_passes::ParamDesc;
 use aograph_ao_passes::{
     AoBuildContext, AoConfig, AoOutput, AoResult, AoTechnique, TechniqueRegistry,
 };
 use aograph_frame::{GBufferChannel, GBufferChannels};
 use aograph_graph::{CompileOptions, compile};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::build_frame_graph;
 use serde::{Deserialize, Serialize};
 
 /// A technique that reads linear depth only.

@@ -27,8 +27,8 @@ mod common;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use aograph::frame_reference::{FrameView, reference_surfaces};
 use aograph_graph::{Extent, test_gpu};
+use aograph_renderer::frame_reference::{FrameView, reference_surfaces};
 use aograph_scene::{
     Camera, CpuGBuffer, PROCEDURAL_SCENE_NAMES, ReferenceNormals, Scene, SurfaceBuffer,
     TriangleBvh, load_scene, procedural_scene,
@@ -386,9 +386,11 @@ fn compact_normals_decode_to_the_wide_normals_on_every_procedural_scene() {
     // g-buffer writes both. Decoded, they agree within both encodings' rounding: f16 moves a
     // component by up to 2^-11 of 1 (5e-4 rad), the octahedral code by under 1e-4 rad. Sky
     // (depth 0) carries code 0.
-    use aograph::{FrameOutputs, Renderer, shader_library};
+    use aograph::shader_library;
     use aograph_ao_passes::{AoConfig, TechniqueRegistry};
     use aograph_frame::{GBufferChannel, normal_oct};
+    use aograph_renderer::FrameOutputs;
+    use aograph_renderer::Renderer;
     let Some(gpu) = test_gpu() else { return };
     let registry = TechniqueRegistry::with_builtins();
     let ao = AoConfig {

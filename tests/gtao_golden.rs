@@ -257,13 +257,13 @@ fn compare(scene: &str, s: &Settings, radius: f32, size: Extent) -> Option<(f64,
     let gpu = aograph_graph::test_gpu()?;
     // The surfaces output exports the g-buffer's normals; with shading normals they are the
     // very texture gtao reads.
-    let outputs = aograph::FrameOutputs {
+    let outputs = aograph_renderer::FrameOutputs {
         linear_depth: true,
         surfaces: true,
         surface_normals: aograph_scene::ReferenceNormals::Shading,
         ..Default::default()
     };
-    let mut r = aograph::Renderer::new(
+    let mut r = aograph_renderer::Renderer::new(
         gpu,
         aograph::shader_library(),
         &aograph_ao_passes::TechniqueRegistry::with_builtins(),

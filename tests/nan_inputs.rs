@@ -14,7 +14,6 @@ mod common;
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::{AoBuildContext, AoConfig, TechniqueRegistry, TracingSupport};
 use aograph_frame::{GBufferChannel, GBufferTextures, VIEW_BUFFER, ViewUniforms};
 use aograph_frame::{
@@ -25,6 +24,8 @@ use aograph_graph::{
     BufferDesc, CompileOptions, Executor, Extent, GraphBuilder, SizeClass, TextureDesc, compile,
     test_gpu,
 };
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::ReferenceNormals;
 use aograph_scene::ray_tracing::{GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};

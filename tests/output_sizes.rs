@@ -19,9 +19,9 @@
 
 mod common;
 
-use aograph::Renderer;
 use aograph_ao_passes::{PER_FRAME_OUTPUT, RadiusSetting, TechniqueRegistry};
 use aograph_graph::Extent;
+use aograph_renderer::Renderer;
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::Vec3;
 

@@ -11,7 +11,7 @@
 
 mod common;
 
-use aograph::metrics::{MetricOptions, compare};
+use aograph_bench::metrics::{MetricOptions, compare};
 use aograph_graph::Extent;
 
 const SIZE: Extent = Extent {

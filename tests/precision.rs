@@ -10,9 +10,10 @@ mod common;
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::{AoConfig, IntermediateFormat, TechniqueRegistry};
 use aograph_graph::{Extent, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::procedural_scene;
 
 const SIZE: Extent = Extent {

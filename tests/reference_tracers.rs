@@ -27,9 +27,9 @@ fn every_tracer_traces_the_cpus_reference_within_four_standard_errors() {
         return;
     };
     let trace = |tracer| {
-        let mut s = aograph::ReferenceSettings::new(0.5, 64);
+        let mut s = aograph_renderer::ReferenceSettings::new(0.5, 64);
         s.tracer = tracer;
-        aograph::frame_reference(&run.renderer, &s, false).expect("reference traces")
+        aograph_renderer::frame_reference(&run.renderer, &s, false).expect("reference traces")
     };
     let cpu = trace(ReferenceTracer::Cpu);
     let mut tracers = vec![ReferenceTracer::Gpu];

@@ -11,9 +11,12 @@ use std::sync::Arc;
 
 use std::collections::BTreeMap;
 
-use aograph::{AppConfig, FrameOutputs, Renderer, build_frame_graph};
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
+use aograph_bench::AppConfig;
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
+use aograph_renderer::build_frame_graph;
 use aograph_scene::{Scene, SceneError};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -61,8 +64,8 @@ fn parse_and_build(
     };
     let ao = AoConfig {
         radius: match config.ao.radius {
-            aograph::RadiusSetting::Auto => {
-                aograph::RadiusSetting::Units(aograph_ao_passes::Radius::UNIT)
+            aograph_bench::RadiusSetting::Auto => {
+                aograph_bench::RadiusSetting::Units(aograph_ao_passes::Radius::UNIT)
             }
             units => units,
         },

@@ -12,10 +12,10 @@
 
 mod common;
 
-use aograph::ReferenceSettings;
-use aograph::metrics::{MetricOptions, compare};
 use aograph_ao_passes::blocks::history_denoise::{HistoryDenoise, radius_px};
+use aograph_bench::metrics::{MetricOptions, compare};
 use aograph_graph::Extent;
+use aograph_renderer::ReferenceSettings;
 
 const SIZE: Extent = Extent {
     width: 77,
@@ -51,9 +51,12 @@ fn converged_rtao_with_the_history_denoiser_is_the_reference_within_four_standar
             changed, 0,
             "{name}: the converged filter changed {changed} pixels"
         );
-        let reference =
-            aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, 256), false)
-                .unwrap();
+        let reference = aograph_renderer::frame_reference(
+            &run.renderer,
+            &ReferenceSettings::new(radius, 256),
+            false,
+        )
+        .unwrap();
         let (mut geometry, mut beyond) = (0, 0);
         for i in 0..run.ao.len() {
             if run.depth[i] <= 0.0 {
@@ -109,7 +112,7 @@ fn one_ray_first_frame_scores_above_gtao_high_on_columns_and_cornell_box() {
         let ssim = |technique: &str, params: &str| {
             let config = common::ao_config(technique, radius, params);
             let run = common::render_ao(s.clone(), &config, WIDE, 1).expect("a GPU");
-            let reference = aograph::frame_reference(
+            let reference = aograph_renderer::frame_reference(
                 &run.renderer,
                 &ReferenceSettings::new(radius, 256),
                 false,
@@ -146,7 +149,7 @@ fn a_camera_cut_resets_the_history_length_and_the_radius_widens() {
     };
     let p = HistoryDenoise::default();
     // The guide's radius is the CPU mirror's for the pixel's n and nearest hit (f16: 3 digits).
-    let check = |r: &aograph::Renderer, frames: f32| {
+    let check = |r: &aograph_renderer::Renderer, frames: f32| {
         let guide = r
             .read_extra(aograph_ao_passes::techniques::rtao::GUIDE_OUTPUT)
             .unwrap();

@@ -123,13 +123,13 @@ fn the_second_pass_is_drawn_only_for_two_layers_and_half_resolution_refuses_them
         let Some(gpu) = aograph_graph::test_gpu() else {
             return;
         };
-        let e = aograph::Renderer::new(
+        let e = aograph_renderer::Renderer::new(
             gpu,
             aograph::shader_library(),
             &aograph_ao_passes::TechniqueRegistry::with_builtins(),
             std::sync::Arc::new(slab_over_floor()),
             &config,
-            aograph::FrameOutputs::default(),
+            aograph_renderer::FrameOutputs::default(),
             SIZE,
         )
         .err()

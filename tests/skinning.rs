@@ -13,10 +13,12 @@
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer, shader_library};
+use aograph::shader_library;
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_frame::GBufferChannel;
 use aograph_graph::{Extent, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::{Camera, CpuGBuffer, TriangleBvh, load_scene};
 use glam::{Vec2, Vec3};
 

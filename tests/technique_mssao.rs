@@ -6,9 +6,10 @@
 
 mod common;
 
-use aograph::{FrameOutputs, build_frame_graph};
 use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, texture_bytes};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::build_frame_graph;
 use aograph_scene::procedural_scene;
 
 /// The shared radius R of the validity tests (the scenes' unit: the sphere's radius is 1).
@@ -211,10 +212,13 @@ fn mae_against_the_reference_is_lower_than_ssao_with_16_samples() {
 fn example_config_parses_with_the_papers_values() {
     let registry = TechniqueRegistry::with_builtins();
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/mssao.toml"));
-    let config = aograph::AppConfig::load(path, &registry).unwrap_or_else(|e| panic!("{e}"));
+    let config = aograph_bench::AppConfig::load(path, &registry).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         (config.ao.technique.as_str(), config.ao.radius),
-        ("mssao", aograph::RadiusSetting::parse("r", "2").unwrap())
+        (
+            "mssao",
+            aograph_bench::RadiusSetting::parse("r", "2").unwrap()
+        )
     );
     let table = config.ao.params_for("mssao");
     let specs = registry.get("mssao").unwrap().parameters();

@@ -8,9 +8,10 @@ mod common;
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::{Extent, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::{Camera, procedural_scene};
 use glam::Vec3;
 

@@ -10,8 +10,8 @@
 
 mod common;
 
-use aograph::ReferenceSettings;
 use aograph_graph::Extent;
+use aograph_renderer::ReferenceSettings;
 use aograph_scene::Scene;
 use aograph_scene::ray_tracing::AsWork;
 
@@ -92,9 +92,12 @@ fn rtao_256(scene: Scene, tracer: &str) -> (common::AoRun, aograph_scene::Refere
         &format!("rays = 256\ntemporal = false\ndenoise_passes = 0\ntracer = \"{tracer}\""),
     );
     let run = common::render_ao(scene, &config, Extent::new(61, 37), 1).expect("a GPU");
-    let reference =
-        aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, 256), false)
-            .unwrap();
+    let reference = aograph_renderer::frame_reference(
+        &run.renderer,
+        &ReferenceSettings::new(radius, 256),
+        false,
+    )
+    .unwrap();
     (run, reference)
 }
 
@@ -148,16 +151,22 @@ fn one_ray_per_frame_accumulated_over_64_still_frames_is_within_001_of_the_refer
         let Some(run) = common::render_ao(scene, &config, Extent::new(53, 31), 64) else {
             return;
         };
-        let reference =
-            aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, 256), false)
-                .unwrap();
+        let reference = aograph_renderer::frame_reference(
+            &run.renderer,
+            &ReferenceSettings::new(radius, 256),
+            false,
+        )
+        .unwrap();
         let mae = common::mae(&run.ao, &reference.accessibility, &run.depth);
         // The exact answer: frames 0..63 traced rays 0..63 of each pixel's sequence, and the
         // running mean of 64 frames is their mean, so the result is the 64-ray reference
         // (up to crease rays whose hit is decided by the last bit, and f32 sums).
-        let r64 =
-            aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, 64), false)
-                .unwrap();
+        let r64 = aograph_renderer::frame_reference(
+            &run.renderer,
+            &ReferenceSettings::new(radius, 64),
+            false,
+        )
+        .unwrap();
         let exact = common::mae(&run.ao, &r64.accessibility, &run.depth);
         let own = common::mae(&r64.accessibility, &reference.accessibility, &run.depth);
         eprintln!(
@@ -272,11 +281,11 @@ fn where_rays_hit_moving_geometry_the_history_is_held_to_moving_frames() {
         let radius = aograph_scene::suggested_radius(&scene).radius;
         let gpu = aograph_graph::test_gpu()?;
         let registry = aograph_ao_passes::TechniqueRegistry::with_builtins();
-        let outputs = aograph::FrameOutputs {
+        let outputs = aograph_renderer::FrameOutputs {
             linear_depth: true,
             ..Default::default()
         };
-        let mut r = aograph::Renderer::new(
+        let mut r = aograph_renderer::Renderer::new(
             gpu,
             aograph::shader_library(),
             &registry,
@@ -360,9 +369,12 @@ fn the_blue_noise_sequence_over_256_frames_is_the_reference_within_four_standard
             "rays = 1\nsequence = \"blue-noise\"\ntemporal_frames = 256\ndenoiser = \"none\"",
         );
         let run = common::render_ao(scene, &config, size, 256).expect("a GPU");
-        let reference =
-            aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, 256), false)
-                .unwrap();
+        let reference = aograph_renderer::frame_reference(
+            &run.renderer,
+            &ReferenceSettings::new(radius, 256),
+            false,
+        )
+        .unwrap();
         let (mut geometry, mut beyond, mut signed) = (0, 0, 0.0f64);
         for i in 0..run.ao.len() {
             if run.depth[i] <= 0.0 {

@@ -15,10 +15,11 @@
 
 mod common;
 
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::{PER_FRAME_OUTPUT, RadiusSetting};
 use aograph_frame::GBufferChannel;
 use aograph_graph::Extent;
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::{Camera, procedural_scene};
 use glam::Vec3;
 

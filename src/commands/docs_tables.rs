@@ -12,7 +12,7 @@ use aograph_bench::bench::motion::MotionFile;
 use aograph_bench::bench::plot::short_scene;
 use aograph_bench::bench::report::{BenchMeta, ResultsFile};
 
-use crate::error::AppResult;
+use aograph_bench::error::AppResult;
 
 /// A table cell's text: pipes escaped, newlines as spaces.
 fn cell(text: &str) -> String {

@@ -7,9 +7,9 @@ use aograph_graph::{CompileOptions, Extent, GraphCompiler, summary, to_dot};
 use aograph_scene::gbuffer::GBufferStates;
 
 use super::{CommonArgs, gpu};
-use crate::error::AppResult;
-use crate::frame_graph::{FrameOutputs, build_frame_graph_with};
 use crate::shader_library;
+use aograph_bench::error::AppResult;
+use aograph_renderer::frame_graph::{FrameOutputs, build_frame_graph_with};
 
 pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
@@ -47,7 +47,7 @@ pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {
         );
         let size = Extent::new(config.width, config.height);
         if !registry.get(&config.ao.technique)?.is_baseline()
-            && let Some(reach) = crate::reach::radius_reach(
+            && let Some(reach) = aograph_bench::reach::radius_reach(
                 &registry,
                 &prepared.ao(&config.ao),
                 &prepared.scene,

@@ -9,12 +9,12 @@ use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 
 use super::{CommonArgs, gpu};
-use crate::error::AppResult;
-use crate::frame_graph::FrameOutputs;
-use crate::frame_reference::{ReferenceSettings, frame_reference};
-use crate::images::{prepare_output_dir, write_rgb_png};
-use crate::renderer::Renderer;
 use crate::shader_library;
+use aograph_bench::error::AppResult;
+use aograph_bench::images::{prepare_output_dir, write_rgb_png};
+use aograph_renderer::frame_graph::FrameOutputs;
+use aograph_renderer::frame_reference::{ReferenceSettings, frame_reference};
+use aograph_renderer::renderer::Renderer;
 
 const GAP: u32 = 2;
 

@@ -10,11 +10,13 @@ use aograph_graph::Extent;
 use aograph_scene::ReferenceNormals;
 
 use super::{CommonArgs, gpu};
-use crate::config::parse_mode;
-use crate::error::{AppError, AppResult};
-use crate::frame_reference::{FrameView, ReferenceSettings, reference_surfaces, trace_surfaces};
-use crate::images::{prepare_output_dir, write_gray_png};
 use crate::shader_library;
+use aograph_bench::config::parse_mode;
+use aograph_bench::error::{AppError, AppResult};
+use aograph_bench::images::{prepare_output_dir, write_gray_png};
+use aograph_renderer::frame_reference::{
+    FrameView, ReferenceSettings, reference_surfaces, trace_surfaces,
+};
 
 pub fn reference(
     args: &CommonArgs,

@@ -11,12 +11,12 @@ use aograph_ao_passes::TechniqueRegistry;
 
 use super::bench::{RunFlags, scenes, techniques};
 use super::gpu;
-use crate::bench::{BenchContext, BenchPlan, RunRecord, Sweep, plan_param_sets, run_bench};
-use crate::config::SceneSource;
-use crate::error::{AppError, AppResult};
-use crate::images::write_atomic;
-use crate::metrics::nonfinite::format as num;
 use crate::shader_library;
+use aograph_bench::bench::{BenchContext, BenchPlan, RunRecord, Sweep, plan_param_sets, run_bench};
+use aograph_bench::config::SceneSource;
+use aograph_bench::error::{AppError, AppResult};
+use aograph_bench::images::write_atomic;
+use aograph_bench::metrics::nonfinite::format as num;
 
 /// The built-in sweep used when `--sweep` is not given.
 pub const DEFAULT_SWEEP: &str = include_str!("../../configs/sweeps/quick.toml");
@@ -127,7 +127,9 @@ pub fn tune_budget(args: &TuneArgs) -> AppResult<()> {
         });
     }
     let registry = TechniqueRegistry::with_builtins();
-    let settings = args.run.settings(crate::metrics::DEFAULT_EDGE_BAND)?;
+    let settings = args
+        .run
+        .settings(aograph_bench::metrics::DEFAULT_EDGE_BAND)?;
     let sweep = match &args.sweep {
         Some(p) => Sweep::load(p)?,
         None => Sweep::parse(DEFAULT_SWEEP, "configs/sweeps/quick.toml (built in)")?,

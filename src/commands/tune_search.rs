@@ -16,12 +16,12 @@ use aograph_ao_passes::TechniqueRegistry;
 use super::bench::{scenes, view_choice};
 use super::gpu;
 use super::tune::TuneArgs;
-use crate::bench::search::{SearchSpaces, search};
-use crate::bench::{BenchContext, BenchPlan, ParamSet, run_bench};
-use crate::config::SceneSource;
-use crate::error::{AppError, AppResult};
-use crate::images::write_atomic;
 use crate::shader_library;
+use aograph_bench::bench::search::{SearchSpaces, search};
+use aograph_bench::bench::{BenchContext, BenchPlan, ParamSet, run_bench};
+use aograph_bench::config::SceneSource;
+use aograph_bench::error::{AppError, AppResult};
+use aograph_bench::images::write_atomic;
 
 /// The built-in search spaces used when `--space` is not given.
 pub const DEFAULT_SPACES: &str = include_str!("../../configs/tune/search.toml");
@@ -64,7 +64,9 @@ fn set_of(technique: &str, names: &[String], point: &[f64]) -> ParamSet {
 
 pub fn tune_search(args: &TuneArgs) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
-    let settings = args.run.settings(crate::metrics::DEFAULT_EDGE_BAND)?;
+    let settings = args
+        .run
+        .settings(aograph_bench::metrics::DEFAULT_EDGE_BAND)?;
     let spaces = match &args.space {
         Some(p) => {
             let text = std::fs::read_to_string(p)

@@ -20,8 +20,8 @@ use super::camera_control::{CameraMode, MoveKeys};
 use super::panel::{PanelState, side_panel};
 use super::script::{Script, Step, stats_line};
 use super::session::Session;
-use crate::config::{AppConfig, SceneSource};
-use crate::error::{AppError, AppResult};
+use aograph_bench::config::{AppConfig, SceneSource};
+use aograph_bench::error::{AppError, AppResult};
 
 /// What the viewer was started with.
 pub struct ViewerOptions {
@@ -378,7 +378,7 @@ fn window_screenshot(
     for px in bytes.chunks_exact_mut(4) {
         px[3] = 255;
     }
-    crate::images::write_rgba_png(path, texture.width(), texture.height(), &bytes)
+    aograph_bench::images::write_rgba_png(path, texture.width(), texture.height(), &bytes)
 }
 
 /// Frees the egui textures a frame no longer needs.

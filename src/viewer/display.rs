@@ -12,9 +12,9 @@ use std::sync::Arc;
 use aograph_ao_passes::PER_FRAME_OUTPUT;
 use aograph_graph::{ColorTarget, Extent, GpuContext, GraphBuilder, SizeClass, TextureDesc};
 
-use crate::error::{AppError, AppResult};
-use crate::frame_graph::FrameGraph;
-use crate::renderer::GraphExtension;
+use aograph_bench::error::{AppError, AppResult};
+use aograph_renderer::frame_graph::FrameGraph;
+use aograph_renderer::renderer::GraphExtension;
 
 /// Name of the imported texture the picture is drawn into.
 pub const VIEW_TEXTURE: &str = "viewer.view";

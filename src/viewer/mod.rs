@@ -21,39 +21,37 @@ mod session;
 
 use std::path::PathBuf;
 
-use aograph_ao_passes::TechniqueRegistry;
 use aograph_graph::Extent;
 
 pub use display::DisplayMode;
 pub use script::Script;
 pub use session::Session;
 
-use crate::commands::CommonArgs;
-use crate::error::{AppError, AppResult};
+use aograph_bench::AppConfig;
+use aograph_bench::error::{AppError, AppResult};
 
 /// What to do when there is no display.
 pub const NO_DISPLAY_FIX: &str = "an X11 display: set DISPLAY, or on a machine without one run \
      the viewer under a virtual display, `xvfb-run -a aograph view ...` (Debian/Ubuntu package \
      xvfb), e.g. with `--script` to take screenshots";
 
-/// `aograph view`'s arguments.
+/// What the viewer opens: a run configuration (resolved by whoever starts it: the command
+/// line's flags over a config file), a window size, and a script to run.
 #[derive(Clone, Debug, Default)]
 pub struct ViewArgs {
-    pub common: CommonArgs,
+    /// The scene, technique, radius and views.
+    pub config: AppConfig,
+    /// The window's size in pixels, when one was asked for (`None`: the viewer's own).
+    pub size: Option<Extent>,
+    /// A script of actions and screenshots (`--script`).
     pub script: Option<PathBuf>,
 }
 
 /// Opens the viewer and runs it until the window closes or the script quits.
 pub fn view(args: &ViewArgs) -> AppResult<()> {
-    let registry = TechniqueRegistry::with_builtins();
-    let config = args.common.resolve(&registry)?;
+    let config = args.config.clone();
     let script = args.script.as_deref().map(Script::load).transpose()?;
-    // A size is fixed only when asked for; the config's default size is not a request.
-    let size = match (args.common.width, args.common.height) {
-        (Some(w), Some(h)) => Some(Extent::new(w, h)),
-        (None, None) => None,
-        _ => Some(Extent::new(config.width, config.height)),
-    };
+    let size = args.size;
     if std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
         return Err(AppError::InvalidArgument {
             name: "display".into(),

@@ -297,8 +297,8 @@ fn ceilings(
     surfaces: &SurfaceBuffer,
     reference: &[f32],
 ) -> Result<CeilingSummary, String> {
-    let settings = crate::ReferenceSettings::new(job.radius, CEILING_RAYS);
-    let c = crate::frame_reference::trace_ceilings(
+    let settings = aograph_renderer::ReferenceSettings::new(job.radius, CEILING_RAYS);
+    let c = aograph_renderer::frame_reference::trace_ceilings(
         &job.scene,
         &job.camera,
         job.time,
@@ -309,13 +309,13 @@ fn ceilings(
     // Sky pixels (no surface) are left out of the scores, as the bench leaves them out.
     let depth: Vec<f32> = surfaces.valid.iter().map(|&v| v as u32 as f32).collect();
     let score = |image: &[f32]| {
-        crate::metrics::compare(
+        aograph_bench::metrics::compare(
             image,
             reference,
             &depth,
             job.width,
             job.height,
-            &crate::metrics::MetricOptions::default(),
+            &aograph_bench::metrics::MetricOptions::default(),
         )
         .map(|m| (m.mae, m.ssim))
         .map_err(|e| e.to_string())

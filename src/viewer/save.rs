@@ -13,8 +13,8 @@ use std::path::Path;
 use aograph_scene::Projection;
 
 use super::session::Session;
-use crate::config::SceneSource;
-use crate::error::AppResult;
+use aograph_bench::config::SceneSource;
+use aograph_bench::error::AppResult;
 
 impl Session {
     /// The settings as a config `aograph render --config` renders the same picture from.
@@ -24,7 +24,7 @@ impl Session {
 
     /// Writes [`Session::config_text`] to `path` (atomically).
     pub fn save_config(&self, path: &Path) -> AppResult<()> {
-        crate::images::write_atomic(path, self.config_text().as_bytes())
+        aograph_bench::images::write_atomic(path, self.config_text().as_bytes())
     }
 }
 

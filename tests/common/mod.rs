@@ -7,9 +7,11 @@ pub mod user_frame;
 
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, ReferenceSettings, Renderer};
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::{Extent, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::ReferenceSettings;
+use aograph_renderer::Renderer;
 use aograph_scene::Scene;
 
 /// One technique's result on one frame.
@@ -85,7 +87,7 @@ pub fn render_ao(scene: Scene, config: &AoConfig, size: Extent, frames: u32) -> 
 
 /// The reference for the run's last frame (binary mode), cached on disk.
 pub fn reference(run: &AoRun, radius: f32, rays: u32) -> Vec<f32> {
-    aograph::frame_reference(&run.renderer, &ReferenceSettings::new(radius, rays), false)
+    aograph_renderer::frame_reference(&run.renderer, &ReferenceSettings::new(radius, rays), false)
         .expect("reference traces")
         .accessibility
 }
@@ -93,8 +95,8 @@ pub fn reference(run: &AoRun, radius: f32, rays: u32) -> Vec<f32> {
 /// The world-space points and geometric normals of the run's last frame, from a g-buffer of
 /// their own (the technique's renderer writes only what the technique reads).
 pub fn surfaces(run: &AoRun) -> aograph_scene::SurfaceBuffer {
-    let view = aograph::FrameView::of(&run.renderer);
-    aograph::frame_reference::reference_surfaces(
+    let view = aograph_renderer::FrameView::of(&run.renderer);
+    aograph_renderer::frame_reference::reference_surfaces(
         run.renderer.gpu.clone(),
         run.renderer.shaders.clone(),
         &view,

@@ -5,7 +5,6 @@
 use aograph_frame::ReadsView;
 use std::sync::Arc;
 
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::blocks::temporal::{
     TemporalAccumulation, TemporalMode, add_temporal, temporal_channels,
 };
@@ -14,6 +13,8 @@ use aograph_ao_passes::{
 };
 use aograph_frame::GBufferChannels;
 use aograph_graph::{Extent, SizeClass, TextureDesc, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::Scene;
 
 /// A test technique: accessibility (frame index mod 2) per frame, through the shared temporal

@@ -3,13 +3,14 @@
 use std::sync::Arc;
 
 use crate::common::user_frame::{depth_buffer, upload};
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_embed::{
     AmbientOcclusion, AoInputs, DepthInput, EmbedError, NormalEncoding, NormalSpace, NormalsInput,
 };
 use aograph_frame::GBufferChannel;
 use aograph_graph::{Extent, GpuContext, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::{Camera, ReferenceNormals, Scene};
 use glam::{Mat4, Vec3};
 

@@ -4,11 +4,12 @@
 use std::sync::Arc;
 
 use crate::common::user_frame::{oct_encode, pack_rgb10a2, upload};
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_embed::{AoInputs, DepthInput, NormalEncoding, NormalSpace, NormalsInput};
 use aograph_frame::GBufferChannel;
 use aograph_graph::{GpuContext, test_gpu};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::{ReferenceNormals, Scene};
 use glam::{Mat4, Vec3};
 

@@ -62,9 +62,9 @@ pub(crate) fn mae_lost_with_normals_rebuilt_from_depth() {
             let config = common::ao_config(technique, radius, params);
             let own = own_frame(&scene, &config, None).unwrap();
             let reference = reference.get_or_insert_with(|| {
-                aograph::frame_reference(
+                aograph_renderer::frame_reference(
                     &own.renderer,
-                    &aograph::ReferenceSettings::new(radius, 256),
+                    &aograph_renderer::ReferenceSettings::new(radius, 256),
                     false,
                 )
                 .unwrap()

@@ -59,7 +59,7 @@ fn compare(scene: Scene, radius: f32, params: &str, size: Extent) -> Option<Comp
     };
     let ambient = Vec3::from(scene.ambient);
     let light_direction = scene.light.direction;
-    let outputs = aograph::FrameOutputs {
+    let outputs = aograph_renderer::FrameOutputs {
         linear_depth: true,
         surfaces: true,
         surface_normals: aograph_scene::ReferenceNormals::Shading,
@@ -292,11 +292,16 @@ fn band(
 /// pixel sees) of the frame `c` rendered.
 fn references(c: &Compared, rays: u32) -> [aograph_scene::RadianceImage; 2] {
     let r = &c.run.renderer;
-    let view = aograph::frame_reference::FrameView::of(r);
-    let s = aograph::ReferenceSettings::new(0.5, rays);
+    let view = aograph_renderer::frame_reference::FrameView::of(r);
+    let s = aograph_renderer::ReferenceSettings::new(0.5, rays);
     [
-        aograph::frame_reference::radiance_reference(r.gpu.clone(), r.shaders.clone(), &view, &s),
-        aograph::frame_reference::radiance_seen_ceiling(
+        aograph_renderer::frame_reference::radiance_reference(
+            r.gpu.clone(),
+            r.shaders.clone(),
+            &view,
+            &s,
+        ),
+        aograph_renderer::frame_reference::radiance_seen_ceiling(
             r.gpu.clone(),
             r.shaders.clone(),
             &view,

@@ -5,10 +5,11 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::time::Instant;
 
-use aograph::{FrameOutputs, Renderer};
 use aograph_ao_passes::{AoConfig, IntermediateFormat, TechniqueRegistry};
 use aograph_frame::DepthFormat;
 use aograph_graph::{Extent, GpuContext};
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::Renderer;
 use aograph_scene::{Camera, Scene};
 
 use super::*;

@@ -206,11 +206,11 @@ fn cornell_box_bounce_under_the_sky_has_the_references_colour() {
         return;
     };
     assert_valid(&run, "ssdo under the sky");
-    let truth = aograph::frame_reference::radiance_reference(
+    let truth = aograph_renderer::frame_reference::radiance_reference(
         run.renderer.gpu.clone(),
         run.renderer.shaders.clone(),
-        &aograph::frame_reference::FrameView::of(&run.renderer),
-        &aograph::ReferenceSettings::new(0.5, 256),
+        &aograph_renderer::frame_reference::FrameView::of(&run.renderer),
+        &aograph_renderer::ReferenceSettings::new(0.5, 256),
     )
     .expect("radiance reference traces");
     let s = common::surfaces(&run);

@@ -23,7 +23,7 @@ fn median(v: &[f64]) -> f64 {
 }
 
 impl Times {
-    fn record(&mut self, r: &mut aograph::Renderer, technique: &str) {
+    fn record(&mut self, r: &mut aograph_renderer::Renderer, technique: &str) {
         let t = r.timings().unwrap();
         let mine: Vec<_> = t
             .passes

@@ -4,10 +4,11 @@
 use std::sync::Arc;
 
 use crate::common::plane_at;
-use aograph::{FrameOutputs, build_frame_graph};
 use aograph_ao_passes::TechniqueRegistry;
 use aograph_frame::GBufferChannel;
 use aograph_graph::Extent;
+use aograph_renderer::FrameOutputs;
+use aograph_renderer::build_frame_graph;
 use aograph_scene::procedural_scene;
 
 use super::*;

@@ -1,10 +1,10 @@
 //! When `tssao`'s history restarts (camera cuts, resizes), the render command on `dynamic`, the
 //! example config, and the temporal block's averaging.
 
-use aograph::Renderer;
 use aograph_ao_passes::TechniqueRegistry;
 use aograph_ao_passes::blocks::temporal::TemporalMode;
 use aograph_graph::{Extent, test_gpu};
+use aograph_renderer::Renderer;
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::{Mat4, Vec3};
 
@@ -181,7 +181,7 @@ fn render_command_writes_every_frame_of_the_dynamic_scene() {
 #[test]
 fn example_config_parses_with_paper_defaults() {
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/tssao.toml"));
-    let config = aograph::AppConfig::load(path, &TechniqueRegistry::with_builtins())
+    let config = aograph_bench::AppConfig::load(path, &TechniqueRegistry::with_builtins())
         .expect("configs/tssao.toml is valid");
     assert_eq!(config.ao.technique, "tssao");
     assert_eq!(config.frames, 32);

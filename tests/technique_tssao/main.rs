@@ -18,9 +18,11 @@ mod history;
 mod moving;
 mod still;
 
-use aograph::{PassOwner, ReferenceSettings, Renderer};
 use aograph_ao_passes::AoConfig;
 use aograph_graph::{Extent, PassTimings};
+use aograph_renderer::PassOwner;
+use aograph_renderer::ReferenceSettings;
+use aograph_renderer::Renderer;
 use aograph_scene::Scene;
 
 const RADIUS: f32 = 1.0;
@@ -37,7 +39,7 @@ fn tssao(params: &str) -> AoConfig {
 }
 
 fn reference(r: &Renderer) -> Vec<f32> {
-    aograph::frame_reference(r, &ReferenceSettings::new(RADIUS, RAYS), false)
+    aograph_renderer::frame_reference(r, &ReferenceSettings::new(RADIUS, RAYS), false)
         .expect("reference traces")
         .accessibility
 }

@@ -1,8 +1,8 @@
 //! `tssao` on `dynamic`: no stale values around moving objects, and pixels a moving object
 //! left return to the reference.
 
-use aograph::ReferenceSettings;
 use aograph_graph::Extent;
+use aograph_renderer::ReferenceSettings;
 use aograph_scene::{Camera, Scene, procedural_scene};
 use glam::Vec3;
 
@@ -212,10 +212,13 @@ fn leaving_errors(params: &str) -> Option<Vec<(f64, usize)>> {
             if !RETURN_EVALS.contains(&f) {
                 continue;
             }
-            let reference =
-                aograph::frame_reference(&r, &ReferenceSettings::new(RADIUS, RETURN_RAYS), false)
-                    .expect("reference traces")
-                    .accessibility;
+            let reference = aograph_renderer::frame_reference(
+                &r,
+                &ReferenceSettings::new(RADIUS, RETURN_RAYS),
+                false,
+            )
+            .expect("reference traces")
+            .accessibility;
             for (k, (sum, n)) in (1..=RETURN_MAX_AGE).zip(per_age.iter_mut()) {
                 for i in 0..a.len() {
                     if d[i] > 0.0 && cover[f - k][i] && (f - k + 1..=f).all(|j| !cover[j][i]) {

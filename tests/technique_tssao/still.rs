@@ -175,10 +175,10 @@ fn flicker(
         r.render_with_camera(0.0, c).unwrap();
         let (a, d) = (ao(&r), depth(&r));
         if let (true, Some((pa, pd, pc))) = (f > warmup, &prev) {
-            let s = aograph::frame_reference::reference_surfaces(
+            let s = aograph_renderer::frame_reference::reference_surfaces(
                 r.gpu.clone(),
                 r.shaders.clone(),
-                &aograph::FrameView::of(&r),
+                &aograph_renderer::FrameView::of(&r),
                 aograph_scene::ReferenceNormals::Geometric,
             )
             .unwrap()

@@ -35,8 +35,6 @@ pub use config::{AppConfig, RadiusSetting, SceneSource};
 pub use error::{AppError, AppResult};
 pub use prepared_scene::PreparedScene;
 pub use shader_mount::shader_mount;
-// The renderer's modules, under the paths this crate's modules use.
-pub use aograph_renderer::{frame_graph, frame_reference, pass_owner, renderer};
 
 /// Loads a scene by procedural name or glTF path.
 pub fn load_scene(source: &SceneSource) -> AppResult<aograph_scene::Scene> {

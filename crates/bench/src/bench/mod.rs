@@ -46,10 +46,10 @@ pub use sweep::{ParamSet, Sweep, plan_param_sets};
 use crate::camera_spec::{CameraSpec, NamedView};
 use crate::config::{RadiusSetting, SceneSource};
 use crate::error::{AppError, AppResult};
-use crate::frame_graph::FrameOutputs;
 use crate::images::{prepare_output_dir, write_atomic};
 use crate::prepared_scene::PreparedScene;
-use crate::renderer::Renderer;
+use aograph_renderer::frame_graph::FrameOutputs;
+use aograph_renderer::renderer::Renderer;
 use aograph_scene::views::SceneView;
 
 /// What to run.

@@ -101,7 +101,7 @@ pub fn measure_peaks(gpu: &Arc<GpuContext>) -> AppResult<DevicePeaks> {
     b.export(copied);
     let plan = Arc::new(compile(b.build(), &shaders, CompileOptions::default())?);
     let mut exec = Executor::with_shaders(gpu.clone(), shaders);
-    exec.set_timing(crate::renderer::timing_mode(gpu)?)?;
+    exec.set_timing(aograph_renderer::renderer::timing_mode(gpu)?)?;
     let texture = |format, usage| {
         gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("peak input"),

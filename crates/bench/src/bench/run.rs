@@ -29,16 +29,16 @@ pub use super::stats::PassTime;
 use super::stats::Spread;
 use super::sweep::ParamSet;
 use crate::error::{AppError, AppResult};
-use crate::frame_graph::FrameOutputs;
-use crate::frame_reference::{
-    FrameView, ReferenceSettings, radiance_reference, reference_surfaces, trace_surfaces,
-};
 use crate::metrics::{
     FlickerMeter, MetricOptions, Metrics, RadianceScores, compare, radiance_scores,
 };
-use crate::pass_owner::{PassOwner, PassOwners};
 use crate::prepared_scene::PreparedScene;
-use crate::renderer::Renderer;
+use aograph_renderer::frame_graph::FrameOutputs;
+use aograph_renderer::frame_reference::{
+    FrameView, ReferenceSettings, radiance_reference, reference_surfaces, trace_surfaces,
+};
+use aograph_renderer::pass_owner::{PassOwner, PassOwners};
+use aograph_renderer::renderer::Renderer;
 
 /// The run-wide settings.
 #[derive(Clone, Debug, PartialEq)]

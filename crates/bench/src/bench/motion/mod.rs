@@ -51,13 +51,13 @@ use super::run::{BenchContext, BenchSettings, FrameTimeSamples, ao_config, check
 use super::sweep::ParamSet;
 use super::{BenchPlan, bench_meta, file_safe, images, progress_bar};
 use crate::error::{AppError, AppResult};
-use crate::frame_graph::FrameOutputs;
-use crate::frame_reference::trace_surfaces;
 use crate::images::prepare_output_dir;
 use crate::metrics::compare;
 use crate::prepared_scene::PreparedScene;
-use crate::renderer::Renderer;
 use aograph_frame::GBufferChannel;
+use aograph_renderer::frame_graph::FrameOutputs;
+use aograph_renderer::frame_reference::trace_surfaces;
+use aograph_renderer::renderer::Renderer;
 
 /// `orbit`: degrees per second about the target's vertical axis (1 degree a frame at 30 fps).
 pub const ORBIT_DEGREES_PER_SECOND: f32 = 30.0;
@@ -198,7 +198,7 @@ pub fn motion_frames(
         },
         extent,
     )?;
-    let reference = crate::frame_reference::ReferenceSettings {
+    let reference = aograph_renderer::frame_reference::ReferenceSettings {
         rays: m.rays,
         ..s.reference(prepared.radius.get())
     };
