@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use aograph::commands::scene_info_text;
-use aograph_bench::SceneSource;
+use aograph_app_config::SceneSource;
 use aograph_scene::{
     CpuGBuffer, ReferenceNormals, ReferenceParams, SceneRays, TriangleBvh, load_scene,
     trace_reference,

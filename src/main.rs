@@ -172,7 +172,7 @@ impl Common {
 fn view(
     common: commands::CommonArgs,
     script: Option<std::path::PathBuf>,
-) -> aograph_bench::AppResult<()> {
+) -> aograph_app_config::AppResult<()> {
     let config = common.resolve(&aograph_ao_passes::TechniqueRegistry::with_builtins())?;
     // A size is fixed only when asked for; the config's default size is not a request.
     let size = match (common.width, common.height) {
@@ -205,7 +205,7 @@ fn main() -> ExitCode {
         #[cfg(feature = "viewer")]
         Command::View { common, script } => view(common.into_args(), script),
         #[cfg(not(feature = "viewer"))]
-        Command::View { .. } => Err(aograph_bench::AppError::InvalidArgument {
+        Command::View { .. } => Err(aograph_app_config::AppError::InvalidArgument {
             name: "view".into(),
             value: "this aograph was built without the viewer".into(),
             allowed: "a build with the `viewer` feature (on by default: cargo build, or \
@@ -243,7 +243,7 @@ fn main() -> ExitCode {
             action: SceneAction::Info { scene, scene_flag },
         } => match scene.or(scene_flag) {
             Some(scene) => commands::scene_info(&scene),
-            None => Err(aograph_bench::AppError::InvalidArgument {
+            None => Err(aograph_app_config::AppError::InvalidArgument {
                 name: "scene info".into(),
                 value: "no scene".into(),
                 allowed: "a scene name or file, as an argument or --scene".into(),

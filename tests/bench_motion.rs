@@ -4,14 +4,12 @@
 
 use aograph::shader_library;
 use aograph_ao_passes::TechniqueRegistry;
-use aograph_bench::bench::motion::{
-    MotionKind, MotionSettings, motion_frames, run_motion_technique,
-};
-use aograph_bench::bench::run::scene_reference;
-use aograph_bench::bench::{BenchContext, BenchSettings, ParamSet};
-use aograph_bench::config::RadiusSetting;
+use aograph_app_config::config::RadiusSetting;
+use aograph_app_config::prepared_scene::PreparedScene;
 use aograph_bench::metrics::MetricOptions;
-use aograph_bench::prepared_scene::PreparedScene;
+use aograph_bench::motion::{MotionKind, MotionSettings, motion_frames, run_motion_technique};
+use aograph_bench::run::scene_reference;
+use aograph_bench::{BenchContext, BenchSettings, ParamSet};
 use aograph_scene::views::SceneView;
 use aograph_scene::{ReferenceMode, ReferenceNormals};
 
@@ -270,13 +268,10 @@ fn bench_motion_writes_its_files_and_refuses_bad_flags_by_name() {
     let csv = std::fs::read_to_string(dir.join("motion.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 3, "{csv}");
-    assert_eq!(
-        lines[0],
-        aograph_bench::bench::motion::MotionRecord::CSV_HEADER
-    );
+    assert_eq!(lines[0], aograph_bench::motion::MotionRecord::CSV_HEADER);
     let frames = std::fs::read_to_string(dir.join("motion_frames.csv")).unwrap();
     assert_eq!(frames.lines().count(), 1 + 2 * 3, "{frames}");
-    let file = aograph_bench::bench::motion::read_motion(&dir.join("motion.json")).unwrap();
+    let file = aograph_bench::motion::read_motion(&dir.join("motion.json")).unwrap();
     assert!(
         file.meta.command.starts_with("aograph bench --motion"),
         "{}",

@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use aograph_ao_passes::TechniqueRegistry;
-use aograph_bench::bench::ResultsFile;
-use aograph_bench::bench::report::CSV_HEADER;
+use aograph_bench::ResultsFile;
 use aograph_bench::metrics::{MetricOptions, compare};
+use aograph_bench::report::CSV_HEADER;
 use aograph_graph::Extent;
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -322,11 +322,11 @@ fn tune_prints_a_config_that_loads_and_refuses_an_impossible_budget() {
         "--quiet",
     ];
     let text = aograph(&[&["tune", "--budget-ms", "100000", "--out", f], &small[..]].concat());
-    let config = aograph_bench::AppConfig::parse(&text, "tune output", &registry)
+    let config = aograph_app_config::AppConfig::parse(&text, "tune output", &registry)
         .expect("the printed config loads");
     assert_eq!(
         config.scene,
-        aograph_bench::SceneSource::Procedural("sphere-on-plane".into())
+        aograph_app_config::SceneSource::Procedural("sphere-on-plane".into())
     );
     assert_eq!((config.width, config.height), (48, 48));
     assert_eq!(std::fs::read_to_string(&file).unwrap(), text);
@@ -423,8 +423,8 @@ fn bench_runs_each_view_as_a_row_with_its_radius_and_reach() {
     let scene_rule = aograph_scene::suggested_radius(&room).radius;
     for r in &json.runs {
         let view = aograph_scene::views::find_view(&room, &r.view).unwrap();
-        let viewed = aograph_bench::camera_spec::apply_view(&room, &view);
-        let (auto, note) = aograph_bench::prepared_scene::resolve_radius(
+        let viewed = aograph_app_config::camera_spec::apply_view(&room, &view);
+        let (auto, note) = aograph_app_config::prepared_scene::resolve_radius(
             &viewed,
             aograph_ao_passes::RadiusSetting::Auto,
         );

@@ -245,7 +245,7 @@ fn the_first_image_is_timed_warm_and_named_by_the_scene_file() {
         bench.to_str().unwrap(),
     ]);
     assert!(ok, "{err}");
-    let results: aograph_bench::bench::ResultsFile =
+    let results: aograph_bench::ResultsFile =
         serde_json::from_str(&std::fs::read_to_string(bench.join("results.json")).unwrap())
             .unwrap();
     let run = &results.runs[0];

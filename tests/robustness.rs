@@ -12,7 +12,7 @@ use std::sync::Arc;
 use std::collections::BTreeMap;
 
 use aograph_ao_passes::{AoConfig, TechniqueRegistry};
-use aograph_bench::AppConfig;
+use aograph_app_config::AppConfig;
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, test_gpu};
 use aograph_renderer::FrameOutputs;
 use aograph_renderer::Renderer;
@@ -64,8 +64,8 @@ fn parse_and_build(
     };
     let ao = AoConfig {
         radius: match config.ao.radius {
-            aograph_bench::RadiusSetting::Auto => {
-                aograph_bench::RadiusSetting::Units(aograph_ao_passes::Radius::UNIT)
+            aograph_app_config::RadiusSetting::Auto => {
+                aograph_app_config::RadiusSetting::Units(aograph_ao_passes::Radius::UNIT)
             }
             units => units,
         },

@@ -212,12 +212,13 @@ fn mae_against_the_reference_is_lower_than_ssao_with_16_samples() {
 fn example_config_parses_with_the_papers_values() {
     let registry = TechniqueRegistry::with_builtins();
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/mssao.toml"));
-    let config = aograph_bench::AppConfig::load(path, &registry).unwrap_or_else(|e| panic!("{e}"));
+    let config =
+        aograph_app_config::AppConfig::load(path, &registry).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         (config.ao.technique.as_str(), config.ao.radius),
         (
             "mssao",
-            aograph_bench::RadiusSetting::parse("r", "2").unwrap()
+            aograph_app_config::RadiusSetting::parse("r", "2").unwrap()
         )
     );
     let table = config.ao.params_for("mssao");

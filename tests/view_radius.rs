@@ -38,8 +38,8 @@ fn outside_views_keep_the_scene_radius_within_2x() {
             );
             let outside = view.name.starts_with("outside");
             // `auto` is exactly the scene rule wherever the view is not an interior.
-            let viewed = aograph_bench::camera_spec::apply_view(scene, &view);
-            let (auto, _) = aograph_bench::prepared_scene::resolve_radius(
+            let viewed = aograph_app_config::camera_spec::apply_view(scene, &view);
+            let (auto, _) = aograph_app_config::prepared_scene::resolve_radius(
                 &viewed,
                 aograph_ao_passes::RadiusSetting::Auto,
             );
@@ -85,9 +85,9 @@ fn room_interior_views_get_a_radius_every_technique_can_measure() {
     let mut failures = Vec::new();
     for name in ["interior-1", "interior-2"] {
         let view = aograph_scene::views::find_view(&room, name).unwrap();
-        let viewed = aograph_bench::camera_spec::apply_view(&room, &view);
+        let viewed = aograph_app_config::camera_spec::apply_view(&room, &view);
         let (radius, note) =
-            aograph_bench::prepared_scene::resolve_radius(&viewed, RadiusSetting::Auto);
+            aograph_app_config::prepared_scene::resolve_radius(&viewed, RadiusSetting::Auto);
         assert!(note.contains("interior view"), "{name}: {note}");
         let r = radius.get();
         let mut reference = None;

@@ -8,14 +8,14 @@ use aograph_ao_passes::TechniqueRegistry;
 
 use super::gpu;
 use crate::shader_library;
-use aograph_bench::bench::motion::{MotionKind, MotionSettings, run_motion_bench};
-use aograph_bench::bench::{
+use aograph_app_config::camera_spec::CameraSpec;
+use aograph_app_config::config::{RadiusSetting, SceneSource, check_size};
+use aograph_app_config::error::{AppError, AppResult};
+use aograph_bench::metrics::MetricOptions;
+use aograph_bench::motion::{MotionKind, MotionSettings, run_motion_bench};
+use aograph_bench::{
     BenchContext, BenchPlan, BenchSettings, Sweep, ViewChoice, plan_param_sets, scaling,
 };
-use aograph_bench::camera_spec::CameraSpec;
-use aograph_bench::config::{RadiusSetting, SceneSource, check_size};
-use aograph_bench::error::{AppError, AppResult};
-use aograph_bench::metrics::MetricOptions;
 
 /// Flags of `aograph bench`.
 #[derive(clap::Args, Clone, Debug)]
@@ -74,10 +74,10 @@ pub struct BenchArgs {
     #[arg(long)]
     pub convergence: Option<u32>,
     /// Frames per second of a --motion run (frame i is at time i / fps).
-    #[arg(long, default_value_t = aograph_bench::bench::motion::DEFAULT_FPS)]
+    #[arg(long, default_value_t = aograph_bench::motion::DEFAULT_FPS)]
     pub fps: f32,
     /// Reference rays per pixel of a --motion run (one reference per measured frame).
-    #[arg(long, default_value_t = aograph_bench::bench::motion::DEFAULT_MOTION_RAYS)]
+    #[arg(long, default_value_t = aograph_bench::motion::DEFAULT_MOTION_RAYS)]
     pub motion_rays: u32,
 }
 
@@ -203,11 +203,12 @@ fn settings(
             value: normals.into(),
             allowed: e,
         })?;
-    let mode = aograph_bench::config::parse_mode(mode).map_err(|e| AppError::InvalidArgument {
-        name: "--mode".into(),
-        value: mode.into(),
-        allowed: e,
-    })?;
+    let mode =
+        aograph_app_config::config::parse_mode(mode).map_err(|e| AppError::InvalidArgument {
+            name: "--mode".into(),
+            value: mode.into(),
+            allowed: e,
+        })?;
     check_size("--width", width)?;
     check_size("--height", height)?;
     let radius = match radius {
@@ -362,7 +363,7 @@ pub(crate) fn view_choice(
     registry: &TechniqueRegistry,
 ) -> AppResult<ViewChoice> {
     let config_views = match config {
-        Some(p) => aograph_bench::config::AppConfig::load(p, registry)?.views,
+        Some(p) => aograph_app_config::config::AppConfig::load(p, registry)?.views,
         None => Vec::new(),
     };
     let names: Vec<String> = views
@@ -429,7 +430,7 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let peaks = if args.scaling || motion.is_some() {
         None
     } else {
-        Some(aograph_bench::bench::roofline::measure_peaks(&gpu)?)
+        Some(aograph_bench::roofline::measure_peaks(&gpu)?)
     };
     let ctx = BenchContext {
         gpu,
@@ -440,14 +441,8 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
     let started = std::time::Instant::now();
     let out = &args.out;
     if args.scaling {
-        let r = aograph_bench::bench::run_scaling(
-            &ctx,
-            &plan,
-            &sides,
-            &radii,
-            Some(out),
-            !args.run.quiet,
-        )?;
+        let r =
+            aograph_bench::run_scaling(&ctx, &plan, &sides, &radii, Some(out), !args.run.quiet)?;
         println!(
             "timed {} points of {} parameter set(s) on {} in {:.1} s ({})",
             r.points.len(),
@@ -492,7 +487,7 @@ pub fn bench(args: &BenchArgs) -> AppResult<()> {
         }
         return Ok(());
     }
-    let records = aograph_bench::bench::run_bench(&ctx, &plan, Some(out), !args.run.quiet)?;
+    let records = aograph_bench::run_bench(&ctx, &plan, Some(out), !args.run.quiet)?;
     println!(
         "ran {} run(s) ({} scene(s) x {} parameter set(s)) on {} in {:.1} s{}",
         records.len(),

@@ -7,12 +7,12 @@
 use std::fmt::Write as _;
 
 use aograph_ao_passes::TechniqueRegistry;
-use aograph_bench::bench::convergence::TABLE_FRAMES;
-use aograph_bench::bench::motion::MotionFile;
-use aograph_bench::bench::plot::short_scene;
-use aograph_bench::bench::report::{BenchMeta, ResultsFile};
+use aograph_bench::convergence::TABLE_FRAMES;
+use aograph_bench::motion::MotionFile;
+use aograph_bench::plot::short_scene;
+use aograph_bench::report::{BenchMeta, ResultsFile};
 
-use aograph_bench::error::AppResult;
+use aograph_app_config::error::AppResult;
 
 /// A table cell's text: pipes escaped, newlines as spaces.
 fn cell(text: &str) -> String {
@@ -256,7 +256,7 @@ pub(super) fn convergence_table(results: &ResultsFile, scene: Option<&str>) -> S
     s.push_str("\n|---|---|---|");
     s.push_str(&"---:|".repeat(frames.len()));
     s.push('\n');
-    let shown = |r: &&aograph_bench::bench::run::RunRecord| {
+    let shown = |r: &&aograph_bench::run::RunRecord| {
         !r.convergence.is_empty() && scene.is_none_or(|s| short_scene(&r.scene_view()) == s)
     };
     for r in results.runs.iter().filter(shown) {

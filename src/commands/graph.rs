@@ -8,7 +8,7 @@ use aograph_scene::gbuffer::GBufferStates;
 
 use super::{CommonArgs, gpu};
 use crate::shader_library;
-use aograph_bench::error::AppResult;
+use aograph_app_config::error::AppResult;
 use aograph_renderer::frame_graph::{FrameOutputs, build_frame_graph_with};
 
 pub fn graph(args: &CommonArgs, dot: bool) -> AppResult<()> {

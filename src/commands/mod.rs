@@ -27,9 +27,9 @@ pub use render::{RenderArgs, render};
 pub use scene_info::{scene_info, scene_info_text};
 pub use tune::{DEFAULT_SWEEP, TuneArgs, choose, config_text};
 
-use aograph_bench::camera_spec::CameraSpec;
-use aograph_bench::config::{AppConfig, RadiusSetting, SceneSource, check_size};
-use aograph_bench::error::AppResult;
+use aograph_app_config::camera_spec::CameraSpec;
+use aograph_app_config::config::{AppConfig, RadiusSetting, SceneSource, check_size};
+use aograph_app_config::error::AppResult;
 
 /// Flags shared by several commands; each overrides the config file.
 #[derive(Clone, Debug, Default)]
@@ -118,7 +118,8 @@ pub fn techniques(markdown: bool) -> AppResult<()> {
 /// `aograph scene export SCENE FILE`: a procedural scene, or a glTF file's t = 0 pose (skinned
 /// meshes baked in world space, animations dropped: see `aograph_scene::gltf_export`).
 pub fn scene_export(scene: &str, file: &std::path::Path) -> AppResult<()> {
-    let scene = aograph_bench::load_scene(&aograph_bench::config::SceneSource::parse(scene))?;
+    let scene =
+        aograph_app_config::load_scene(&aograph_app_config::config::SceneSource::parse(scene))?;
     aograph_scene::export_glb(&scene, file)?;
     println!("wrote {}", file.display());
     Ok(())

@@ -10,7 +10,7 @@ use aograph_graph::Extent;
 
 use super::{CommonArgs, gpu};
 use crate::shader_library;
-use aograph_bench::error::AppResult;
+use aograph_app_config::error::AppResult;
 use aograph_bench::images::{prepare_output_dir, write_rgb_png};
 use aograph_renderer::frame_graph::FrameOutputs;
 use aograph_renderer::frame_reference::{ReferenceSettings, frame_reference};

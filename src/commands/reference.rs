@@ -11,8 +11,8 @@ use aograph_scene::ReferenceNormals;
 
 use super::{CommonArgs, gpu};
 use crate::shader_library;
-use aograph_bench::config::parse_mode;
-use aograph_bench::error::{AppError, AppResult};
+use aograph_app_config::config::parse_mode;
+use aograph_app_config::error::{AppError, AppResult};
 use aograph_bench::images::{prepare_output_dir, write_gray_png};
 use aograph_renderer::frame_reference::{
     FrameView, ReferenceSettings, reference_surfaces, trace_surfaces,

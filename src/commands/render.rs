@@ -9,7 +9,7 @@ use aograph_graph::Extent;
 
 use super::{CommonArgs, gpu};
 use crate::shader_library;
-use aograph_bench::error::AppResult;
+use aograph_app_config::error::AppResult;
 use aograph_bench::images::{prepare_output_dir, write_atomic, write_gray_png, write_rgba_png};
 use aograph_renderer::frame_graph::FrameOutputs;
 use aograph_renderer::renderer::Renderer;
@@ -27,7 +27,7 @@ pub fn render(args: &RenderArgs) -> AppResult<()> {
     let config = args.common.resolve(&registry)?;
     let frames = args.frames.unwrap_or(config.frames);
     if frames == 0 {
-        return Err(aograph_bench::AppError::InvalidArgument {
+        return Err(aograph_app_config::AppError::InvalidArgument {
             name: "--frames".into(),
             value: "0".into(),
             allowed: "1 or more".into(),

@@ -10,9 +10,9 @@ use aograph_scene::views::scene_views;
 use aograph_scene::{Projection, Scene, import_gltf, procedural_scene, suggested_radius};
 use glam::{Mat3, Vec3};
 
-use aograph_bench::config::SceneSource;
-use aograph_bench::error::AppResult;
-use aograph_bench::prepared_scene::short;
+use aograph_app_config::config::SceneSource;
+use aograph_app_config::error::AppResult;
+use aograph_app_config::prepared_scene::short;
 
 /// How an instance's linear part transforms: (non-uniform scale or shear, mirrored).
 fn transform_kind(m: Mat3) -> (bool, bool) {
@@ -177,8 +177,9 @@ pub fn scene_info_text(source: &SceneSource) -> AppResult<String> {
     for v in scene_views(&scene) {
         let _ = writeln!(s, "  {}: {}", v.name, camera_line(&v.camera));
         // The R `radius = "auto"` gives this view (the view rule where it is an interior).
-        let viewed = aograph_bench::camera_spec::apply_view(&scene, &v);
-        let (r, note) = aograph_bench::prepared_scene::resolve_radius(&viewed, RadiusSetting::Auto);
+        let viewed = aograph_app_config::camera_spec::apply_view(&scene, &v);
+        let (r, note) =
+            aograph_app_config::prepared_scene::resolve_radius(&viewed, RadiusSetting::Auto);
         let _ = writeln!(s, "    R = {} ({note})", short(r.get()));
     }
     match &gltf {

@@ -12,11 +12,11 @@ use aograph_ao_passes::TechniqueRegistry;
 use super::bench::{RunFlags, scenes, techniques};
 use super::gpu;
 use crate::shader_library;
-use aograph_bench::bench::{BenchContext, BenchPlan, RunRecord, Sweep, plan_param_sets, run_bench};
-use aograph_bench::config::SceneSource;
-use aograph_bench::error::{AppError, AppResult};
+use aograph_app_config::config::SceneSource;
+use aograph_app_config::error::{AppError, AppResult};
 use aograph_bench::images::write_atomic;
 use aograph_bench::metrics::nonfinite::format as num;
+use aograph_bench::{BenchContext, BenchPlan, RunRecord, Sweep, plan_param_sets, run_bench};
 
 /// The built-in sweep used when `--sweep` is not given.
 pub const DEFAULT_SWEEP: &str = include_str!("../../configs/sweeps/quick.toml");

@@ -17,11 +17,11 @@ use super::bench::{scenes, view_choice};
 use super::gpu;
 use super::tune::TuneArgs;
 use crate::shader_library;
-use aograph_bench::bench::search::{SearchSpaces, search};
-use aograph_bench::bench::{BenchContext, BenchPlan, ParamSet, run_bench};
-use aograph_bench::config::SceneSource;
-use aograph_bench::error::{AppError, AppResult};
+use aograph_app_config::config::SceneSource;
+use aograph_app_config::error::{AppError, AppResult};
 use aograph_bench::images::write_atomic;
+use aograph_bench::search::{SearchSpaces, search};
+use aograph_bench::{BenchContext, BenchPlan, ParamSet, run_bench};
 
 /// The built-in search spaces used when `--space` is not given.
 pub const DEFAULT_SPACES: &str = include_str!("../../configs/tune/search.toml");

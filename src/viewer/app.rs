@@ -20,8 +20,8 @@ use super::camera_control::{CameraMode, MoveKeys};
 use super::panel::{PanelState, side_panel};
 use super::script::{Script, Step, stats_line};
 use super::session::Session;
-use aograph_bench::config::{AppConfig, SceneSource};
-use aograph_bench::error::{AppError, AppResult};
+use aograph_app_config::config::{AppConfig, SceneSource};
+use aograph_app_config::error::{AppError, AppResult};
 
 /// What the viewer was started with.
 pub struct ViewerOptions {

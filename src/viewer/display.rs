@@ -12,7 +12,7 @@ use std::sync::Arc;
 use aograph_ao_passes::PER_FRAME_OUTPUT;
 use aograph_graph::{ColorTarget, Extent, GpuContext, GraphBuilder, SizeClass, TextureDesc};
 
-use aograph_bench::error::{AppError, AppResult};
+use aograph_app_config::error::{AppError, AppResult};
 use aograph_renderer::frame_graph::FrameGraph;
 use aograph_renderer::renderer::GraphExtension;
 

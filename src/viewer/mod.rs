@@ -27,8 +27,8 @@ pub use display::DisplayMode;
 pub use script::Script;
 pub use session::Session;
 
-use aograph_bench::AppConfig;
-use aograph_bench::error::{AppError, AppResult};
+use aograph_app_config::AppConfig;
+use aograph_app_config::error::{AppError, AppResult};
 
 /// What to do when there is no display.
 pub const NO_DISPLAY_FIX: &str = "an X11 display: set DISPLAY, or on a machine without one run \

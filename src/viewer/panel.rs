@@ -13,7 +13,7 @@ use aograph_graph::texture_bytes;
 use super::camera_control::CameraMode;
 use super::display::DisplayMode;
 use super::session::Session;
-use aograph_bench::config::{RadiusSetting, SceneSource};
+use aograph_app_config::config::{RadiusSetting, SceneSource};
 
 /// What the panel keeps between frames.
 #[derive(Default)]
@@ -34,7 +34,7 @@ impl PanelState {
         }
     }
     /// Shows the outcome of an action.
-    pub fn report(&mut self, result: aograph_bench::AppResult<String>) {
+    pub fn report(&mut self, result: aograph_app_config::AppResult<String>) {
         self.message = Some(match result {
             Ok(m) => (false, m),
             Err(e) => (true, e.to_string()),

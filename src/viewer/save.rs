@@ -13,8 +13,8 @@ use std::path::Path;
 use aograph_scene::Projection;
 
 use super::session::Session;
-use aograph_bench::config::SceneSource;
-use aograph_bench::error::AppResult;
+use aograph_app_config::config::SceneSource;
+use aograph_app_config::error::AppResult;
 
 impl Session {
     /// The settings as a config `aograph render --config` renders the same picture from.

@@ -35,8 +35,8 @@ use std::path::{Path, PathBuf};
 use super::camera_control::MoveKeys;
 use super::display::DisplayMode;
 use super::session::Session;
-use aograph_bench::config::{RadiusSetting, SceneSource};
-use aograph_bench::error::{AppError, AppResult};
+use aograph_app_config::config::{RadiusSetting, SceneSource};
+use aograph_app_config::error::{AppError, AppResult};
 
 /// One action.
 #[derive(Clone, Debug, PartialEq)]

@@ -22,10 +22,10 @@ use super::display::{
 };
 use super::reference_worker::{GpuReferenceDevice, ReferenceJob, ReferenceWorker};
 use crate::shader_library;
-use aograph_bench::camera_spec::CameraSpec;
-use aograph_bench::config::{AppConfig, RadiusSetting, SceneSource};
-use aograph_bench::error::{AppError, AppResult};
-use aograph_bench::prepared_scene::resolve_radius;
+use aograph_app_config::camera_spec::CameraSpec;
+use aograph_app_config::config::{AppConfig, RadiusSetting, SceneSource};
+use aograph_app_config::error::{AppError, AppResult};
+use aograph_app_config::prepared_scene::resolve_radius;
 use aograph_renderer::frame_graph::FrameOutputs;
 use aograph_renderer::renderer::Renderer;
 
@@ -120,7 +120,7 @@ impl Session {
     /// A session for `config` (scene, technique, parameters, R, camera) rendering at `size`.
     pub fn new(gpu: Arc<GpuContext>, config: &AppConfig, size: Extent) -> AppResult<Self> {
         let registry = TechniqueRegistry::with_builtins();
-        let scene = Arc::new(aograph_bench::load_scene(&config.scene)?);
+        let scene = Arc::new(aograph_app_config::load_scene(&config.scene)?);
         let (radius, radius_note) = resolve_radius(&scene, config.ao.radius);
         let ao = AoConfig {
             radius: RadiusSetting::Units(radius),
@@ -289,7 +289,7 @@ impl Session {
     /// Opens another scene; on an error (a missing or malformed file) the session keeps the
     /// scene it had.
     pub fn load_scene(&mut self, source: SceneSource) -> AppResult<()> {
-        let scene = Arc::new(aograph_bench::load_scene(&source)?);
+        let scene = Arc::new(aograph_app_config::load_scene(&source)?);
         let (radius, note) = resolve_radius(&scene, self.settings.radius);
         let ao = AoConfig {
             radius: RadiusSetting::Units(radius),
@@ -312,8 +312,8 @@ impl Session {
         if size == self.textures.size {
             return Ok(());
         }
-        aograph_bench::config::check_size("width", size.width)?;
-        aograph_bench::config::check_size("height", size.height)?;
+        aograph_app_config::config::check_size("width", size.width)?;
+        aograph_app_config::config::check_size("height", size.height)?;
         self.renderer.resize(size)?;
         self.textures = DisplayTextures::new(&self.gpu, size);
         self.renderer

@@ -181,7 +181,7 @@ fn render_command_writes_every_frame_of_the_dynamic_scene() {
 #[test]
 fn example_config_parses_with_paper_defaults() {
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/tssao.toml"));
-    let config = aograph_bench::AppConfig::load(path, &TechniqueRegistry::with_builtins())
+    let config = aograph_app_config::AppConfig::load(path, &TechniqueRegistry::with_builtins())
         .expect("configs/tssao.toml is valid");
     assert_eq!(config.ao.technique, "tssao");
     assert_eq!(config.frames, 32);

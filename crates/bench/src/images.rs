@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::{AppError, AppResult};
+use aograph_app_config::error::{AppError, AppResult};
 
 /// Creates `dir` (and parents) and checks it is writable by writing a probe file.
 pub fn prepare_output_dir(dir: &Path) -> AppResult<()> {

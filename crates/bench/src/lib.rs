@@ -1,13 +1,26 @@
 //! aograph's measurement layer, what `aograph bench`, `tune`, `render` and the viewer share
-//! beyond the renderer: the run configuration (config files and flags: [`AppConfig`], named
-//! cameras, the radius R, scenes prepared for a command), the error metrics against the
-//! ray-traced reference ([`metrics`]: MAE, SSIM, edge bands, flicker, radiance), the bench
-//! (runs, sweeps, statistics, results.csv, report.md, Pareto plots, roofline, motion bench)
-//! and image output.
+//! beyond the renderer: the error metrics against the ray-traced reference ([`metrics`]: MAE,
+//! SSIM, edge bands, flicker, radiance), the bench (a [`study`] of runs, [`sweep`]s,
+//! [`stats`], results.csv, report.md, Pareto plots, [`roofline`], the [`motion`] bench) and
+//! image output.
 //!
 //! Which crate owns what: `aograph-renderer` renders a scene's frames and their reference;
-//! this crate configures runs of it and scores them; the `aograph` binary parses the command
-//! line and calls the commands. None of it needs a window (no winit or egui).
+//! `aograph-app-config` says which frames a command asks for (config files, cameras, R); this
+//! crate scores them; the `aograph` binary parses the command line and calls the commands.
+//! None of it needs a window (no winit or egui).
+//!
+//! The bench's pieces:
+//! - [`study`]: the plan of one invocation and its runs; [`run`]: one run (timing, metrics),
+//!   the per-scene reference; [`sweep`]: parameter grids per technique (TOML);
+//! - [`report`]: results.csv, results.json, report.md ([`results_csv`]: the CSV's columns);
+//!   [`plot`]: pareto.svg/png (a grid: the summary, then each scene and view);
+//!   [`run_images`]: AO | error | reference PNGs;
+//! - [`roofline_table`]: report.md's roofline section; [`size_table`]: its table by output
+//!   size (`--sizes`);
+//! - [`convergence`]: every frame since a reset scored (`--convergence N`), its CSV and plot;
+//! - [`scaling`]: times over resolutions and radii; [`search`]: the tune search;
+//! - [`stats`]: median/quartiles and the log-log fit; [`csv`]: the quoting every CSV file
+//!   uses; [`run_provenance`]: the command, commit and device of a run.
 //!
 //! ```
 //! use aograph_bench::metrics::ssim::{SsimParams, ssim};
@@ -21,25 +34,32 @@
 
 #![warn(missing_docs)]
 
-pub mod bench;
-pub mod camera_spec;
-pub mod config;
-pub mod error;
+pub mod convergence;
+pub mod csv;
 pub mod images;
 pub mod metrics;
-pub mod prepared_scene;
+pub mod motion;
+pub mod plot;
 pub mod reach;
+pub mod report;
+pub mod results_csv;
+pub mod roofline;
+pub mod roofline_table;
+pub mod run;
+pub mod run_images;
+pub mod run_provenance;
+pub mod scaling;
+pub mod search;
 mod shader_mount;
+pub mod size_table;
+pub mod stats;
+pub mod study;
+pub mod sweep;
 
-pub use config::{AppConfig, RadiusSetting, SceneSource};
-pub use error::{AppError, AppResult};
-pub use prepared_scene::PreparedScene;
+pub use report::{BenchMeta, ResultsFile};
+pub use run::{BenchContext, BenchSettings, RunRecord};
+pub use scaling::ScalingResults;
 pub use shader_mount::shader_mount;
-
-/// Loads a scene by procedural name or glTF path.
-pub fn load_scene(source: &SceneSource) -> AppResult<aograph_scene::Scene> {
-    Ok(match source {
-        SceneSource::Procedural(name) => aograph_scene::procedural_scene(name)?,
-        SceneSource::File(path) => aograph_scene::load_scene(path)?,
-    })
-}
+pub(crate) use study::file_safe;
+pub use study::{BenchPlan, ViewChoice, bench_meta, progress_bar, run_bench, run_scaling};
+pub use sweep::{ParamSet, Sweep, plan_param_sets};

@@ -9,8 +9,8 @@ use aograph_ao_passes::{AoConfig, TechniqueRegistry};
 use aograph_graph::Extent;
 use aograph_scene::{ProjectedRadius, Scene, projected_radius};
 
-use crate::error::AppResult;
-use crate::prepared_scene::short;
+use aograph_app_config::error::AppResult;
+use aograph_app_config::prepared_scene::short;
 
 /// R in pixels in a view and the technique's reach.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,7 +70,7 @@ pub fn radius_reach(
         &scene.camera_at(0.0),
         size.width,
         size.height,
-        crate::prepared_scene::resolve_radius(scene, ao.radius)
+        aograph_app_config::prepared_scene::resolve_radius(scene, ao.radius)
             .0
             .get(),
     ) else {

@@ -27,7 +27,7 @@ pub use flicker::FlickerMeter;
 pub use radiance::{RadianceScores, radiance_scores};
 pub use ssim::{SsimParams, SsimWindow, ssim};
 
-use crate::error::{AppError, AppResult};
+use aograph_app_config::error::{AppError, AppResult};
 
 /// Knobs of [`compare`]; the defaults are what `aograph bench` reports.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -23,16 +23,16 @@ use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, pass_costs,
 use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};
 
-use super::convergence::ConvergencePoint;
-use super::roofline::{DevicePeaks, PassRoofline, passes_under};
-pub use super::stats::PassTime;
-use super::stats::Spread;
-use super::sweep::ParamSet;
-use crate::error::{AppError, AppResult};
+use crate::convergence::ConvergencePoint;
 use crate::metrics::{
     FlickerMeter, MetricOptions, Metrics, RadianceScores, compare, radiance_scores,
 };
-use crate::prepared_scene::PreparedScene;
+use crate::roofline::{DevicePeaks, PassRoofline, passes_under};
+pub use crate::stats::PassTime;
+use crate::stats::Spread;
+use crate::sweep::ParamSet;
+use aograph_app_config::error::{AppError, AppResult};
+use aograph_app_config::prepared_scene::PreparedScene;
 use aograph_renderer::frame_graph::FrameOutputs;
 use aograph_renderer::frame_reference::{
     FrameView, ReferenceSettings, radiance_reference, reference_surfaces, trace_surfaces,

@@ -7,8 +7,8 @@
 
 use std::path::Path;
 
-use crate::error::AppResult;
 use crate::images::write_rgb_png;
+use aograph_app_config::error::AppResult;
 
 /// |error| at which the error map saturates.
 pub const ERROR_RANGE: f32 = 0.25;

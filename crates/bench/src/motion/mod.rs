@@ -46,14 +46,14 @@ use std::path::Path;
 use aograph_scene::{Camera, Scene, TriangleBvh};
 use glam::{Quat, Vec3};
 
-use super::report::BenchMeta;
-use super::run::{BenchContext, BenchSettings, FrameTimeSamples, ao_config, check_gpu_errors};
-use super::sweep::ParamSet;
-use super::{BenchPlan, bench_meta, file_safe, images, progress_bar};
-use crate::error::{AppError, AppResult};
 use crate::images::prepare_output_dir;
 use crate::metrics::compare;
-use crate::prepared_scene::PreparedScene;
+use crate::report::BenchMeta;
+use crate::run::{BenchContext, BenchSettings, FrameTimeSamples, ao_config, check_gpu_errors};
+use crate::sweep::ParamSet;
+use crate::{BenchPlan, bench_meta, file_safe, progress_bar, run_images};
+use aograph_app_config::error::{AppError, AppResult};
+use aograph_app_config::prepared_scene::PreparedScene;
 use aograph_frame::GBufferChannel;
 use aograph_renderer::frame_graph::FrameOutputs;
 use aograph_renderer::frame_reference::trace_surfaces;
@@ -252,9 +252,9 @@ pub fn motion_frames(
                         .zip(&moving)
                         .map(|(d, m)| if *m { *d } else { 0.0 })
                         .collect();
-                    let at = super::scaling::median_depth(&moving_depth);
+                    let at = crate::scaling::median_depth(&moving_depth);
                     let band = if at > 0.0 {
-                        super::scaling::radius_in_pixels(&camera, h, prepared.radius.get(), at)
+                        crate::scaling::radius_in_pixels(&camera, h, prepared.radius.get(), at)
                             .ceil()
                             .clamp(1.0, 32.0) as u32
                     } else {
@@ -421,7 +421,7 @@ pub fn run_motion_bench(
     let pb = progress_bar(0, progress);
     let mut records: Vec<MotionRecord> = Vec::new();
     for source in &plan.scenes {
-        let scene = crate::load_scene(source)?;
+        let scene = aograph_app_config::load_scene(source)?;
         let label = source.label();
         check_motion(m.kind, &label, &scene)?;
         for view in plan.views.views(&scene)? {
@@ -447,7 +447,7 @@ pub fn run_motion_bench(
                         file_safe(&view.name),
                         set.slug()
                     );
-                    images::write_side_by_side(
+                    run_images::write_side_by_side(
                         &dir.join(&name),
                         &last,
                         &f.accessibility,

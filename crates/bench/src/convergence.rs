@@ -10,11 +10,11 @@ use std::path::Path;
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::csv;
-use super::plot::{FONTS, PALETTE, PANEL, grid_of, plot_err, register_font, short_scene};
-use super::run::RunRecord;
-use crate::error::AppResult;
+use crate::csv;
 use crate::images::{write_atomic, write_rgb_png};
+use crate::plot::{FONTS, PALETTE, PANEL, grid_of, plot_err, register_font, short_scene};
+use crate::run::RunRecord;
+use aograph_app_config::error::AppResult;
 
 /// One frame's scores, counted from the reset (frame 1 has no history).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

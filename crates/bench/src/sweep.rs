@@ -25,7 +25,7 @@ use std::path::Path;
 
 use aograph_ao_passes::{TechniqueRegistry, nearest};
 
-use crate::error::{AppError, AppResult};
+use aograph_app_config::error::{AppError, AppResult};
 
 /// One technique with one set of parameters (empty = the technique's defaults).
 #[derive(Clone, Debug, PartialEq)]

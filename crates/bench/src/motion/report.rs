@@ -7,11 +7,11 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::bench::csv;
-use crate::bench::report::BenchMeta;
-use crate::bench::run::FrameTimes;
-use crate::error::{AppError, AppResult};
+use crate::csv;
 use crate::images::write_atomic;
+use crate::report::BenchMeta;
+use crate::run::FrameTimes;
+use aograph_app_config::error::{AppError, AppResult};
 
 /// One row of motion.csv: a technique and parameter set over a motion run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -73,7 +73,7 @@ impl MotionRecord {
     pub const CSV_HEADER: &'static str = "scene,view,motion,technique,label,width,height,radius,rays,fps,frames,warmup,timing_source,total_ms_median,total_ms_q1,total_ms_q3,frame_ms_median,mae_mean,mae_worst,edge_mae_mean,ssim_mean,moving_mae_mean,flicker,flicker_coverage";
 
     /// This record as one motion.csv line (no newline), in [`MotionRecord::CSV_HEADER`]'s
-    /// column order; fields quoted where they need it (crate::bench::csv).
+    /// column order; fields quoted where they need it (crate::csv).
     pub fn csv_row(&self) -> String {
         let opt = |v: Option<f64>| v.map(|v| format!("{v:.6}")).unwrap_or_default();
         format!(
@@ -229,7 +229,7 @@ pub fn motion_report(records: &[MotionRecord]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::stats::Spread;
+    use crate::stats::Spread;
 
     fn record(scene: &str, view: &str, label: &str) -> MotionRecord {
         let spread = Spread::of(&[1.0]);

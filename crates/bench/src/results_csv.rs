@@ -1,10 +1,10 @@
 //! results.csv's columns: the header and one line per finished run, every text field quoted
-//! by the one rule of [`crate::bench::csv`]. Invariant: [`csv_row`] writes exactly the columns
+//! by the one rule of [`crate::csv`]. Invariant: [`csv_row`] writes exactly the columns
 //! [`CSV_HEADER`] names, in its order.
 
-use super::csv;
-use super::run::RunRecord;
+use crate::csv;
 use crate::metrics::nonfinite::format as num;
+use crate::run::RunRecord;
 
 /// results.csv's header: one column per value of a [`csv_row`] line. Times are in ms
 /// (`total_ms_*`: the technique's passes; `frame_ms_median`: the whole frame), texture sizes in
@@ -101,7 +101,7 @@ pub fn csv_row(r: &RunRecord) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::plot::tests::record;
+    use crate::plot::tests::record;
 
     #[test]
     fn a_scene_view_or_label_with_commas_and_quotes_keeps_every_column() {

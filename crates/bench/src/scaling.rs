@@ -19,9 +19,9 @@ use std::fmt::Write as _;
 use aograph_scene::{Camera, Projection};
 use serde::{Deserialize, Serialize};
 
-use super::csv;
-use super::stats::{Spread, fit_power_law};
+use crate::csv;
 use crate::metrics::nonfinite::format as num;
+use crate::stats::{Spread, fit_power_law};
 
 /// Default sides in pixels of the square outputs a scaling run times.
 pub const DEFAULT_SIDES: [u32; 4] = [128, 256, 512, 1024];
@@ -44,7 +44,7 @@ impl ScalingRadii {
         match self {
             ScalingRadii::Units(r) => r.clone(),
             ScalingRadii::Factors(f) => {
-                let r = crate::prepared_scene::resolve_radius(
+                let r = aograph_app_config::prepared_scene::resolve_radius(
                     scene,
                     aograph_ao_passes::RadiusSetting::Auto,
                 )

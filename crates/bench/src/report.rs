@@ -8,13 +8,13 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::plot::{by_scene, pareto_front, short_scene};
-pub use super::results_csv::{CSV_HEADER, csv_row};
-use super::run::RunRecord;
-use super::scaling::ScalingResults;
-use crate::error::{AppError, AppResult};
 use crate::images::write_atomic;
 use crate::metrics::nonfinite::format as num;
+use crate::plot::{by_scene, pareto_front, short_scene};
+pub use crate::results_csv::{CSV_HEADER, csv_row};
+use crate::run::RunRecord;
+use crate::scaling::ScalingResults;
+use aograph_app_config::error::{AppError, AppResult};
 
 /// Results files written before the reference mode was recorded used binary mode.
 fn binary() -> String {
@@ -63,7 +63,7 @@ pub struct BenchMeta {
     pub edge_jump: f32,
     /// The device's peaks measured in the run (the roofline's ceilings).
     #[serde(default)]
-    pub peaks: Option<super::roofline::DevicePeaks>,
+    pub peaks: Option<crate::roofline::DevicePeaks>,
     /// The command that made the run, as typed (`aograph bench ...`), the output folder
     /// written `<out>` so no path of the machine is kept.
     #[serde(default)]
@@ -248,7 +248,7 @@ fn runs_section(s: &mut String, m: &BenchMeta, runs: &[RunRecord]) {
             r.view,
             r.technique,
             r.label,
-            crate::prepared_scene::short(r.radius),
+            aograph_app_config::prepared_scene::short(r.radius),
             reached(r),
             num(t.total_ms.median, 3),
             num(t.total_ms.min, 3),
@@ -356,7 +356,7 @@ fn views_section(s: &mut String, runs: &[RunRecord]) {
             "| {} | {} | {} | {} | {}{} | {} | {} | {} | {} |",
             short_scene(&r.scene),
             r.view,
-            crate::prepared_scene::short(r.radius),
+            aograph_app_config::prepared_scene::short(r.radius),
             r.radius_px
                 .map(|v| num(f64::from(v), 1))
                 .unwrap_or_else(|| "-".into()),
@@ -507,11 +507,11 @@ pub fn write_report(
         best_section(&mut s, runs);
         runs_section(&mut s, meta, runs);
         radiance_section(&mut s, runs);
-        if let Some(t) = super::size_table::size_section(runs) {
+        if let Some(t) = crate::size_table::size_section(runs) {
             s.push_str(&t);
         }
         if let Some(peaks) = &meta.peaks {
-            s.push_str(&super::roofline_table::roofline_section(peaks, runs));
+            s.push_str(&crate::roofline_table::roofline_section(peaks, runs));
         }
     }
     if let Some(sc) = scaling {
@@ -552,7 +552,7 @@ fn radiance_section(s: &mut String, runs: &[RunRecord]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::plot::tests::record;
+    use crate::plot::tests::record;
 
     fn aggregate(runs: &[RunRecord]) -> String {
         let mut s = String::new();

@@ -23,8 +23,8 @@ use aograph_graph::{
 };
 use serde::{Deserialize, Serialize};
 
-use super::stats::PassTime;
-use crate::error::AppResult;
+use crate::stats::PassTime;
+use aograph_app_config::error::AppResult;
 
 /// Loads each thread of the peak kernel makes.
 pub const PEAK_LOADS_PER_THREAD: f32 = 49.0;
@@ -190,7 +190,7 @@ pub fn passes_under(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::stats::Spread;
+    use crate::stats::Spread;
 
     #[test]
     fn fractions_are_rates_over_peaks() {

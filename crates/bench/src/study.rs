@@ -1,36 +1,11 @@
-//! `aograph bench`: what each technique's milliseconds buy in accuracy.
+//! A study, what one `aograph bench` invocation runs: the scenes x views x parameter sets (x
+//! sizes, radii) it plans ([`BenchPlan`]), run after run with the reference of each still
+//! frame traced once (cached on disk), and the files written as runs finish (results.csv,
+//! results.json, report.md, the Pareto plot, images); or the scaling of the same sets over
+//! resolutions and radii ([`run_scaling`]).
 //!
-//! For every scene the reference of its still frame is traced once (cached on disk); then
-//! every technique and parameter set renders M warm-up and N measured frames, and the run's
-//! median and spread of time, texture bytes and every metric against the reference are
-//! written as they finish (see [`report`]). [`scaling`] times the same sets over resolutions
-//! and radii instead. The pieces:
-//!
-//! - [`sweep`]: parameter grids per technique (TOML) and their expansion;
-//! - [`run`]: one run (timing, metrics), the per-scene reference;
-//! - [`report`]: results.csv, results.json, report.md ([`results_csv`]: the CSV's columns); [`plot`]: pareto.svg/png
-//!   (a grid: the summary, then each scene and view); [`images`]: AO | error | reference PNGs;
-//! - [`roofline_table`]: report.md's roofline section;
-//! - [`size_table`]: report.md's table by output size (`--sizes`);
-//! - [`convergence`]: every frame since a reset scored (`--convergence N`), its CSV and plot;
-//! - [`stats`]: median/quartiles and the log-log fit; [`csv`]: the quoting every CSV file uses.
-
-pub mod convergence;
-pub mod csv;
-pub mod images;
-pub mod motion;
-pub mod plot;
-pub mod report;
-pub mod results_csv;
-pub mod roofline;
-pub mod roofline_table;
-pub mod run;
-pub mod run_provenance;
-pub mod scaling;
-pub mod search;
-pub mod size_table;
-pub mod stats;
-pub mod sweep;
+//! Invariant: every run of a study is scored against the one reference of its scene, view
+//! and size, and its row is on disk before the next run starts.
 
 use std::path::Path;
 
@@ -38,16 +13,17 @@ use aograph_ao_passes::Radius;
 use aograph_graph::{Extent, GpuContext};
 use indicatif::{ProgressBar, ProgressStyle};
 
-pub use report::{BenchMeta, ResultsFile};
-pub use run::{BenchContext, BenchSettings, RunRecord};
-pub use scaling::ScalingResults;
-pub use sweep::{ParamSet, Sweep, plan_param_sets};
+use crate::report::BenchMeta;
+use crate::run::{BenchContext, BenchSettings, RunRecord};
+use crate::scaling::ScalingResults;
+use crate::sweep::ParamSet;
+use crate::{convergence, plot, report, run, run_images, run_provenance, scaling};
 
-use crate::camera_spec::{CameraSpec, NamedView};
-use crate::config::{RadiusSetting, SceneSource};
-use crate::error::{AppError, AppResult};
 use crate::images::{prepare_output_dir, write_atomic};
-use crate::prepared_scene::PreparedScene;
+use aograph_app_config::camera_spec::{CameraSpec, NamedView};
+use aograph_app_config::config::{RadiusSetting, SceneSource};
+use aograph_app_config::error::{AppError, AppResult};
+use aograph_app_config::prepared_scene::PreparedScene;
 use aograph_renderer::frame_graph::FrameOutputs;
 use aograph_renderer::renderer::Renderer;
 use aograph_scene::views::SceneView;
@@ -244,7 +220,7 @@ pub fn run_bench(
     );
     let mut records = Vec::new();
     for source in &plan.scenes {
-        let scene = crate::load_scene(source)?;
+        let scene = aograph_app_config::load_scene(source)?;
         let views = plan.views.views(&scene)?;
         pb.inc_length(
             ((views.len() as u64).saturating_sub(1))
@@ -281,7 +257,7 @@ pub fn run_bench(
                         file_safe(&reference.view),
                         set.slug()
                     );
-                    images::write_side_by_side(
+                    run_images::write_side_by_side(
                         &dir.join(&name),
                         &done.ao,
                         &reference.accessibility,
@@ -353,7 +329,7 @@ pub fn run_scaling(
     );
     let smallest = sides.iter().copied().min().unwrap_or(64);
     for source in &plan.scenes {
-        let scene = std::sync::Arc::new(crate::load_scene(source)?);
+        let scene = std::sync::Arc::new(aograph_app_config::load_scene(source)?);
         let radii = radii.for_scene(&scene);
         if results.radii.is_empty() {
             results.radii = radii.clone();
@@ -440,7 +416,7 @@ pub fn run_scaling(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera_spec::CameraParams;
+    use aograph_app_config::camera_spec::CameraParams;
     use glam::Vec3;
 
     #[test]

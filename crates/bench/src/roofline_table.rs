@@ -1,11 +1,11 @@
 //! report.md's roofline section: the device's peaks measured in the run, then per technique
 //! and parameter set (its first scene and view) every pass with its rates and its share of
-//! each peak ([`super::roofline`] measures them).
+//! each peak ([`crate::roofline`] measures them).
 
 use std::fmt::Write as _;
 
-use super::roofline::{DevicePeaks, PEAK_SIDE};
-use super::run::RunRecord;
+use crate::roofline::{DevicePeaks, PEAK_SIDE};
+use crate::run::RunRecord;
 
 /// The report's roofline section: the peaks, then per technique and parameter set (its first
 /// scene and view) every pass with its rates and fractions.

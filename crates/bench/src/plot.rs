@@ -14,9 +14,9 @@ use std::sync::Once;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::run::RunRecord;
-use crate::error::{AppError, AppResult};
 use crate::images::{write_atomic, write_rgb_png};
+use crate::run::RunRecord;
+use aograph_app_config::error::{AppError, AppResult};
 
 pub(super) const PANEL: (u32, u32) = (800, 480);
 /// Panels a row: four 800-pixel panels make a 3,200-pixel row, readable at 100 % zoom on a
@@ -425,8 +425,8 @@ pub(crate) mod tests {
         ms: f64,
         mae: f64,
     ) -> RunRecord {
-        use crate::bench::run::FrameTimes;
-        use crate::bench::stats::Spread;
+        use crate::run::FrameTimes;
+        use crate::stats::Spread;
         RunRecord {
             scene: scene.into(),
             view: "default".into(),

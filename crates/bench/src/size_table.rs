@@ -7,7 +7,7 @@
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
-use super::run::RunRecord;
+use crate::run::RunRecord;
 
 /// The section, or `None` when every run has the same size.
 pub fn size_section(runs: &[RunRecord]) -> Option<String> {

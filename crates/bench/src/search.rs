@@ -11,7 +11,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::error::{AppError, AppResult};
+use aograph_app_config::error::{AppError, AppResult};
 
 /// XeGTAO's narrowing factor.
 pub const SHRINK: f64 = 0.6;
