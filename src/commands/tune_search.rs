@@ -1,4 +1,4 @@
-//! `aograph tune --search`: XeGTAO's auto-tune for any technique (crates/bench/src/bench/search.rs): a
+//! `aograph tune --search`: XeGTAO's auto-tune for any technique (crates/bench/src/search.rs): a
 //! narrowing grid search over the parameters configs/tune/search.toml names, minimising the
 //! mean MAE against the reference over the training scenes, then scored on held-out scenes
 //! the search never saw. Prints, per technique, the defaults' and the tuned setting's MAE and
