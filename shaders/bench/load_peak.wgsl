@@ -1,4 +1,4 @@
-// The device's texel-load rate, for the bench's roofline (crates/bench/src/bench/roofline.rs): every thread
+// The device's texel-load rate, for the bench's roofline (crates/bench/src/roofline.rs): every thread
 // loads the 7x7 neighbourhood of its pixel from an R32Float texture (49 loads, the access
 // pattern of the blurs and AO kernels: neighbours, mostly in cache) and writes one sum, so the
 // kernel is bound by loads, not by the single store or the additions. It is a lower bound of

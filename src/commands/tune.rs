@@ -83,7 +83,7 @@ pub fn choose(records: &[RunRecord], budget_ms: f64) -> Option<&RunRecord> {
         })
 }
 
-/// A config file (crates/bench/src/config.rs's schema) for `r` on `scene`, with a comment header.
+/// A config file (crates/app-config/src/config.rs's schema) for `r` on `scene`, with a comment header.
 pub fn config_text(r: &RunRecord, scene: &SceneSource, device: &str, budget_ms: f64) -> String {
     let q = |s: &str| toml::Value::String(s.to_string()).to_string();
     let scene_line = match scene {
