@@ -11,7 +11,7 @@
 //! ```
 //! use aograph_app_config::{AppConfig, SceneSource};
 //! let registry = aograph_ao_passes::TechniqueRegistry::with_builtins();
-//! let text = "scene = \"columns\"\nwidth = 320\nheight = 180\n[ao]\ntechnique = \"gtao\"\n";
+//! let text = "[scene]\nname = \"columns\"\n[output]\nwidth = 320\nheight = 180\n[ao]\ntechnique = \"gtao\"\n";
 //! let config = AppConfig::parse(text, "example.toml", &registry)?;
 //! assert_eq!(config.scene, SceneSource::Procedural("columns".into()));
 //! assert_eq!((config.width, config.height), (320, 180));
