@@ -35,7 +35,7 @@ pub struct BenchPlan {
     pub scenes: Vec<SceneSource>,
     /// Which views of each scene: one row per scene, view and parameter set.
     pub views: ViewChoice,
-    /// The parameter sets run on every scene, view and size (see [`plan_param_sets`]).
+    /// The parameter sets run on every scene, view and size (see [`plan_param_sets`](crate::plan_param_sets)).
     pub sets: Vec<ParamSet>,
     /// Output size, frame counts, radius, reference and metric settings every run shares
     /// (with `sizes`, each size replaces the width and height).

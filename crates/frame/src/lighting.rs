@@ -57,6 +57,25 @@ pub struct LightingUniforms {
     pub pad6: f32,
 }
 
+aograph_graph::uniform_layout!(LightingUniforms {
+    light_direction,
+    pad0,
+    light_color,
+    pad1,
+    ambient,
+    pad2,
+    sky_zenith,
+    pad3,
+    sky_horizon,
+    pad4,
+    sky_ground,
+    pad5,
+    sun_direction,
+    sun_exponent,
+    sun_irradiance,
+    pad6
+});
+
 /// The sky of [`LightingUniforms::with_sky`]: world space, +Y up, linear RGB.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyColours {

@@ -64,6 +64,29 @@ pub struct ViewUniforms {
     pub pad2: f32,
 }
 
+aograph_graph::uniform_layout!(ViewUniforms {
+    view,
+    proj,
+    inv_proj,
+    inv_view,
+    prev_view_proj,
+    view_to_prev_clip,
+    size,
+    inv_size,
+    near,
+    far,
+    reversed_z,
+    orthographic,
+    frame_index,
+    history_valid,
+    camera_cut,
+    pad0,
+    time,
+    dt,
+    pad1,
+    pad2
+});
+
 // Six matrices, then four 16-byte rows; any change here must be mirrored in view.wgsl.
 const _: () = assert!(std::mem::size_of::<ViewUniforms>() == 6 * 64 + 4 * 16);
 

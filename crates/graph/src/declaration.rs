@@ -111,6 +111,9 @@ pub struct UniformDecl {
     /// The block's bytes as declared (laid out as the WGSL struct expects); its length is
     /// part of the structure hash, its contents are not.
     pub initial: Vec<u8>,
+    /// The Rust struct's fields when it was declared typed (`PassBuilder::uniform_struct`):
+    /// compile checks them against the WGSL struct's members.
+    pub fields: Option<&'static [crate::UniformField]>,
 }
 
 /// How many threads a compute pass runs; workgroup counts come from the shader's

@@ -79,6 +79,7 @@ mod shader_check;
 mod structure_hash;
 mod summary;
 mod timing;
+mod uniform_layout;
 mod uses;
 
 pub use attachment::{AttachmentOps, ColorTarget, DepthTarget, LoadOp};
@@ -110,9 +111,11 @@ pub use resource::{
 pub use sampler::SamplerDesc;
 pub use shader::{
     IncludeVariant, ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderLibrary, ShaderModuleInfo,
-    ShaderMount, ShaderOverride, ShaderRevision, shader_variant, storage_precision_variant,
+    ShaderMount, ShaderOverride, ShaderRevision, StructMember, shader_variant,
+    storage_precision_variant,
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};
+pub use uniform_layout::{UniformField, UniformLayout, uniform_layout_mismatch};
 pub use uses::{BufferUse, SamplerUse, TextureUse};
 pub use wgpu;

@@ -357,9 +357,23 @@ impl PassBuilder<'_> {
             pass: id,
             binding: binding.to_string(),
             initial: bytes.to_vec(),
+            fields: None,
         });
         let handle = UniformHandle(self.graph.uniforms.len() - 1);
         self.decl().uniforms.push(handle);
+        handle
+    }
+
+    /// [`PassBuilder::uniform`] with a typed block: compile also checks the struct's fields
+    /// against the WGSL struct's members, name by name and offset by offset
+    /// ([`UniformLayout`](crate::UniformLayout)).
+    pub fn uniform_struct<T: crate::UniformLayout>(
+        &mut self,
+        binding: &str,
+        value: &T,
+    ) -> UniformHandle {
+        let handle = self.uniform(binding, bytemuck::bytes_of(value));
+        self.graph.uniforms[handle.0].fields = Some(T::FIELDS);
         handle
     }
 

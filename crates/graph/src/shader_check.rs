@@ -15,6 +15,7 @@ use crate::error::{GraphError, GraphResult};
 use crate::resource::{BufferAccess, TextureAccess};
 use crate::sampler::SamplerDesc;
 use crate::shader::{ShaderBindingKind, ShaderLibrary, ShaderModuleInfo};
+use crate::uniform_layout::uniform_layout_mismatch;
 
 /// A checked pass's shader and the slot of each of its bindings (in the order of
 /// `ShaderModuleInfo::bindings`).
@@ -301,6 +302,15 @@ fn check_binding_supplied(
                         "uniform `{name}` has {} bytes but the shader's type needs {size}",
                         u.initial.len()
                     )));
+                }
+                if let Some(fields) = u.fields {
+                    let members = info.binding(name).map_or(&[][..], |b| &b.members[..]);
+                    if let Some(why) = uniform_layout_mismatch(fields, members) {
+                        return Err(invalid(format!(
+                            "uniform `{name}` does not match shader `{}`'s struct: {why}",
+                            info.name
+                        )));
+                    }
                 }
                 return buffer_source();
             }

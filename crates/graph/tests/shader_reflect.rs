@@ -59,6 +59,7 @@ fn reflects_every_binding_with_group_binding_and_kind() {
         group,
         binding,
         kind,
+        members: Vec::new(),
     };
     use ShaderBindingKind as K;
     let expected = vec![
@@ -137,6 +138,18 @@ fn reflects_every_binding_with_group_binding_and_kind() {
                 access: StorageTextureAccess::ReadOnly,
             },
         ),
+    ];
+    // The uniform struct's members as WGSL lays them out: a vec3 is 16-byte aligned.
+    let mut expected = expected;
+    expected[2].members = vec![
+        StructMember {
+            name: "radius".into(),
+            offset: 0,
+        },
+        StructMember {
+            name: "dir".into(),
+            offset: 16,
+        },
     ];
     assert_eq!(info.bindings, expected);
     assert_eq!(info.binding("params").map(|b| b.binding), Some(2));

@@ -66,7 +66,7 @@ impl Renderer {
         Ok(self.read_channel(self.graph.shaded, "shaded")?.bytes)
     }
 
-    /// A g-buffer channel of the last frame as stored, for the channels [`FrameOutputs`]
+    /// A g-buffer channel of the last frame as stored, for the channels [`FrameOutputs`](crate::FrameOutputs)
     /// keeps readable: with `surfaces`, positions and the normals in whichever encodings the
     /// frame wrote (`normals`, `normals_oct`); with `linear_depth`, linear depth.
     pub fn read_gbuffer(&self, c: GBufferChannel) -> RenderResult<aograph_graph::TextureReadback> {

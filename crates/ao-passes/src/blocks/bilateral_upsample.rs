@@ -69,6 +69,13 @@ struct UpsampleUniform {
     _pad: f32,
 }
 
+aograph_graph::uniform_layout!(UpsampleUniform {
+    factor,
+    depth_sigma,
+    normal_power,
+    _pad
+});
+
 impl BilateralUpsample {
     /// Range checks; errors are reported under `prefix`.
     pub fn validate(&self, prefix: &str) -> AoResult<()> {
@@ -165,7 +172,7 @@ pub fn bilateral_upsample(
         normal_power: params.normal_power,
         _pad: 0.0,
     };
-    p.uniform("params", bytemuck::bytes_of(&u));
+    p.uniform_struct("params", &u);
     // The full-resolution centre (depth, normal), then 4 low-resolution taps of AO, depth and
     // normal.
     p.loads_per_invocation(if inputs.normals.is_some() {

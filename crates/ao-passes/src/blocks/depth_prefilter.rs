@@ -44,6 +44,13 @@ struct PrefilterUniform {
     _pad1: f32,
 }
 
+aograph_graph::uniform_layout!(PrefilterUniform {
+    radius,
+    falloff,
+    _pad0,
+    _pad1
+});
+
 /// Adds the passes building levels 1..`levels` - 1 of the prefiltered pyramid over `depth`
 /// (R32Float linear depth, level 0). `effect_radius` is R' (view units) and `falloff_range`
 /// F in (0, 1].
@@ -101,7 +108,7 @@ pub fn depth_prefilter(
         let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, size));
         let mut p = b.compute_pass(&name, "blocks/depth_prefilter.wgsl", "main");
         p.sample("src", pyramid.levels[l as usize - 1]);
-        p.uniform("params", bytemuck::bytes_of(&uniform));
+        p.uniform_struct("params", &uniform);
         p.loads_per_invocation(4.0); // the 2x2 block
         let out = p.write_storage("dst", out);
         p.dispatch_over(out);

@@ -56,6 +56,13 @@ struct DenoiseUniform {
     _pad1: f32,
 }
 
+aograph_graph::uniform_layout!(DenoiseUniform {
+    beta,
+    last_pass,
+    _pad0,
+    _pad1
+});
+
 /// Adds the denoise passes over `ao` (raw accessibility), guided by `edges` (Rgba8Unorm,
 /// from the AO pass) and `depth` (linear, 0 = sky); returns the last pass's R32Float output.
 /// Earlier passes write `intermediate` (R32Float or R16Float).
@@ -108,7 +115,7 @@ pub fn edge_denoise(
         p.sample("src", src)
             .sample("edges", edges)
             .sample("depth", depth);
-        p.uniform("params", bytemuck::bytes_of(&uniform));
+        p.uniform_struct("params", &uniform);
         // Centre depth and AO, 5 edge texels, 8 neighbours' depth and AO.
         p.loads_per_invocation(23.0);
         let out = p.write_storage("dst", out);

@@ -88,6 +88,19 @@ struct HistoryDenoiseUniform {
     _pad: [f32; 3],
 }
 
+aograph_graph::uniform_layout!(HistoryDenoiseUniform {
+    base_radius,
+    shrink,
+    sigma_ao,
+    plane_tolerance,
+    step,
+    fix_frames,
+    fix_stride,
+    hit_floor,
+    has_hits,
+    _pad
+});
+
 /// What the block reads besides the accumulated value.
 #[derive(Clone, Copy, Debug)]
 pub struct HistoryDenoiseInputs {
@@ -215,7 +228,7 @@ pub fn history_denoise(
         TextureDesc::new(wgpu::TextureFormat::Rgba16Float, size),
     );
     let mut p = b.compute_pass(&name, "blocks/history_fix.wgsl", "main");
-    p.uniform("params", bytemuck::bytes_of(&params.uniform(1, has_hits)));
+    p.uniform_struct("params", &params.uniform(1, has_hits));
     p.sample("accumulated", inputs.accumulated)
         .sample("history", inputs.history)
         .sample("depth", inputs.depth)
@@ -236,10 +249,7 @@ pub fn history_denoise(
         let name = format!("{prefix}.atrous{k}");
         let out = b.create_texture(&name, TextureDesc::new(BLOCK_FORMAT, size));
         let mut p = b.compute_pass(&name, "blocks/atrous_denoise.wgsl", "main");
-        p.uniform(
-            "params",
-            bytemuck::bytes_of(&params.uniform(1 << (k - 1), has_hits)),
-        );
+        p.uniform_struct("params", &params.uniform(1 << (k - 1), has_hits));
         p.sample("src", src)
             .sample("guide", guide)
             .sample("depth", inputs.depth)

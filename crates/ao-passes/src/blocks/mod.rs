@@ -175,6 +175,15 @@ pub(crate) struct BlurUniform {
     pub weights: [f32; 32],
 }
 
+aograph_graph::uniform_layout!(BlurUniform {
+    axis,
+    radius,
+    depth_sigma,
+    normal_power,
+    _pad,
+    weights
+});
+
 impl BlurUniform {
     pub fn new(axis: [i32; 2], weights: &[f32], depth_sigma: f32, normal_power: f32) -> Self {
         let radius = weights.len() / 2;
@@ -249,7 +258,7 @@ pub(crate) fn blur_pass(
     for (binding, h) in extra {
         p.sample(binding, *h);
     }
-    p.uniform("params", bytemuck::bytes_of(uniform));
+    p.uniform_struct("params", uniform);
     // Each tap reads the input and every guide (depth, normals); the centre reads the guides
     // once more.
     let taps = 2 * uniform.radius + 1;

@@ -223,6 +223,13 @@ struct ReprojectUniform {
     _pad: f32,
 }
 
+aograph_graph::uniform_layout!(ReprojectUniform {
+    epsilon,
+    has_motion,
+    moving_pixels,
+    _pad
+});
+
 /// The `params` uniform of shaders/blocks/temporal_accumulate.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -234,6 +241,13 @@ struct AccumulateUniform {
     /// Cap of n_t where the pixel changed ([`ChangeMask`]); 0 = no mask.
     changed_n_max: f32,
 }
+
+aograph_graph::uniform_layout!(AccumulateUniform {
+    mode,
+    n_max,
+    k,
+    changed_n_max
+});
 
 /// Where this frame's value may differ from the history for reasons reprojection cannot see
 /// (the technique knows: rtao's rays hit moving geometry), for [`add_temporal_with_changes`]:
@@ -313,14 +327,14 @@ pub fn add_reprojection(
         .sample("normals", normals)
         .sample("motion", motion);
     p.read_view(view);
-    p.uniform(
+    p.uniform_struct(
         "params",
-        bytemuck::bytes_of(&ReprojectUniform {
+        &ReprojectUniform {
             epsilon,
             has_motion: has_motion as u32,
             moving_pixels: MOVING_PIXELS,
             _pad: 0.0,
-        }),
+        },
     );
     let reprojected = p.write_storage("reprojected", out);
     p.dispatch_over(reprojected);
@@ -392,7 +406,7 @@ pub fn add_temporal_with_changes(
         .sample("linear_depth", depth)
         // Without a mask the shader never reads `changed` (changed_n_max = 0).
         .sample("changed", changes.map_or(current, |c| c.mask));
-    p.uniform("params", bytemuck::bytes_of(&uniform));
+    p.uniform_struct("params", &uniform);
     let written = p.write_storage("history", history.current);
     let accumulated = p.write_storage("accumulated", out);
     p.dispatch_over(accumulated);

@@ -203,6 +203,21 @@ struct GtaoUniform {
     _pad0: f32,
 }
 
+aograph_graph::uniform_layout!(GtaoUniform {
+    slices,
+    steps,
+    is_output,
+    normalization,
+    effect_radius,
+    falloff_range,
+    sample_distribution_power,
+    thin_occluder_compensation,
+    final_value_power,
+    depth_mip_offset,
+    normal_fudge,
+    _pad0
+});
+
 impl AoTechnique for Gtao {
     type Params = GtaoParams;
     const NAME: &'static str = "gtao";
@@ -292,7 +307,7 @@ impl AoTechnique for Gtao {
             } else {
                 "ao/gtao/ao.wgsl"
             },
-            uniform: bytemuck::bytes_of(&uniform),
+            uniform: &uniform,
             loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
             effect_radius,
             falloff_range: p.falloff_range,

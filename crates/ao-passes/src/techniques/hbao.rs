@@ -176,6 +176,17 @@ struct HbaoUniform {
     _pad1: f32,
 }
 
+aograph_graph::uniform_layout!(HbaoUniform {
+    directions,
+    steps,
+    per_sample,
+    _pad0,
+    radius,
+    max_screen_radius,
+    sin_bias,
+    _pad1
+});
+
 impl AoTechnique for Hbao {
     type Params = HbaoParams;
     const NAME: &'static str = "hbao";
@@ -259,7 +270,7 @@ impl Hbao {
         // The centre's depth and normal, one depth tap per step and direction.
         pass.loads_per_invocation(2.0 + (p.directions * p.steps) as f32);
         pass.read_view(ctx.view);
-        pass.uniform("params", bytemuck::bytes_of(&uniform));
+        pass.uniform_struct("params", &uniform);
         p.spatial.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);

@@ -138,6 +138,15 @@ struct AoUniform {
     _pad: [u32; 3],
 }
 
+aograph_graph::uniform_layout!(AoUniform {
+    radius,
+    initial_step,
+    sin_bias,
+    factor,
+    directions,
+    _pad
+});
+
 impl PyramidHbaoParams {
     /// The march's reach with L levels in full-resolution pixels, for the smallest jitter:
     /// s0 xi_min S (K^L - 1) / (K - 1), so every direction reaches it (module docs).
@@ -251,7 +260,7 @@ impl PyramidHbao {
         // The centre's depth and normal, step_count taps per direction and level.
         pass.loads_per_invocation(2.0 + (p.directions * p.step_count * levels) as f32);
         pass.read_view(ctx.view);
-        pass.uniform("params", bytemuck::bytes_of(&uniform));
+        pass.uniform_struct("params", &uniform);
         // The march's length and level count are compiled in: the driver unrolls the march and
         // drops the levels the pyramid lacks (shader, `STEP_COUNT`, `LEVELS`).
         pass.constant("STEP_COUNT", p.step_count as f64);

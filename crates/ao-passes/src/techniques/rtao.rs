@@ -157,6 +157,15 @@ struct RtaoUniform {
     _pad1: [f32; 3],
 }
 
+aograph_graph::uniform_layout!(RtaoUniform {
+    rays,
+    mode,
+    sequence,
+    _pad0,
+    radius,
+    _pad1
+});
+
 const SEQUENCES: &[&str] = &["per-frame", "fixed", "blue-noise"];
 const DENOISERS: &[&str] = &["history", "edge", "none"];
 const MODES: &[&str] = &["binary", "obscurance"];
@@ -270,7 +279,7 @@ impl Rtao {
         });
         let mut pass = ctx.builder.compute_pass("rtao.trace", &shader, "main");
         pass.read_view(ctx.view);
-        pass.uniform("params", bytemuck::bytes_of(&uniform));
+        pass.uniform_struct("params", &uniform);
         pass.sample("positions", positions)
             .sample("normals", normals)
             .sample("depth", depth);

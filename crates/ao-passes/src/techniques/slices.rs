@@ -8,7 +8,7 @@
 
 use aograph_frame::GBufferChannel;
 use aograph_frame::ReadsView;
-use aograph_graph::{SizeClass, TextureDesc};
+use aograph_graph::{SizeClass, TextureDesc, UniformLayout};
 use serde::{Deserialize, Serialize};
 
 use crate::blocks::{EdgeDenoise, depth_prefilter, edge_denoise};
@@ -167,13 +167,13 @@ pub(crate) struct SliceExtra {
 }
 
 /// What a slice-based technique (gtao, vbao) hands to [`slice_passes`].
-pub(crate) struct SlicePasses<'a> {
+pub(crate) struct SlicePasses<'a, U: UniformLayout> {
     pub prefix: &'static str,
     /// The AO pass's shader: its bindings are shaders/common/slices.wgsl's plus `params` (1),
     /// `ao` (8) and `edges` (9).
     pub shader: &'static str,
-    /// The bytes of its `params` uniform.
-    pub uniform: &'a [u8],
+    /// Its `params` uniform (checked against the shader's struct at compile).
+    pub uniform: &'a U,
     /// R' (view units) and the falloff range, for the depth prefilter's weights.
     pub effect_radius: f32,
     pub falloff_range: f32,
@@ -195,7 +195,7 @@ pub(crate) struct SlicePasses<'a> {
 /// normals; writes the raw accessibility and the edges), then `<prefix>.denoise1..N` (§6).
 pub(crate) fn slice_passes(
     ctx: &mut AoBuildContext<'_>,
-    s: &SlicePasses<'_>,
+    s: &SlicePasses<'_, impl UniformLayout>,
 ) -> AoResult<AoOutput> {
     let depth = ctx.channel(GBufferChannel::LinearDepth)?;
     let normals = ctx.channel(GBufferChannel::Normals)?;
@@ -240,7 +240,7 @@ pub(crate) fn slice_passes(
         .builder
         .compute_pass(&format!("{}.ao", s.prefix), &shader, "main");
     pass.read_view(ctx.view);
-    pass.uniform("params", s.uniform);
+    pass.uniform_struct("params", s.uniform);
     for (l, binding) in ["depth0", "depth1", "depth2", "depth3", "depth4"]
         .iter()
         .enumerate()

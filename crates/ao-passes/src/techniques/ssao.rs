@@ -108,6 +108,18 @@ struct SsaoUniform {
     kernel: [[f32; 4]; MAX_SAMPLES as usize],
 }
 
+aograph_graph::uniform_layout!(SsaoUniform {
+    samples,
+    _pad0,
+    _pad1,
+    _pad2,
+    radius,
+    bias,
+    max_screen_radius,
+    _pad3,
+    kernel
+});
+
 fn radical_inverse(mut i: u32, base: u32) -> f32 {
     let (mut f, mut r) = (1.0 / base as f32, 0.0);
     let inv = f;
@@ -200,7 +212,7 @@ impl Ssao {
         // The centre's depth and normal, one depth tap per sample.
         pass.loads_per_invocation(2.0 + p.samples as f32);
         pass.read_view(ctx.view);
-        pass.uniform("params", bytemuck::bytes_of(&uniform));
+        pass.uniform_struct("params", &uniform);
         p.spatial.vary_noise(&mut pass);
         let raw = pass.write_storage("ao", raw);
         pass.dispatch_over(raw);

@@ -219,7 +219,6 @@ impl AoTechnique for Ssdo {
         let direct_light = ctx.channel(GBufferChannel::DirectLight)?;
         let lighting = ctx.scene_lighting();
         let uniform = p.uniform(ctx.radius);
-        let params = bytemuck::bytes_of(&uniform);
         let radiance_texture = |ctx: &mut AoBuildContext<'_>, name: &str| {
             ctx.builder
                 .create_texture(name, TextureDesc::new(RADIANCE_FORMAT, SizeClass::FULL))
@@ -240,7 +239,7 @@ impl AoTechnique for Ssdo {
             .sample("direct_light", direct_light);
         pass.read_view(ctx.view)
             .read_buffer("lighting", BufferAccess::Uniform, lighting);
-        pass.uniform("params", params);
+        pass.uniform_struct("params", &uniform);
         let raw_direct = pass.write_storage("radiance", raw_direct);
         pass.dispatch_over(raw_direct);
 
@@ -254,7 +253,7 @@ impl AoTechnique for Ssdo {
                 .sample("albedo", albedo)
                 .sample("radiance", raw_direct);
             pass.read_view(ctx.view);
-            pass.uniform("params", params);
+            pass.uniform_struct("params", &uniform);
             let raw = pass.write_storage("indirect", raw);
             pass.dispatch_over(raw);
             Some(raw)
@@ -273,7 +272,7 @@ impl AoTechnique for Ssdo {
             .sample("normals", normals)
             .sample("radiance", raw_direct)
             .sample("bounce", raw_indirect.unwrap_or(raw_direct));
-        pass.uniform("params", params);
+        pass.uniform_struct("params", &uniform);
         let direct_x = pass.write_storage("direct_x", direct_x);
         let indirect_x = pass.write_storage("indirect_x", indirect_x);
         pass.dispatch_over(direct_x);
@@ -288,7 +287,7 @@ impl AoTechnique for Ssdo {
             .sample("normals", normals)
             .sample("radiance", direct_x)
             .sample("bounce", indirect_x);
-        pass.uniform("params", params);
+        pass.uniform_struct("params", &uniform);
         let ao = pass.write_storage("ao", ao);
         let direct_out = pass.write_storage("ssdo_direct", direct_out);
         let indirect_out = pass.write_storage("ssdo_indirect", indirect_out);

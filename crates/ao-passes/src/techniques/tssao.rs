@@ -250,6 +250,25 @@ struct SampleUniform {
     _pad1: f32,
 }
 
+aograph_graph::uniform_layout!(SampleUniform {
+    k1,
+    k2,
+    steps,
+    visibility,
+    n_smooth,
+    falloff,
+    halton_length,
+    _pad0,
+    c_spatial,
+    c_rot,
+    n_max,
+    radius,
+    depth_epsilon,
+    neighbour_epsilon,
+    max_screen_radius,
+    _pad1
+});
+
 /// The `params` uniform of shaders/ao/tssao/filter.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -267,6 +286,17 @@ struct FilterUniform {
     n_max: f32,
     _pad3: f32,
 }
+
+aograph_graph::uniform_layout!(FilterUniform {
+    half_width,
+    _pad0,
+    _pad1,
+    _pad2,
+    sigma,
+    c_adaptive,
+    n_max,
+    _pad3
+});
 
 impl AoTechnique for Tssao {
     type Params = TssaoParams;
@@ -394,7 +424,7 @@ impl AoTechnique for Tssao {
             .sample("normals", normals)
             .sample("motion", r.motion);
         pass.read_view(ctx.view);
-        pass.uniform("params", bytemuck::bytes_of(&uniform));
+        pass.uniform_struct("params", &uniform);
         pass.uniform("halton", bytemuck::cast_slice(&halton_table()));
         let buffer = pass.write_storage("ao_buffer", history.current);
         pass.dispatch_over(buffer);
@@ -419,7 +449,7 @@ impl AoTechnique for Tssao {
             n_max: p.n_max as f32,
             _pad3: 0.0,
         };
-        pass.uniform("params", bytemuck::bytes_of(&filter));
+        pass.uniform_struct("params", &filter);
         let out = pass.write_storage("dst", out);
         pass.dispatch_over(out);
         Ok(AoOutput::new(out))

@@ -179,6 +179,21 @@ struct VbaoUniform {
     clip_to_radius: f32,
 }
 
+aograph_graph::uniform_layout!(VbaoUniform {
+    slices,
+    steps,
+    _pad0,
+    sectors,
+    effect_radius,
+    thickness,
+    sample_distribution_power,
+    depth_mip_offset,
+    final_value_power,
+    cosine_weighting,
+    centre_rounding,
+    clip_to_radius
+});
+
 impl AoTechnique for Vbao {
     type Params = VbaoParams;
     const NAME: &'static str = "vbao";
@@ -247,7 +262,7 @@ impl AoTechnique for Vbao {
         let slices = SlicePasses {
             prefix: "vbao",
             shader: "ao/vbao/ao.wgsl",
-            uniform: bytemuck::bytes_of(&uniform),
+            uniform: &uniform,
             loads_per_pixel: 6.0 + 2.0 * (slices * steps) as f32,
             effect_radius,
             falloff_range: PREFILTER_FALLOFF_RANGE,

@@ -16,7 +16,7 @@ mod variant;
 pub use library::{ShaderLibrary, ShaderRevision};
 pub use mount::{IncludeVariant, ShaderMount, shader_variant};
 pub use reflect::{
-    ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderModuleInfo, ShaderOverride,
+    ShaderBinding, ShaderBindingKind, ShaderEntry, ShaderModuleInfo, ShaderOverride, StructMember,
 };
 pub(crate) use reflect::{binding_type, grouped_entries};
 pub use variant::storage_precision_variant;

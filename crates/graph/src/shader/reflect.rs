@@ -57,6 +57,19 @@ pub struct ShaderBinding {
     pub binding: u32,
     /// What it binds to.
     pub kind: ShaderBindingKind,
+    /// For a `var<uniform>` of struct type, its members' names and byte offsets in order
+    /// (what a typed uniform block is checked against: `PassBuilder::uniform_struct`); empty
+    /// otherwise.
+    pub members: Vec<StructMember>,
+}
+
+/// One member of a uniform struct as naga lays it out.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StructMember {
+    /// Its WGSL name.
+    pub name: String,
+    /// Its byte offset in the struct.
+    pub offset: u32,
 }
 
 /// One entry point.
@@ -353,11 +366,22 @@ fn reflect_bindings(name: &str, module: &naga::Module) -> GraphResult<Vec<Shader
             },
             _ => return Err(unsupported("this kind of global")),
         };
+        let members = match (&module.types[var.ty].inner, var.space) {
+            (naga::TypeInner::Struct { members, .. }, naga::AddressSpace::Uniform) => members
+                .iter()
+                .map(|m| StructMember {
+                    name: m.name.clone().unwrap_or_default(),
+                    offset: m.offset,
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
         out.push(ShaderBinding {
             name: gname,
             group: rb.group,
             binding: rb.binding,
             kind,
+            members,
         });
     }
     Ok(out)

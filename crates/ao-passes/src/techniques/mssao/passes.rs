@@ -38,6 +38,19 @@ pub struct MssaoUniform {
     pub pad1: [f32; 3],
 }
 
+aograph_graph::uniform_layout!(MssaoUniform {
+    level,
+    bilateral_blur,
+    upsampling,
+    pad0,
+    d_max,
+    r_max,
+    d_threshold,
+    normal_power,
+    depth_power,
+    pad1
+});
+
 impl MssaoUniform {
     pub fn new(p: &MssaoParams, radius: f32, level: u32) -> Self {
         Self {
@@ -61,7 +74,7 @@ fn common(
     u: &MssaoUniform,
 ) {
     p.read_view(view);
-    p.uniform("params", bytemuck::bytes_of(u));
+    p.uniform_struct("params", u);
 }
 
 /// `mssao.downsample{l}`: level l of the g-buffer pyramid from level l - 1 (Table 2).

@@ -55,6 +55,22 @@ pub struct SsdoUniform {
     pub samples: [[f32; 4]; SETS * MAX_SAMPLES as usize],
 }
 
+aograph_graph::uniform_layout!(SsdoUniform {
+    r_max,
+    fade_start,
+    bias,
+    sender_area,
+    distance_clamp,
+    light_lobe,
+    sky_gradient,
+    blur_plane_tolerance,
+    sample_count,
+    bounce,
+    sky,
+    _pad0,
+    samples
+});
+
 fn radical_inverse(mut i: u32, base: u32) -> f32 {
     let (mut f, mut r) = (1.0 / base as f32, 0.0f32);
     let inv = f;
