@@ -4,7 +4,7 @@
 
 use aograph_ao_passes::{TechniqueRegistry, TracingSupport};
 use aograph_graph::{CompileOptions, Extent, GraphCompiler, summary, to_dot};
-use aograph_scene::gbuffer::GBufferStates;
+use aograph_renderer::gbuffer::GBufferStates;
 
 use super::{CommonArgs, gpu};
 use crate::shader_library;

@@ -204,7 +204,7 @@ impl Session {
     /// rasteriser's (its own pipelines, made when a g-buffer node first draws).
     pub fn pipelines_created(&self) -> u64 {
         self.renderer.exec.pipeline_created_count()
-            + aograph_scene::gbuffer::raster_pipelines_created()
+            + aograph_renderer::gbuffer::raster_pipelines_created()
     }
 
     /// The render size.

@@ -6,6 +6,7 @@
 use aograph_frame::ReadsView;
 use std::sync::Arc;
 
+use crate::gbuffer::{GBufferClock, GBufferStates, add_gbuffer_shared, required_channels};
 use aograph_ao_passes::{
     AoBuildContext, AoConfig, ConfiguredTechnique, ExtraOutput, RadianceOutput, RadiusSetting,
     TechniqueRegistry, TracingSupport,
@@ -14,7 +15,6 @@ use aograph_frame::{
     DeclaredInputs, DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures, ViewBlock,
 };
 use aograph_graph::{Extent, GraphBuilder, GraphDecl, SizeClass, TextureDesc, TextureHandle};
-use aograph_scene::gbuffer::{GBufferClock, GBufferStates, add_gbuffer_shared, required_channels};
 use aograph_scene::{ReferenceNormals, Scene};
 
 use crate::error::{RenderError, RenderResult};
@@ -113,7 +113,7 @@ pub fn build_frame_graph(
 }
 
 /// [`build_frame_graph`] whose g-buffer shares its GPU state (mesh upload, pipelines) with
-/// every graph built with the same `gbuffer` (see `aograph_scene::gbuffer::add_gbuffer_shared`),
+/// every graph built with the same `gbuffer` (see `crate::gbuffer::add_gbuffer_shared`),
 /// for a device offering `tracing` (a technique's `tracer = "auto"` resolves against it).
 pub fn build_frame_graph_with(
     registry: &TechniqueRegistry,

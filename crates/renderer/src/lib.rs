@@ -32,6 +32,7 @@
 mod error;
 pub mod frame_graph;
 pub mod frame_reference;
+pub mod gbuffer;
 mod output_size;
 pub mod pass_owner;
 mod readback;

@@ -9,6 +9,7 @@
 
 use std::sync::Arc;
 
+use crate::gbuffer::{GBufferFrame, GBufferStates};
 use aograph_ao_passes::{
     AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport,
 };
@@ -19,7 +20,6 @@ use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
     PassTimings, PlanKey, ShaderLibrary,
 };
-use aograph_scene::gbuffer::{GBufferFrame, GBufferStates};
 use aograph_scene::ray_tracing::{AsWork, GpuSceneBvh};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Scene};

@@ -11,7 +11,10 @@ use aograph_graph::{ShaderLibrary, ShaderMount};
 
 /// shaders/render/.
 pub fn shader_mount() -> ShaderMount {
-    ShaderMount::new("aograph-renderer").with_files(aograph_shaders::RENDER)
+    ShaderMount::new("aograph-renderer")
+        .with_files(aograph_shaders::RENDER)
+        // The g-buffer node (crate::gbuffer) rasterises with shaders/scene/.
+        .with_files(aograph_shaders::SCENE)
 }
 
 /// The mounts of everything aograph's renderer runs: frame, techniques, scene, renderer.

@@ -56,7 +56,6 @@ pub mod bounds;
 pub mod camera;
 pub mod environment;
 pub mod error;
-pub mod gbuffer;
 pub mod gltf_export;
 pub mod gltf_import;
 pub mod model;

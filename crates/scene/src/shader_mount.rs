@@ -1,4 +1,4 @@
-//! The WGSL this crate owns: shaders/scene/ (the g-buffer raster) and shaders/raytrace/ (the
+//! The WGSL this crate owns: shaders/raytrace/ (the
 //! GPU reference and ray batches), compiled in. They include shaders/common/, so a library that
 //! runs them mounts `aograph_frame::shader_mount()` too ([`shader_library`]).
 //!
@@ -6,11 +6,9 @@
 
 use aograph_graph::{GraphResult, ShaderLibrary, ShaderMount};
 
-/// shaders/scene/ and shaders/raytrace/.
+/// shaders/raytrace/.
 pub fn shader_mount() -> ShaderMount {
-    ShaderMount::new("aograph-scene")
-        .with_files(aograph_shaders::SCENE)
-        .with_files(aograph_shaders::RAYTRACE)
+    ShaderMount::new("aograph-scene").with_files(aograph_shaders::RAYTRACE)
 }
 
 /// A library with what this crate's passes need: its mount and the frame crate's.

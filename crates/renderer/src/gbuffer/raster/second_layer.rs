@@ -12,7 +12,7 @@ use super::{
     GpuState, PipelineShape, RasterSource, depth_attachment, draw_instances, ensure_pipelines,
     raster_pipeline,
 };
-use crate::model::Scene;
+use aograph_scene::model::Scene;
 
 /// What `gbuffer.second_layer` adds to the shared state: the first layer's linear depth as
 /// group 1, and pipelines writing one R32Float target with `fs_second_layer`.

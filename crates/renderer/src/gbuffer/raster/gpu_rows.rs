@@ -6,7 +6,7 @@
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use crate::model::Scene;
+use aograph_scene::model::Scene;
 
 /// One instance's row of the instance buffer (WGSL `Instance`): its transforms now and at the
 /// previous frame, its normal matrix, colour and joint palette range.

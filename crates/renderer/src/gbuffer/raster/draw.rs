@@ -8,7 +8,7 @@ use aograph_frame::GBufferChannels;
 
 use super::GpuState;
 use super::gpu_rows::SkinVertexGpu;
-use crate::model::Scene;
+use aograph_scene::model::Scene;
 
 /// What differs between the first layer's pipelines and the second's.
 pub(super) struct PipelineShape<'a> {

@@ -19,7 +19,7 @@ use std::sync::{Arc, Mutex};
 use aograph_frame::{GBufferChannel, GBufferChannels, GBufferTextures};
 use aograph_graph::{BufferHandle, GraphBuilder, SizeClass, TextureDesc};
 
-use crate::model::Scene;
+use aograph_scene::model::Scene;
 use raster::RasterSource;
 pub use raster::{GBufferRaster, GBufferStates, SecondLayerRaster, raster_pipelines_created};
 
