@@ -14,7 +14,7 @@ work="${1:-$(mktemp -d)}"
 mkdir -p "$work"
 # The library crates, in dependency order (the application needs the first six; the rest
 # must package too).
-crates=(aograph-shaders aograph-graph aograph-frame aograph-ao-passes aograph-scene aograph-embed aograph-renderer aograph-app-config aograph-bench)
+crates=(aograph-shaders aograph-graph aograph-frame aograph-ao-passes aograph-scene aograph-tracing aograph-embed aograph-renderer aograph-app-config aograph-bench)
 args=()
 for c in "${crates[@]}"; do args+=(-p "$c"); done
 # --no-verify: the application's build below compiles the packaged sources instead.

@@ -6,10 +6,10 @@
 mod common;
 
 use aograph_scene::reference::{
-    CpuGBuffer, ProgressMode, ReferenceNormals, ReferenceParams, TriangleBvh, trace_ceilings,
-    trace_reference,
+    CpuGBuffer, ProgressMode, ReferenceNormals, ReferenceParams, TriangleBvh, trace_reference,
 };
 use aograph_scene::{Camera, Scene};
+use aograph_tracing::trace_ceilings;
 use glam::{Mat4, Vec3};
 
 const W: u32 = 64;
@@ -193,7 +193,7 @@ const HIDDEN_BOX_BRIGHTER: f32 = 0.01;
 #[test]
 fn a_box_hidden_under_a_roof_makes_both_ceilings_brighter_than_the_reference() {
     let scene = hidden_box_under_a_roof();
-    let seen = aograph_scene::reference::seen_triangles(&scene, &scene.camera, W, H, 0.0);
+    let seen = aograph_tracing::seen_triangles(&scene, &scene.camera, W, H, 0.0);
     assert_eq!(
         seen.len(),
         4,

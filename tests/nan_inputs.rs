@@ -27,8 +27,8 @@ use aograph_graph::{
 use aograph_renderer::FrameOutputs;
 use aograph_renderer::Renderer;
 use aograph_scene::ReferenceNormals;
-use aograph_scene::ray_tracing::{GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
+use aograph_tracing::gpu::{GpuSceneBvh, HardwareSceneAs};
 
 const SIZE: Extent = Extent {
     width: 64,

@@ -13,7 +13,7 @@ mod common;
 use aograph_graph::Extent;
 use aograph_renderer::ReferenceSettings;
 use aograph_scene::Scene;
-use aograph_scene::ray_tracing::AsWork;
+use aograph_tracing::gpu::AsWork;
 
 fn shared_scene(name: &str) -> Option<Scene> {
     let path = aograph_scene::test_scene("technique_rtao's tests", name)?;

@@ -1,4 +1,4 @@
-// Ray traversal of the scene's two-level BVH (crates/scene/src/ray_tracing: layout and build).
+// Ray traversal of the scene's two-level BVH (crates/tracing/src/gpu: layout and build).
 // The including pass binds the three buffers by these names (graph inputs scene_bvh.*).
 //   nodes: TLAS at [0, tlas_len), then every BLAS; inner node: children at first, first + 1;
 //          leaf: count primitives from first (TLAS: instance records, BLAS: triangles).

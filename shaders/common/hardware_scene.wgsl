@@ -1,5 +1,5 @@
 enable wgpu_ray_query;
-// The scene as acceleration structures (crates/scene/src/ray_tracing/hardware.rs), at the
+// The scene as acceleration structures (crates/tracing/src/gpu/hardware.rs), at the
 // compute BVH's binding numbers (common/bvh.wgsl: 12-14): the TLAS, the placed instances' rows
 // (the TLAS custom index) and the primitive table mapping a BLAS primitive back to the mesh's
 // valid-triangle order. A file including this must include it before anything else: WGSL's

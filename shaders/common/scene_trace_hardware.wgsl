@@ -1,6 +1,6 @@
 #include "common/hardware_scene.wgsl"
 // common/scene_trace.wgsl's question answered with ray queries against the scene's
-// acceleration structures (crates/scene/src/ray_tracing/hardware.rs): the same SceneHit for
+// acceleration structures (crates/tracing/src/gpu/hardware.rs): the same SceneHit for
 // the same ray. Included in scene_trace.wgsl's place by a shader's `RayTracer=hardware` variant.
 #include "common/scene_hit.wgsl"
 

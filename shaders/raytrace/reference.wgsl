@@ -1,4 +1,4 @@
-// The AO reference on the GPU (crates/scene/src/ray_tracing/gpu_reference.rs): per pixel, the
+// The AO reference on the GPU (crates/tracing/src/gpu/gpu_reference.rs): per pixel, the
 // CPU reference's rays (common/ao_rays.wgsl) and its estimator: A = 1 - mean occlusion,
 // standard error sqrt(s^2 / N) with s^2 the unbiased sample variance. Sky and pixels whose
 // point or normal is unusable give (1, 0). One band of rows per dispatch.

@@ -1,4 +1,4 @@
-// A batch of arbitrary rays against the scene (crates/scene/src/ray_tracing/ray_batch.rs): the
+// A batch of arbitrary rays against the scene (crates/tracing/src/gpu/ray_batch.rs): the
 // compute BVH, or the acceleration structures in the `RayTracer=hardware` variant;
 // what the GPU-vs-CPU tests and the rays-per-second bench run. One invocation per ray; the
 // batch is laid out over a 2D dispatch when it exceeds 65535 workgroups in x.

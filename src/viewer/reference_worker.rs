@@ -23,11 +23,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 
 use aograph_graph::{GpuContext, ShaderLibrary};
-use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::{
     Camera, CpuGBuffer, ReferenceImage, ReferenceNormals, ReferenceParams, Scene, SceneError,
     SceneRays, SurfaceBuffer, reference::ProgressMode,
 };
+use aograph_tracing::gpu::{GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs};
 
 /// The device the reference is traced on, when it is the GPU.
 #[derive(Clone)]

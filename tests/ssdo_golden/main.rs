@@ -290,7 +290,7 @@ fn band(
 
 /// The radiance reference and its ceiling (b) (the same rays against only the triangles some
 /// pixel sees) of the frame `c` rendered.
-fn references(c: &Compared, rays: u32) -> [aograph_scene::RadianceImage; 2] {
+fn references(c: &Compared, rays: u32) -> [aograph_tracing::RadianceImage; 2] {
     let r = &c.run.renderer;
     let view = aograph_renderer::frame_reference::FrameView::of(r);
     let s = aograph_renderer::ReferenceSettings::new(0.5, rays);

@@ -8,26 +8,12 @@
 use std::path::Path;
 
 use plotters::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::csv;
 use crate::images::{write_atomic, write_rgb_png};
 use crate::plot::{FONTS, PALETTE, PANEL, grid_of, plot_err, register_font, short_scene};
-use crate::run::RunRecord;
+use crate::run::{ConvergencePoint, RunRecord};
 use aograph_app_config::error::AppResult;
-
-/// One frame's scores, counted from the reset (frame 1 has no history).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ConvergencePoint {
-    /// Frames since the reset, from 1.
-    pub frame: u32,
-    /// Mean absolute error against the reference (non-sky pixels).
-    pub mae: f64,
-    /// SSIM against the reference.
-    pub ssim: f64,
-    /// MAE in the depth-edge band; `None` when the view has no depth edge.
-    pub edge_mae: Option<f64>,
-}
 
 /// A panel's width: the chart as wide as the Pareto plot's, and a legend strip wide enough
 /// for a technique with its parameter label (about 45 characters).

@@ -23,7 +23,6 @@ use aograph_graph::{Extent, GpuContext, ShaderLibrary, TimingSource, pass_costs,
 use aograph_scene::{ProjectedRadius, ReferenceMode, ReferenceNormals, projected_radius};
 use serde::{Deserialize, Serialize};
 
-use crate::convergence::ConvergencePoint;
 use crate::metrics::{
     FlickerMeter, MetricOptions, Metrics, RadianceScores, compare, radiance_scores,
 };
@@ -39,6 +38,19 @@ use aograph_renderer::frame_reference::{
 };
 use aograph_renderer::pass_owner::{PassOwner, PassOwners};
 use aograph_renderer::renderer::Renderer;
+
+/// One frame's scores, counted from the reset (frame 1 has no history).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConvergencePoint {
+    /// Frames since the reset, from 1.
+    pub frame: u32,
+    /// Mean absolute error against the reference (non-sky pixels).
+    pub mae: f64,
+    /// SSIM against the reference.
+    pub ssim: f64,
+    /// MAE in the depth-edge band; `None` when the view has no depth edge.
+    pub edge_mae: Option<f64>,
+}
 
 /// The run-wide settings.
 #[derive(Clone, Debug, PartialEq)]

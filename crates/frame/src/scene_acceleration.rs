@@ -1,5 +1,5 @@
 //! The scene as acceleration structures, a frame input: the TLAS and its two tables (layout in
-//! shaders/common/hardware_scene.wgsl, built by `aograph_scene::ray_tracing::HardwareSceneAs`),
+//! shaders/common/hardware_scene.wgsl, built by `aograph_tracing::gpu::HardwareSceneAs`),
 //! which a technique tracing rays on the hardware backend declares
 //! ([`SceneAccelerationInputs`], from `AoBuildContext::scene_trace`) and whoever runs the graph
 //! builds, updates per frame and binds. A graph that declares none gets none built.
@@ -30,7 +30,7 @@ pub struct SceneAccelerationInputs {
 }
 
 /// The acceleration structures' device objects, as their owner binds them
-/// (`aograph_scene::ray_tracing::HardwareSceneAs` builds them).
+/// (`aograph_tracing::gpu::HardwareSceneAs` builds them).
 #[derive(Clone, Debug)]
 pub struct SceneAccelerationResources {
     /// Bound behind [`SceneAccelerationInputs::tlas`].

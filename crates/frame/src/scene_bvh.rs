@@ -1,5 +1,5 @@
 //! The scene's ray-tracing BVH as a frame input: three storage buffers (nodes, instances,
-//! triangles; layout in shaders/common/bvh.wgsl, built by `aograph_scene::ray_tracing`), which
+//! triangles; layout in shaders/common/bvh.wgsl, built by `aograph_tracing::gpu`), which
 //! a technique that traces rays declares ([`SceneBvhInputs`], from
 //! `AoBuildContext::scene_bvh`) and whoever runs the graph binds. A graph that declares none
 //! gets no BVH built or uploaded.
@@ -29,7 +29,7 @@ pub struct SceneBvhInputs {
     pub triangles: BufferHandle,
 }
 
-/// The BVH's three device buffers, as its owner binds them (`aograph_scene::ray_tracing`
+/// The BVH's three device buffers, as its owner binds them (`aograph_tracing::gpu`
 /// builds them).
 #[derive(Clone, Debug)]
 pub struct SceneBvhBuffers {

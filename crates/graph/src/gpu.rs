@@ -5,7 +5,7 @@
 //! requested when the adapter has them. Ray queries (`EXPERIMENTAL_RAY_QUERY`: acceleration
 //! structures and WGSL's `ray_query`) are one of wgpu's experimental features, which a device
 //! must opt into; aograph opts in only when the adapter offers them, and uses them only in the
-//! hardware ray tracer (`aograph_scene::ray_tracing::hardware`). Validation errors raised outside an error scope are collected, so a
+//! hardware ray tracer (`aograph_tracing::gpu::hardware`). Validation errors raised outside an error scope are collected, so a
 //! test can assert that a whole run produced none.
 
 use std::sync::{Arc, Mutex};

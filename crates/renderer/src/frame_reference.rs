@@ -10,21 +10,22 @@
 //! same time, from the same camera, at the same size, writing positions and the chosen normals.
 //! Invariant: for one frame and one [`ReferenceSettings`], every technique gets the same
 //! reference, bit for bit (and the disk cache serves it once traced; see
-//! `aograph_scene::CacheKey` for what the key covers).
+//! `aograph_tracing::CacheKey` for what the key covers).
 
 use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph_graph::{Extent, GpuContext, ShaderLibrary};
 use aograph_scene::SceneError;
-use aograph_scene::ray_tracing::{
-    GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs,
-};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
-    CacheKey, Camera, ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals,
-    ReferenceParams, ReferenceTracer, Scene, SurfaceBuffer, TriangleBvh,
+    Camera, ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams, ReferenceTracer,
+    Scene, SurfaceBuffer, TriangleBvh,
 };
+use aograph_tracing::gpu::{
+    GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs,
+};
+use aograph_tracing::{CacheKey, ReferenceCache};
 use glam::Vec3;
 
 use crate::error::RenderResult;
@@ -192,18 +193,18 @@ pub fn trace_surfaces(
 /// The radiance reference of `view` (issue 19): the scene's built-in sky
 /// ([`aograph_scene::SkyEnvironment::for_scene`]) integrated from the g-buffer's points with
 /// `s`'s radius and rays, one diffuse bounce from geometry within R
-/// ([`aograph_scene::trace_radiance`]). Receivers' albedo is the g-buffer's. Cached on disk
+/// ([`aograph_tracing::trace_radiance`]). Receivers' albedo is the g-buffer's. Cached on disk
 /// like the AO reference ([`CacheKey::radiance`]).
 pub fn radiance_reference(
     gpu: Arc<GpuContext>,
     shaders: Arc<ShaderLibrary>,
     view: &FrameView,
     s: &ReferenceSettings,
-) -> RenderResult<aograph_scene::RadianceImage> {
+) -> RenderResult<aograph_tracing::RadianceImage> {
     radiance_traced(gpu, shaders, view, s, false)
 }
 
-/// The radiance reference's ceiling (b) (`aograph_scene::reference::seen_triangle_mask`):
+/// The radiance reference's ceiling (b) (`aograph_tracing::seen_triangle_mask`):
 /// [`radiance_reference`] re-traced with the same rays against only the triangles some pixel
 /// sees, so that both its occluders and its bounce's senders are what the frame shows. What
 /// it lacks against the reference is what a screen-space bounce (SSDO's) cannot see; what a
@@ -213,7 +214,7 @@ pub fn radiance_seen_ceiling(
     shaders: Arc<ShaderLibrary>,
     view: &FrameView,
     s: &ReferenceSettings,
-) -> RenderResult<aograph_scene::RadianceImage> {
+) -> RenderResult<aograph_tracing::RadianceImage> {
     radiance_traced(gpu, shaders, view, s, true)
 }
 
@@ -224,7 +225,7 @@ fn radiance_traced(
     view: &FrameView,
     s: &ReferenceSettings,
     seen_only: bool,
-) -> RenderResult<aograph_scene::RadianceImage> {
+) -> RenderResult<aograph_tracing::RadianceImage> {
     let outputs = FrameOutputs {
         surfaces: true,
         surface_normals: s.normals,
@@ -242,7 +243,7 @@ fn radiance_traced(
     let mut tris = view.scene.world_triangles(view.time);
     let mut tri_albedo = view.scene.world_triangle_albedo(view.time);
     if seen_only {
-        let seen = aograph_scene::reference::seen_triangle_mask(
+        let seen = aograph_tracing::seen_triangle_mask(
             &view.scene,
             &view.camera,
             view.extent.width,
@@ -268,9 +269,9 @@ fn radiance_traced(
     let key = CacheKey::radiance(&tris, &surfaces, &params, &tri_albedo, &albedo, &sky);
     Ok(
         ReferenceCache::new(cache_dir()).get_or_trace_radiance(key, || {
-            aograph_scene::trace_radiance(
+            aograph_tracing::trace_radiance(
                 &TriangleBvh::new(&tris),
-                &aograph_scene::BounceSurfaces {
+                &aograph_tracing::BounceSurfaces {
                     triangles: &tris,
                     albedo: &tri_albedo,
                 },
@@ -284,7 +285,7 @@ fn radiance_traced(
 }
 
 /// The two ceilings of the reference of `surfaces` (a frame of `scene` at `time` seen by
-/// `camera`; `aograph_scene::reference::trace_ceilings`): the reference re-traced against the
+/// `camera`; `aograph_tracing::trace_ceilings`): the reference re-traced against the
 /// g-buffer's surfaces and against the triangles the frame sees. Always traced on the CPU with
 /// the CPU reference's rays (where the reference itself was traced on the GPU, the two agree
 /// statistically, not ray for ray); cached on disk like the reference, by each ceiling's own
@@ -295,8 +296,8 @@ pub fn trace_ceilings(
     time: f32,
     surfaces: &SurfaceBuffer,
     s: &ReferenceSettings,
-) -> RenderResult<aograph_scene::reference::Ceilings> {
-    use aograph_scene::reference::{
+) -> RenderResult<aograph_tracing::Ceilings> {
+    use aograph_tracing::{
         SECOND_LAYER_SEPARATION, gbuffer_surface_mesh, guard_band_mesh, second_layer_mesh,
         seen_triangles,
     };
@@ -327,7 +328,7 @@ pub fn trace_ceilings(
     let seen = seen_triangles(scene, camera, surfaces.width, surfaces.height, time);
     let seen_triangles = traced(seen)?;
     let guard_band = traced(guard_band_mesh(scene, camera, surfaces, time))?;
-    Ok(aograph_scene::reference::Ceilings {
+    Ok(aograph_tracing::Ceilings {
         gbuffer_surfaces,
         seen_triangles,
         guard_band,

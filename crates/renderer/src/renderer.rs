@@ -20,9 +20,9 @@ use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
     PassTimings, PlanKey, ShaderLibrary,
 };
-use aograph_scene::ray_tracing::{AsWork, GpuSceneBvh};
 use aograph_scene::view_block::{ViewFrame, view_uniforms};
 use aograph_scene::{Camera, Scene};
+use aograph_tracing::gpu::{AsWork, GpuSceneBvh};
 
 use crate::error::{RenderError, RenderResult};
 use crate::frame_graph::{FrameGraph, FrameOutputs, build_frame_graph_with, build_gbuffer_graph};

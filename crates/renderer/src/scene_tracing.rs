@@ -16,7 +16,7 @@ use aograph_frame::{
 };
 use aograph_graph::GpuContext;
 use aograph_scene::Scene;
-use aograph_scene::ray_tracing::{AsWork, GpuSceneBvh, HardwareSceneAs};
+use aograph_tracing::gpu::{AsWork, GpuSceneBvh, HardwareSceneAs};
 
 use crate::error::RenderResult;
 

@@ -22,7 +22,7 @@ pub fn renderer_mounts() -> Vec<ShaderMount> {
     vec![
         aograph_frame::shader_mount(),
         aograph_ao_passes::shader_mount(),
-        aograph_scene::shader_mount(),
+        aograph_tracing::shader_mount(),
         shader_mount(),
     ]
 }

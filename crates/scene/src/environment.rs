@@ -8,10 +8,13 @@
 //! of irradiance on a surface facing the sun (the integral of the lobe is 2 pi / (k + 1)).
 //! Invariant: radiance is finite and >= 0 in every direction, unit or not (zero -> horizon).
 
+/// This file's code (the sky model): the radiance reference's cache hashes it into its keys.
+pub const SKY_SOURCE: &str = include_str!("environment.rs");
+
 use glam::{Vec2, Vec3};
 
 use crate::model::Scene;
-use crate::reference::sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
+use crate::reference::{cosine_hemisphere, sobol_2d, tangent_frame};
 
 /// Sharpness k of the sun lobe: a soft sun, half its peak radiance 23 degrees from its centre.
 /// What SSDO's 8 samples a pixel (128 over the 4x4 blur) can resolve: at k = 64 (8.5 degrees)

@@ -249,11 +249,7 @@ pub enum SceneError {
 
 impl SceneError {
     /// An [`SceneError::Io`] for `path`, with `action` such as "read" or "write".
-    pub(crate) fn io(
-        action: &'static str,
-        path: impl Into<PathBuf>,
-        source: std::io::Error,
-    ) -> Self {
+    pub fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         SceneError::Io {
             action,
             path: path.into(),

@@ -1,11 +1,12 @@
-//! aograph scenes and their geometry: the scene model, glTF 2.0 import (every index checked,
-//! malformed files refused by name, never a panic) and export, procedural test scenes, the view
-//! heuristics (`views`), the g-buffer node, the ray-tracing structures (the CPU's two-level
-//! [`SceneRays`] and flat [`TriangleBvh`], the GPU's BVH and hardware acceleration structures in
-//! [`ray_tracing`]), and the ray-traced ambient-occlusion reference every screen-space technique
-//! is measured against.
+//! aograph scenes and their geometry on the CPU: the scene model, glTF 2.0 import (every index
+//! checked, malformed files refused by name, never a panic) and export, procedural test scenes,
+//! cameras and the view heuristics (`views`), and the CPU ray queries the heuristics and the
+//! reference share: the two-level [`SceneRays`] and flat [`TriangleBvh`], primary hits, and
+//! the ray-traced ambient-occlusion integrator every screen-space technique is measured
+//! against ([`trace_reference`]). The reference's cache, ceilings and radiance, and the GPU ray
+//! tracers, are `aograph-tracing`'s; the g-buffer node is `aograph-renderer`'s.
 //!
-//! Conventions shared with the rest of aograph (see DESIGN.md, "AO conventions"): world units
+//! Conventions shared with the rest of aograph (docs/guide/render-graph.md): world units
 //! are scene units, right-handed with +Y up, counter-clockwise front faces; accessibility is in
 //! [0, 1] with 1 = unoccluded; sky pixels get exactly 1; nothing returns NaN or infinity.
 //!
@@ -60,15 +61,13 @@ pub mod gltf_export;
 pub mod gltf_import;
 pub mod model;
 pub mod normal_transform;
-mod pose;
+pub mod pose;
 pub mod primitives;
 pub mod procedural;
 pub mod projected_radius;
 pub mod radius;
-pub mod ray_tracing;
 pub mod reference;
 pub mod scene_builder;
-mod shader_mount;
 pub mod skin;
 pub mod test_scenes;
 pub mod view_block;
@@ -90,13 +89,11 @@ pub use procedural::{PROCEDURAL_SCENE_NAMES, procedural_scene};
 pub use projected_radius::{ProjectedRadius, projected_radius};
 pub use radius::{SuggestedRadius, suggested_radius};
 pub use reference::{
-    BounceSurfaces, BruteForceTracer, CacheKey, CpuGBuffer, RadianceImage, RayQueries,
-    ReferenceCache, ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams,
-    ReferenceTracer, SceneRays, SurfaceBuffer, TriangleBvh, primary_hits, trace_radiance,
+    BruteForceTracer, CpuGBuffer, RayQueries, ReferenceImage, ReferenceMode, ReferenceNormals,
+    ReferenceParams, ReferenceTracer, SceneRays, SurfaceBuffer, TriangleBvh, primary_hits,
     trace_reference, trace_reference_rows,
 };
 pub use scene_builder::SceneBuilder;
-pub use shader_mount::{shader_library, shader_mount};
 pub use skin::{Joint, JointWeights, Skin};
 pub use test_scenes::{TEST_SCENES, test_scene};
 pub use view_radius::{ViewRadius, is_interior_view, view_radius};

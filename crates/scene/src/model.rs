@@ -68,7 +68,7 @@ impl Mesh {
 
     /// Triangles whose corners are all in range, as index triples (the order of
     /// [`Mesh::triangles`]).
-    pub(crate) fn valid_triangles(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
+    pub fn valid_triangles(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
         let n = self.positions.len();
         self.indices
             .chunks_exact(3)

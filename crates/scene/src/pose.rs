@@ -13,8 +13,10 @@ use glam::{Mat3, Mat4, Vec3};
 
 /// Where a placed mesh's vertices go at one time: one matrix for all, or a skin's palette
 /// blended per vertex by the mesh's [`crate::skin::JointWeights`].
-pub(crate) enum Pose {
+pub enum Pose {
+    /// One object-to-world matrix for every vertex (a rigid instance).
     Rigid(Mat4),
+    /// The skin's joint matrices at the time, blended per vertex by its weights.
     Skinned(Vec<Mat4>),
 }
 
@@ -22,7 +24,7 @@ impl Pose {
     /// The object-to-world matrix of vertex `vertex` of `mesh` (a vertex without weights under
     /// a skin gets zero, which `Instance::pose` never produces: it picks a skin only for a mesh
     /// with weights).
-    pub(crate) fn vertex_matrix(&self, mesh: &Mesh, vertex: usize) -> Mat4 {
+    pub fn vertex_matrix(&self, mesh: &Mesh, vertex: usize) -> Mat4 {
         match self {
             Pose::Rigid(m) => *m,
             Pose::Skinned(palette) => mesh
@@ -33,7 +35,7 @@ impl Pose {
     }
 
     /// Every vertex of `mesh` in world space.
-    pub(crate) fn positions(&self, mesh: &Mesh) -> Vec<Vec3> {
+    pub fn positions(&self, mesh: &Mesh) -> Vec<Vec3> {
         match self {
             Pose::Rigid(m) => mesh
                 .positions
@@ -48,7 +50,7 @@ impl Pose {
 
     /// Every vertex normal of `mesh` in world space (unit, zero where a vertex has none or the
     /// transform flattens it), by the rule of [`crate::normal_transform`].
-    pub(crate) fn normals(&self, mesh: &Mesh) -> Vec<Vec3> {
+    pub fn normals(&self, mesh: &Mesh) -> Vec<Vec3> {
         let rigid = match self {
             Pose::Rigid(m) => Some(normal_matrix(*m)),
             Pose::Skinned(_) => None,
@@ -68,7 +70,7 @@ impl Pose {
 
     /// World-space bounds of `mesh`: the object bounds' box transformed for a rigid pose, the
     /// posed referenced vertices' box for a skinned one.
-    pub(crate) fn bounds(&self, mesh: &Mesh) -> Aabb {
+    pub fn bounds(&self, mesh: &Mesh) -> Aabb {
         match self {
             Pose::Rigid(m) => mesh.bounds().transformed(m),
             Pose::Skinned(_) => {
@@ -85,7 +87,7 @@ impl Pose {
 
 /// Object-space normal `n` in world space under normal matrix `normal_matrix` (unit; zero when
 /// the transform flattens it): the rule every rigid instance's normals follow.
-pub(crate) fn rigid_normal(normal_matrix: Mat3, n: Vec3) -> Vec3 {
+pub fn rigid_normal(normal_matrix: Mat3, n: Vec3) -> Vec3 {
     (normal_matrix * n)
         .try_normalize()
         .filter(|v| v.is_finite())
@@ -94,7 +96,7 @@ pub(crate) fn rigid_normal(normal_matrix: Mat3, n: Vec3) -> Vec3 {
 
 impl Instance {
     /// Where `mesh` (this instance's) goes at time `t`.
-    pub(crate) fn pose(&self, mesh: &Mesh, t: f32) -> Pose {
+    pub fn pose(&self, mesh: &Mesh, t: f32) -> Pose {
         match self.skin_for(mesh) {
             Some(skin) => Pose::Skinned(skin.palette(t)),
             None => Pose::Rigid(self.transform_at(t)),

@@ -1,5 +1,5 @@
 //! `rtao`: ray-traced ambient occlusion against the scene's real geometry (its two-level BVH,
-//! `aograph_scene::ray_tracing`), not the depth buffer: what lies behind the first surface,
+//! `aograph_tracing::gpu`), not the depth buffer: what lies behind the first surface,
 //! off screen and behind the camera occludes as it does in the reference. The estimator is the
 //! reference's own (shaders/common/ao_rays.wgsl mirrors crates/scene/src/reference): N
 //! cosine-weighted rays per pixel from the g-buffer point offset along its normal, the pixel's

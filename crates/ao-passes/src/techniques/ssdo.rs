@@ -33,7 +33,7 @@
 //!   (`aograph_scene::SkyEnvironment`, filled into the lighting block by the renderer), colour
 //!   varying with direction, integrated over the visible sample directions; its sun is a lobe
 //!   of the sky, so the directional light's separate visibility vote is off. The radiance
-//!   reference (`aograph_scene::trace_radiance`) integrates the same sky.
+//!   reference (`aograph_tracing::trace_radiance`) integrates the same sky.
 //! - The directional light: the paper shades important lights with shadow maps, which aograph
 //!   does not have. Here the sun is the g-buffer's unshadowed DirectLight (rho E max(0, n.l))
 //!   times a per-sample-weighted visibility sum V_i w_i / sum w_i, w_i = max(0, omega_i.l)^k,

@@ -6,7 +6,7 @@
 //! over the measured pixels, for both scores, so the two are on one scale: PSNR = 20 log10
 //! (peak / RMSE). Invariant: every score is finite or, for an exact match, +inf PSNR.
 
-use aograph_scene::RadianceImage;
+use aograph_tracing::RadianceImage;
 use serde::{Deserialize, Serialize};
 
 use super::nonfinite;

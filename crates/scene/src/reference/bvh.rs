@@ -39,10 +39,10 @@ pub(super) fn padded_box(min: Vec3, max: Vec3) -> Aabb {
     Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
 }
 
-/// True for triangles a ray can hit: finite, within [`MAX_COORDINATE`], non-zero area.
+/// True for triangles a ray can hit: finite, within `MAX_COORDINATE` (1e15), non-zero area.
 /// (Zero-area triangles are invisible to rays anyway, and their flat boxes break obvhs 0.3's
 /// wide-BVH conversion.)
-pub(crate) fn is_traceable(triangle: &[Vec3; 3]) -> bool {
+pub fn is_traceable(triangle: &[Vec3; 3]) -> bool {
     let [a, b, c] = *triangle;
     let in_range = |v: Vec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
     in_range(a) && in_range(b) && in_range(c) && (b - a).cross(c - a).length_squared() > 0.0

@@ -11,35 +11,34 @@
 
 mod brute_force;
 mod bvh;
-mod cache;
-mod ceilings;
 mod cpu_gbuffer;
 mod output;
 mod progress;
-mod radiance;
-pub(crate) mod sampling;
+mod sampling;
 mod scene_rays;
 mod tracer;
 
 pub use brute_force::BruteForceTracer;
-pub(crate) use bvh::is_traceable;
+pub use bvh::is_traceable;
 pub use bvh::{RayHitRecord, RayQueries, TriangleBvh};
-pub use cache::{CacheKey, ReferenceCache};
-pub use ceilings::{
-    Ceilings, DEPTH_BREAK_RATIO, GUARD_BAND, SECOND_LAYER_SEPARATION, SEEN_SUPERSAMPLING,
-    gbuffer_surface_mesh, guard_band_camera, guard_band_mesh, second_layer_mesh,
-    seen_triangle_mask, seen_triangles, trace_ceilings,
-};
 pub use cpu_gbuffer::{CpuGBuffer, primary_hits, surface_normals};
 pub use output::{
     RAW_MAGIC, RawF32Image, ReferenceImage, read_raw_f32, write_png16, write_raw_f32,
 };
 pub use progress::ProgressMode;
-pub use radiance::{BounceSurfaces, RadianceImage, trace_radiance};
-pub use sampling::{cosine_hemisphere, sobol_2d, tangent_frame};
+pub use sampling::{cosine_hemisphere, pixel_scramble, sobol_2d, tangent_frame};
 pub use scene_rays::SceneRays;
-pub(crate) use tracer::check_inputs;
+pub use tracer::check_inputs;
 pub use tracer::{offset_epsilon, trace_reference, trace_reference_rows};
+
+/// The code of the AO integrator whose output a cached reference holds (the tracer, its
+/// sampling and its BVH): the reference cache hashes it into every key, so any edit to it
+/// invalidates what was traced before.
+pub const INTEGRATOR_SOURCES: [&str; 3] = [
+    include_str!("tracer.rs"),
+    include_str!("sampling.rs"),
+    include_str!("bvh.rs"),
+];
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -92,7 +91,7 @@ impl ReferenceNormals {
 
 /// Which tracer traces the reference: the CPU's BVH (rayon over cores), the GPU ray tracer's
 /// compute BVH, or its hardware backend (acceleration structures and ray queries;
-/// `crate::ray_tracing::hardware`), the same rays every way. `Auto` is the hardware backend on
+/// `aograph_tracing::gpu::hardware`), the same rays every way. `Auto` is the hardware backend on
 /// a hardware device with ray queries, the compute BVH on one without, and the CPU on a
 /// software device (lavapipe runs compute and its software ray queries on the same cores,
 /// slower than the CPU tracer's SIMD BVH).
@@ -104,9 +103,8 @@ pub enum ReferenceTracer {
     Auto,
     /// The CPU BVH tracer, parallel over rows with rayon; any number of rays per pixel.
     Cpu,
-    /// The GPU ray tracer's compute BVH (`crate::ray_tracing`; spelled "gpu" or "compute");
-    /// at most [`GPU_MAX_RAYS_PER_PIXEL`](crate::ray_tracing::GPU_MAX_RAYS_PER_PIXEL) rays per
-    /// pixel.
+    /// The GPU ray tracer's compute BVH (`aograph_tracing::gpu`; spelled "gpu" or "compute");
+    /// at most `aograph_tracing::gpu::GPU_MAX_RAYS_PER_PIXEL` rays per pixel.
     Gpu,
     /// The GPU ray tracer's hardware backend (ray queries); a device without them is a named
     /// error. Same ray limit as [`ReferenceTracer::Gpu`].
@@ -201,9 +199,8 @@ impl SurfaceBuffer {
         self.valid.iter().filter(|&&v| v).count()
     }
 
-    /// A 1x1 buffer seeing `point` with `normal` (for the tracers' unit tests).
-    #[cfg(test)]
-    pub(crate) fn one_pixel(point: Vec3, normal: Vec3) -> SurfaceBuffer {
+    /// A 1x1 buffer seeing `point` with `normal` (a single probe, as the tracers' tests use).
+    pub fn one_pixel(point: Vec3, normal: Vec3) -> SurfaceBuffer {
         SurfaceBuffer {
             width: 1,
             height: 1,

@@ -39,7 +39,7 @@ pub(crate) fn hash_u32(mut x: u32) -> u32 {
 }
 
 /// The per-pixel scramble: two independent 32-bit masks from the pixel index.
-pub(crate) fn pixel_scramble(pixel: u32) -> [u32; 2] {
+pub fn pixel_scramble(pixel: u32) -> [u32; 2] {
     let a = hash_u32(pixel ^ 0x9e37_79b9);
     [a, hash_u32(a ^ 0x85eb_ca6b)]
 }

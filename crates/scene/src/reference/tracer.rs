@@ -31,10 +31,7 @@ pub fn offset_epsilon(point: Vec3, radius: f32) -> f32 {
 }
 
 /// Checks the buffer sizes and parameters before tracing.
-pub(crate) fn check_inputs(
-    surfaces: &SurfaceBuffer,
-    params: &ReferenceParams,
-) -> Result<(), SceneError> {
+pub fn check_inputs(surfaces: &SurfaceBuffer, params: &ReferenceParams) -> Result<(), SceneError> {
     if !(params.radius.is_finite() && params.radius > 0.0) {
         return Err(SceneError::InvalidParameter {
             name: "radius",

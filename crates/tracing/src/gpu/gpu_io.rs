@@ -7,7 +7,7 @@ use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
-use crate::error::SceneError;
+use aograph_scene::error::SceneError;
 
 /// A buffer holding `items` (at least one element's worth of zeros when empty: wgpu has no
 /// zero-size bindings).

@@ -23,9 +23,9 @@ use glam::{Mat4, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 
 use super::flat_bvh::{BuildQuality, FlatBvh, FlatNode, triangle_box};
-use crate::error::SceneError;
-use crate::model::{Mesh, Scene};
-use crate::reference::is_traceable;
+use aograph_scene::error::SceneError;
+use aograph_scene::model::{Mesh, Scene};
+use aograph_scene::reference::is_traceable;
 
 /// Depth limits of the traversal stacks in shaders/common/bvh.wgsl (`TLAS_STACK`,
 /// `BLAS_STACK`): a tree deeper than these is a build error, never a truncated traversal.
@@ -68,7 +68,7 @@ pub struct GpuInstance {
     pub world_to_object: [[f32; 4]; 3],
     /// Global index in [`SceneBvh::nodes`] of the root of the instance's BLAS.
     pub blas_root: u32,
-    /// Index of the instance in [`Scene::instances`](crate::model::Scene::instances).
+    /// Index of the instance in [`Scene::instances`](aograph_scene::model::Scene::instances).
     pub instance: u32,
     /// 1 when the instance is animated or has a moving skin, else 0.
     pub moving: u32,
@@ -475,9 +475,9 @@ fn check_depth(level: &'static str, depth: u32, limit: u32) -> Result<(), SceneE
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::Camera;
-    use crate::model::{Instance, Mesh};
-    use crate::scene_builder::SceneBuilder;
+    use aograph_scene::camera::Camera;
+    use aograph_scene::model::{Instance, Mesh};
+    use aograph_scene::scene_builder::SceneBuilder;
 
     fn quad() -> Mesh {
         Mesh {

@@ -11,17 +11,17 @@
 //!
 //! Entries are two raw AOREF32 files, `<key>.accessibility.aoref` and
 //! `<key>.std_error.aoref`, each written atomically. Radiance references (SSDO's, see
-//! [`super::trace_radiance`]) have keys of their own ([`CacheKey::radiance`]: also the sky,
+//! [`crate::radiance::trace_radiance`]) have keys of their own ([`CacheKey::radiance`]: also the sky,
 //! every albedo and the radiance code) and two files, `<key>.radiance_direct.aoref` and
 //! `<key>.radiance_indirect.aoref`, RGB interleaved in rows three times as wide. Invariants: a changed input changes the
 //! key (up to hash collisions); a truncated or corrupt entry is reported on stderr and treated
 //! as a miss, never returned.
 
-use super::output::{ReferenceImage, read_raw_f32, write_raw_f32};
-use super::radiance::RadianceImage;
-use super::{ReferenceParams, SurfaceBuffer};
-use crate::environment::SkyEnvironment;
-use crate::error::SceneError;
+use crate::radiance::RadianceImage;
+use aograph_scene::environment::SkyEnvironment;
+use aograph_scene::error::SceneError;
+use aograph_scene::reference::{ReferenceImage, read_raw_f32, write_raw_f32};
+use aograph_scene::reference::{ReferenceParams, SurfaceBuffer};
 use glam::Vec3;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -29,16 +29,12 @@ use std::path::{Path, PathBuf};
 /// The code whose output the cache stores: any edit to it changes every key. (The obvhs
 /// version is pinned by Cargo.lock; the BVH's own tests and the brute-force comparison check
 /// that it changes no result.)
-const TRACER_SOURCES: [&str; 3] = [
-    include_str!("tracer.rs"),
-    include_str!("sampling.rs"),
-    include_str!("bvh.rs"),
-];
+const TRACER_SOURCES: [&str; 3] = aograph_scene::reference::INTEGRATOR_SOURCES;
 
 /// The radiance estimator's code (with the tracer's, [`TRACER_SOURCES`]).
 const RADIANCE_SOURCES: [&str; 2] = [
     include_str!("radiance.rs"),
-    include_str!("../environment.rs"),
+    aograph_scene::environment::SKY_SOURCE,
 ];
 
 /// 128-bit FNV-1a hasher over explicit byte sequences (stable across platforms and Rust
@@ -122,13 +118,13 @@ impl CacheKey {
     /// tracer's name and its shaders' sources (a CPU-traced entry is never taken for a GPU one,
     /// nor one from older shaders).
     pub fn gpu_traced(self) -> CacheKey {
-        self.traced_by(b"gpu", GPU_TRACER_SOURCES)
+        self.traced_by(b"gpu", &gpu_tracer_sources())
     }
 
     /// The key of the same reference traced by the GPU tracer's hardware backend (its own
     /// name and shaders: its results agree with the others statistically, not bit for bit).
     pub fn hardware_traced(self) -> CacheKey {
-        self.traced_by(b"hardware", HARDWARE_TRACER_SOURCES)
+        self.traced_by(b"hardware", &hardware_tracer_sources())
     }
 
     fn traced_by(self, tracer: &[u8], sources: &[&str]) -> CacheKey {
@@ -146,35 +142,48 @@ impl CacheKey {
 /// The GPU tracer's shaders, and the Rust that builds the scene it traces and runs it (a
 /// change to how the BVH is built changes its images as surely as a shader edit), hashed into
 /// its keys.
-const GPU_TRACER_SOURCES: &[&str] = &[
-    include_str!("../ray_tracing/scene_bvh.rs"),
-    include_str!("../ray_tracing/flat_bvh.rs"),
-    include_str!("../ray_tracing/gpu_bvh.rs"),
-    include_str!("../ray_tracing/gpu_reference.rs"),
-    include_str!("../ray_tracing/trace_scene.rs"),
-    include_str!("../../../../shaders/common/bvh.wgsl"),
-    include_str!("../../../../shaders/common/scene_hit.wgsl"),
-    include_str!("../../../../shaders/common/scene_trace.wgsl"),
-    include_str!("../../../../shaders/common/ao_ray_dirs.wgsl"),
-    include_str!("../../../../shaders/common/ao_rays.wgsl"),
-    include_str!("../../../../shaders/raytrace/reference.wgsl"),
-];
+/// The WGSL file at `path` (relative to shaders/), as the shader crate embeds it.
+fn wgsl(path: &str) -> &'static str {
+    let top = path.split('/').next().unwrap_or_default();
+    aograph_shaders::folder(top)
+        .and_then(|files| files.iter().find(|(p, _)| *p == path))
+        .map(|(_, source)| *source)
+        .expect("the tracer's shaders are embedded (aograph-shaders' tables)")
+}
+
+fn gpu_tracer_sources() -> Vec<&'static str> {
+    vec![
+        include_str!("gpu/scene_bvh.rs"),
+        include_str!("gpu/flat_bvh.rs"),
+        include_str!("gpu/gpu_bvh.rs"),
+        include_str!("gpu/gpu_reference.rs"),
+        include_str!("gpu/trace_scene.rs"),
+        wgsl("common/bvh.wgsl"),
+        wgsl("common/scene_hit.wgsl"),
+        wgsl("common/scene_trace.wgsl"),
+        wgsl("common/ao_ray_dirs.wgsl"),
+        wgsl("common/ao_rays.wgsl"),
+        wgsl("raytrace/reference.wgsl"),
+    ]
+}
 
 /// The hardware backend's shaders and the Rust that builds its acceleration structures and runs
 /// it, hashed into its keys.
-const HARDWARE_TRACER_SOURCES: &[&str] = &[
-    include_str!("../ray_tracing/hardware.rs"),
-    // Its bottom levels take their triangles from `traceable_mesh_triangles` there.
-    include_str!("../ray_tracing/scene_bvh.rs"),
-    include_str!("../ray_tracing/gpu_reference.rs"),
-    include_str!("../ray_tracing/trace_scene.rs"),
-    include_str!("../../../../shaders/common/hardware_scene.wgsl"),
-    include_str!("../../../../shaders/common/scene_hit.wgsl"),
-    include_str!("../../../../shaders/common/scene_trace_hardware.wgsl"),
-    include_str!("../../../../shaders/common/ao_ray_dirs.wgsl"),
-    include_str!("../../../../shaders/common/ao_rays.wgsl"),
-    include_str!("../../../../shaders/raytrace/reference.wgsl"),
-];
+fn hardware_tracer_sources() -> Vec<&'static str> {
+    vec![
+        include_str!("gpu/hardware.rs"),
+        // Its bottom levels take their triangles from `traceable_mesh_triangles` there.
+        include_str!("gpu/scene_bvh.rs"),
+        include_str!("gpu/gpu_reference.rs"),
+        include_str!("gpu/trace_scene.rs"),
+        wgsl("common/hardware_scene.wgsl"),
+        wgsl("common/scene_hit.wgsl"),
+        wgsl("common/scene_trace_hardware.wgsl"),
+        wgsl("common/ao_ray_dirs.wgsl"),
+        wgsl("common/ao_rays.wgsl"),
+        wgsl("raytrace/reference.wgsl"),
+    ]
+}
 
 /// A directory of cached reference images.
 impl CacheKey {
@@ -378,7 +387,7 @@ impl ReferenceCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference::ReferenceMode;
+    use aograph_scene::reference::ReferenceMode;
 
     fn surfaces() -> SurfaceBuffer {
         SurfaceBuffer {
@@ -409,7 +418,7 @@ mod tests {
         };
         assert_ne!(base, CacheKey::new(&tris, &surfaces(), &wider));
         let quiet = ReferenceParams {
-            progress: crate::reference::ProgressMode::Never,
+            progress: aograph_scene::reference::ProgressMode::Never,
             ..params
         };
         assert_eq!(base, CacheKey::new(&tris, &surfaces(), &quiet));
@@ -421,26 +430,26 @@ mod tests {
         // keys (it was missed once: stale images were served after a builder change).
         let covers = |sources: &[&str], file: &str| sources.contains(&file);
         assert!(covers(
-            GPU_TRACER_SOURCES,
-            include_str!("../ray_tracing/scene_bvh.rs")
+            &gpu_tracer_sources(),
+            include_str!("gpu/scene_bvh.rs")
         ));
         assert!(covers(
-            GPU_TRACER_SOURCES,
-            include_str!("../ray_tracing/gpu_bvh.rs")
+            &gpu_tracer_sources(),
+            include_str!("gpu/gpu_bvh.rs")
         ));
         assert!(covers(
-            HARDWARE_TRACER_SOURCES,
-            include_str!("../ray_tracing/hardware.rs")
+            &hardware_tracer_sources(),
+            include_str!("gpu/hardware.rs")
         ));
         assert!(!covers(
-            GPU_TRACER_SOURCES,
-            include_str!("../ray_tracing/hardware.rs")
+            &gpu_tracer_sources(),
+            include_str!("gpu/hardware.rs")
         ));
     }
 
     #[test]
     fn the_key_names_the_tracer_and_auto_is_the_cpu_only_on_a_software_device() {
-        use crate::reference::ReferenceTracer;
+        use aograph_scene::reference::ReferenceTracer;
         let tris = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]];
         let base = CacheKey::new(&tris, &surfaces(), &ReferenceParams::default());
         assert_ne!(base, base.gpu_traced());
@@ -482,7 +491,7 @@ mod tests {
     fn radiance_entries_have_keys_of_their_own_and_round_trip() {
         let tris = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]];
         let params = ReferenceParams::default();
-        let sky = SkyEnvironment::for_scene(&crate::procedural_scene("plane").unwrap());
+        let sky = SkyEnvironment::for_scene(&aograph_scene::procedural_scene("plane").unwrap());
         let (tri_albedo, px_albedo) = (vec![Vec3::splat(0.5)], vec![Vec3::ONE, Vec3::ZERO]);
         let key = |t: &[Vec3], p: &[Vec3], s: &SkyEnvironment| {
             CacheKey::radiance(&tris, &surfaces(), &params, t, p, s)

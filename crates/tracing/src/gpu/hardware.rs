@@ -26,8 +26,8 @@ use wgpu::util::DeviceExt;
 
 use super::gpu_io::{buffer_of, check_gpu_errors, check_storage};
 use super::scene_bvh::traceable_mesh_triangles;
-use crate::error::SceneError;
-use crate::model::Scene;
+use aograph_scene::error::SceneError;
+use aograph_scene::model::Scene;
 
 /// Largest TLAS custom index (24 bits).
 const MAX_CUSTOM_INDEX: usize = 1 << 24;

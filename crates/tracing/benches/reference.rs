@@ -13,12 +13,12 @@
 //! the device has ray queries, the hardware acceleration structures (rays per second each),
 //! and their per-frame update on `dynamic` and CesiumMan.
 
-use aograph_scene::ray_tracing::{
-    GpuRayBatch, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs, HitQuery, SceneBvh, TraceRay,
-};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     ReferenceMode, ReferenceParams, TriangleBvh, primary_hits, procedural_scene, trace_reference,
+};
+use aograph_tracing::gpu::{
+    GpuRayBatch, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs, HitQuery, SceneBvh, TraceRay,
 };
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -60,7 +60,7 @@ fn reference_throughput(c: &mut Criterion) {
         b.iter(|| trace_reference(black_box(&bvh), black_box(&surfaces), &obscurance))
     });
     if let Some(gpu) = aograph_graph::test_gpu() {
-        let shaders = aograph_scene::shader_library().expect("aograph's mounts");
+        let shaders = aograph_tracing::shader_library().expect("aograph's mounts");
         let tracer = GpuReferenceTracer::new(gpu.clone(), &shaders).expect("pipeline");
         let gpu_bvh = GpuSceneBvh::new(gpu.clone(), &scene, 0.0).expect("BVH fits");
         for (mode, p) in [("binary", params), ("obscurance", obscurance)] {
@@ -154,7 +154,7 @@ fn ray_batch(
         })
     });
     if let Some(gpu) = aograph_graph::test_gpu() {
-        let shaders = aograph_scene::shader_library().expect("aograph's mounts");
+        let shaders = aograph_tracing::shader_library().expect("aograph's mounts");
         let compute = GpuRayBatch::new(gpu.clone(), &shaders).expect("pipeline");
         let bvh = GpuSceneBvh::new(gpu.clone(), scene, 0.0).expect("BVH fits");
         group.bench_function("columns_any_hit_compute", |b| {

@@ -8,7 +8,7 @@ use aograph_graph::{GraphResult, ShaderLibrary, ShaderMount};
 
 /// shaders/raytrace/.
 pub fn shader_mount() -> ShaderMount {
-    ShaderMount::new("aograph-scene").with_files(aograph_shaders::RAYTRACE)
+    ShaderMount::new("aograph-tracing").with_files(aograph_shaders::RAYTRACE)
 }
 
 /// A library with what this crate's passes need: its mount and the frame crate's.

@@ -26,10 +26,10 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::camera::Camera;
-use crate::error::SceneError;
-use crate::model::Scene;
-use crate::reference::{
+use aograph_scene::camera::Camera;
+use aograph_scene::error::SceneError;
+use aograph_scene::model::Scene;
+use aograph_scene::reference::{
     CpuGBuffer, ReferenceImage, ReferenceParams, SurfaceBuffer, TriangleBvh, trace_reference,
 };
 
@@ -112,7 +112,7 @@ pub fn second_layer_mesh(
 /// pixel pitch, so pixel (x, y) of the frame is pixel (x + pad, y + pad) of the wider image;
 /// with that image's size.
 pub fn guard_band_camera(camera: &Camera, width: u32, height: u32, pad: u32) -> (Camera, u32, u32) {
-    use crate::camera::Projection;
+    use aograph_scene::camera::Projection;
     let grow = (height + 2 * pad) as f32 / height.max(1) as f32;
     let mut wide = *camera;
     match &mut wide.projection {
@@ -261,7 +261,7 @@ pub fn guard_band_mesh(
     let pad = (GUARD_BAND * h as f32).ceil() as usize;
     let (wide, ww, wh) = guard_band_camera(camera, surfaces.width, surfaces.height, pad as u32);
     let wide_surfaces = CpuGBuffer::trace(scene, &wide, ww, wh, t)
-        .surfaces(crate::reference::ReferenceNormals::Geometric);
+        .surfaces(aograph_scene::reference::ReferenceNormals::Geometric);
     // Blocks not wholly inside the frame (the frame's own come from `surfaces`).
     let inside = |x: usize, y: usize| x >= pad && y >= pad && x + 1 < pad + w && y + 1 < pad + h;
     let mut mesh = gbuffer_surface_mesh(surfaces, camera.position, camera.forward());

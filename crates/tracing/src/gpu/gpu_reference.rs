@@ -24,8 +24,8 @@ use super::gpu_io::{
 };
 use super::trace_scene::GpuTraceScene;
 use super::trace_scene::hardware_pipeline;
-use crate::error::SceneError;
-use crate::reference::{
+use aograph_scene::error::SceneError;
+use aograph_scene::reference::{
     ReferenceImage, ReferenceMode, ReferenceParams, SurfaceBuffer, check_inputs,
 };
 

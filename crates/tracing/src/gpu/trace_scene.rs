@@ -12,7 +12,7 @@ use aograph_graph::{GpuContext, ShaderLibrary};
 use super::gpu_bvh::GpuSceneBvh;
 use super::gpu_io::compute_pipeline;
 use super::hardware::HardwareSceneAs;
-use crate::error::SceneError;
+use aograph_scene::error::SceneError;
 
 /// The scene a GPU trace runs against (the two backends of the GPU tracer).
 #[derive(Clone, Copy)]

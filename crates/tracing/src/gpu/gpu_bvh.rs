@@ -14,8 +14,8 @@ use bytemuck::Pod;
 use super::gpu_io::buffer_of;
 use super::limits::check_bvh_fits;
 use super::scene_bvh::{BvhUpdate, BvhWork, SceneBvh};
-use crate::error::SceneError;
-use crate::model::Scene;
+use aograph_scene::error::SceneError;
+use aograph_scene::model::Scene;
 
 /// Graph import names of the three buffers (the rtao technique declares them; whoever runs
 /// the graph binds [`GpuSceneBvh`]'s buffers under them).

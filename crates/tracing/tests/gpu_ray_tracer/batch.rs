@@ -1,8 +1,8 @@
 //! Ray by ray against the CPU tracer, on the compute BVH and on the acceleration structures,
 //! and what each rebuilds per frame.
 
-use aograph_scene::ray_tracing::{GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::{PROCEDURAL_SCENE_NAMES, procedural_scene};
+use aograph_tracing::gpu::{GpuSceneBvh, HardwareSceneAs};
 
 use super::*;
 
@@ -163,7 +163,7 @@ fn hardware_static_scene_builds_once_moving_instances_rebuild_the_tlas_skins_the
     let Some((gpu, batch)) = hardware_batch() else {
         return;
     };
-    use aograph_scene::ray_tracing::hardware::AsWork;
+    use aograph_tracing::gpu::hardware::AsWork;
     // Static: the build, then nothing, whatever the time.
     let columns = procedural_scene("columns").unwrap();
     let mut accel = HardwareSceneAs::build(&gpu, &columns, 0.0).unwrap();

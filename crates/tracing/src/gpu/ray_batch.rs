@@ -13,7 +13,7 @@ use super::gpu_io::{
     submit_dispatch,
 };
 use super::trace_scene::{GpuTraceScene, hardware_pipeline};
-use crate::error::SceneError;
+use aograph_scene::error::SceneError;
 
 /// One ray: `origin + t direction`, t in [t_min, t_max] (direction unit length for distances in
 /// scene units).

@@ -4,12 +4,12 @@
 use std::sync::Arc;
 
 use aograph_graph::GpuContext;
-use aograph_scene::ray_tracing::{GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs};
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     CpuGBuffer, ReferenceMode, ReferenceNormals, ReferenceParams, TriangleBvh, procedural_scene,
     trace_reference,
 };
+use aograph_tracing::gpu::{GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs};
 
 use super::*;
 
@@ -223,7 +223,7 @@ fn the_gpu_reference_refuses_more_rays_than_its_f32_sums_hold_naming_the_limit()
         .surfaces(ReferenceNormals::Geometric);
     let bvh = GpuSceneBvh::new(gpu, &scene, 0.0).unwrap();
     let params = ReferenceParams {
-        rays_per_pixel: aograph_scene::ray_tracing::GPU_MAX_RAYS_PER_PIXEL + 1,
+        rays_per_pixel: aograph_tracing::gpu::GPU_MAX_RAYS_PER_PIXEL + 1,
         progress: ProgressMode::Never,
         ..ReferenceParams::default()
     };

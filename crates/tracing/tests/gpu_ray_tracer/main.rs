@@ -19,12 +19,12 @@ mod reference;
 use std::sync::Arc;
 
 use aograph_graph::{GpuContext, ShaderLibrary};
-use aograph_scene::ray_tracing::{GpuRayBatch, GpuRayHit, GpuSceneBvh, HitQuery, TraceRay};
 use aograph_scene::{Mesh, Scene, SceneBuilder, TriangleBvh};
+use aograph_tracing::gpu::{GpuRayBatch, GpuRayHit, GpuSceneBvh, HitQuery, TraceRay};
 use glam::{Mat4, Quat, Vec3};
 
 fn shaders() -> ShaderLibrary {
-    aograph_scene::shader_library().unwrap()
+    aograph_tracing::shader_library().unwrap()
 }
 
 /// A small deterministic generator (SplitMix64).

@@ -3,7 +3,7 @@
 //! tested with made-up limits; the error names the buffer, its size, the whole BVH's size and
 //! the limit it exceeds (never a panic inside wgpu, never a silent truncation).
 
-use crate::error::SceneError;
+use aograph_scene::error::SceneError;
 
 /// Bytes of the BVH's three buffers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -16,12 +16,12 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::bvh::RayQueries;
-use super::sampling::{cosine_hemisphere, pixel_scramble, sobol_2d, tangent_frame};
-use super::tracer::offset_epsilon;
-use super::{ReferenceParams, SurfaceBuffer};
-use crate::environment::{SkyEnvironment, SkyIrradiance};
-use crate::error::SceneError;
+use aograph_scene::environment::{SkyEnvironment, SkyIrradiance};
+use aograph_scene::error::SceneError;
+use aograph_scene::reference::RayQueries;
+use aograph_scene::reference::offset_epsilon;
+use aograph_scene::reference::{ReferenceParams, SurfaceBuffer};
+use aograph_scene::reference::{cosine_hemisphere, pixel_scramble, sobol_2d, tangent_frame};
 
 /// Linear radiance per pixel, split into its direct and one-bounce parts.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,7 +41,7 @@ pub struct RadianceImage {
 /// What the traced geometry looks like to a bounce: per triangle (the order of
 /// `Scene::world_triangles`), its albedo.
 pub struct BounceSurfaces<'a> {
-    /// World-space triangles, as [`Scene::world_triangles`](crate::model::Scene::world_triangles)
+    /// World-space triangles, as [`Scene::world_triangles`](aograph_scene::model::Scene::world_triangles)
     /// returns them at the traced time (the triangles the BVH was built from).
     pub triangles: &'a [[Vec3; 3]],
     /// Linear RGB albedo of each triangle, one per entry of `triangles`.
@@ -60,7 +60,7 @@ pub fn trace_radiance(
     sky: &SkyEnvironment,
     params: &ReferenceParams,
 ) -> Result<RadianceImage, SceneError> {
-    super::tracer::check_inputs(surfaces, params)?;
+    aograph_scene::reference::check_inputs(surfaces, params)?;
     for (what, actual, expected) in [
         ("pixel albedo", albedo.len(), surfaces.pixel_count()),
         (
@@ -153,13 +153,13 @@ fn trace_pixel(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference::TriangleBvh;
+    use aograph_scene::reference::TriangleBvh;
 
     fn params(radius: f32, rays: u32) -> ReferenceParams {
         ReferenceParams {
             radius,
             rays_per_pixel: rays,
-            progress: super::super::ProgressMode::Never,
+            progress: aograph_scene::reference::ProgressMode::Never,
             ..Default::default()
         }
     }
