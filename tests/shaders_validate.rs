@@ -18,7 +18,7 @@ fn every_embedded_shader_is_mounted_by_exactly_one_crate() {
         [
             "aograph-frame",
             "aograph-ao-passes",
-            "aograph-scene",
+            "aograph-tracing",
             "aograph-renderer",
             "aograph-embed",
             "aograph-bench",
