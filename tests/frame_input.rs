@@ -12,32 +12,27 @@ use std::sync::Arc;
 use aograph_ao_passes::{
     AoBuildContext, AoOutput, AoResult, AoTechnique, ParamDesc, TechniqueRegistry,
 };
-use aograph_frame::{FrameInput, GBufferChannels};
-use aograph_graph::{
-    BufferAccess, BufferDesc, BufferHandle, CompiledGraph, Executor, Extent, GraphBuilder,
-    GraphResult, ShaderMount, test_gpu,
-};
+use aograph_frame::{BufferBlock, BufferInput, GBufferChannels};
+use aograph_graph::{BufferAccess, Extent, ShaderMount, test_gpu};
 use serde::{Deserialize, Serialize};
 
-/// The input: one uniform block, `Exposure` in the WGSL.
-struct Exposure;
-
-impl FrameInput for Exposure {
-    const NAME: &'static str = "the exposure";
-    type Handles = BufferHandle;
-    type Resources = wgpu::Buffer;
-    fn declare(b: &mut GraphBuilder) -> BufferHandle {
-        b.import_buffer("exposure", BufferDesc { size: 16 })
-    }
-    fn bind(
-        exec: &mut Executor,
-        plan: &CompiledGraph,
-        handles: BufferHandle,
-        buffer: &wgpu::Buffer,
-    ) -> GraphResult<()> {
-        exec.bind_import_buffer(plan, handles, buffer.clone())
-    }
+/// The input's block, `Exposure` in the WGSL: one buffer the application fills, so the
+/// input is `BufferInput<ExposureBlock>` (a frame input needing more than one buffer
+/// implements `FrameInput` itself, as the scene's BVH does).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ExposureBlock {
+    value: f32,
+    pad: [f32; 3],
 }
+
+impl BufferBlock for ExposureBlock {
+    const NAME: &'static str = "the exposure";
+    const IMPORT: &'static str = "exposure";
+}
+
+/// The input.
+type Exposure = BufferInput<ExposureBlock>;
 
 const SHADER: &str = "tests/exposed.wgsl";
 const WGSL: &str = "
@@ -98,8 +93,14 @@ fn exposure_buffer(gpu: &aograph_graph::GpuContext, value: f32) -> wgpu::Buffer 
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    gpu.queue
-        .write_buffer(&buffer, 0, bytemuck::cast_slice(&[value, 0.0, 0.0, 0.0]));
+    gpu.queue.write_buffer(
+        &buffer,
+        0,
+        bytemuck::bytes_of(&ExposureBlock {
+            value,
+            pad: [0.0; 3],
+        }),
+    );
     buffer
 }
 

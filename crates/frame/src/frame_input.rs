@@ -10,9 +10,10 @@
 //! declared, in the order they were first declared.
 
 use std::any::{Any, TypeId};
+use std::marker::PhantomData;
 use std::sync::Arc;
 
-use aograph_graph::{CompiledGraph, Executor, GraphBuilder, GraphResult};
+use aograph_graph::{BufferDesc, BufferHandle, CompiledGraph, Executor, GraphBuilder, GraphResult};
 
 /// One kind of frame input: how a graph declares it (its imports) and how its owner's
 /// resources are bound behind the handles of one plan.
@@ -36,6 +37,42 @@ pub trait FrameInput: 'static {
         handles: Self::Handles,
         resources: &Self::Resources,
     ) -> GraphResult<()>;
+}
+
+/// A block of data that one buffer holds, its owner fills and passes read as a uniform (the
+/// View block, the scene's lighting, an application's exposure): the frame input
+/// [`BufferInput<Self>`](BufferInput).
+pub trait BufferBlock: bytemuck::Pod {
+    /// What it is, for messages ("the View block").
+    const NAME: &'static str;
+    /// The name the graph imports its buffer under (summaries, DOT, messages).
+    const IMPORT: &'static str;
+}
+
+/// The frame input of one buffer holding a `B`: declared as an import of `size_of::<B>()`
+/// bytes, bound to the owner's `wgpu::Buffer`.
+pub struct BufferInput<B>(PhantomData<B>);
+
+impl<B: BufferBlock> FrameInput for BufferInput<B> {
+    const NAME: &'static str = B::NAME;
+    type Handles = BufferHandle;
+    type Resources = wgpu::Buffer;
+    fn declare(b: &mut GraphBuilder) -> BufferHandle {
+        b.import_buffer(
+            B::IMPORT,
+            BufferDesc {
+                size: std::mem::size_of::<B>() as u64,
+            },
+        )
+    }
+    fn bind(
+        exec: &mut Executor,
+        plan: &CompiledGraph,
+        handles: BufferHandle,
+        buffer: &wgpu::Buffer,
+    ) -> GraphResult<()> {
+        exec.bind_import_buffer(plan, handles, buffer.clone())
+    }
 }
 
 /// One declared input: its type, name and handles.

@@ -65,7 +65,7 @@ mod shader_mount;
 mod view;
 
 pub use channels::{DepthFormat, GBufferChannel, GBufferChannels, GBufferTextures};
-pub use frame_input::{DeclaredInputs, FrameInput, InputBindings};
+pub use frame_input::{BufferBlock, BufferInput, DeclaredInputs, FrameInput, InputBindings};
 pub use lighting::{LIGHTING_BUFFER, LightingUniforms, SceneLighting, SkyColours};
 pub use precision::{INTERMEDIATE_ALIAS, intermediate_shader};
 pub use scene_acceleration::{

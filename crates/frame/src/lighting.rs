@@ -9,10 +9,9 @@
 //!
 //! WGSL mirror: `Lighting` in shaders/ao/ssdo/common.wgsl.
 
-use aograph_graph::{BufferDesc, BufferHandle, CompiledGraph, Executor, GraphBuilder, GraphResult};
 use bytemuck::{Pod, Zeroable};
 
-use crate::frame_input::FrameInput;
+use crate::frame_input::{BufferBlock, BufferInput};
 
 /// Name under which the lighting block is imported (`Executor::import_buffer`).
 pub const LIGHTING_BUFFER: &str = "lighting";
@@ -148,32 +147,15 @@ impl LightingUniforms {
     }
 }
 
+impl BufferBlock for LightingUniforms {
+    const NAME: &'static str = "the scene's lighting";
+    const IMPORT: &'static str = LIGHTING_BUFFER;
+}
+
 /// The scene's lighting block as a frame input: declared by a technique that shades
 /// (`AoBuildContext::scene_lighting`), bound to the buffer its owner fills with
 /// [`LightingUniforms`].
-pub struct SceneLighting;
-
-impl FrameInput for SceneLighting {
-    const NAME: &'static str = "the scene's lighting";
-    type Handles = BufferHandle;
-    type Resources = wgpu::Buffer;
-    fn declare(b: &mut GraphBuilder) -> BufferHandle {
-        b.import_buffer(
-            LIGHTING_BUFFER,
-            BufferDesc {
-                size: std::mem::size_of::<LightingUniforms>() as u64,
-            },
-        )
-    }
-    fn bind(
-        exec: &mut Executor,
-        plan: &CompiledGraph,
-        handles: BufferHandle,
-        buffer: &wgpu::Buffer,
-    ) -> GraphResult<()> {
-        exec.bind_import_buffer(plan, handles, buffer.clone())
-    }
-}
+pub type SceneLighting = BufferInput<LightingUniforms>;
 
 #[cfg(test)]
 mod tests {

@@ -5,12 +5,9 @@
 //! Conventions: right-handed view space, the camera looks down -Z, linear depth = -z_view > 0;
 //! clip depth in wgpu's 0..1 (reversed when `reversed_z == 1`).
 
-use aograph_graph::{
-    BufferAccess, BufferDesc, BufferHandle, CompiledGraph, Executor, GraphBuilder, GraphResult,
-    PassBuilder,
-};
+use aograph_graph::{BufferAccess, BufferHandle, PassBuilder};
 
-use crate::frame_input::FrameInput;
+use crate::frame_input::{BufferBlock, BufferInput};
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 
@@ -184,28 +181,11 @@ impl ReadsView for PassBuilder<'_> {
     }
 }
 
+impl BufferBlock for ViewUniforms {
+    const NAME: &'static str = "the View block";
+    const IMPORT: &'static str = VIEW_BUFFER;
+}
+
 /// The frame's `View` block as a frame input: every frame graph declares it (the g-buffer and
 /// every technique read it) and its owner binds the buffer it writes each frame.
-pub struct ViewBlock;
-
-impl FrameInput for ViewBlock {
-    const NAME: &'static str = "the View block";
-    type Handles = BufferHandle;
-    type Resources = wgpu::Buffer;
-    fn declare(b: &mut GraphBuilder) -> BufferHandle {
-        b.import_buffer(
-            VIEW_BUFFER,
-            BufferDesc {
-                size: std::mem::size_of::<ViewUniforms>() as u64,
-            },
-        )
-    }
-    fn bind(
-        exec: &mut Executor,
-        plan: &CompiledGraph,
-        handles: BufferHandle,
-        buffer: &wgpu::Buffer,
-    ) -> GraphResult<()> {
-        exec.bind_import_buffer(plan, handles, buffer.clone())
-    }
-}
+pub type ViewBlock = BufferInput<ViewUniforms>;
