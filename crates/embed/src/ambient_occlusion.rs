@@ -498,7 +498,10 @@ impl AmbientOcclusion {
             self.build_plan(technique, radius, intermediate, &key.layout, key.output)?;
         self.inputs.bind(&mut self.exec, &plan, &declared)?;
         if self.plans.len() >= MAX_PLANS {
-            self.plans.clear();
+            // The current plan stays: frames keep running it, and `bind_input` rebinds the
+            // kept plans' inputs.
+            let current = self.current.as_ref().map(|(k, _)| *k);
+            self.plans.retain(|k, _| Some(*k) == current);
         }
         self.plans.insert(key, (plan.clone(), declared));
         Ok(plan)

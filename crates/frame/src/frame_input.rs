@@ -170,6 +170,11 @@ impl InputBindings {
             None => self.inputs.push((id, I::NAME, binder)),
         }
     }
+    /// Stops supplying input `I` (releasing its resources).
+    pub fn remove<I: FrameInput>(&mut self) {
+        let id = TypeId::of::<I>();
+        self.inputs.retain(|(t, _, _)| *t != id);
+    }
     /// Whether input `I` is supplied.
     pub fn supplies<I: FrameInput>(&self) -> bool {
         self.supplies_type(TypeId::of::<I>())

@@ -196,6 +196,11 @@ impl Executor {
             .set_plan_acceleration_structure(plan.key(), r, tlas);
         Ok(())
     }
+    /// Drops every per-plan binding (`bind_import_*`), releasing what they held (a replaced
+    /// scene's BVH, say): bind again before those plans' next frames. Imports by name stay.
+    pub fn clear_plan_bindings(&mut self) {
+        self.imports.clear_plan_bindings();
+    }
     /// Invalidates every history: the next frame reads zeros with `valid == false` (a cut).
     pub fn reset_history(&mut self) {
         self.history.reset();
@@ -601,8 +606,12 @@ fn imported_resource(plan: &CompiledGraph, id: u32, texture: bool) -> GraphResul
             resource: format!("#{id}"),
             message: "no resource of this plan: pass a handle its builder returned".into(),
         })?;
-    let is_texture = res.texture_desc().is_some();
-    if !matches!(res.origin, ResourceOrigin::Imported) || is_texture != texture {
+    let kind_matches = if texture {
+        res.texture_desc().is_some()
+    } else {
+        matches!(res.kind, ResourceKind::Buffer(_))
+    };
+    if !matches!(res.origin, ResourceOrigin::Imported) || !kind_matches {
         return Err(GraphError::MissingResource {
             resource: res.name.clone(),
             message: format!(

@@ -104,6 +104,12 @@ impl ImportTable {
         self.plan_textures
             .insert((plan, resource), BoundTexture::new(texture, serial));
     }
+    /// Forgets every per-plan binding.
+    pub fn clear_plan_bindings(&mut self) {
+        self.plan_textures.clear();
+        self.plan_buffers.clear();
+        self.plan_acceleration_structures.clear();
+    }
     /// `tlas` behind resource `resource` of the plan `plan` only.
     pub fn set_plan_acceleration_structure(
         &mut self,

@@ -116,6 +116,8 @@ pub use shader::{
 };
 pub use summary::summary;
 pub use timing::{FrameId, PassTimings, TimingMode, TimingSource};
+#[doc(hidden)]
+pub use uniform_layout::field_size as uniform_field_size;
 pub use uniform_layout::{UniformField, UniformLayout, uniform_layout_mismatch};
 pub use uses::{BufferUse, SamplerUse, TextureUse};
 pub use wgpu;

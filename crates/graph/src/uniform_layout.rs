@@ -5,7 +5,7 @@
 //! total size.
 //!
 //! Invariant: in a block that compiles, every WGSL member that is not padding has a Rust field
-//! of its name at its offset, every Rust field that is not padding is a WGSL member at its own
+//! of its name, offset and size, every Rust field that is not padding is a WGSL member at its own
 //! offset, and WGSL padding lies inside Rust padding (members and fields named `pad*` or
 //! `_pad*` are padding; one `[f32; 2]` of Rust padding may cover two WGSL pads).
 
@@ -18,6 +18,15 @@ pub struct UniformField {
     pub name: &'static str,
     /// Its byte offset (`core::mem::offset_of!`).
     pub offset: u32,
+    /// Its size in bytes.
+    pub size: u32,
+}
+
+/// The size of the field `field` selects (what [`uniform_layout!`](crate::uniform_layout)
+/// records; the selector is never called).
+#[doc(hidden)]
+pub const fn field_size<T, F>(_field: fn(&T) -> &F) -> u32 {
+    std::mem::size_of::<F>() as u32
 }
 
 /// A uniform block whose fields the graph can check against the shader's struct: implement it
@@ -37,14 +46,19 @@ macro_rules! uniform_layout {
                 $($crate::UniformField {
                     name: stringify!($field),
                     offset: ::core::mem::offset_of!($ty, $field) as u32,
+                    size: $crate::uniform_field_size(|s: &$ty| &s.$field),
                 }),*
             ];
         }
     };
 }
 
+/// Padding is named `pad`, `_pad`, `pad0`, `_pad3`, ...: exactly, so a member such as
+/// `padding_scale` is checked like any other.
 fn is_padding(name: &str) -> bool {
-    name.trim_start_matches('_').starts_with("pad")
+    let rest = name.strip_prefix('_').unwrap_or(name);
+    rest.strip_prefix("pad")
+        .is_some_and(|digits| digits.chars().all(|c| c.is_ascii_digit()))
 }
 
 /// The first difference between the Rust `fields` and the WGSL `members` of one block, in
@@ -61,7 +75,14 @@ pub fn uniform_layout_mismatch(
             .max_by_key(|f| f.offset);
         match covering {
             Some(f) if is_padding(&m.name) && is_padding(f.name) => {}
-            Some(f) if f.offset == m.offset && (f.name == m.name || is_padding(&m.name)) => {}
+            Some(f) if f.offset == m.offset && is_padding(&m.name) => {}
+            Some(f) if f.offset == m.offset && f.name == m.name && f.size != m.size => {
+                return Some(format!(
+                    "`{}` is {} bytes in Rust but {} in WGSL",
+                    m.name, f.size, m.size
+                ));
+            }
+            Some(f) if f.offset == m.offset && f.name == m.name => {}
             Some(f) if f.offset == m.offset => {
                 return Some(format!(
                     "byte {} is `{}` in Rust but `{}` in WGSL",
@@ -104,10 +125,15 @@ mod tests {
         StructMember {
             name: name.into(),
             offset,
+            size: 4,
         }
     }
     fn field(name: &'static str, offset: u32) -> UniformField {
-        UniformField { name, offset }
+        UniformField {
+            name,
+            offset,
+            size: 4,
+        }
     }
 
     #[test]
@@ -153,5 +179,29 @@ mod tests {
             uniform_layout_mismatch(&rust, &wgsl).as_deref(),
             Some("the Rust field `extra` (byte 28) is no member of the WGSL struct")
         );
+    }
+
+    #[test]
+    fn a_member_wider_in_wgsl_than_in_rust_is_named() {
+        // Rust { dir: [f32; 3], _pad: f32 } against WGSL { dir: vec4<f32> }: the shader would
+        // read dir.w from Rust's padding.
+        let wgsl = [StructMember {
+            name: "dir".into(),
+            offset: 0,
+            size: 16,
+        }];
+        let rust = [
+            UniformField {
+                name: "dir",
+                offset: 0,
+                size: 12,
+            },
+            field("_pad", 12),
+        ];
+        assert_eq!(
+            uniform_layout_mismatch(&rust, &wgsl).as_deref(),
+            Some("`dir` is 12 bytes in Rust but 16 in WGSL")
+        );
+        assert!(is_padding("_pad3") && is_padding("pad") && !is_padding("padding_scale"));
     }
 }

@@ -145,10 +145,12 @@ fn reflects_every_binding_with_group_binding_and_kind() {
         StructMember {
             name: "radius".into(),
             offset: 0,
+            size: 4,
         },
         StructMember {
             name: "dir".into(),
             offset: 16,
+            size: 12,
         },
     ];
     assert_eq!(info.bindings, expected);

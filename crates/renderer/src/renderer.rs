@@ -14,7 +14,8 @@ use aograph_ao_passes::{
     AoConfig, GraphSettings, IntermediateFormat, TechniqueRegistry, TracingSupport,
 };
 use aograph_frame::{
-    FrameInput, InputBindings, LightingUniforms, SceneLighting, SkyColours, ViewBlock,
+    FrameInput, InputBindings, LightingUniforms, SceneAcceleration, SceneBvh, SceneLighting,
+    SkyColours, ViewBlock,
 };
 use aograph_graph::{
     CompileOptions, CompiledGraph, Executor, Extent, GpuContext, GraphBuilder, GraphCompiler,
@@ -429,6 +430,11 @@ impl Renderer {
         }
         self.built.clear();
         self.tracing = SceneTracing::default();
+        // The old scene's BVH and acceleration structures are released with the bindings
+        // that held them; the next frame binds the current plan's inputs again.
+        self.exec.clear_plan_bindings();
+        self.inputs.remove::<SceneBvh>();
+        self.inputs.remove::<SceneAcceleration>();
         self.inputs_bound = None;
         self.gpu
             .queue
@@ -460,8 +466,12 @@ impl Renderer {
     pub fn resize(&mut self, output: Extent) -> RenderResult<()> {
         crate::output_size::check_size("width", output.width)?;
         crate::output_size::check_size("height", output.height)?;
-        self.output = output;
-        self.rebuild(false)
+        let old = std::mem::replace(&mut self.output, output);
+        if let Err(e) = self.rebuild(false) {
+            self.output = old;
+            return Err(e);
+        }
+        Ok(())
     }
 
     /// Supplies `resources` for the frame input `I` (an application's own, for a technique

@@ -70,6 +70,8 @@ pub struct StructMember {
     pub name: String,
     /// Its byte offset in the struct.
     pub offset: u32,
+    /// Its size in bytes (a `vec3<f32>` is 12, though it is aligned to 16).
+    pub size: u32,
 }
 
 /// One entry point.
@@ -372,6 +374,7 @@ fn reflect_bindings(name: &str, module: &naga::Module) -> GraphResult<Vec<Shader
                 .map(|m| StructMember {
                     name: m.name.clone().unwrap_or_default(),
                     offset: m.offset,
+                    size: module.types[m.ty].inner.size(module.to_ctx()),
                 })
                 .collect(),
             _ => Vec::new(),
