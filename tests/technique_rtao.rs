@@ -404,3 +404,44 @@ fn the_blue_noise_sequence_over_256_frames_is_the_reference_within_four_standard
         assert!(bias.abs() < 0.005, "{name}: mean signed error {bias}");
     }
 }
+
+#[test]
+fn after_set_scene_rtao_traces_the_new_scene() {
+    // The renderer rebinds its frame inputs on a new scene: rtao on `corner` reached through
+    // `set_scene` from `plane` sees the corner's walls (the plane's BVH would leave every
+    // pixel unoccluded), and agrees with a renderer made on `corner` to the noise of two
+    // 256-ray estimates: within 4 standard errors of their difference on >= 99% of pixels.
+    let config = common::ao_config(
+        "rtao",
+        1.0,
+        "rays = 256\ntemporal = false\ndenoiser = \"none\"\ntracer = \"compute\"",
+    );
+    let size = Extent::new(67, 43);
+    let corner = || aograph_scene::procedural_scene("corner").unwrap();
+    let Some(direct) = common::render_ao(corner(), &config, size, 1) else {
+        return;
+    };
+    let plane = aograph_scene::procedural_scene("plane").unwrap();
+    let mut r = common::renderer(plane, &config, size).unwrap();
+    r.render(0.0).unwrap();
+    r.set_scene(std::sync::Arc::new(corner()), &config).unwrap();
+    r.render(0.0).unwrap();
+    let switched = r.read_ao().unwrap();
+    let dark = switched.iter().filter(|&&a| a < 0.8).count();
+    assert!(
+        dark > switched.len() / 50,
+        "{dark} pixels see the corner's walls"
+    );
+    let agree = (switched.iter().zip(&direct.ao))
+        .filter(|&(&a, &b)| {
+            let p = (0.5 * (a + b)).clamp(0.0, 1.0);
+            let sigma = (2.0 * p * (1.0 - p) / 256.0).sqrt();
+            (a - b).abs() <= 4.0 * sigma + 1e-6
+        })
+        .count();
+    assert!(
+        agree * 100 >= switched.len() * 99,
+        "{agree} of {} pixels agree",
+        switched.len()
+    );
+}
