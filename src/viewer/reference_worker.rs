@@ -24,9 +24,10 @@ use std::sync::{Arc, Condvar, Mutex};
 
 use aograph_graph::{GpuContext, ShaderLibrary};
 use aograph_scene::{
-    Camera, CpuGBuffer, ReferenceImage, ReferenceNormals, ReferenceParams, Scene, SceneError,
-    SceneRays, SurfaceBuffer, reference::ProgressMode,
+    Camera, CpuGBuffer, ReferenceImage, ReferenceNormals, ReferenceParams, Scene, SceneRays,
+    SurfaceBuffer, reference::ProgressMode,
 };
+use aograph_tracing::TracingError;
 use aograph_tracing::gpu::{GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs};
 
 /// The device the reference is traced on, when it is the GPU.
@@ -337,7 +338,7 @@ enum BandTracer {
 }
 
 impl BandTracer {
-    fn new(device: Option<&GpuReferenceDevice>, job: &ReferenceJob) -> Result<Self, SceneError> {
+    fn new(device: Option<&GpuReferenceDevice>, job: &ReferenceJob) -> Result<Self, TracingError> {
         let cpu = || BandTracer::Cpu(SceneRays::new(&job.scene, job.time));
         let Some(d) = device else {
             return Ok(cpu());
@@ -355,7 +356,7 @@ impl BandTracer {
                 bvh,
             )),
             // A scene over the device's limits is traced on the CPU instead.
-            Err(SceneError::BvhTooLarge { .. } | SceneError::BvhTooDeep { .. }) => Ok(cpu()),
+            Err(TracingError::BvhTooLarge { .. } | TracingError::BvhTooDeep { .. }) => Ok(cpu()),
             Err(e) => Err(e),
         }
     }
@@ -365,11 +366,11 @@ impl BandTracer {
         surfaces: &SurfaceBuffer,
         params: &ReferenceParams,
         rows: std::ops::Range<u32>,
-    ) -> Result<ReferenceImage, SceneError> {
+    ) -> Result<ReferenceImage, TracingError> {
         match self {
-            BandTracer::Cpu(bvh) => {
-                aograph_scene::trace_reference_rows(bvh, surfaces, params, rows)
-            }
+            BandTracer::Cpu(bvh) => Ok(aograph_scene::trace_reference_rows(
+                bvh, surfaces, params, rows,
+            )?),
             BandTracer::Gpu(tracer, bvh) => tracer.trace_rows(bvh, surfaces, params, rows),
             BandTracer::Hardware(tracer, accel) => tracer.trace_rows(accel, surfaces, params, rows),
         }

@@ -20,6 +20,10 @@ pub enum AppError {
     /// malformed glTF, ...); its message is kept as is.
     #[error(transparent)]
     Scene(#[from] aograph_scene::SceneError),
+    /// A GPU ray tracer, the reference's cache or its ceilings failed; its message is kept as
+    /// is.
+    #[error(transparent)]
+    Tracing(#[from] aograph_tracing::TracingError),
     /// The renderer or the reference failed; its message is kept as is.
     #[error(transparent)]
     Render(#[from] aograph_renderer::RenderError),

@@ -12,9 +12,12 @@ pub enum RenderError {
     /// The technique or its parameters were refused.
     #[error(transparent)]
     Ao(#[from] aograph_ao_passes::AoError),
-    /// The scene, its g-buffer or the reference tracer failed.
+    /// The scene, its g-buffer or the CPU reference tracer failed.
     #[error(transparent)]
     Scene(#[from] aograph_scene::SceneError),
+    /// A GPU ray tracer, the reference's cache or its ceilings failed.
+    #[error(transparent)]
+    Tracing(#[from] aograph_tracing::TracingError),
     /// A setting outside what is allowed.
     #[error("invalid value for {name}: {value} (allowed: {allowed})")]
     InvalidArgument {

@@ -16,12 +16,12 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use aograph_graph::{Extent, GpuContext, ShaderLibrary};
-use aograph_scene::SceneError;
 use aograph_scene::reference::ProgressMode;
 use aograph_scene::{
     Camera, ReferenceImage, ReferenceMode, ReferenceNormals, ReferenceParams, ReferenceTracer,
     Scene, SurfaceBuffer, TriangleBvh,
 };
+use aograph_tracing::TracingError;
 use aograph_tracing::gpu::{
     GPU_MAX_RAYS_PER_PIXEL, GpuReferenceTracer, GpuSceneBvh, HardwareSceneAs,
 };
@@ -176,9 +176,9 @@ pub fn trace_surfaces(
             // `auto` falls back to the CPU where the scene or image is over the device's
             // limits; an explicit "gpu" reports it.
             Err(
-                SceneError::BvhTooLarge { .. }
-                | SceneError::BvhTooDeep { .. }
-                | SceneError::OverDeviceLimit { .. },
+                TracingError::BvhTooLarge { .. }
+                | TracingError::BvhTooDeep { .. }
+                | TracingError::OverDeviceLimit { .. },
             ) if auto => {}
             Err(e) => return Err(e.into()),
         }
@@ -186,7 +186,7 @@ pub fn trace_surfaces(
     Ok(cache.get_or_trace(key, || {
         // Two levels: shared meshes are not flattened; the same image as a flat BVH over `tris`.
         let rays = aograph_scene::SceneRays::new(scene, time);
-        aograph_scene::trace_reference(&rays, surfaces, &params)
+        Ok(aograph_scene::trace_reference(&rays, surfaces, &params)?)
     })?)
 }
 
@@ -310,7 +310,11 @@ pub fn trace_ceilings(
     let cache = ReferenceCache::new(cache_dir());
     let traced = |tris: Vec<[Vec3; 3]>| {
         cache.get_or_trace(CacheKey::new(&tris, surfaces, &params), || {
-            aograph_scene::trace_reference(&TriangleBvh::new(&tris), surfaces, &params)
+            Ok(aograph_scene::trace_reference(
+                &TriangleBvh::new(&tris),
+                surfaces,
+                &params,
+            )?)
         })
     };
     let mesh = gbuffer_surface_mesh(surfaces, camera.position, camera.forward());

@@ -17,6 +17,7 @@
 //! key (up to hash collisions); a truncated or corrupt entry is reported on stderr and treated
 //! as a miss, never returned.
 
+use crate::error::TracingError;
 use crate::radiance::RadianceImage;
 use aograph_scene::environment::SkyEnvironment;
 use aograph_scene::error::SceneError;
@@ -252,14 +253,15 @@ impl ReferenceCache {
         if !accessibility_path.exists() || !error_path.exists() {
             return None;
         }
-        let read = || -> Result<ReferenceImage, SceneError> {
+        let read = || -> Result<ReferenceImage, TracingError> {
             let accessibility = read_raw_f32(&accessibility_path)?;
             let std_error = read_raw_f32(&error_path)?;
             if (accessibility.width, accessibility.height) != (std_error.width, std_error.height) {
                 return Err(SceneError::BadReferenceFile {
                     path: error_path.clone(),
                     reason: "its size differs from the accessibility file's".into(),
-                });
+                }
+                .into());
             }
             Ok(ReferenceImage {
                 width: accessibility.width,
@@ -278,18 +280,18 @@ impl ReferenceCache {
     }
 
     /// Stores `image` under `key`.
-    pub fn store(&self, key: CacheKey, image: &ReferenceImage) -> Result<(), SceneError> {
+    pub fn store(&self, key: CacheKey, image: &ReferenceImage) -> Result<(), TracingError> {
         std::fs::create_dir_all(&self.dir)
             .map_err(|e| SceneError::io("create cache directory", &self.dir, e))?;
         let (accessibility_path, error_path) = self.paths(key);
         // The std_error file goes first: `load` needs both, so a crash in between is a miss.
         write_raw_f32(&error_path, image.width, image.height, &image.std_error)?;
-        write_raw_f32(
+        Ok(write_raw_f32(
             &accessibility_path,
             image.width,
             image.height,
             &image.accessibility,
-        )
+        )?)
     }
 
     /// The two files of radiance entry `key`: direct, then indirect.
@@ -306,13 +308,14 @@ impl ReferenceCache {
         if !paths.iter().all(|p| p.exists()) {
             return None;
         }
-        let read = |path: &PathBuf| -> Result<(u32, u32, Vec<Vec3>), SceneError> {
+        let read = |path: &PathBuf| -> Result<(u32, u32, Vec<Vec3>), TracingError> {
             let raw = read_raw_f32(path)?;
             if raw.width % 3 != 0 {
                 return Err(SceneError::BadReferenceFile {
                     path: path.clone(),
                     reason: "its width is not three channels a pixel".into(),
-                });
+                }
+                .into());
             }
             let rgb = raw.values.chunks_exact(3).map(Vec3::from_slice).collect();
             Ok((raw.width / 3, raw.height, rgb))
@@ -340,7 +343,7 @@ impl ReferenceCache {
     }
 
     /// Writes `image` under `key` (each file atomically).
-    pub fn store_radiance(&self, key: CacheKey, image: &RadianceImage) -> Result<(), SceneError> {
+    pub fn store_radiance(&self, key: CacheKey, image: &RadianceImage) -> Result<(), TracingError> {
         std::fs::create_dir_all(&self.dir)
             .map_err(|e| SceneError::io("create cache directory", &self.dir, e))?;
         let [direct, indirect] = self.radiance_paths(key);
@@ -351,15 +354,20 @@ impl ReferenceCache {
             image.height,
             &flat(&image.indirect),
         )?;
-        write_raw_f32(&direct, image.width * 3, image.height, &flat(&image.direct))
+        Ok(write_raw_f32(
+            &direct,
+            image.width * 3,
+            image.height,
+            &flat(&image.direct),
+        )?)
     }
 
     /// The radiance entry for `key`, traced by `trace` (and stored) when missing.
     pub fn get_or_trace_radiance(
         &self,
         key: CacheKey,
-        trace: impl FnOnce() -> Result<RadianceImage, SceneError>,
-    ) -> Result<RadianceImage, SceneError> {
+        trace: impl FnOnce() -> Result<RadianceImage, TracingError>,
+    ) -> Result<RadianceImage, TracingError> {
         if let Some(image) = self.load_radiance(key) {
             return Ok(image);
         }
@@ -373,8 +381,8 @@ impl ReferenceCache {
     pub fn get_or_trace(
         &self,
         key: CacheKey,
-        trace: impl FnOnce() -> Result<ReferenceImage, SceneError>,
-    ) -> Result<ReferenceImage, SceneError> {
+        trace: impl FnOnce() -> Result<ReferenceImage, TracingError>,
+    ) -> Result<ReferenceImage, TracingError> {
         if let Some(image) = self.load(key) {
             return Ok(image);
         }

@@ -24,10 +24,10 @@
 //! the reference traces (same points, normals, seeds), so where their geometry agrees with
 //! the scene's within R they equal the reference bit for bit.
 
+use crate::error::TracingError;
 use glam::{Vec2, Vec3};
 
 use aograph_scene::camera::Camera;
-use aograph_scene::error::SceneError;
 use aograph_scene::model::Scene;
 use aograph_scene::reference::{
     CpuGBuffer, ReferenceImage, ReferenceParams, SurfaceBuffer, TriangleBvh, trace_reference,
@@ -228,7 +228,7 @@ pub fn trace_ceilings(
     surfaces: &SurfaceBuffer,
     params: &ReferenceParams,
     t: f32,
-) -> Result<Ceilings, SceneError> {
+) -> Result<Ceilings, TracingError> {
     let mesh = gbuffer_surface_mesh(surfaces, camera.position, camera.forward());
     let seen = seen_triangles(scene, camera, surfaces.width, surfaces.height, t);
     let guarded = guard_band_mesh(scene, camera, surfaces, t);

@@ -15,6 +15,7 @@
 
 pub mod cache;
 pub mod ceilings;
+mod error;
 pub mod gpu;
 pub mod radiance;
 mod shader_mount;
@@ -25,5 +26,6 @@ pub use ceilings::{
     gbuffer_surface_mesh, guard_band_camera, guard_band_mesh, second_layer_mesh,
     seen_triangle_mask, seen_triangles, trace_ceilings,
 };
+pub use error::{TracingError, TracingResult};
 pub use radiance::{BounceSurfaces, RadianceImage, trace_radiance};
 pub use shader_mount::{shader_library, shader_mount};

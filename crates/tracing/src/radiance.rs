@@ -13,6 +13,7 @@
 //! term is its binary AO estimate weighted by the sky.
 //! Invariants: deterministic; every value finite and >= 0; sky pixels get exactly 0.
 
+use crate::error::TracingError;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -59,7 +60,7 @@ pub fn trace_radiance(
     albedo: &[Vec3],
     sky: &SkyEnvironment,
     params: &ReferenceParams,
-) -> Result<RadianceImage, SceneError> {
+) -> Result<RadianceImage, TracingError> {
     aograph_scene::reference::check_inputs(surfaces, params)?;
     for (what, actual, expected) in [
         ("pixel albedo", albedo.len(), surfaces.pixel_count()),
@@ -76,7 +77,8 @@ pub fn trace_radiance(
                 height: surfaces.height,
                 expected,
                 actual,
-            });
+            }
+            .into());
         }
     }
     let table = SkyIrradiance::new(sky);

@@ -6,6 +6,7 @@
 //! so a graph binding them never needs rebinding; each holds at least one element (wgpu has no
 //! zero-size bindings), and element 0 of an empty BVH is a node or record no ray uses.
 
+use crate::error::TracingError;
 use std::sync::Arc;
 
 use aograph_graph::GpuContext;
@@ -14,7 +15,6 @@ use bytemuck::Pod;
 use super::gpu_io::buffer_of;
 use super::limits::check_bvh_fits;
 use super::scene_bvh::{BvhUpdate, BvhWork, SceneBvh};
-use aograph_scene::error::SceneError;
 use aograph_scene::model::Scene;
 
 /// Graph import names of the three buffers (the rtao technique declares them; whoever runs
@@ -49,8 +49,8 @@ fn storage_buffer<T: Pod>(gpu: &GpuContext, label: &str, items: &[T]) -> wgpu::B
 
 impl GpuSceneBvh {
     /// Builds `scene`'s BVH at time `t` and uploads it; a BVH over the device's limits is a
-    /// [`SceneError::BvhTooLarge`] before any buffer is made.
-    pub fn new(gpu: Arc<GpuContext>, scene: &Scene, t: f32) -> Result<GpuSceneBvh, SceneError> {
+    /// [`TracingError::BvhTooLarge`] before any buffer is made.
+    pub fn new(gpu: Arc<GpuContext>, scene: &Scene, t: f32) -> Result<GpuSceneBvh, TracingError> {
         let (bvh, work) = SceneBvh::build(scene, t)?;
         let sizes = bvh.sizes();
         check_bvh_fits(&sizes, &gpu.device.limits())?;
@@ -66,7 +66,7 @@ impl GpuSceneBvh {
     }
 
     /// Moves the BVH to time `t`, uploading only what changed; returns what was done.
-    pub fn update(&mut self, scene: &Scene, t: f32) -> Result<BvhWork, SceneError> {
+    pub fn update(&mut self, scene: &Scene, t: f32) -> Result<BvhWork, TracingError> {
         let BvhUpdate {
             work,
             nodes,

@@ -1,13 +1,12 @@
 //! Buffers in and out of the device for the ray tracer's own compute passes (the ray batch and
 //! the GPU reference, which run outside a frame graph): storage and uniform buffers from Pod
 //! slices, a readback that waits for the queue, and a compute pipeline from a library shader
-//! with its includes expanded. GPU failures come back as [`SceneError::Gpu`], never a panic.
+//! with its includes expanded. GPU failures come back as [`TracingError::Gpu`], never a panic.
 
+use crate::error::TracingError;
 use aograph_graph::{GpuContext, ShaderLibrary};
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
-
-use aograph_scene::error::SceneError;
 
 /// A buffer holding `items` (at least one element's worth of zeros when empty: wgpu has no
 /// zero-size bindings).
@@ -32,8 +31,8 @@ pub(crate) fn compute_pipeline(
     gpu: &GpuContext,
     shaders: &ShaderLibrary,
     file: &str,
-) -> Result<wgpu::ComputePipeline, SceneError> {
-    let module = shaders.load(file).map_err(|e| SceneError::Gpu {
+) -> Result<wgpu::ComputePipeline, TracingError> {
+    let module = shaders.load(file).map_err(|e| TracingError::Gpu {
         what: "loading a ray tracing shader",
         message: e.to_string(),
     })?;
@@ -113,22 +112,22 @@ pub(crate) fn check_storage(
     gpu: &GpuContext,
     what: &'static str,
     size: u64,
-) -> Result<(), SceneError> {
+) -> Result<(), TracingError> {
     let limit = storage_limit(gpu);
     if size > limit {
-        return Err(SceneError::OverDeviceLimit { what, size, limit });
+        return Err(TracingError::OverDeviceLimit { what, size, limit });
     }
     Ok(())
 }
 
 /// The device errors raised since the last check (wgpu reports them to the context's sink,
-/// not to the call), as one [`SceneError::Gpu`].
-pub(crate) fn check_gpu_errors(gpu: &GpuContext, what: &'static str) -> Result<(), SceneError> {
+/// not to the call), as one [`TracingError::Gpu`].
+pub(crate) fn check_gpu_errors(gpu: &GpuContext, what: &'static str) -> Result<(), TracingError> {
     let errors = gpu.take_errors();
     if errors.is_empty() {
         Ok(())
     } else {
-        Err(SceneError::Gpu {
+        Err(TracingError::Gpu {
             what,
             message: errors.join("; "),
         })
@@ -141,8 +140,8 @@ pub(crate) fn read_back(
     gpu: &GpuContext,
     buffer: &wgpu::Buffer,
     size: u64,
-) -> Result<Vec<u8>, SceneError> {
-    let gpu_error = |message: String| SceneError::Gpu {
+) -> Result<Vec<u8>, TracingError> {
+    let gpu_error = |message: String| TracingError::Gpu {
         what: "reading ray tracing results back",
         message,
     };

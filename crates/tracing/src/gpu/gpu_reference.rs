@@ -14,6 +14,7 @@
 //! estimate is the CPU's up to float rounding (its rays are the same rays), so the two agree
 //! within their standard errors (tests/gpu_ray_tracer/).
 
+use crate::error::TracingError;
 use std::sync::Arc;
 
 use aograph_graph::{GpuContext, ShaderLibrary};
@@ -60,11 +61,11 @@ pub struct GpuReferenceTracer {
 
 impl GpuReferenceTracer {
     /// Compiles the `raytrace/reference.wgsl` pipeline from `shaders`; a shader or pipeline
-    /// failure is a [`SceneError::Gpu`].
+    /// failure is a [`TracingError::Gpu`].
     pub fn new(
         gpu: Arc<GpuContext>,
         shaders: &ShaderLibrary,
-    ) -> Result<GpuReferenceTracer, SceneError> {
+    ) -> Result<GpuReferenceTracer, TracingError> {
         let pipeline = compute_pipeline(&gpu, shaders, SHADER)?;
         let hardware = hardware_pipeline(&gpu, shaders, SHADER)?;
         Ok(GpuReferenceTracer {
@@ -81,7 +82,7 @@ impl GpuReferenceTracer {
         scene: impl Into<GpuTraceScene<'a>>,
         surfaces: &SurfaceBuffer,
         params: &ReferenceParams,
-    ) -> Result<ReferenceImage, SceneError> {
+    ) -> Result<ReferenceImage, TracingError> {
         self.trace_rows(scene, surfaces, params, 0..surfaces.height)
     }
 
@@ -94,14 +95,14 @@ impl GpuReferenceTracer {
         surfaces: &SurfaceBuffer,
         params: &ReferenceParams,
         rows: std::ops::Range<u32>,
-    ) -> Result<ReferenceImage, SceneError> {
+    ) -> Result<ReferenceImage, TracingError> {
         let scene = scene.into();
         let pipeline = match scene {
             GpuTraceScene::Compute(_) => &self.pipeline,
             GpuTraceScene::Hardware(_) => {
                 self.hardware
                     .as_ref()
-                    .ok_or_else(|| SceneError::Unsupported {
+                    .ok_or_else(|| TracingError::Unsupported {
                         what: "the hardware reference".into(),
                         detail: format!(
                             "adapter '{}' has no ray queries; trace against the compute BVH",
@@ -116,7 +117,8 @@ impl GpuReferenceTracer {
                 name: "rays_per_pixel",
                 value: params.rays_per_pixel.to_string(),
                 allowed: "1 to 4096 on the GPU tracer (use the CPU tracer for more)",
-            });
+            }
+            .into());
         }
         let gpu = &self.gpu;
         let (width, height) = (surfaces.width, surfaces.height);

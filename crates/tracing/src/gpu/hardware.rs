@@ -15,10 +15,11 @@
 //! triangle count is fixed at build: triangles that are not finite become degenerate ones at
 //! the origin, which no ray hits), then the TLAS.
 //!
-//! Invariant: built only on a device with ray queries ([`SceneError::Unsupported`] names what the
+//! Invariant: built only on a device with ray queries ([`TracingError::Unsupported`] names what the
 //! adapter has otherwise); every placed instance's TLAS custom index is its row in the
 //! instance table, below 2^24.
 
+use crate::error::TracingError;
 use aograph_graph::GpuContext;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -103,8 +104,8 @@ pub struct HardwareSceneAs {
 }
 
 /// The named error for a device without ray queries.
-fn unsupported(gpu: &GpuContext) -> SceneError {
-    SceneError::Unsupported {
+fn unsupported(gpu: &GpuContext) -> TracingError {
+    TracingError::Unsupported {
         what: "the hardware ray tracer".into(),
         detail: format!(
             "adapter '{}' ({:?}, driver '{} {}') has no ray queries (wgpu's EXPERIMENTAL_RAY_QUERY); \
@@ -125,7 +126,7 @@ fn rows_3x4(m: Mat4) -> [f32; 12] {
 
 impl HardwareSceneAs {
     /// Builds the acceleration structures of `scene` posed at time `t` and waits for the build.
-    pub fn build(gpu: &GpuContext, scene: &Scene, t: f32) -> Result<HardwareSceneAs, SceneError> {
+    pub fn build(gpu: &GpuContext, scene: &Scene, t: f32) -> Result<HardwareSceneAs, TracingError> {
         if !gpu.has_ray_queries() {
             return Err(unsupported(gpu));
         }
@@ -202,7 +203,8 @@ impl HardwareSceneAs {
                 name: "instances",
                 value: placed.len().to_string(),
                 allowed: "fewer than 2^24 placed instances for the hardware tracer",
-            });
+            }
+            .into());
         }
         check_storage(gpu, "primitive table", primitives.len() as u64 * 4)?;
         let mut tlas = device.create_tlas(&wgpu::CreateTlasDescriptor {
@@ -280,7 +282,7 @@ impl HardwareSceneAs {
         gpu: &GpuContext,
         scene: &Scene,
         t: f32,
-    ) -> Result<AsWork, SceneError> {
+    ) -> Result<AsWork, TracingError> {
         let mut work = AsWork::default();
         let mut rebuilt = Vec::new();
         for (k, p) in self.placed.iter().enumerate() {
@@ -298,7 +300,8 @@ impl HardwareSceneAs {
                         name: "scene",
                         value: "a skinned instance whose triangle count changed".into(),
                         allowed: "the scene the structures were built from",
-                    });
+                    }
+                    .into());
                 }
                 gpu.queue
                     .write_buffer(&b.vertices, 0, bytemuck::cast_slice(&vertices));

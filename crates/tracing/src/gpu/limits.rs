@@ -3,7 +3,7 @@
 //! tested with made-up limits; the error names the buffer, its size, the whole BVH's size and
 //! the limit it exceeds (never a panic inside wgpu, never a silent truncation).
 
-use aograph_scene::error::SceneError;
+use crate::error::TracingError;
 
 /// Bytes of the BVH's three buffers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,7 +24,7 @@ impl BvhSizes {
 }
 
 /// Checks `sizes` against `limits`.
-pub fn check_bvh_fits(sizes: &BvhSizes, limits: &wgpu::Limits) -> Result<(), SceneError> {
+pub fn check_bvh_fits(sizes: &BvhSizes, limits: &wgpu::Limits) -> Result<(), TracingError> {
     let (limit, limit_name) = if limits.max_storage_buffer_binding_size <= limits.max_buffer_size {
         (
             limits.max_storage_buffer_binding_size,
@@ -39,7 +39,7 @@ pub fn check_bvh_fits(sizes: &BvhSizes, limits: &wgpu::Limits) -> Result<(), Sce
         ("triangle", sizes.triangles),
     ] {
         if size > limit {
-            return Err(SceneError::BvhTooLarge {
+            return Err(TracingError::BvhTooLarge {
                 buffer,
                 size,
                 total: sizes.total(),

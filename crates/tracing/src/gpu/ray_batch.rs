@@ -3,6 +3,7 @@
 //! `RayTracer=hardware` variant): what the tests compare with the CPU tracer ray by ray, and
 //! what the bench times in rays per second. Closest-hit or any-hit, one invocation per ray.
 
+use crate::error::TracingError;
 use std::sync::Arc;
 
 use aograph_graph::{GpuContext, ShaderLibrary};
@@ -72,8 +73,8 @@ pub enum HitQuery {
 impl GpuRayBatch {
     /// Compiles the `raytrace/trace_rays.wgsl` pipeline from `shaders` (and its hardware
     /// variant where the device has ray queries); a shader or pipeline failure is a
-    /// [`SceneError::Gpu`].
-    pub fn new(gpu: Arc<GpuContext>, shaders: &ShaderLibrary) -> Result<GpuRayBatch, SceneError> {
+    /// [`TracingError::Gpu`].
+    pub fn new(gpu: Arc<GpuContext>, shaders: &ShaderLibrary) -> Result<GpuRayBatch, TracingError> {
         let pipeline = compute_pipeline(&gpu, shaders, SHADER)?;
         let hardware = hardware_pipeline(&gpu, shaders, SHADER)?;
         Ok(GpuRayBatch {
@@ -91,7 +92,7 @@ impl GpuRayBatch {
         rays: &[TraceRay],
         query: HitQuery,
         repeat: u32,
-    ) -> Result<Vec<Option<GpuRayHit>>, SceneError> {
+    ) -> Result<Vec<Option<GpuRayHit>>, TracingError> {
         let scene = scene.into();
         let pipeline = scene.pick(&self.gpu, &self.pipeline, self.hardware.as_ref())?;
         let count = u32::try_from(rays.len()).map_err(|_| SceneError::InvalidParameter {

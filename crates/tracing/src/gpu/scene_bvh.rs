@@ -16,6 +16,7 @@
 //! its [`BvhUpdate`]; instances whose mesh is missing, whose triangles are all untraceable, or
 //! whose transform is singular or non-finite are left out (no ray could hit them).
 
+use crate::error::TracingError;
 use std::ops::Range;
 
 use bytemuck::{Pod, Zeroable};
@@ -23,7 +24,6 @@ use glam::{Mat4, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 
 use super::flat_bvh::{BuildQuality, FlatBvh, FlatNode, triangle_box};
-use aograph_scene::error::SceneError;
 use aograph_scene::model::{Mesh, Scene};
 use aograph_scene::reference::is_traceable;
 
@@ -214,7 +214,7 @@ fn is_finite_triangle(t: &[Vec3; 3]) -> bool {
 
 impl SceneBvh {
     /// Builds the BVH of `scene` posed at time `t`, and what the build did.
-    pub fn build(scene: &Scene, t: f32) -> Result<(SceneBvh, BvhWork), SceneError> {
+    pub fn build(scene: &Scene, t: f32) -> Result<(SceneBvh, BvhWork), TracingError> {
         let mut work = BvhWork::default();
         let mut blas: Vec<Blas> = Vec::new();
         let mut triangles: Vec<GpuTriangle> = Vec::new();
@@ -236,7 +236,7 @@ impl SceneBvh {
                 node_offset: 0,
                 triangle_offset,
             });
-            Ok::<usize, SceneError>(blas.len() - 1)
+            Ok::<usize, TracingError>(blas.len() - 1)
         };
         for (index, instance) in scene.instances.iter().enumerate() {
             let Some(mesh) = scene.meshes.get(instance.mesh) else {
@@ -348,7 +348,7 @@ impl SceneBvh {
     }
 
     /// Rebuilds the top level over the instances' current world boxes.
-    fn build_tlas(&mut self) -> Result<(), SceneError> {
+    fn build_tlas(&mut self) -> Result<(), TracingError> {
         let boxes: Vec<Aabb> = self.placed.iter().map(|p| p.world_box).collect();
         let tree = FlatBvh::build(&boxes, BuildQuality::Instances);
         check_depth("top", tree.depth, TLAS_STACK)?;
@@ -364,7 +364,7 @@ impl SceneBvh {
     }
 
     /// Moves the BVH to time `t`, doing only what motion requires (see the module docs).
-    pub fn update(&mut self, scene: &Scene, t: f32) -> Result<BvhUpdate, SceneError> {
+    pub fn update(&mut self, scene: &Scene, t: f32) -> Result<BvhUpdate, TracingError> {
         let mut update = BvhUpdate::default();
         if t == self.time {
             return Ok(update);
@@ -461,9 +461,9 @@ fn globalise(b: &Blas) -> Vec<FlatNode> {
         .collect()
 }
 
-fn check_depth(level: &'static str, depth: u32, limit: u32) -> Result<(), SceneError> {
+fn check_depth(level: &'static str, depth: u32, limit: u32) -> Result<(), TracingError> {
     if depth > limit {
-        return Err(SceneError::BvhTooDeep {
+        return Err(TracingError::BvhTooDeep {
             level,
             depth,
             limit,

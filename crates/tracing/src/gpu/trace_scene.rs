@@ -7,12 +7,12 @@
 //!
 //! Invariant: both backends bind exactly 12, 13 and 14 (every `scene_trace` reads all three).
 
+use crate::error::TracingError;
 use aograph_graph::{GpuContext, ShaderLibrary};
 
 use super::gpu_bvh::GpuSceneBvh;
 use super::gpu_io::compute_pipeline;
 use super::hardware::HardwareSceneAs;
-use aograph_scene::error::SceneError;
 
 /// The scene a GPU trace runs against (the two backends of the GPU tracer).
 #[derive(Clone, Copy)]
@@ -59,10 +59,10 @@ impl<'a> GpuTraceScene<'a> {
         gpu: &GpuContext,
         compute: &'p wgpu::ComputePipeline,
         hardware: Option<&'p wgpu::ComputePipeline>,
-    ) -> Result<&'p wgpu::ComputePipeline, SceneError> {
+    ) -> Result<&'p wgpu::ComputePipeline, TracingError> {
         match self {
             Self::Compute(_) => Ok(compute),
-            Self::Hardware(_) => hardware.ok_or_else(|| SceneError::Unsupported {
+            Self::Hardware(_) => hardware.ok_or_else(|| TracingError::Unsupported {
                 what: "a trace on acceleration structures".into(),
                 detail: format!(
                     "adapter '{}' has no ray queries; trace against the compute BVH",
@@ -78,7 +78,7 @@ pub(crate) fn hardware_pipeline(
     gpu: &GpuContext,
     shaders: &ShaderLibrary,
     shader: &str,
-) -> Result<Option<wgpu::ComputePipeline>, SceneError> {
+) -> Result<Option<wgpu::ComputePipeline>, TracingError> {
     if !gpu.has_ray_queries() {
         return Ok(None);
     }
