@@ -14,6 +14,7 @@
 #![warn(missing_docs)]
 
 pub mod cache;
+mod cache_key;
 pub mod ceilings;
 mod error;
 pub mod gpu;
