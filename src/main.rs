@@ -83,6 +83,10 @@ enum Command {
         /// Print each technique's settings as a Markdown table (what docs/techniques/ holds).
         #[arg(long)]
         markdown: bool,
+        /// Instead, check each technique's plan against WebGPU's default limits and core
+        /// storage formats (what a browser gives a page that asks for nothing more).
+        #[arg(long)]
+        webgpu_limits: bool,
     },
     /// Rewrite the text of README.md and docs/ that a tool owns (parameter tables, results
     /// tables from docs/results/*/results.json), between its markers; run in the repository.
@@ -213,7 +217,10 @@ fn main() -> ExitCode {
                 .into(),
         }),
         Command::Graph { common, dot } => commands::graph(&common.into_args(), dot),
-        Command::Techniques { markdown } => commands::techniques(markdown),
+        Command::Techniques {
+            markdown,
+            webgpu_limits,
+        } => commands::techniques(markdown, webgpu_limits),
         Command::Docs { check } => commands::docs(check),
         Command::Reference {
             common,

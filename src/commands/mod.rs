@@ -11,6 +11,7 @@ mod render;
 mod scene_info;
 mod tune;
 mod tune_search;
+mod webgpu_fit;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -26,6 +27,7 @@ pub use reference::reference;
 pub use render::{RenderArgs, render};
 pub use scene_info::{scene_info, scene_info_text};
 pub use tune::{DEFAULT_SWEEP, TuneArgs, choose, config_text};
+pub use webgpu_fit::webgpu_fit_lines;
 
 use aograph_app_config::camera_spec::CameraSpec;
 use aograph_app_config::config::{AppConfig, RadiusSetting, SceneSource, check_size};
@@ -93,8 +95,18 @@ pub fn gpu() -> AppResult<Arc<GpuContext>> {
 }
 
 /// `aograph techniques`.
-pub fn techniques(markdown: bool) -> AppResult<()> {
+pub fn techniques(markdown: bool, webgpu_limits: bool) -> AppResult<()> {
     let registry = TechniqueRegistry::with_builtins();
+    if webgpu_limits {
+        println!(
+            "each technique's plan (64x64, R = 0.5, r32float intermediates unless named) against \
+             WebGPU's default limits and core formats:"
+        );
+        for line in webgpu_fit_lines(&registry)? {
+            println!("{line}");
+        }
+        return Ok(());
+    }
     for t in registry.iter() {
         if markdown {
             println!("## `{}`\n\n{}\n", t.name(), t.description());

@@ -162,6 +162,8 @@ impl AmbientOcclusion {
             mapped_at_creation: false,
         });
         exec.import_buffer(VIEWPORT_IMPORT, viewport_buffer.clone());
+        // Every plan is checked against the application's device when it is built.
+        let compiler = GraphCompiler::for_device(aograph_graph::DeviceProfile::of(&gpu));
         Ok(Self {
             gpu,
             shaders,
@@ -174,7 +176,7 @@ impl AmbientOcclusion {
             seen_settings: vec![settings],
             output_format: AoOutputFormat::default(),
             exec,
-            compiler: GraphCompiler::new(),
+            compiler,
             plans: HashMap::new(),
             current: None,
             view_buffer,

@@ -15,6 +15,7 @@ use petgraph::visit::{Dfs, Reversed};
 
 use crate::binding_slots::BindingSlot;
 use crate::declaration::*;
+use crate::device_fit::{DeviceProfile, check_plan};
 use crate::error::{GraphError, GraphResult};
 use crate::history_slots::{HistorySlot, resolve_histories};
 use crate::lifetime::{Lifetime, PhysicalTexture, plan_lifetimes};
@@ -155,11 +156,14 @@ impl CompiledGraph {
 ///   before a source was replaced, is not served for another library or the new source.
 /// - At most `capacity` plans are kept ([`GraphCompiler::DEFAULT_CAPACITY`] by default); a miss
 ///   beyond that evicts the least recently used plan.
+/// - With a device ([`GraphCompiler::for_device`]), a plan is returned only if it fits the
+///   device's limits and formats ([`crate::check_plan`]), checked once, when it is built.
 pub struct GraphCompiler {
     cache: HashMap<(u64, CompileOptions, ShaderRevision), CacheEntry>,
     capacity: usize,
     uses: u64,
     compiles: usize,
+    device: Option<DeviceProfile>,
 }
 
 struct CacheEntry {
@@ -188,7 +192,21 @@ impl GraphCompiler {
             capacity: capacity.max(1),
             uses: 0,
             compiles: 0,
+            device: None,
         }
+    }
+    /// A compiler whose plans must fit `device` (see [`crate::check_plan`]): a plan needing
+    /// more than it allows is an error naming the pass and the limit, at compile, before any
+    /// pipeline is made.
+    pub fn for_device(device: DeviceProfile) -> Self {
+        Self {
+            device: Some(device),
+            ..Self::default()
+        }
+    }
+    /// The device plans are checked against, if any.
+    pub fn device(&self) -> Option<&DeviceProfile> {
+        self.device.as_ref()
     }
     /// How many times a plan was actually built (cache misses).
     pub fn compile_count(&self) -> usize {
@@ -217,6 +235,9 @@ impl GraphCompiler {
             return Ok(Arc::new(entry.plan.with_declaration(decl)));
         }
         let plan = Arc::new(compile_hashed(decl, key.0, shaders, options)?);
+        if let Some(device) = &self.device {
+            check_plan(&plan, device)?;
+        }
         self.compiles += 1;
         if self.cache.len() >= self.capacity {
             let oldest = self

@@ -225,6 +225,42 @@ pub enum GraphError {
         device: String,
     },
 
+    #[error(
+        "pass `{pass}` needs {needs} {what}, and {device} allows {allows} (wgpu's `{limit}`): \
+         ask the device for a higher `{limit}` where the adapter has one, or choose settings or a \
+         technique that needs fewer"
+    )]
+    /// A pass of a plan needs more of something a device limits than the device allows
+    /// (`device_fit.rs`): storage textures per stage, workgroup storage, bind groups ...
+    OverDeviceLimit {
+        /// The pass, by name (its technique's prefix names the technique).
+        pass: String,
+        /// What it needs, in words ("storage textures in its compute stage").
+        what: String,
+        /// The limit, by its field name in `wgpu::Limits`.
+        limit: String,
+        /// How many the pass needs.
+        needs: u64,
+        /// How many the device allows.
+        allows: u64,
+        /// The device, or "a WebGPU device with default limits".
+        device: String,
+    },
+
+    #[error(
+        "pass `{pass}` needs {what}, which {device} does not offer: choose settings or a \
+         technique without it, or a device that has it"
+    )]
+    /// A pass needs a feature or storage format the device lacks (`device_fit.rs`).
+    DeviceLacks {
+        /// The pass, by name.
+        pass: String,
+        /// The feature or format, in words.
+        what: String,
+        /// The device, or "a WebGPU device with default limits".
+        device: String,
+    },
+
     #[error("resource `{resource}` is not available: {message}")]
     /// A resource asked for at execution is not there: an import never provided, a texture a
     /// custom pass did not declare, a read-back of a texture the last frame did not keep.

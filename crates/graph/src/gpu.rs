@@ -162,18 +162,25 @@ impl GpuContext {
     /// WebGPU's guaranteed ones otherwise. Storage usage also needs write-only storage access
     /// (R16Float storage, for instance, is not core WebGPU: most Vulkan devices have it).
     pub fn supports(&self, format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> bool {
-        let f = if self
+        let f = self.format_features(format);
+        let storage_ok = !usage.contains(wgpu::TextureUsages::STORAGE_BINDING)
+            || f.flags
+                .contains(wgpu::TextureFormatFeatureFlags::STORAGE_WRITE_ONLY);
+        f.allowed_usages.contains(usage) && storage_ok
+    }
+
+    /// What textures of `format` can do on this device: the adapter's own format features
+    /// where the device enabled `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`, WebGPU's
+    /// guaranteed ones otherwise.
+    pub fn format_features(&self, format: wgpu::TextureFormat) -> wgpu::TextureFormatFeatures {
+        if self
             .features
             .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
         {
             self.adapter.get_texture_format_features(format)
         } else {
             format.guaranteed_format_features(self.features)
-        };
-        let storage_ok = !usage.contains(wgpu::TextureUsages::STORAGE_BINDING)
-            || f.flags
-                .contains(wgpu::TextureFormatFeatureFlags::STORAGE_WRITE_ONLY);
-        f.allowed_usages.contains(usage) && storage_ok
+        }
     }
 
     /// True when GPU timestamps can be written between passes.

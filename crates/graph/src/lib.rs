@@ -56,6 +56,7 @@ mod compile;
 mod cost;
 mod custom;
 mod declaration;
+mod device_fit;
 mod dot;
 mod error;
 mod execute;
@@ -92,6 +93,7 @@ pub use declaration::{
     Dispatch, GraphDecl, PassDecl, PassId, PassKind, PipelineConstant, ResourceDecl, ResourceKind,
     ResourceOrigin, UniformDecl, UniformHandle,
 };
+pub use device_fit::{DeviceProfile, check_plan};
 pub use dot::to_dot;
 pub use error::{GraphError, GraphResult};
 pub use execute::Executor;

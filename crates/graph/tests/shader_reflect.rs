@@ -169,12 +169,14 @@ fn reflects_compute_entry_points_and_workgroup_sizes() {
             ShaderEntry {
                 name: "main".into(),
                 stage: naga::ShaderStage::Compute,
-                workgroup_size: [8, 4, 1]
+                workgroup_size: [8, 4, 1],
+                workgroup_storage: 0,
             },
             ShaderEntry {
                 name: "reduce".into(),
                 stage: naga::ShaderStage::Compute,
-                workgroup_size: [64, 1, 1]
+                workgroup_size: [64, 1, 1],
+                workgroup_storage: 0,
             },
         ]
     );
@@ -183,6 +185,28 @@ fn reflects_compute_entry_points_and_workgroup_sizes() {
         Some([64, 1, 1])
     );
     assert!(info.entry("missing").is_none());
+}
+
+#[test]
+fn workgroup_storage_counts_the_variables_each_entry_uses_rounded_to_16_bytes() {
+    // `tile` is 100 f32s (400 bytes, a multiple of 16); `flag` is one u32 (4 bytes, counted as
+    // 16); `unused` is touched by no entry point. `tiled` reaches `flag` through a helper.
+    let src = "var<workgroup> tile: array<f32, 100>;\n\
+               var<workgroup> flag: u32;\n\
+               var<workgroup> unused: array<vec4<f32>, 64>;\n\
+               fn raise() { flag = 1u; }\n\
+               @compute @workgroup_size(100) fn tiled(@builtin(local_invocation_index) i: u32) {\n\
+                   tile[i] = 1.0;\n\
+                   raise();\n\
+               }\n\
+               @compute @workgroup_size(1) fn plain() {}\n";
+    let lib = lib_with(&[("wg.wgsl", src)]);
+    let info = lib.load("wg.wgsl").unwrap();
+    assert_eq!(
+        info.entry("tiled").map(|e| e.workgroup_storage),
+        Some(400 + 16)
+    );
+    assert_eq!(info.entry("plain").map(|e| e.workgroup_storage), Some(0));
 }
 
 #[test]

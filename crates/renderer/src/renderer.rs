@@ -270,7 +270,8 @@ impl Renderer {
             )?,
             None => build_gbuffer_graph(scene.clone(), outputs, output, &gbuffer)?,
         };
-        let mut compiler = GraphCompiler::new();
+        // Plans are checked against the device's limits and formats when they are built.
+        let mut compiler = GraphCompiler::for_device(aograph_graph::DeviceProfile::of(&gpu));
         let plan = compiler.compile(graph.decl.clone(), &shaders, options)?;
         let mut exec = Executor::with_shaders(gpu.clone(), shaders.clone());
         exec.set_timing(timing_mode(&gpu)?)?;

@@ -83,6 +83,9 @@ pub struct ShaderEntry {
     pub stage: naga::ShaderStage,
     /// `@workgroup_size` (x, y, z) of a compute entry point; zeros for other stages.
     pub workgroup_size: [u32; 3],
+    /// Bytes of `var<workgroup>` the entry point uses, as WebGPU counts them against
+    /// `maxComputeWorkgroupStorageSize`: each variable's size rounded up to 16.
+    pub workgroup_storage: u32,
 }
 
 /// A validated, reflected WGSL module.
@@ -249,7 +252,7 @@ pub(super) fn parse_and_reflect(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::all(),
     );
-    validator.validate(&module).map_err(|e| {
+    let validated = validator.validate(&module).map_err(|e| {
         let line = e.location(&source).map(|l| l.line_number).unwrap_or(1);
         let (file, line) = locate(segments, line);
         let mut message = e.as_inner().to_string();
@@ -269,10 +272,12 @@ pub(super) fn parse_and_reflect(
     let entries = module
         .entry_points
         .iter()
-        .map(|e| ShaderEntry {
+        .enumerate()
+        .map(|(i, e)| ShaderEntry {
             name: e.name.clone(),
             stage: e.stage,
             workgroup_size: e.workgroup_size,
+            workgroup_storage: workgroup_storage(&module, validated.get_entry_point(i)),
         })
         .collect();
     let source_hash = {
@@ -299,6 +304,22 @@ pub(super) fn parse_and_reflect(
         entries,
         overrides,
     })
+}
+
+/// The workgroup memory an entry point uses: the `var<workgroup>` globals it (or a function it
+/// calls) touches, each rounded up to 16 bytes (WebGPU's rule).
+fn workgroup_storage(module: &naga::Module, entry: &naga::valid::FunctionInfo) -> u32 {
+    module
+        .global_variables
+        .iter()
+        .filter(|(h, v)| v.space == naga::AddressSpace::WorkGroup && !entry[*h].is_empty())
+        .map(|(_, v)| {
+            module.types[v.ty]
+                .inner
+                .size(module.to_ctx())
+                .next_multiple_of(16)
+        })
+        .sum()
 }
 
 fn reflect_bindings(name: &str, module: &naga::Module) -> GraphResult<Vec<ShaderBinding>> {

@@ -224,7 +224,19 @@ fn check_sizes(c: &CompressedView) -> Result<(), String> {
     Ok(())
 }
 
+/// Without the `meshopt` feature (a build for a target meshoptimizer's C++ has no compiler
+/// for, such as wasm32): a compressed view is refused by name.
+#[cfg(not(feature = "meshopt"))]
+fn decode(c: &CompressedView, _buffers: &[gltf::buffer::Data]) -> Result<Vec<u8>, String> {
+    Err(format!(
+        "buffer view {} is {}-compressed, and this build of aograph-scene has no meshopt \
+         decoder (enable its `meshopt` feature, or re-save the file uncompressed: `gltfpack -i IN -o OUT` without `-c`)",
+        c.view, c.extension
+    ))
+}
+
 /// Decodes one view's stream: `count * stride` bytes.
+#[cfg(feature = "meshopt")]
 fn decode(c: &CompressedView, buffers: &[gltf::buffer::Data]) -> Result<Vec<u8>, String> {
     let Some(buffer) = buffers.get(c.source_buffer) else {
         return Err(format!(
@@ -285,7 +297,7 @@ fn decode(c: &CompressedView, buffers: &[gltf::buffer::Data]) -> Result<Vec<u8>,
     Ok(out)
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "meshopt"))]
 mod tests {
     use super::*;
 

@@ -1,0 +1,174 @@
+//! Plans checked against a device's limits and formats at compile (no GPU): WebGPU's default
+//! profile refuses, by pass and limit, a pass with one storage texture too many, too much
+//! workgroup memory, an r8unorm storage write or a ray query, and accepts the same passes
+//! within the limits. The counts asserted are the shaders' own (known answers).
+
+use aograph_graph::wgpu::TextureFormat;
+use aograph_graph::*;
+
+/// A compute pass writing `n` r32float storage textures, with `tile` f32s of workgroup memory
+/// (0: none), and `format` for the first storage texture.
+fn storage_shader(n: usize, tile: usize, format: &str) -> String {
+    let mut s = String::new();
+    for i in 0..n {
+        let f = if i == 0 { format } else { "r32float" };
+        s += &format!("@group(0) @binding({i}) var out{i}: texture_storage_2d<{f}, write>;\n");
+    }
+    if tile > 0 {
+        s += &format!("var<workgroup> tile: array<f32, {tile}>;\n");
+    }
+    s +=
+        "@compute @workgroup_size(8, 8)\nfn main(@builtin(global_invocation_id) id: vec3<u32>) {\n";
+    if tile > 0 {
+        s += "    tile[0] = 1.0;\n";
+    }
+    for i in 0..n {
+        s += &format!("    textureStore(out{i}, vec2<i32>(id.xy), vec4<f32>(1.0));\n");
+    }
+    s += "}\n";
+    s
+}
+
+/// The plan of one pass "many" running `source`, every storage texture exported.
+fn compile_for(
+    device: DeviceProfile,
+    source: &str,
+    n: usize,
+    first: TextureFormat,
+) -> GraphResult<()> {
+    let lib = ShaderLibrary::inline_only();
+    lib.add_inline("many.wgsl", source);
+    let mut b = GraphBuilder::new();
+    let textures: Vec<TextureHandle> = (0..n)
+        .map(|i| {
+            let format = if i == 0 {
+                first
+            } else {
+                TextureFormat::R32Float
+            };
+            b.create_texture(&format!("t{i}"), TextureDesc::new(format, SizeClass::FULL))
+        })
+        .collect();
+    let mut outs = Vec::new();
+    {
+        let mut p = b.compute_pass("many", "many.wgsl", "main");
+        for (i, t) in textures.into_iter().enumerate() {
+            outs.push(p.write_storage(&format!("out{i}"), t));
+        }
+        p.dispatch_over(outs[0]);
+    }
+    for o in outs {
+        b.export(o);
+    }
+    GraphCompiler::for_device(device)
+        .compile(b.build(), &lib, CompileOptions::default())
+        .map(|_| ())
+}
+
+#[test]
+fn four_storage_textures_fit_webgpu_defaults_and_five_are_refused_by_name() {
+    let fits = compile_for(
+        DeviceProfile::webgpu_defaults(),
+        &storage_shader(4, 0, "r32float"),
+        4,
+        TextureFormat::R32Float,
+    );
+    assert!(fits.is_ok(), "{fits:?}");
+    let over = compile_for(
+        DeviceProfile::webgpu_defaults(),
+        &storage_shader(5, 0, "r32float"),
+        5,
+        TextureFormat::R32Float,
+    )
+    .unwrap_err();
+    match &over {
+        GraphError::OverDeviceLimit {
+            pass,
+            limit,
+            needs,
+            allows,
+            ..
+        } => {
+            assert_eq!(pass, "many");
+            assert_eq!(limit, "max_storage_textures_per_shader_stage");
+            assert_eq!((*needs, *allows), (5, 4));
+        }
+        other => panic!("expected OverDeviceLimit, got {other:?}"),
+    }
+    let text = over.to_string();
+    assert!(
+        text.contains("needs 5 storage textures in its compute stage") && text.contains("allows 4"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_higher_limit_on_the_device_admits_the_fifth_storage_texture() {
+    let mut limits = wgpu::Limits::defaults();
+    limits.max_storage_textures_per_shader_stage = 8;
+    let device = DeviceProfile::from_parts(
+        "a device with 8 storage textures".into(),
+        limits,
+        wgpu::Features::empty(),
+        |f| f.guaranteed_format_features(wgpu::Features::empty()),
+    );
+    let fits = compile_for(
+        device,
+        &storage_shader(5, 0, "r32float"),
+        5,
+        TextureFormat::R32Float,
+    );
+    assert!(fits.is_ok(), "{fits:?}");
+}
+
+#[test]
+fn workgroup_memory_over_16_kib_is_refused_with_its_byte_count() {
+    // 4096 f32s = 16384 bytes, WebGPU's default exactly; one more f32 rounds up to 16400.
+    let at = compile_for(
+        DeviceProfile::webgpu_defaults(),
+        &storage_shader(1, 4096, "r32float"),
+        1,
+        TextureFormat::R32Float,
+    );
+    assert!(at.is_ok(), "{at:?}");
+    let over = compile_for(
+        DeviceProfile::webgpu_defaults(),
+        &storage_shader(1, 4097, "r32float"),
+        1,
+        TextureFormat::R32Float,
+    )
+    .unwrap_err();
+    match over {
+        GraphError::OverDeviceLimit {
+            limit,
+            needs,
+            allows,
+            ..
+        } => {
+            assert_eq!(limit, "max_compute_workgroup_storage_size");
+            assert_eq!((needs, allows), (16400, 16384));
+        }
+        other => panic!("expected OverDeviceLimit, got {other:?}"),
+    }
+}
+
+#[test]
+fn r8unorm_storage_writes_are_not_core_webgpu() {
+    let err = compile_for(
+        DeviceProfile::webgpu_defaults(),
+        &storage_shader(1, 0, "r8unorm"),
+        1,
+        TextureFormat::R8Unorm,
+    )
+    .unwrap_err();
+    match err {
+        GraphError::DeviceLacks { pass, what, .. } => {
+            assert_eq!(pass, "many");
+            assert!(
+                what.starts_with("R8Unorm storage textures with WriteOnly access"),
+                "{what}"
+            );
+        }
+        other => panic!("expected DeviceLacks, got {other:?}"),
+    }
+}
