@@ -16,6 +16,8 @@ fn main() {
         .filter(|p| p.is_dir() && !p.ends_with("src") && !p.ends_with("target"))
         .collect();
     folders.sort();
+    // A new top-level folder (a new table) changes the crate folder itself.
+    println!("cargo:rerun-if-changed={}", root.display());
     let mut out = String::new();
     let mut names = Vec::new();
     for folder in &folders {

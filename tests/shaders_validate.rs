@@ -5,8 +5,10 @@
 
 #[test]
 fn every_embedded_shader_is_mounted_by_exactly_one_crate() {
-    // aograph's library mounts each crate's folders; together they are every embedded file.
+    // aograph's library mounts each crate's folders, and the web page's crate (no dependency of
+    // the CLI) its own; together they are every embedded file.
     let lib = aograph::shader_library();
+    lib.mount(aograph_web::shader_mount()).unwrap();
     let mut embedded: Vec<&str> = aograph_shaders::FOLDERS
         .iter()
         .flat_map(|(_, files)| files.iter().map(|(p, _)| *p))
@@ -22,7 +24,8 @@ fn every_embedded_shader_is_mounted_by_exactly_one_crate() {
             "aograph-renderer",
             "aograph-embed",
             "aograph-bench",
-            "aograph"
+            "aograph",
+            "aograph-web"
         ]
     );
 }
@@ -44,6 +47,7 @@ fn a_file_of_an_unmounted_crate_is_an_error_naming_the_mounts() {
 #[test]
 fn every_shader_file_validates_with_naga() {
     let lib = aograph::shader_library();
+    lib.mount(aograph_web::shader_mount()).unwrap();
     let files = lib.files();
     assert!(files.len() >= 5, "found only {files:?}");
     let mut failures = Vec::new();

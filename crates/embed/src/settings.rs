@@ -24,7 +24,7 @@ use crate::error::{EmbedError, EmbedResult};
 /// View block (no scene to trace, no lighting; the cost floor,
 /// `none`, left out). Asked of the techniques, not listed by name, so a user's technique
 /// registered with the embedding is offered too.
-pub(crate) fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
+pub fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
     registry
         .names()
         .into_iter()

@@ -239,33 +239,32 @@ pub fn check_plan(plan: &CompiledGraph, device: &DeviceProfile) -> GraphResult<(
                     size,
                     l.max_uniform_buffer_binding_size,
                 )?,
-                ShaderBindingKind::StorageTexture { format, access } => {
-                    if !device.allows_storage(format, access) {
-                        return Err(GraphError::DeviceLacks {
-                            pass: pass.name.clone(),
-                            what: format!(
-                                "{format:?} storage textures with {access:?} access (`{}`)",
-                                b.name
-                            ),
-                            device: device.name.clone(),
-                        });
-                    }
+                ShaderBindingKind::StorageTexture { format, access }
+                    if !device.allows_storage(format, access) =>
+                {
+                    return Err(GraphError::DeviceLacks {
+                        pass: pass.name.clone(),
+                        what: format!(
+                            "{format:?} storage textures with {access:?} access (`{}`)",
+                            b.name
+                        ),
+                        device: device.name.clone(),
+                    });
                 }
-                ShaderBindingKind::AccelerationStructure => {
+                ShaderBindingKind::AccelerationStructure
                     if !device
                         .features
-                        .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
-                    {
-                        return Err(GraphError::DeviceLacks {
-                            pass: pass.name.clone(),
-                            what: format!(
-                                "ray queries (`{}` is an acceleration structure; wgpu's \
+                        .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) =>
+                {
+                    return Err(GraphError::DeviceLacks {
+                        pass: pass.name.clone(),
+                        what: format!(
+                            "ray queries (`{}` is an acceleration structure; wgpu's \
                                  EXPERIMENTAL_RAY_QUERY)",
-                                b.name
-                            ),
-                            device: device.name.clone(),
-                        });
-                    }
+                            b.name
+                        ),
+                        device: device.name.clone(),
+                    });
                 }
                 _ => {}
             }

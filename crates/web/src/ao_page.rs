@@ -1,0 +1,195 @@
+//! One page's frame, target-independent: a procedural scene drawn by [`PageRenderer`], its
+//! depth and normals handed to `aograph_embed::AmbientOcclusion`, the AO shaded into a target.
+//! The browser glue (`page.rs`) and the native example run exactly this.
+//!
+//! Invariant: the page's settings are the `[ao]` TOML a user would write (technique, radius,
+//! `[technique]` table); on a device without r16float storage textures (core WebGPU), the page
+//! asks for r32float intermediates unless the text names a format, so every technique that
+//! fits WebGPU's defaults runs at them.
+
+use aograph_embed::{
+    AmbientOcclusion, AoInputs, AoOutputView, DepthInput, NormalEncoding, NormalSpace, NormalsInput,
+};
+use aograph_graph::GpuContext;
+use glam::Mat4;
+
+use crate::page_renderer::PageRenderer;
+use crate::scene_mesh::SceneMesh;
+
+/// Why the page cannot do what was asked: the embedding's or the scene's error, as text a
+/// user can act on.
+#[derive(Debug, thiserror::Error)]
+pub enum PageError {
+    /// aograph-embed refused (an unknown technique, a parameter out of range, a limit).
+    #[error(transparent)]
+    Embed(#[from] aograph_embed::EmbedError),
+    /// The scene is not one of aograph's procedural scenes.
+    #[error(transparent)]
+    Scene(#[from] aograph_scene::SceneError),
+    /// A zero-sized output.
+    #[error("the page's size is {width}x{height}; it must be at least 1x1")]
+    Size {
+        /// Width asked for.
+        width: u32,
+        /// Height asked for.
+        height: u32,
+    },
+}
+
+/// The scene, the page's renderer, aograph's AO and the camera.
+pub struct AoPage {
+    renderer: PageRenderer,
+    ao: AmbientOcclusion,
+    view: Mat4,
+    projection: Mat4,
+    light_dir: glam::Vec3,
+    radius: f32,
+    r16float_storage: bool,
+    ao_only: bool,
+    time: f32,
+    output: Option<AoOutputView>,
+}
+
+impl AoPage {
+    /// The procedural scene `scene` from its own camera at `width` x `height`, shaded into
+    /// `target_format`, with gtao at the scene's suggested radius.
+    pub fn new(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &str,
+        (width, height): (u32, u32),
+        target_format: wgpu::TextureFormat,
+    ) -> Result<Self, PageError> {
+        if width == 0 || height == 0 {
+            return Err(PageError::Size { width, height });
+        }
+        let scene = aograph_scene::procedural_scene(scene)?;
+        let mesh = SceneMesh::of(&scene, 0.0);
+        let renderer = PageRenderer::new(device, queue, &mesh, width, height, target_format);
+        let radius = aograph_scene::suggested_radius(&scene).radius;
+        let gpu = GpuContext::from_device(adapter.clone(), device.clone(), queue.clone());
+        let r16float_storage = gpu.supports(
+            wgpu::TextureFormat::R16Float,
+            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let aspect = width as f32 / height as f32;
+        let settings = Self::settings_text("technique = \"gtao\"", radius, r16float_storage);
+        let ao = AmbientOcclusion::from_toml(adapter, device, queue, &settings)?;
+        Ok(Self {
+            renderer,
+            ao,
+            view: scene.camera.view(),
+            projection: scene.camera.projection(aspect),
+            light_dir: scene.light.direction,
+            radius,
+            r16float_storage,
+            ao_only: false,
+            time: 0.0,
+            output: None,
+        })
+    }
+
+    /// `text` with the scene's radius and, on a device without r16float storage, r32float
+    /// intermediates, where the text does not set them itself.
+    fn settings_text(text: &str, radius: f32, r16float_storage: bool) -> String {
+        let (top, tables) = match text.find("\n[") {
+            Some(i) => (&text[..i], &text[i..]),
+            None if text.trim_start().starts_with('[') => ("", text),
+            None => (text, ""),
+        };
+        let sets = |key: &str| {
+            top.lines()
+                .any(|l| l.trim_start().starts_with(key) && l.contains('='))
+        };
+        let mut out = top.to_string();
+        if !sets("radius") {
+            out += &format!("\nradius = {radius}");
+        }
+        if !r16float_storage && !sets("intermediate_format") {
+            out += "\nintermediate_format = \"r32float\"";
+        }
+        out + "\n" + tables
+    }
+
+    /// Switches to the `[ao]` settings in `text` (TOML); the previous settings stay on an
+    /// error. Returns the settings as applied (radius and format filled in).
+    pub fn set_settings(&mut self, text: &str) -> Result<String, PageError> {
+        let full = Self::settings_text(text, self.radius, self.r16float_storage);
+        self.ao.set_config_toml(&full)?;
+        Ok(full)
+    }
+
+    /// The technique running now.
+    pub fn technique(&self) -> &str {
+        &self.ao.config().technique
+    }
+
+    /// The scene's suggested AO radius R (what the settings get when they name none).
+    pub fn radius(&self) -> f32 {
+        self.radius
+    }
+
+    /// The pixel (x right, y down) that world point `p` projects to, if it is in the view.
+    pub fn pixel_of(&self, p: glam::Vec3) -> Option<(u32, u32)> {
+        let clip = self.projection * self.view * p.extend(1.0);
+        if clip.w <= 0.0 {
+            return None;
+        }
+        let ndc = clip.truncate() / clip.w;
+        let (w, h) = (self.renderer.width as f32, self.renderer.height as f32);
+        let x = (0.5 * ndc.x + 0.5) * w;
+        let y = (0.5 - 0.5 * ndc.y) * h;
+        ((0.0..w).contains(&x) && (0.0..h).contains(&y)).then_some((x as u32, y as u32))
+    }
+
+    /// Show the AO alone (grey) instead of the shaded scene.
+    pub fn set_ao_only(&mut self, ao_only: bool) {
+        self.ao_only = ao_only;
+    }
+
+    /// Records one frame into `encoder`: the pre-pass, aograph's AO, shading into `target`.
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+    ) -> Result<(), PageError> {
+        self.renderer
+            .set_camera(self.projection * self.view, self.light_dir, self.ao_only);
+        self.renderer.prepass(encoder);
+        let mut inputs = AoInputs::new(
+            DepthInput::Hardware(&self.renderer.depth),
+            self.projection,
+            self.view,
+        );
+        inputs.normals = Some(NormalsInput {
+            texture: &self.renderer.normals,
+            space: NormalSpace::World,
+            encoding: NormalEncoding::Xyz,
+        });
+        inputs.time = self.time;
+        self.time += 1.0 / 60.0;
+        let out = self.ao.encode(encoder, &inputs)?;
+        self.renderer.shade(encoder, &out.view, target);
+        self.output = Some(out);
+        Ok(())
+    }
+
+    /// The texture the last frame's AO was written to (R8Unorm).
+    pub fn ao_texture(&self) -> Option<&wgpu::Texture> {
+        self.output.as_ref().map(|o| &o.texture)
+    }
+}
+
+/// Accessibility in [0, 1] per pixel of R8Unorm rows read back as `bytes`.
+pub fn ao_values(bytes: &[u8]) -> Vec<f32> {
+    bytes.iter().map(|&b| f32::from(b) / 255.0).collect()
+}
+
+/// The mean of [`ao_values`].
+pub fn ao_mean(bytes: &[u8]) -> f64 {
+    if bytes.is_empty() {
+        return 0.0;
+    }
+    bytes.iter().map(|&b| f64::from(b) / 255.0).sum::<f64>() / bytes.len() as f64
+}

@@ -1,0 +1,254 @@
+//! The page's own renderer: a pre-pass into its reversed-Z Depth32Float depth and
+//! Rgba16Float world-space normals (shaders/web/prepass.wgsl), and a full-screen shading pass
+//! into the canvas that multiplies aograph's AO into the ambient light
+//! (shaders/web/shade.wgsl). It knows nothing of aograph's g-buffer.
+//!
+//! Invariant: the depth and normal textures are the output's size and are what aograph-embed
+//! reads; the shading pass reads them and the AO texel for texel, so all three share a size.
+
+use glam::{Mat4, Vec3};
+
+use crate::scene_mesh::{SceneMesh, Vertex};
+use crate::shader_source;
+
+/// The depth format the page renders and aograph reads.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The normals' format: xyz signed, world space.
+pub const NORMALS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The page's pipelines, buffers and pre-pass targets.
+pub struct PageRenderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    /// Reversed Z (near = 1, cleared to 0), Depth32Float: aograph's depth input.
+    pub depth: wgpu::Texture,
+    /// World-space normals, xyz signed (w = 1 where something was drawn, 0 for the sky).
+    pub normals: wgpu::Texture,
+    /// Output width in pixels.
+    pub width: u32,
+    /// Output height in pixels.
+    pub height: u32,
+    prepass: wgpu::RenderPipeline,
+    shade: wgpu::RenderPipeline,
+    vertices: wgpu::Buffer,
+    vertex_count: u32,
+    camera: wgpu::Buffer,
+}
+
+impl PageRenderer {
+    /// The renderer of `mesh` at `width` x `height`, shading into `target_format`.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: &SceneMesh,
+        width: u32,
+        height: u32,
+        target_format: wgpu::TextureFormat,
+    ) -> Self {
+        use wgpu::util::DeviceExt;
+        let texture = |label, format| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                // TEXTURE_BINDING: aograph and the shading pass read them.
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+        };
+        let depth = texture("page depth", DEPTH_FORMAT);
+        let normals = texture("page normals", NORMALS_FORMAT);
+        let module = |path: &str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(path),
+                source: wgpu::ShaderSource::Wgsl(shader_source(path).into()),
+            })
+        };
+        let prepass_module = module("web/prepass.wgsl");
+        let shade_module = module("web/shade.wgsl");
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+        };
+        let prepass = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("page pre-pass"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &prepass_module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout)],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            // Reversed Z: nearer is greater.
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &prepass_module,
+                entry_point: Some("fs_normals"),
+                compilation_options: Default::default(),
+                targets: &[Some(NORMALS_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let shade = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("page shading"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &shade_module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shade_module,
+                entry_point: Some("fs"),
+                compilation_options: Default::default(),
+                targets: &[Some(target_format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("page vertices"),
+            contents: bytemuck::cast_slice(&mesh.vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let camera = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("page camera"),
+            size: 96,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            depth,
+            normals,
+            width,
+            height,
+            prepass,
+            shade,
+            vertices,
+            vertex_count: mesh.vertices.len() as u32,
+            camera,
+        }
+    }
+
+    /// Writes the camera block: `view_proj`, the sun's direction and the display mode (AO
+    /// only when `ao_only`).
+    pub fn set_camera(&self, view_proj: Mat4, light_dir: Vec3, ao_only: bool) {
+        let mut block = [0f32; 24];
+        block[..16].copy_from_slice(&view_proj.to_cols_array());
+        block[16..19].copy_from_slice(&light_dir.normalize_or_zero().to_array());
+        block[20] = if ao_only { 1.0 } else { 0.0 };
+        self.queue
+            .write_buffer(&self.camera, 0, bytemuck::cast_slice(&block));
+    }
+
+    /// The pre-pass: depth (reversed Z, cleared to 0) and world normals (cleared to 0).
+    pub fn prepass(&self, encoder: &mut wgpu::CommandEncoder) {
+        let depth = self.depth.create_view(&Default::default());
+        let normals = self.normals.create_view(&Default::default());
+        let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("page pre-pass"),
+            layout: &self.prepass.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.camera.as_entire_binding(),
+            }],
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("page pre-pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &normals,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.prepass);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.draw(0..self.vertex_count, 0..1);
+    }
+
+    /// Shading into `target` (the canvas, or an offscreen texture of the target format),
+    /// with `ao` (aograph's output, the renderer's size).
+    pub fn shade(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        ao: &wgpu::TextureView,
+        target: &wgpu::TextureView,
+    ) {
+        let normals = self.normals.create_view(&Default::default());
+        let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("page shading"),
+            layout: &self.shade.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.camera.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&normals),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(ao),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("page shading"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.shade);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
