@@ -5,6 +5,9 @@
 //! Each technique is built in aograph's own frame (the g-buffer node, the technique, shading)
 //! on the procedural `corner` at 64x64, with R = 0.5 and r32float intermediates: r16float
 //! storage is not core WebGPU (the variants below show what each needing more is refused for).
+//! The g-buffer raster counts: a technique that reads world positions or radiance makes it
+//! write more than WebGPU's default 32 colour bytes per sample. An application's own renderer
+//! (aograph-embed, the web page) has no such raster.
 
 use std::sync::Arc;
 

@@ -8,7 +8,8 @@
 //!
 //! Invariant: [`check_plan`] accepts a plan only when none of those counts exceeds the
 //! profile; otherwise it names the first pass over, the limit by its wgpu name, the device's
-//! value and what the pass needs. What is sized by the frame (dispatch counts, texture sizes)
+//! value and what the pass needs. Colour targets are checked for every pass that renders,
+//! custom ones (aograph's g-buffer raster) included; the rest needs the pass's shader. What is sized by the frame (dispatch counts, texture sizes)
 //! is checked when the frame is bound (`bind.rs`).
 
 use crate::compile::CompiledGraph;
@@ -63,7 +64,14 @@ impl DeviceProfile {
             "a WebGPU device with default limits".into(),
             wgpu::Limits::defaults(),
             wgpu::Features::empty(),
-            |format| format.guaranteed_format_features(wgpu::Features::empty()),
+            |format| {
+                let mut f = format.guaranteed_format_features(wgpu::Features::empty());
+                // Formats behind a feature (16-bit norm, say) are not core WebGPU at all.
+                if !format.required_features().is_empty() {
+                    f.allowed_usages = wgpu::TextureUsages::empty();
+                }
+                f
+            },
         )
     }
 
@@ -156,9 +164,6 @@ impl StageCounts {
 /// Checks every kept pass of `plan` against `device` (see the module's invariant).
 pub fn check_plan(plan: &CompiledGraph, device: &DeviceProfile) -> GraphResult<()> {
     for &p in &plan.order {
-        let Some(info) = plan.shaders[p.0].as_deref() else {
-            continue;
-        };
         let pass = &plan.decl.passes[p.0];
         let over = |what: &str, limit: &str, needs: u64, allows: u64| -> GraphResult<()> {
             if needs <= allows {
@@ -174,157 +179,178 @@ pub fn check_plan(plan: &CompiledGraph, device: &DeviceProfile) -> GraphResult<(
             })
         };
         let l = &device.limits;
-        let stage = match &pass.kind {
-            PassKind::Compute { .. } => "compute stage",
-            _ => "vertex and fragment stages (each)",
-        };
-        let c = StageCounts::of(info);
-        for (count, kind, limit, allows) in [
-            (
-                c.storage_textures,
-                "storage textures",
-                "max_storage_textures_per_shader_stage",
-                l.max_storage_textures_per_shader_stage,
-            ),
-            (
-                c.storage_buffers,
-                "storage buffers",
-                "max_storage_buffers_per_shader_stage",
-                l.max_storage_buffers_per_shader_stage,
-            ),
-            (
-                c.sampled_textures,
-                "sampled textures",
-                "max_sampled_textures_per_shader_stage",
-                l.max_sampled_textures_per_shader_stage,
-            ),
-            (
-                c.samplers,
-                "samplers",
-                "max_samplers_per_shader_stage",
-                l.max_samplers_per_shader_stage,
-            ),
-            (
-                c.uniform_buffers,
-                "uniform buffers",
-                "max_uniform_buffers_per_shader_stage",
-                l.max_uniform_buffers_per_shader_stage,
-            ),
-        ] {
-            over(
-                &format!("{kind} in its {stage}"),
-                limit,
-                count.into(),
-                allows.into(),
-            )?;
-        }
-        let groups = info.bindings.iter().map(|b| b.group + 1).max().unwrap_or(0);
+        // Colour targets, of any pass that renders (a custom pass's too: a g-buffer raster).
+        let targets: Vec<wgpu::TextureFormat> = pass
+            .textures
+            .iter()
+            .filter(|u| matches!(u.attachment, Some(crate::AttachmentOps::Color { .. })))
+            .filter_map(|u| plan.decl.resources[u.resource()].texture_desc())
+            .map(|d| d.format)
+            .collect();
         over(
-            "bind groups",
-            "max_bind_groups",
-            groups.into(),
-            l.max_bind_groups.into(),
+            "colour attachments",
+            "max_color_attachments",
+            targets.len() as u64,
+            l.max_color_attachments.into(),
         )?;
-        for b in &info.bindings {
-            over(
-                &format!("binding index {} (`{}`)", b.binding, b.name),
-                "max_bindings_per_bind_group",
-                u64::from(b.binding) + 1,
-                l.max_bindings_per_bind_group.into(),
-            )?;
-            match b.kind {
-                ShaderBindingKind::Uniform { size } => over(
-                    &format!("bytes in the uniform block `{}`", b.name),
-                    "max_uniform_buffer_binding_size",
-                    size,
-                    l.max_uniform_buffer_binding_size,
-                )?,
-                ShaderBindingKind::StorageTexture { format, access }
-                    if !device.allows_storage(format, access) =>
-                {
-                    return Err(GraphError::DeviceLacks {
-                        pass: pass.name.clone(),
-                        what: format!(
-                            "{format:?} storage textures with {access:?} access (`{}`)",
-                            b.name
-                        ),
-                        device: device.name.clone(),
-                    });
-                }
-                ShaderBindingKind::AccelerationStructure
-                    if !device
-                        .features
-                        .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) =>
-                {
-                    return Err(GraphError::DeviceLacks {
-                        pass: pass.name.clone(),
-                        what: format!(
-                            "ray queries (`{}` is an acceleration structure; wgpu's \
-                                 EXPERIMENTAL_RAY_QUERY)",
-                            b.name
-                        ),
-                        device: device.name.clone(),
-                    });
-                }
-                _ => {}
+        over(
+            "bytes per sample across its colour attachments",
+            "max_color_attachment_bytes_per_sample",
+            color_bytes_per_sample(&targets).into(),
+            l.max_color_attachment_bytes_per_sample.into(),
+        )?;
+        let Some(info) = plan.shaders[p.0].as_deref() else {
+            continue;
+        };
+        check_shader(pass, info, device, &over)?;
+    }
+    Ok(())
+}
+
+/// WebGPU's count of a render pass's colour bytes per sample: each target's byte cost added
+/// after rounding the running total up to that target's component alignment.
+fn color_bytes_per_sample(targets: &[wgpu::TextureFormat]) -> u32 {
+    targets.iter().fold(0, |total, f| {
+        let align = f.target_component_alignment().unwrap_or(1).max(1);
+        total.next_multiple_of(align) + f.target_pixel_byte_cost().unwrap_or(0)
+    })
+}
+
+/// The checks of one pass that its shader decides: bindings per stage, groups, formats, ray
+/// queries and, for a compute pass, its workgroup.
+fn check_shader(
+    pass: &crate::declaration::PassDecl,
+    info: &ShaderModuleInfo,
+    device: &DeviceProfile,
+    over: &dyn Fn(&str, &str, u64, u64) -> GraphResult<()>,
+) -> GraphResult<()> {
+    let l = &device.limits;
+    let stage = match &pass.kind {
+        PassKind::Compute { .. } => "compute stage",
+        _ => "vertex and fragment stages (each)",
+    };
+    let c = StageCounts::of(info);
+    for (count, kind, limit, allows) in [
+        (
+            c.storage_textures,
+            "storage textures",
+            "max_storage_textures_per_shader_stage",
+            l.max_storage_textures_per_shader_stage,
+        ),
+        (
+            c.storage_buffers,
+            "storage buffers",
+            "max_storage_buffers_per_shader_stage",
+            l.max_storage_buffers_per_shader_stage,
+        ),
+        (
+            c.sampled_textures,
+            "sampled textures",
+            "max_sampled_textures_per_shader_stage",
+            l.max_sampled_textures_per_shader_stage,
+        ),
+        (
+            c.samplers,
+            "samplers",
+            "max_samplers_per_shader_stage",
+            l.max_samplers_per_shader_stage,
+        ),
+        (
+            c.uniform_buffers,
+            "uniform buffers",
+            "max_uniform_buffers_per_shader_stage",
+            l.max_uniform_buffers_per_shader_stage,
+        ),
+    ] {
+        over(
+            &format!("{kind} in its {stage}"),
+            limit,
+            count.into(),
+            allows.into(),
+        )?;
+    }
+    let groups = info.bindings.iter().map(|b| b.group + 1).max().unwrap_or(0);
+    over(
+        "bind groups",
+        "max_bind_groups",
+        groups.into(),
+        l.max_bind_groups.into(),
+    )?;
+    for b in &info.bindings {
+        over(
+            &format!(
+                "binding slots in group {} (`{}` is @binding({}))",
+                b.group, b.name, b.binding
+            ),
+            "max_bindings_per_bind_group",
+            u64::from(b.binding) + 1,
+            l.max_bindings_per_bind_group.into(),
+        )?;
+        match b.kind {
+            ShaderBindingKind::Uniform { size } => over(
+                &format!("bytes in the uniform block `{}`", b.name),
+                "max_uniform_buffer_binding_size",
+                size,
+                l.max_uniform_buffer_binding_size,
+            )?,
+            ShaderBindingKind::StorageTexture { format, access }
+                if !device.allows_storage(format, access) =>
+            {
+                return Err(GraphError::DeviceLacks {
+                    pass: pass.name.clone(),
+                    what: format!(
+                        "{format:?} storage textures with {access:?} access (`{}`)",
+                        b.name
+                    ),
+                    device: device.name.clone(),
+                });
             }
-        }
-        match &pass.kind {
-            PassKind::Compute { entry, .. } => {
-                let Some(e) = info.entry(entry) else { continue };
-                let [x, y, z] = e.workgroup_size;
-                for (size, axis, allows) in [
-                    (x, "x", l.max_compute_workgroup_size_x),
-                    (y, "y", l.max_compute_workgroup_size_y),
-                    (z, "z", l.max_compute_workgroup_size_z),
-                ] {
-                    over(
-                        &format!("a workgroup {size} wide in {axis}"),
-                        &format!("max_compute_workgroup_size_{axis}"),
-                        size.into(),
-                        allows.into(),
-                    )?;
-                }
-                over(
-                    "invocations per workgroup",
-                    "max_compute_invocations_per_workgroup",
-                    u64::from(x) * u64::from(y) * u64::from(z),
-                    l.max_compute_invocations_per_workgroup.into(),
-                )?;
-                over(
-                    "bytes of workgroup storage",
-                    "max_compute_workgroup_storage_size",
-                    e.workgroup_storage.into(),
-                    l.max_compute_workgroup_storage_size.into(),
-                )?;
-            }
-            PassKind::Fullscreen { .. } => {
-                let targets: Vec<wgpu::TextureFormat> = pass
-                    .textures
-                    .iter()
-                    .filter(|u| matches!(u.attachment, Some(crate::AttachmentOps::Color { .. })))
-                    .filter_map(|u| plan.decl.resources[u.resource()].texture_desc())
-                    .map(|d| d.format)
-                    .collect();
-                over(
-                    "colour attachments",
-                    "max_color_attachments",
-                    targets.len() as u64,
-                    l.max_color_attachments.into(),
-                )?;
-                let bytes: u32 = targets
-                    .iter()
-                    .map(|f| f.target_pixel_byte_cost().unwrap_or(0))
-                    .sum();
-                over(
-                    "colour attachment bytes per sample",
-                    "max_color_attachment_bytes_per_sample",
-                    bytes.into(),
-                    l.max_color_attachment_bytes_per_sample.into(),
-                )?;
+            ShaderBindingKind::AccelerationStructure
+                if !device
+                    .features
+                    .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) =>
+            {
+                return Err(GraphError::DeviceLacks {
+                    pass: pass.name.clone(),
+                    what: format!(
+                        "ray queries (`{}` is an acceleration structure; wgpu's \
+                         EXPERIMENTAL_RAY_QUERY)",
+                        b.name
+                    ),
+                    device: device.name.clone(),
+                });
             }
             _ => {}
         }
+    }
+    if let PassKind::Compute { entry, .. } = &pass.kind
+        && let Some(e) = info.entry(entry)
+    {
+        let [x, y, z] = e.workgroup_size;
+        for (size, axis, allows) in [
+            (x, "x", l.max_compute_workgroup_size_x),
+            (y, "y", l.max_compute_workgroup_size_y),
+            (z, "z", l.max_compute_workgroup_size_z),
+        ] {
+            over(
+                &format!("invocations along {axis} in a workgroup"),
+                &format!("max_compute_workgroup_size_{axis}"),
+                size.into(),
+                allows.into(),
+            )?;
+        }
+        over(
+            "invocations per workgroup",
+            "max_compute_invocations_per_workgroup",
+            u64::from(x) * u64::from(y) * u64::from(z),
+            l.max_compute_invocations_per_workgroup.into(),
+        )?;
+        over(
+            "bytes of workgroup storage",
+            "max_compute_workgroup_storage_size",
+            e.workgroup_storage.into(),
+            l.max_compute_workgroup_storage_size.into(),
+        )?;
     }
     Ok(())
 }

@@ -172,3 +172,122 @@ fn r8unorm_storage_writes_are_not_core_webgpu() {
         other => panic!("expected DeviceLacks, got {other:?}"),
     }
 }
+
+/// A custom pass (no shader: a raster the application records) writing one colour target of
+/// each format.
+fn raster_with_targets(formats: &[TextureFormat]) -> GraphResult<()> {
+    let lib = ShaderLibrary::inline_only();
+    let mut b = GraphBuilder::new();
+    let targets: Vec<TextureHandle> = formats
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            b.create_texture(&format!("target{i}"), TextureDesc::new(*f, SizeClass::FULL))
+        })
+        .collect();
+    let mut outs = Vec::new();
+    {
+        let mut p = b.custom_pass("raster", NoopPass);
+        for t in targets {
+            outs.push(p.color_attachment(t));
+        }
+    }
+    for o in outs {
+        b.export(o);
+    }
+    GraphCompiler::for_device(DeviceProfile::webgpu_defaults())
+        .compile(b.build(), &lib, CompileOptions::default())
+        .map(|_| ())
+}
+
+#[test]
+fn colour_bytes_per_sample_follow_webgpus_alignment_rule_for_custom_passes_too() {
+    use TextureFormat as F;
+    // WebGPU's count: R8Unorm 1; R32Float aligned to 4 -> 4 + 4 = 8; Rgba32Float -> 24;
+    // Rgba16Float (align 2) -> 32. A plain sum is 29: one more R8Unorm (30 summed) is 33 by the
+    // rule, over the default 32.
+    let at_limit = [F::R8Unorm, F::R32Float, F::Rgba32Float, F::Rgba16Float];
+    assert!(raster_with_targets(&at_limit).is_ok());
+    let mut over = at_limit.to_vec();
+    over.push(F::R8Unorm);
+    match raster_with_targets(&over).unwrap_err() {
+        GraphError::OverDeviceLimit {
+            pass,
+            limit,
+            needs,
+            allows,
+            ..
+        } => {
+            assert_eq!(pass, "raster");
+            assert_eq!(limit, "max_color_attachment_bytes_per_sample");
+            assert_eq!((needs, allows), (33, 32));
+        }
+        other => panic!("expected OverDeviceLimit, got {other:?}"),
+    }
+}
+
+const RAY_QUERY: &str = "enable wgpu_ray_query;
+@group(0) @binding(0) var scene: acceleration_structure;
+@group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    var rq: ray_query;
+    rayQueryInitialize(&rq, scene, RayDesc(0u, 0xffu, 0.0, 1.0, vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0)));
+    rayQueryProceed(&rq);
+    let hit = rayQueryGetCommittedIntersection(&rq);
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>(f32(hit.kind)));
+}
+";
+
+fn ray_query_plan(device: DeviceProfile) -> GraphResult<()> {
+    let lib = ShaderLibrary::inline_only();
+    lib.add_inline("rq.wgsl", RAY_QUERY);
+    let mut b = GraphBuilder::new();
+    let tlas = b.import_acceleration_structure("scene.tlas");
+    let out = b.create_texture(
+        "out",
+        TextureDesc::new(TextureFormat::R32Float, SizeClass::FULL),
+    );
+    let out = {
+        let mut p = b.compute_pass("trace", "rq.wgsl", "main");
+        p.read_acceleration_structure("scene", tlas);
+        let out = p.write_storage("dst", out);
+        p.dispatch_over(out);
+        out
+    };
+    b.export(out);
+    GraphCompiler::for_device(device)
+        .compile(b.build(), &lib, CompileOptions::default())
+        .map(|_| ())
+}
+
+#[test]
+fn a_ray_query_needs_the_feature_and_is_named_without_it() {
+    match ray_query_plan(DeviceProfile::webgpu_defaults()).unwrap_err() {
+        GraphError::DeviceLacks { pass, what, .. } => {
+            assert_eq!(pass, "trace");
+            assert!(what.starts_with("ray queries (`scene`"), "{what}");
+        }
+        other => panic!("expected DeviceLacks, got {other:?}"),
+    }
+    let with_rq = DeviceProfile::from_parts(
+        "a device with ray queries".into(),
+        wgpu::Limits::defaults(),
+        wgpu::Features::EXPERIMENTAL_RAY_QUERY,
+        |f| f.guaranteed_format_features(wgpu::Features::empty()),
+    );
+    let fits = ray_query_plan(with_rq);
+    assert!(fits.is_ok(), "{fits:?}");
+}
+
+#[test]
+fn sixteen_bit_norm_storage_is_not_core_webgpu() {
+    let err = compile_for(
+        DeviceProfile::webgpu_defaults(),
+        &storage_shader(1, 0, "r16unorm"),
+        1,
+        TextureFormat::R16Unorm,
+    )
+    .unwrap_err();
+    assert!(matches!(err, GraphError::DeviceLacks { .. }), "{err:?}");
+}

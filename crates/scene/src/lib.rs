@@ -81,7 +81,8 @@ pub use environment::{SkyEnvironment, SkyIrradiance};
 pub use error::SceneError;
 pub use gltf_export::export_glb;
 pub use gltf_import::{
-    ExtensionHandling, ExtensionUse, GltfImport, GltfInfo, MaterialInfo, import_gltf, load_scene,
+    ExtensionHandling, ExtensionUse, GltfImport, GltfInfo, MaterialInfo, import_gltf,
+    import_gltf_bytes, load_scene,
 };
 pub use model::{DEFAULT_AMBIENT, DirectionalLight, Instance, Material, Mesh, NamedCamera, Scene};
 pub use normal_transform::{normal_matrix, transform_normal};

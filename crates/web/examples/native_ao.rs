@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use aograph_web::{AoPage, ao_mean};
 
 /// What the page's test mode renders: `corner` at 240x135 (16:9, odd height), each technique
-/// for this many frames from a fresh page, in the order given.
+/// for this many frames, in the order given, on one page (as the browser's test runs them).
 const SCENE: &str = "corner";
 const SIZE: (u32, u32) = (240, 135);
 const FRAMES: u32 = 4;

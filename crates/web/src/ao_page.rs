@@ -1,4 +1,4 @@
-//! One page's frame, target-independent: a procedural scene drawn by [`PageRenderer`], its
+//! One page's frame, target-independent: a procedural scene or a glTF file's drawn by [`PageRenderer`], its
 //! depth and normals handed to `aograph_embed::AmbientOcclusion`, the AO shaded into a target.
 //! The browser glue (`page.rs`) and the native example run exactly this.
 //!
@@ -23,9 +23,12 @@ pub enum PageError {
     /// aograph-embed refused (an unknown technique, a parameter out of range, a limit).
     #[error(transparent)]
     Embed(#[from] aograph_embed::EmbedError),
-    /// The scene is not one of aograph's procedural scenes.
+    /// The scene is not one of aograph's procedural scenes, or its glTF is malformed.
     #[error(transparent)]
     Scene(#[from] aograph_scene::SceneError),
+    /// A scene without a triangle to draw.
+    #[error("the scene has no triangles to draw")]
+    Empty,
     /// A zero-sized output.
     #[error("the page's size is {width}x{height}; it must be at least 1x1")]
     Size {
@@ -58,29 +61,78 @@ impl AoPage {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &str,
+        size: (u32, u32),
+        target_format: wgpu::TextureFormat,
+    ) -> Result<Self, PageError> {
+        let scene = aograph_scene::procedural_scene(scene)?;
+        Self::with_scene(adapter, device, queue, &scene, size, target_format)
+    }
+
+    /// A glTF file's scene from its bytes (a `.glb`, or a `.gltf` with its buffers embedded),
+    /// named `name` in messages, from its default camera (the file's first, or aograph's
+    /// automatic view).
+    pub fn from_gltf(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        (name, bytes): (&str, &[u8]),
+        size: (u32, u32),
+        target_format: wgpu::TextureFormat,
+    ) -> Result<Self, PageError> {
+        let scene = aograph_scene::import_gltf_bytes(std::path::Path::new(name), bytes)?.scene;
+        Self::with_scene(adapter, device, queue, &scene, size, target_format)
+    }
+
+    /// `scene` from its own camera at `size`, shaded into `target_format`, with gtao at the
+    /// scene's suggested radius.
+    pub fn with_scene(
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &aograph_scene::Scene,
         (width, height): (u32, u32),
         target_format: wgpu::TextureFormat,
     ) -> Result<Self, PageError> {
         if width == 0 || height == 0 {
             return Err(PageError::Size { width, height });
         }
-        let scene = aograph_scene::procedural_scene(scene)?;
-        let mesh = SceneMesh::of(&scene, 0.0);
-        let renderer = PageRenderer::new(device, queue, &mesh, width, height, target_format);
-        let radius = aograph_scene::suggested_radius(&scene).radius;
+        if scene.triangle_count() == 0 {
+            return Err(PageError::Empty);
+        }
+        let aspect = width as f32 / height as f32;
+        // The page's own depth convention: reversed Z with an infinite far plane for a
+        // perspective camera (as most engines draw); an orthographic camera's own projection,
+        // with standard Z. aograph-embed reads the convention off the projection.
+        let (projection, reversed_z) = match scene.camera.fov_y() {
+            Some(fov_y) => (
+                Mat4::perspective_infinite_reverse_rh(fov_y, aspect, scene.camera.near()),
+                true,
+            ),
+            None => (scene.camera.projection(aspect), false),
+        };
+        let mesh = SceneMesh::of(scene, 0.0);
+        let renderer = PageRenderer::new(
+            device,
+            queue,
+            &mesh,
+            (width, height),
+            target_format,
+            reversed_z,
+        );
+        let radius = aograph_scene::suggested_radius(scene).radius;
         let gpu = GpuContext::from_device(adapter.clone(), device.clone(), queue.clone());
         let r16float_storage = gpu.supports(
             wgpu::TextureFormat::R16Float,
             wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
         );
-        let aspect = width as f32 / height as f32;
-        let settings = Self::settings_text("technique = \"gtao\"", radius, r16float_storage);
+        let settings = Self::settings_text("technique = \"gtao\"", radius, r16float_storage)
+            .map_err(aograph_embed::EmbedError::from)?;
         let ao = AmbientOcclusion::from_toml(adapter, device, queue, &settings)?;
         Ok(Self {
             renderer,
             ao,
             view: scene.camera.view(),
-            projection: scene.camera.projection(aspect),
+            projection,
             light_dir: scene.light.direction,
             radius,
             r16float_storage,
@@ -91,31 +143,34 @@ impl AoPage {
     }
 
     /// `text` with the scene's radius and, on a device without r16float storage, r32float
-    /// intermediates, where the text does not set them itself.
-    fn settings_text(text: &str, radius: f32, r16float_storage: bool) -> String {
-        let (top, tables) = match text.find("\n[") {
-            Some(i) => (&text[..i], &text[i..]),
-            None if text.trim_start().starts_with('[') => ("", text),
-            None => (text, ""),
-        };
-        let sets = |key: &str| {
-            top.lines()
-                .any(|l| l.trim_start().starts_with(key) && l.contains('='))
-        };
-        let mut out = top.to_string();
-        if !sets("radius") {
-            out += &format!("\nradius = {radius}");
+    /// intermediates, where the text does not set them itself: parsed as TOML, the keys added
+    /// at the top level, written back.
+    fn settings_text(
+        text: &str,
+        radius: f32,
+        r16float_storage: bool,
+    ) -> Result<String, aograph_ao_passes::AoError> {
+        let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            aograph_ao_passes::AoError::Config(format!("not valid TOML: {}", e.message()))
+        })?;
+        if !table.contains_key("radius") {
+            table.insert("radius".into(), toml::Value::Float(f64::from(radius)));
         }
-        if !r16float_storage && !sets("intermediate_format") {
-            out += "\nintermediate_format = \"r32float\"";
+        if !r16float_storage && !table.contains_key("intermediate_format") {
+            table.insert(
+                "intermediate_format".into(),
+                toml::Value::String("r32float".into()),
+            );
         }
-        out + "\n" + tables
+        toml::to_string(&table)
+            .map_err(|e| aograph_ao_passes::AoError::Config(format!("cannot write TOML: {e}")))
     }
 
     /// Switches to the `[ao]` settings in `text` (TOML); the previous settings stay on an
     /// error. Returns the settings as applied (radius and format filled in).
     pub fn set_settings(&mut self, text: &str) -> Result<String, PageError> {
-        let full = Self::settings_text(text, self.radius, self.r16float_storage);
+        let full = Self::settings_text(text, self.radius, self.r16float_storage)
+            .map_err(aograph_embed::EmbedError::from)?;
         self.ao.set_config_toml(&full)?;
         Ok(full)
     }

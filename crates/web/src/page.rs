@@ -11,12 +11,14 @@ use wasm_bindgen::prelude::*;
 
 use crate::ao_page::AoPage;
 
-/// A value moved into a wgpu callback, which wgpu (built with
+/// A JavaScript function moved into a wgpu callback, which wgpu (built with
 /// `fragile-send-sync-non-atomic-wasm`) requires to be `Send`.
-struct MainThread<T>(T);
+struct MainThread(js_sys::Function);
 // SAFETY: wasm32-unknown-unknown without the `atomics` target feature has one thread: the
-// value never leaves the thread that made it, the only one there is.
-unsafe impl<T> Send for MainThread<T> {}
+// function never leaves the thread that made it, the only one there is. With atomics (wasm
+// threads) this would not hold, so the impl does not exist there.
+#[cfg(not(target_feature = "atomics"))]
+unsafe impl Send for MainThread {}
 
 /// A promise resolved by `register` calling the function it is given, awaited.
 async fn callback_promise(register: impl FnOnce(Box<dyn FnOnce() + Send>)) -> Result<(), JsValue> {
@@ -68,98 +70,18 @@ impl WebPage {
         scene: String,
         copy_out: bool,
     ) -> Result<WebPage, JsValue> {
-        let size = (canvas.width(), canvas.height());
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-        let surface = if copy_out {
-            None
-        } else {
-            Some(
-                instance
-                    .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
-                    .map_err(js_error)?,
-            )
-        };
-        let adapter = instance
-            .request_adapter(&wgpu::RequestAdapterOptions {
-                compatible_surface: surface.as_ref(),
-                ..Default::default()
-            })
-            .await
-            .map_err(|e| js_error(format!("no WebGPU adapter: {e}")))?;
-        let (device, queue) = adapter
-            .request_device(&wgpu::DeviceDescriptor {
-                label: Some("aograph web page"),
-                ..Default::default()
-            })
-            .await
-            .map_err(|e| js_error(format!("the adapter refused a device: {e}")))?;
-        let errors: Arc<Mutex<Vec<String>>> = Arc::default();
-        let sink = errors.clone();
-        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-            if let Ok(mut v) = sink.lock() {
-                v.push(e.to_string());
-            }
-        }));
-        let (format, offscreen) = match &surface {
-            Some(surface) => {
-                let caps = surface.get_capabilities(&adapter);
-                let format = caps
-                    .formats
-                    .first()
-                    .copied()
-                    .ok_or("the canvas offers no format")?;
-                surface.configure(
-                    &device,
-                    &wgpu::SurfaceConfiguration {
-                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                        format,
-                        width: size.0,
-                        height: size.1,
-                        present_mode: wgpu::PresentMode::Fifo,
-                        desired_maximum_frame_latency: 2,
-                        alpha_mode: caps
-                            .alpha_modes
-                            .first()
-                            .copied()
-                            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-                        view_formats: vec![],
-                        color_space: Default::default(),
-                    },
-                );
-                (format, None)
-            }
-            None => {
-                let format = wgpu::TextureFormat::Rgba8Unorm;
-                let texture = device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some("page frame"),
-                    size: wgpu::Extent3d {
-                        width: size.0,
-                        height: size.1,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[],
-                });
-                (format, Some(texture))
-            }
-        };
-        let page =
-            AoPage::new(&adapter, &device, &queue, &scene, size, format).map_err(js_error)?;
-        let info = adapter.get_info();
-        Ok(WebPage {
-            page,
-            device,
-            queue,
-            surface,
-            offscreen,
-            adapter: format!("{} ({:?})", info.name, info.backend),
-            errors,
-            size,
-        })
+        Self::open(canvas, Source::Procedural(scene), copy_out).await
+    }
+
+    /// As [`WebPage::start`], with the scene of a glTF file the page fetched: `bytes` of a
+    /// `.glb` (or a `.gltf` with embedded buffers), `name` its URL for messages.
+    pub async fn start_gltf(
+        canvas: web_sys::HtmlCanvasElement,
+        name: String,
+        bytes: Vec<u8>,
+        copy_out: bool,
+    ) -> Result<WebPage, JsValue> {
+        Self::open(canvas, Source::Gltf { name, bytes }, copy_out).await
     }
 
     /// The techniques the page can run, with their parameters' descriptions (JSON).
@@ -308,5 +230,121 @@ impl WebPage {
         drop(mapped);
         buffer.unmap();
         Ok(out)
+    }
+}
+
+/// Which scene a page draws.
+enum Source {
+    /// One of aograph's procedural scenes, by name.
+    Procedural(String),
+    /// A glTF file's bytes, with the name (URL) messages give it.
+    Gltf { name: String, bytes: Vec<u8> },
+}
+
+impl WebPage {
+    async fn open(
+        canvas: web_sys::HtmlCanvasElement,
+        source: Source,
+        copy_out: bool,
+    ) -> Result<WebPage, JsValue> {
+        let size = (canvas.width(), canvas.height());
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let surface = if copy_out {
+            None
+        } else {
+            Some(
+                instance
+                    .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
+                    .map_err(js_error)?,
+            )
+        };
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                compatible_surface: surface.as_ref(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| js_error(format!("no WebGPU adapter: {e}")))?;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("aograph web page"),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| js_error(format!("the adapter refused a device: {e}")))?;
+        let errors: Arc<Mutex<Vec<String>>> = Arc::default();
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        let (format, offscreen) = match &surface {
+            Some(surface) => {
+                let caps = surface.get_capabilities(&adapter);
+                let format = caps
+                    .formats
+                    .first()
+                    .copied()
+                    .ok_or("the canvas offers no format")?;
+                surface.configure(
+                    &device,
+                    &wgpu::SurfaceConfiguration {
+                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                        format,
+                        width: size.0,
+                        height: size.1,
+                        present_mode: wgpu::PresentMode::Fifo,
+                        desired_maximum_frame_latency: 2,
+                        alpha_mode: caps
+                            .alpha_modes
+                            .first()
+                            .copied()
+                            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+                        view_formats: vec![],
+                        color_space: Default::default(),
+                    },
+                );
+                (format, None)
+            }
+            None => {
+                let format = wgpu::TextureFormat::Rgba8Unorm;
+                let texture = device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("page frame"),
+                    size: wgpu::Extent3d {
+                        width: size.0,
+                        height: size.1,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                });
+                (format, Some(texture))
+            }
+        };
+        let page = match &source {
+            Source::Procedural(scene) => {
+                AoPage::new(&adapter, &device, &queue, scene, size, format)
+            }
+            Source::Gltf { name, bytes } => {
+                AoPage::from_gltf(&adapter, &device, &queue, (name, bytes), size, format)
+            }
+        }
+        .map_err(js_error)?;
+        let info = adapter.get_info();
+        Ok(WebPage {
+            page,
+            device,
+            queue,
+            surface,
+            offscreen,
+            adapter: format!("{} ({:?})", info.name, info.backend),
+            errors,
+            size,
+        })
     }
 }

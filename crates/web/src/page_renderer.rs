@@ -1,4 +1,5 @@
-//! The page's own renderer: a pre-pass into its reversed-Z Depth32Float depth and
+//! The page's own renderer: a pre-pass into its Depth32Float depth (reversed Z for a
+//! perspective camera) and
 //! Rgba16Float world-space normals (shaders/web/prepass.wgsl), and a full-screen shading pass
 //! into the canvas that multiplies aograph's AO into the ambient light
 //! (shaders/web/shade.wgsl). It knows nothing of aograph's g-buffer.
@@ -20,7 +21,8 @@ pub const NORMALS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float
 pub struct PageRenderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
-    /// Reversed Z (near = 1, cleared to 0), Depth32Float: aograph's depth input.
+    /// Depth32Float, reversed Z (near = 1, cleared to 0) or standard Z (cleared to 1):
+    /// aograph's depth input.
     pub depth: wgpu::Texture,
     /// World-space normals, xyz signed (w = 1 where something was drawn, 0 for the sky).
     pub normals: wgpu::Texture,
@@ -33,17 +35,20 @@ pub struct PageRenderer {
     vertices: wgpu::Buffer,
     vertex_count: u32,
     camera: wgpu::Buffer,
+    /// The depth the pre-pass clears to: 0 with reversed Z, 1 with standard Z.
+    clear_depth: f32,
 }
 
 impl PageRenderer {
-    /// The renderer of `mesh` at `width` x `height`, shading into `target_format`.
+    /// The renderer of `mesh` at `width` x `height`, shading into `target_format`, its depth
+    /// in reversed Z (nearer is greater) when `reversed_z`, for the projection it is given.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         mesh: &SceneMesh,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
         target_format: wgpu::TextureFormat,
+        reversed_z: bool,
     ) -> Self {
         use wgpu::util::DeviceExt;
         let texture = |label, format| {
@@ -92,11 +97,14 @@ impl PageRenderer {
                 cull_mode: None,
                 ..Default::default()
             },
-            // Reversed Z: nearer is greater.
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
+                depth_compare: Some(if reversed_z {
+                    wgpu::CompareFunction::Greater
+                } else {
+                    wgpu::CompareFunction::Less
+                }),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
@@ -154,6 +162,7 @@ impl PageRenderer {
             vertices,
             vertex_count: mesh.vertices.len() as u32,
             camera,
+            clear_depth: if reversed_z { 0.0 } else { 1.0 },
         }
     }
 
@@ -168,7 +177,7 @@ impl PageRenderer {
             .write_buffer(&self.camera, 0, bytemuck::cast_slice(&block));
     }
 
-    /// The pre-pass: depth (reversed Z, cleared to 0) and world normals (cleared to 0).
+    /// The pre-pass: depth (cleared to the far value) and world normals (cleared to 0).
     pub fn prepass(&self, encoder: &mut wgpu::CommandEncoder) {
         let depth = self.depth.create_view(&Default::default());
         let normals = self.normals.create_view(&Default::default());
@@ -194,7 +203,7 @@ impl PageRenderer {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
+                    load: wgpu::LoadOp::Clear(self.clear_depth),
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,

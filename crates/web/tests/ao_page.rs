@@ -80,22 +80,34 @@ fn a_wrong_setting_is_refused_by_name_and_the_technique_keeps_running() {
 
 #[test]
 fn the_settings_get_the_scenes_radius_and_a_format_the_device_can_store() {
-    let Some((mut page, _gpu)) = page() else {
+    let Some((mut page, gpu)) = page() else {
         return;
     };
-    let applied = page.set_settings("technique = \"hbao\"").unwrap();
-    assert!(
-        applied.contains(&format!("radius = {}", page.radius())),
-        "{applied}"
+    let r16 = gpu.supports(
+        wgpu::TextureFormat::R16Float,
+        wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
     );
+    // A table first and a second table: the keys still go to the top level.
     let applied = page
-        .set_settings("technique = \"hbao\"\nradius = 0.25")
+        .set_settings("  [gtao]\npreset = \"low\"\n[hbao]\nsteps = 4\n")
         .unwrap();
-    assert!(
-        !applied.contains(&format!("radius = {}", page.radius())),
-        "{applied}"
+    let table: toml::Table = applied.parse().unwrap();
+    assert_eq!(table["radius"].as_float(), Some(f64::from(page.radius())));
+    assert_eq!(
+        table.get("intermediate_format").and_then(|v| v.as_str()),
+        (!r16).then_some("r32float")
     );
+    assert_eq!(table["gtao"]["preset"].as_str(), Some("low"));
+    // The user's own radius and format stay.
+    let applied = page
+        .set_settings("technique = \"hbao\"\nradius = 0.25\nintermediate_format = \"r32float\"")
+        .unwrap();
+    let table: toml::Table = applied.parse().unwrap();
+    assert_eq!(table["radius"].as_float(), Some(0.25));
+    assert_eq!(table["intermediate_format"].as_str(), Some("r32float"));
     assert_eq!(page.technique(), "hbao");
+    let err = page.set_settings("technique = ").unwrap_err().to_string();
+    assert!(err.contains("not valid TOML"), "{err}");
 }
 
 #[test]
@@ -142,4 +154,38 @@ fn the_catalogue_lists_what_the_embedding_can_feed_with_every_parameter() {
         let expected: Vec<&str> = technique.parameters().iter().map(|p| p.name).collect();
         assert_eq!(params, expected);
     }
+}
+
+#[test]
+fn a_glb_from_its_bytes_draws_and_a_truncated_one_is_refused_by_name() {
+    let Some(gpu) = aograph_graph::test_gpu() else {
+        return;
+    };
+    let Some(path) = aograph_scene::test_scene("the web page's glTF test", "CesiumMan.glb") else {
+        return;
+    };
+    let bytes = std::fs::read(&path).unwrap();
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let (a, d, q) = (&gpu.adapter, &gpu.device, &gpu.queue);
+    let mut page = AoPage::from_gltf(a, d, q, ("CesiumMan.glb", &bytes), SIZE, format).unwrap();
+    let ctx = aograph_graph::GpuContext::from_device(a.clone(), d.clone(), q.clone());
+    let ao = frame(&mut page, &ctx);
+    assert_eq!(ao.len(), (SIZE.0 * SIZE.1) as usize);
+    // The figure stands in the middle of the view: some pixel is occluded, and the top row is
+    // sky, exactly 1 (it read 250-254 while the page drew a standard-Z projection into a
+    // reversed-Z buffer: the sky was then a surface at the near plane).
+    assert!(ao.iter().any(|&v| v < 255));
+    assert!(ao[..SIZE.0 as usize].iter().all(|&v| v == 255));
+    let Err(err) = AoPage::from_gltf(
+        a,
+        d,
+        q,
+        ("cut.glb", &bytes[..bytes.len() / 2]),
+        SIZE,
+        format,
+    ) else {
+        panic!("half a glb was accepted");
+    };
+    let err = err.to_string();
+    assert!(err.contains("cut.glb"), "{err}");
 }

@@ -2,7 +2,8 @@
 // (WebPage.catalogue(), the same descriptions `aograph techniques` prints), every change is
 // applied live as the `[ao]` TOML a config file would hold, and frames are timed by the page's
 // wall clock. With ?test=a,b,c the page instead renders each technique for FRAMES frames at
-// 240x135 and POSTs its AO to /report (scripts/web-test.sh). With ?present=copy (and in test
+// 240x135 and POSTs its AO to /report (scripts/web-test.sh). ?scene=NAME picks a procedural
+// scene; ?gltf=URL fetches a .glb instead; ?technique=NAME is the one shown first. With ?present=copy (and in test
 // mode) frames are drawn into a texture and copied into a 2D canvas, for browsers that cannot
 // present a WebGPU canvas (headless Chromium's software adapter).
 import init, { WebPage } from './pkg/aograph_web.js';
@@ -50,7 +51,9 @@ async function runTest(page, techniques) {
   await report({ done: true });
 }
 
-// One control per parameter, from its description.
+// One control per parameter, from its description. A parameter without a default (an
+// override such as "the preset's") gets an empty choice first, which leaves it unset; only
+// values the user changed from the default are sent.
 function control(p, onChange) {
   const wrap = document.createElement('div');
   const label = document.createElement('label');
@@ -58,16 +61,25 @@ function control(p, onChange) {
   const doc = document.createElement('p');
   doc.className = 'doc';
   doc.textContent = `${p.doc} (allowed ${p.allowed}${p.unset ? '; unset: ' + p.unset : ''})`;
+  const unsetOption = (select) => select.add(new Option(`(unset: ${p.unset || 'default'})`, '', false, true));
   let input;
-  if (p.kind === 'bool') {
+  let valueOf;
+  if (p.kind === 'bool' && p.default !== null) {
     input = document.createElement('input');
     input.type = 'checkbox';
     input.checked = p.default === true;
-    input.value_of = () => (input.checked ? 'true' : 'false');
-  } else if (p.kind === 'choice') {
+    valueOf = () => (input.checked === p.default ? null : String(input.checked));
+  } else if (p.kind === 'bool' || p.kind === 'choice') {
     input = document.createElement('select');
-    for (const c of p.choices) input.add(new Option(c, c, false, c === p.default));
-    input.value_of = () => JSON.stringify(input.value);
+    if (p.default === null) unsetOption(input);
+    for (const c of p.kind === 'bool' ? [true, false] : p.choices) {
+      input.add(new Option(String(c), String(c), false, c === p.default));
+    }
+    valueOf = () => {
+      const v = input.value;
+      if (v === '' || v === String(p.default)) return null;
+      return p.kind === 'bool' ? v : JSON.stringify(v);
+    };
   } else {
     input = document.createElement('input');
     input.type = p.kind === 'range' ? 'number' : 'text';
@@ -78,23 +90,24 @@ function control(p, onChange) {
     }
     input.value = p.default === null ? '' : p.default;
     input.placeholder = p.unset || '';
-    input.value_of = () => {
+    valueOf = () => {
       const v = input.value.trim();
-      if (v === '') return null;
-      if (p.kind === 'word_or_number' && v === p.word) return JSON.stringify(v);
-      return v;
+      if (v === '' || v === String(p.default)) return null;
+      // A number as it is; anything else (a word) as a TOML string, so that aograph's own
+      // check answers what is allowed.
+      return /^-?\d+(\.\d+)?([eE][-+]?\d+)?$/.test(v) ? v : JSON.stringify(v);
     };
   }
   input.id = `param-${p.name}`;
   label.htmlFor = input.id;
   input.addEventListener('change', onChange);
-  if (p.kind === 'bool') {
+  if (input.type === 'checkbox') {
     label.prepend(input);
     wrap.append(label, doc);
   } else {
     wrap.append(label, doc, input);
   }
-  return { name: p.name, input, changed: () => input.value_of() !== null && String(p.default) !== input.value.trim() && !(p.kind === 'bool' && input.checked === p.default) };
+  return { name: p.name, wrap, valueOf };
 }
 
 function interactive(page, canvas, copyOut) {
@@ -113,8 +126,8 @@ function interactive(page, canvas, copyOut) {
     const t = select.value;
     const lines = [`technique = "${t}"`, `radius = ${Number(radius.value) || page.radius()}`, `[${t}]`];
     for (const c of controls) {
-      const v = c.input.value_of();
-      if (v !== null && c.changed()) lines.push(`${c.name} = ${v}`);
+      const v = c.valueOf();
+      if (v !== null) lines.push(`${c.name} = ${v}`);
     }
     try {
       page.set_settings(lines.join('\n'));
@@ -128,9 +141,10 @@ function interactive(page, canvas, copyOut) {
     document.getElementById('description').textContent = t.description;
     params.replaceChildren();
     controls = t.parameters.map((p) => control(p, apply));
-    for (const c of controls) params.append(c.input.closest('div') || c.input.parentElement);
+    for (const c of controls) params.append(c.wrap);
     apply();
   };
+  if (query.get('technique')) select.value = query.get('technique');
   select.addEventListener('change', showTechnique);
   radius.addEventListener('change', apply);
   document.getElementById('ao-only').addEventListener('change', (e) => page.set_ao_only(e.target.checked));
@@ -146,7 +160,7 @@ function interactive(page, canvas, copyOut) {
         context2d.putImageData(new ImageData(new Uint8ClampedArray(rgba), canvas.width, canvas.height), 0, 0);
       }
       average = average === null ? ms : 0.9 * average + 0.1 * ms;
-      timing.textContent = `${page.technique()}: ${average.toFixed(1)} ms per frame, wall time from recording to GPU completion (this browser gives a device without timestamp queries inside encoders, so no per-pass GPU times)`;
+      timing.textContent = `${page.technique()}: ${average.toFixed(1)} ms per frame, wall time from recording to GPU completion (WebGPU has no timestamps inside command encoders, which aograph's per-pass GPU times use)`;
       if (++drawn === 12 && query.has('hold')) await fetch('/drawn', { method: 'POST' });
       const errors = page.take_errors();
       if (errors.length) error.textContent = errors.join('\n');
@@ -169,7 +183,16 @@ async function main() {
   }
   let page;
   try {
-    page = await WebPage.start(canvas, query.get('scene') || 'corner', copyOut);
+    const gltf = query.get('gltf');
+    if (gltf) {
+      // A .glb (or a .gltf with embedded buffers) by URL, loaded by aograph's own importer.
+      const response = await fetch(gltf);
+      if (!response.ok) throw new Error(`${gltf}: HTTP ${response.status} ${response.statusText}`);
+      const bytes = new Uint8Array(await response.arrayBuffer());
+      page = await WebPage.start_gltf(canvas, gltf, bytes, copyOut);
+    } else {
+      page = await WebPage.start(canvas, query.get('scene') || 'corner', copyOut);
+    }
   } catch (e) {
     if (test) await report({ error: String(e) });
     document.getElementById('error').textContent = String(e);

@@ -130,7 +130,14 @@ pub fn import_gltf(path: impl AsRef<Path>) -> Result<GltfImport, SceneError> {
         }
         Err(e) => return Err(SceneError::io("read", path, e)),
     };
-    let parsed = document::parse(path, &bytes)?;
+    import_gltf_bytes(path, &bytes)
+}
+
+/// A glTF 2.0 file already in memory (a `.glb`, or a `.gltf` whose buffers are embedded as
+/// data URIs: a web page's fetch, say), named `path` in messages. Buffers it names by a
+/// relative URI are read beside `path`, so on a target without files they are refused by name.
+pub fn import_gltf_bytes(path: &Path, bytes: &[u8]) -> Result<GltfImport, SceneError> {
+    let parsed = document::parse(path, bytes)?;
     let gltf = gltf::Gltf {
         document: parsed.document,
         blob: parsed.blob,
