@@ -126,7 +126,7 @@ with socketserver.ThreadingTCPServer(("127.0.0.1", 0), Handler) as server:
         profile = tempfile.mkdtemp(prefix="aograph-chromium-")
         try:
             subprocess.run(chromium([f"--screenshot={os.path.abspath(SCREENSHOT)}",
-                                     "--window-size=1340,600",
+                                     "--window-size=1340,720",
                                      f"http://127.0.0.1:{port}/index.html?present=copy&hold&{SHOT_QUERY}"],
                                     profile),
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=180)
@@ -162,6 +162,16 @@ for t in techniques:
             f"(native {n['crease']:.3f}), open floor {at(floor):.3f} (native {n['floor']:.3f}), "
             f"wall ms per frame {', '.join(f'{w:.0f}' for w in r['wall_ms'])} on {r['adapter']}")
     print(line)
+    timings = r.get("timings")
+    if timings is None:
+        print(f"  {t}: the browser offers no timestamp-query; wall time only")
+    else:
+        passes = timings.get("passes") or []
+        print(f"  {t}: GPU timestamps at pass boundaries, frame {timings.get('frame')}: "
+              + ", ".join(f"{name} {ms:.2f} ms" for name, ms in passes))
+        # The device asked for timestamp-query: the technique's own passes must have been timed.
+        if not any(name.startswith(t + ".") and ms > 0 for name, ms in passes):
+            failures.append(f"{t}: timestamps were on, but no pass of {t} was timed: {passes}")
     # Same frames and arithmetic on two devices (SwiftShader, lavapipe): the means agree to
     # well under 0.01 unless the page ran something else.
     if abs(mean - n["mean"]) > 0.01:

@@ -425,6 +425,20 @@ impl AmbientOcclusion {
         &self.exec
     }
 
+    /// Times every pass of the frames encoded from now on: `TimingMode::GpuTimestamps` on a
+    /// device with `TIMESTAMP_QUERY` (between commands with `TIMESTAMP_QUERY_INSIDE_ENCODERS`,
+    /// at each pass's own boundaries otherwise, as on WebGPU), or `Off` (the default).
+    /// `CpuWall` waits for the GPU after every pass: for one-shot tools only.
+    pub fn set_timing(&mut self, mode: aograph_graph::TimingMode) -> EmbedResult<()> {
+        Ok(self.exec.set_timing(mode)?)
+    }
+
+    /// The newest per-pass milliseconds that have arrived (GPU timestamps arrive a few frames
+    /// after their frame, which `frame` names), without waiting; empty with timing off.
+    pub fn latest_timings(&mut self) -> EmbedResult<&aograph_graph::PassTimings> {
+        Ok(self.exec.latest_timings()?)
+    }
+
     /// The compiled plan the last frame ran, if any (its passes, for inspection and tests).
     pub fn current_plan(&self) -> Option<&Arc<CompiledGraph>> {
         self.current.as_ref().map(|(_, p)| p)

@@ -49,6 +49,10 @@ pub struct Executor {
     samplers: SamplerCache,
     timing: TimingMode,
     ring: TimestampRing,
+    /// A frame recorded into a caller's encoder with timestamps ([`Executor::encode`]): its
+    /// read-back is mapped when the next frame begins, by which time the caller has submitted
+    /// it (`encode`'s contract).
+    unsubmitted: Option<(usize, FrameId, Arc<CompiledGraph>)>,
     /// CPU-wall milliseconds of the frame being recorded.
     pass_ms: Vec<f64>,
     /// Bind-group cache keys, reused every frame.
@@ -85,6 +89,7 @@ impl Executor {
             samplers: SamplerCache::default(),
             timing,
             ring,
+            unsubmitted: None,
             pass_ms: Vec::new(),
             scratch: Vec::new(),
             frames: 0,
@@ -117,6 +122,7 @@ impl Executor {
     /// Discards timings not yet harvested.
     pub fn set_pending_timing_frames(&mut self, frames: usize) {
         self.ring = TimestampRing::new(&self.gpu.queue, frames);
+        self.unsubmitted = None;
     }
     /// How passes are timed now (see [`Executor::set_timing`]).
     pub fn timing(&self) -> TimingMode {
@@ -279,10 +285,11 @@ impl Executor {
 
     /// Records one frame of `plan` at output size `output` into the caller's `encoder`, for an
     /// application that owns its frame's command buffer (the embedding API): nothing is
-    /// submitted and nothing waits. The frame is untimed whatever [`Executor::set_timing`]
-    /// says (its timestamps could only be read back after the caller's submit). Uniforms and
-    /// imports written for this frame go through the queue, so submit `encoder` before the
-    /// next `encode` or `execute`.
+    /// submitted and nothing waits. Uniforms and imports written for this frame go through the
+    /// queue, so submit `encoder` before the next `encode` or `execute`. With
+    /// `TimingMode::GpuTimestamps` the frame is timed: its timestamps are resolved into
+    /// `encoder` and read back once the next frame has begun (so they arrive one frame later
+    /// than `execute`'s); `CpuWall`, which must submit between passes, leaves it untimed.
     pub fn encode(
         &mut self,
         plan: &Arc<CompiledGraph>,
@@ -290,7 +297,15 @@ impl Executor {
         encoder: &mut wgpu::CommandEncoder,
     ) -> GraphResult<FrameId> {
         let frame = self.begin_frame(plan, output)?;
-        self.record_frame(plan, output, frame, encoder, TimingMode::Off)?;
+        let timing = match self.timing {
+            TimingMode::GpuTimestamps => TimingMode::GpuTimestamps,
+            _ => TimingMode::Off,
+        };
+        let slot = self.record_frame(plan, output, frame, encoder, timing)?;
+        if let Some(s) = slot {
+            self.ring.resolve(encoder, s, plan.order.len() as u32);
+            self.unsubmitted = Some((s, frame, plan.clone()));
+        }
         self.end_frame(plan, frame)
     }
 
@@ -303,6 +318,10 @@ impl Executor {
                 value: output.to_string(),
                 allowed: "width and height of at least 1 pixel".into(),
             });
+        }
+        // The previous `encode`'s frame has been submitted by now: read its timestamps back.
+        if let Some((slot, frame, plan)) = self.unsubmitted.take() {
+            self.ring.submitted(slot, frame, &plan);
         }
         // Run whatever map callbacks are due (no wait), then take finished timings.
         if self.timing == TimingMode::GpuTimestamps {
@@ -364,6 +383,9 @@ impl Executor {
         };
         // Debug groups only where the driver survives them (see `GpuContext::debug_groups`).
         let debug_groups = gpu.debug_groups();
+        let inside_encoders = gpu
+            .features
+            .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
         let recorded = (|| -> GraphResult<()> {
             for pos in 0..plan.order.len() {
                 // Read only in CPU wall-time mode (std's clock does not exist on wasm32, where
@@ -372,11 +394,17 @@ impl Executor {
                 if debug_groups {
                     encoder.push_debug_group(&plan.decl.passes[plan.order[pos].0].name);
                 }
-                if let Some(s) = slot {
+                // Timestamps between commands where the device has them; otherwise (WebGPU)
+                // at the boundaries of the pass itself, which copies and custom passes lack.
+                let in_pass = match slot {
+                    Some(s) if !inside_encoders => Some((ring.query_set(s), 2 * pos as u32)),
+                    _ => None,
+                };
+                if let (Some(s), true) = (slot, inside_encoders) {
                     encoder.write_timestamp(ring.query_set(s), 2 * pos as u32);
                 }
-                record_pass(&ctx, state, plan, pos, encoder)?;
-                if let Some(s) = slot {
+                record_pass(&ctx, state, plan, pos, encoder, in_pass)?;
+                if let (Some(s), true) = (slot, inside_encoders) {
                     encoder.write_timestamp(ring.query_set(s), 2 * pos as u32 + 1);
                 }
                 if debug_groups {

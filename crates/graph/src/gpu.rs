@@ -183,11 +183,12 @@ impl GpuContext {
         }
     }
 
-    /// True when GPU timestamps can be written between passes.
+    /// True when passes can be timed with GPU timestamps: written between commands where the
+    /// device also has `TIMESTAMP_QUERY_INSIDE_ENCODERS`, at each compute or full-screen
+    /// pass's own boundaries otherwise (WebGPU's `timestamp-query`, where copies and custom
+    /// passes read 0).
     pub fn has_timestamps(&self) -> bool {
-        self.features.contains(
-            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
-        )
+        self.features.contains(wgpu::Features::TIMESTAMP_QUERY)
     }
 
     /// Whether passes are wrapped in debug groups. Mesa's lavapipe (llvmpipe driver, as in

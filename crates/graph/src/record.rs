@@ -24,13 +24,16 @@ pub(crate) struct RecordContext<'a> {
     pub output: Extent,
 }
 
-/// Records the pass at position `pos` of `plan`'s order.
+/// Records the pass at position `pos` of `plan`'s order. `timestamps` (a query set and the
+/// index of the pass's first query) asks a compute or full-screen pass to write its begin and
+/// end timestamps itself (WebGPU's only timestamps); copies and custom passes write none.
 pub(crate) fn record_pass(
     ctx: &RecordContext<'_>,
     state: &PlanState,
     plan: &CompiledGraph,
     pos: usize,
     encoder: &mut wgpu::CommandEncoder,
+    timestamps: Option<(&wgpu::QuerySet, u32)>,
 ) -> GraphResult<()> {
     let p = plan.order[pos];
     let pass = &plan.decl.passes[p.0];
@@ -67,7 +70,13 @@ pub(crate) fn record_pass(
             };
             let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(&pass.name),
-                timestamp_writes: None,
+                timestamp_writes: timestamps.map(|(query_set, first)| {
+                    wgpu::ComputePassTimestampWrites {
+                        query_set,
+                        beginning_of_pass_write_index: Some(first),
+                        end_of_pass_write_index: Some(first + 1),
+                    }
+                }),
             });
             cp.set_pipeline(pipeline);
             for (g, bg) in groups {
@@ -143,7 +152,13 @@ pub(crate) fn record_pass(
                 label: Some(&pass.name),
                 color_attachments: &color[..n_color],
                 depth_stencil_attachment: depth,
-                timestamp_writes: None,
+                timestamp_writes: timestamps.map(|(query_set, first)| {
+                    wgpu::RenderPassTimestampWrites {
+                        query_set,
+                        beginning_of_pass_write_index: Some(first),
+                        end_of_pass_write_index: Some(first + 1),
+                    }
+                }),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });

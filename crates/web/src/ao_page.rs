@@ -127,7 +127,13 @@ impl AoPage {
         );
         let settings = Self::settings_text("technique = \"gtao\"", radius, r16float_storage)
             .map_err(aograph_embed::EmbedError::from)?;
-        let ao = AmbientOcclusion::from_toml(adapter, device, queue, &settings)?;
+        let mut ao = AmbientOcclusion::from_toml(adapter, device, queue, &settings)?;
+        // Per-pass GPU times where the device has timestamp queries (a browser's
+        // `timestamp-query`: written at each pass's boundaries).
+        let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        if timestamps {
+            ao.set_timing(aograph_graph::TimingMode::GpuTimestamps)?;
+        }
         Ok(Self {
             renderer,
             ao,
@@ -196,6 +202,15 @@ impl AoPage {
         let x = (0.5 * ndc.x + 0.5) * w;
         let y = (0.5 - 0.5 * ndc.y) * h;
         ((0.0..w).contains(&x) && (0.0..h).contains(&y)).then_some((x as u32, y as u32))
+    }
+
+    /// The newest per-pass GPU milliseconds that have arrived (a few frames late), with the
+    /// frame they measured; `None` on a device without timestamp queries.
+    pub fn pass_timings(&mut self) -> Result<Option<aograph_graph::PassTimings>, PageError> {
+        if self.ao.executor().timing() != aograph_graph::TimingMode::GpuTimestamps {
+            return Ok(None);
+        }
+        Ok(Some(self.ao.latest_timings()?.clone()))
     }
 
     /// Show the AO alone (grey) instead of the shaded scene.

@@ -3,7 +3,8 @@
 //!
 //! Invariant: nothing here blocks. GPU completion and read-backs are awaited through the
 //! browser's promises (`on_submitted_work_done`, `map_async`), since a page's thread may not
-//! wait; times are the page's wall clock (`performance.now()`), said so where shown.
+//! wait. Per-pass times are GPU timestamps where the browser has `timestamp-query`; the frame's
+//! wall time (`performance.now()`) is always given too, each said for what it is.
 
 use std::sync::{Arc, Mutex};
 
@@ -164,6 +165,20 @@ impl WebPage {
         self.read_texture(texture, 1).await
     }
 
+    /// The newest per-pass GPU times that have arrived, as JSON: `{"frame": n, "passes":
+    /// [[name, ms], ...]}`, or `null` when the device has no timestamp queries.
+    pub fn pass_timings(&mut self) -> Result<String, JsValue> {
+        let timings = self.page.pass_timings().map_err(js_error)?;
+        Ok(match timings {
+            None => "null".into(),
+            Some(t) => serde_json::json!({
+                "frame": t.frame.map(|f| f.0),
+                "passes": t.passes,
+            })
+            .to_string(),
+        })
+    }
+
     /// WebGPU validation errors the device reported since the last call.
     pub fn take_errors(&self) -> Vec<String> {
         self.errors
@@ -268,6 +283,9 @@ impl WebPage {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("aograph web page"),
+                // Timestamps, where the browser offers them, for per-pass GPU times; no other
+                // feature and no limit above WebGPU's defaults.
+                required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
                 ..Default::default()
             })
             .await

@@ -39,6 +39,13 @@ async function runTest(page, techniques) {
       page.set_settings(`technique = "${technique}"`);
       for (let i = 0; i < FRAMES; i++) result.wall_ms.push(await page.frame());
       const ao = await page.read_ao();
+      // GPU timestamps arrive a few frames late: draw until this technique's have come.
+      for (let i = 0; i < 8; i++) {
+        result.timings = JSON.parse(page.pass_timings());
+        const ours = (t) => t.passes.some(([name]) => name.startsWith(technique + '.'));
+        if (!result.timings || ours(result.timings)) break;
+        await page.frame();
+      }
       result.width = 240;
       result.height = 135;
       result.ao = base64(ao);
@@ -160,7 +167,17 @@ function interactive(page, canvas, copyOut) {
         context2d.putImageData(new ImageData(new Uint8ClampedArray(rgba), canvas.width, canvas.height), 0, 0);
       }
       average = average === null ? ms : 0.9 * average + 0.1 * ms;
-      timing.textContent = `${page.technique()}: ${average.toFixed(1)} ms per frame, wall time from recording to GPU completion (WebGPU has no timestamps inside command encoders, which aograph's per-pass GPU times use)`;
+      const gpu = JSON.parse(page.pass_timings());
+      let text = `${page.technique()}: ${average.toFixed(1)} ms per frame, wall time from recording to GPU completion`;
+      if (gpu && gpu.passes.length) {
+        const total = gpu.passes.reduce((sum, [, ms]) => sum + ms, 0);
+        text += `\nGPU timestamps at each pass's boundaries (frame ${gpu.frame}; copies and custom passes untimed):\n`;
+        text += gpu.passes.map(([name, ms]) => `  ${name}: ${ms.toFixed(3)} ms`).join('\n');
+        text += `\n  total: ${total.toFixed(3)} ms`;
+      } else if (!gpu) {
+        text += '\n(this browser offers no timestamp-query: no per-pass GPU times)';
+      }
+      timing.textContent = text;
       if (++drawn === 12 && query.has('hold')) await fetch('/drawn', { method: 'POST' });
       const errors = page.take_errors();
       if (errors.length) error.textContent = errors.join('\n');
