@@ -65,6 +65,36 @@ fn compile_for(
         .map(|_| ())
 }
 
+/// `err` is `OverDeviceLimit` for `pass` and `limit`, needing `needs` where `allows` are allowed.
+fn assert_over(err: &GraphError, pass: &str, limit: &str, needs: u64, allows: u64) {
+    match err {
+        GraphError::OverDeviceLimit {
+            pass: p,
+            limit: l,
+            needs: n,
+            allows: a,
+            ..
+        } => assert_eq!(
+            (p.as_str(), l.as_str(), *n, *a),
+            (pass, limit, needs, allows)
+        ),
+        other => panic!("expected OverDeviceLimit, got {other:?}"),
+    }
+}
+
+/// `err` is `DeviceLacks` for `pass`, naming something that starts with `what`.
+fn assert_lacks(err: &GraphError, pass: &str, what: &str) {
+    match err {
+        GraphError::DeviceLacks {
+            pass: p, what: w, ..
+        } => {
+            assert_eq!(p, pass);
+            assert!(w.starts_with(what), "{w}");
+        }
+        other => panic!("expected DeviceLacks, got {other:?}"),
+    }
+}
+
 #[test]
 fn four_storage_textures_fit_webgpu_defaults_and_five_are_refused_by_name() {
     let fits = compile_for(
@@ -81,20 +111,7 @@ fn four_storage_textures_fit_webgpu_defaults_and_five_are_refused_by_name() {
         TextureFormat::R32Float,
     )
     .unwrap_err();
-    match &over {
-        GraphError::OverDeviceLimit {
-            pass,
-            limit,
-            needs,
-            allows,
-            ..
-        } => {
-            assert_eq!(pass, "many");
-            assert_eq!(limit, "max_storage_textures_per_shader_stage");
-            assert_eq!((*needs, *allows), (5, 4));
-        }
-        other => panic!("expected OverDeviceLimit, got {other:?}"),
-    }
+    assert_over(&over, "many", "max_storage_textures_per_shader_stage", 5, 4);
     let text = over.to_string();
     assert!(
         text.contains("needs 5 storage textures in its compute stage") && text.contains("allows 4"),
@@ -138,18 +155,13 @@ fn workgroup_memory_over_16_kib_is_refused_with_its_byte_count() {
         TextureFormat::R32Float,
     )
     .unwrap_err();
-    match over {
-        GraphError::OverDeviceLimit {
-            limit,
-            needs,
-            allows,
-            ..
-        } => {
-            assert_eq!(limit, "max_compute_workgroup_storage_size");
-            assert_eq!((needs, allows), (16400, 16384));
-        }
-        other => panic!("expected OverDeviceLimit, got {other:?}"),
-    }
+    assert_over(
+        &over,
+        "many",
+        "max_compute_workgroup_storage_size",
+        16400,
+        16384,
+    );
 }
 
 #[test]
@@ -161,16 +173,11 @@ fn r8unorm_storage_writes_are_not_core_webgpu() {
         TextureFormat::R8Unorm,
     )
     .unwrap_err();
-    match err {
-        GraphError::DeviceLacks { pass, what, .. } => {
-            assert_eq!(pass, "many");
-            assert!(
-                what.starts_with("R8Unorm storage textures with WriteOnly access"),
-                "{what}"
-            );
-        }
-        other => panic!("expected DeviceLacks, got {other:?}"),
-    }
+    assert_lacks(
+        &err,
+        "many",
+        "R8Unorm storage textures with WriteOnly access",
+    );
 }
 
 /// A custom pass (no shader: a raster the application records) writing one colour target of
@@ -210,20 +217,14 @@ fn colour_bytes_per_sample_follow_webgpus_alignment_rule_for_custom_passes_too()
     assert!(raster_with_targets(&at_limit).is_ok());
     let mut over = at_limit.to_vec();
     over.push(F::R8Unorm);
-    match raster_with_targets(&over).unwrap_err() {
-        GraphError::OverDeviceLimit {
-            pass,
-            limit,
-            needs,
-            allows,
-            ..
-        } => {
-            assert_eq!(pass, "raster");
-            assert_eq!(limit, "max_color_attachment_bytes_per_sample");
-            assert_eq!((needs, allows), (33, 32));
-        }
-        other => panic!("expected OverDeviceLimit, got {other:?}"),
-    }
+    let err = raster_with_targets(&over).unwrap_err();
+    assert_over(
+        &err,
+        "raster",
+        "max_color_attachment_bytes_per_sample",
+        33,
+        32,
+    );
 }
 
 const RAY_QUERY: &str = "enable wgpu_ray_query;
@@ -263,13 +264,8 @@ fn ray_query_plan(device: DeviceProfile) -> GraphResult<()> {
 
 #[test]
 fn a_ray_query_needs_the_feature_and_is_named_without_it() {
-    match ray_query_plan(DeviceProfile::webgpu_defaults()).unwrap_err() {
-        GraphError::DeviceLacks { pass, what, .. } => {
-            assert_eq!(pass, "trace");
-            assert!(what.starts_with("ray queries (`scene`"), "{what}");
-        }
-        other => panic!("expected DeviceLacks, got {other:?}"),
-    }
+    let err = ray_query_plan(DeviceProfile::webgpu_defaults()).unwrap_err();
+    assert_lacks(&err, "trace", "ray queries (`scene`");
     let with_rq = DeviceProfile::from_parts(
         "a device with ray queries".into(),
         wgpu::Limits::defaults(),
@@ -289,5 +285,5 @@ fn sixteen_bit_norm_storage_is_not_core_webgpu() {
         TextureFormat::R16Unorm,
     )
     .unwrap_err();
-    assert!(matches!(err, GraphError::DeviceLacks { .. }), "{err:?}");
+    assert_lacks(&err, "many", "R16Unorm storage textures");
 }

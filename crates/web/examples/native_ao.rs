@@ -39,21 +39,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             v.push(e.to_string());
         }
     }));
-    let target_format = wgpu::TextureFormat::Rgba8Unorm;
-    let target = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("native page target"),
-        size: wgpu::Extent3d {
-            width: SIZE.0,
-            height: SIZE.1,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: target_format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+    let target_format = aograph_web::OFFSCREEN_FORMAT;
+    let target = aograph_web::offscreen_target(&device, SIZE);
     let target_view = target.create_view(&Default::default());
     let mut page = AoPage::new(&adapter, &device, &queue, SCENE, SIZE, target_format)?;
     // The crease: floor 0.15 R from both walls, by the corner where the three planes meet; open

@@ -25,7 +25,7 @@ mod page;
 
 pub use ao_page::{AoPage, PageError, ao_mean, ao_values};
 pub use catalogue::technique_catalogue;
-pub use page_renderer::PageRenderer;
+pub use page_renderer::{OFFSCREEN_FORMAT, PageRenderer, offscreen_target};
 pub use scene_mesh::{SceneMesh, Vertex};
 
 /// The page's own WGSL (shaders/web/) as an `aograph_graph::ShaderMount`, so that

@@ -326,21 +326,8 @@ impl WebPage {
                 (format, None)
             }
             None => {
-                let format = wgpu::TextureFormat::Rgba8Unorm;
-                let texture = device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some("page frame"),
-                    size: wgpu::Extent3d {
-                        width: size.0,
-                        height: size.1,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[],
-                });
+                let format = crate::OFFSCREEN_FORMAT;
+                let texture = crate::offscreen_target(&device, size);
                 (format, Some(texture))
             }
         };

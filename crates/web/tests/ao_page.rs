@@ -15,20 +15,7 @@ fn page() -> Option<(AoPage, aograph_graph::GpuContext)> {
 }
 
 fn frame(page: &mut AoPage, gpu: &aograph_graph::GpuContext) -> Vec<u8> {
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: None,
-        size: wgpu::Extent3d {
-            width: SIZE.0,
-            height: SIZE.1,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+    let target = aograph_web::offscreen_target(&gpu.device, SIZE);
     let view = target.create_view(&Default::default());
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     page.record(&mut encoder, &view).unwrap();
