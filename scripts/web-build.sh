@@ -14,7 +14,8 @@ version="$(awk '/^name = "wasm-bindgen"$/ { getline; gsub(/"/, "", $3); print $3
 if ! wasm-bindgen --version 2>/dev/null | grep -qx "wasm-bindgen $version"; then
     echo "web-build: installing wasm-bindgen-cli $version (once per machine)" >&2
     # Not --locked: its own lock file pins a webpki-roots release crates.io no longer serves.
-    cargo install --quiet wasm-bindgen-cli --version "=$version"
+    # --force: cargo's record of installed binaries may outlive the binaries themselves.
+    cargo install --quiet --force wasm-bindgen-cli --version "=$version"
 fi
 started=$SECONDS
 # The dev profile: dependencies are built at opt-level 2 (Cargo.toml), fast enough to run,
