@@ -20,9 +20,26 @@ pub const NORMALS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float
 /// A texture of `size` the page can shade into instead of a canvas and read back: Rgba8Unorm,
 /// `RENDER_ATTACHMENT | COPY_SRC` (the native example, the tests, and the page's copy-out
 /// mode).
-pub fn offscreen_target(device: &wgpu::Device, (width, height): (u32, u32)) -> wgpu::Texture {
+pub fn offscreen_target(device: &wgpu::Device, size: (u32, u32)) -> wgpu::Texture {
+    page_texture(
+        device,
+        "page frame",
+        size,
+        OFFSCREEN_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+    )
+}
+
+/// A 2D texture of the page's size, one mip, one sample.
+fn page_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("page frame"),
+        label: Some(label),
         size: wgpu::Extent3d {
             width,
             height,
@@ -31,8 +48,8 @@ pub fn offscreen_target(device: &wgpu::Device, (width, height): (u32, u32)) -> w
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: OFFSCREEN_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        format,
+        usage,
         view_formats: &[],
     })
 }
@@ -58,6 +75,10 @@ pub struct PageRenderer {
     vertices: wgpu::Buffer,
     vertex_count: u32,
     camera: wgpu::Buffer,
+    /// Made once: the targets' views and the pre-pass's bind group (only the camera).
+    depth_view: wgpu::TextureView,
+    normals_view: wgpu::TextureView,
+    prepass_bind: wgpu::BindGroup,
     /// The depth the pre-pass clears to: 0 with reversed Z, 1 with standard Z.
     clear_depth: f32,
 }
@@ -74,24 +95,9 @@ impl PageRenderer {
         reversed_z: bool,
     ) -> Self {
         use wgpu::util::DeviceExt;
-        let texture = |label, format| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                // TEXTURE_BINDING: aograph and the shading pass read them.
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-        };
+        // TEXTURE_BINDING: aograph and the shading pass read them.
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let texture = |label, format| page_texture(device, label, (width, height), format, usage);
         let depth = texture("page depth", DEPTH_FORMAT);
         let normals = texture("page normals", NORMALS_FORMAT);
         let module = |path: &str| {
@@ -173,9 +179,20 @@ impl PageRenderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let prepass_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("page pre-pass"),
+            layout: &prepass.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: camera.as_entire_binding(),
+            }],
+        });
         Self {
             device: device.clone(),
             queue: queue.clone(),
+            depth_view: depth.create_view(&Default::default()),
+            normals_view: normals.create_view(&Default::default()),
+            prepass_bind,
             depth,
             normals,
             width,
@@ -202,20 +219,10 @@ impl PageRenderer {
 
     /// The pre-pass: depth (cleared to the far value) and world normals (cleared to 0).
     pub fn prepass(&self, encoder: &mut wgpu::CommandEncoder) {
-        let depth = self.depth.create_view(&Default::default());
-        let normals = self.normals.create_view(&Default::default());
-        let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("page pre-pass"),
-            layout: &self.prepass.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: self.camera.as_entire_binding(),
-            }],
-        });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("page pre-pass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &normals,
+                view: &self.normals_view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
@@ -224,7 +231,7 @@ impl PageRenderer {
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth,
+                view: &self.depth_view,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(self.clear_depth),
                     store: wgpu::StoreOp::Store,
@@ -234,7 +241,7 @@ impl PageRenderer {
             ..Default::default()
         });
         pass.set_pipeline(&self.prepass);
-        pass.set_bind_group(0, &bind, &[]);
+        pass.set_bind_group(0, &self.prepass_bind, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.draw(0..self.vertex_count, 0..1);
     }
@@ -247,7 +254,7 @@ impl PageRenderer {
         ao: &wgpu::TextureView,
         target: &wgpu::TextureView,
     ) {
-        let normals = self.normals.create_view(&Default::default());
+        // Made per frame: the AO view changes with the technique's output.
         let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("page shading"),
             layout: &self.shade.get_bind_group_layout(0),
@@ -258,7 +265,7 @@ impl PageRenderer {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&normals),
+                    resource: wgpu::BindingResource::TextureView(&self.normals_view),
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
