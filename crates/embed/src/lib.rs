@@ -56,7 +56,7 @@ pub use inputs::{
 };
 pub use output::{AoOutputFormat, AoOutputView, OUTPUT_USAGE};
 pub use projection::DepthConvention;
-pub use settings::feedable_techniques;
+pub use settings::{check_settings_toml, feedable_techniques};
 pub use shader_mount::{shader_library, shader_mount};
 
 /// The `[ao]` settings type (technique, radius, per-technique tables), re-exported.

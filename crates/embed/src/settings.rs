@@ -43,6 +43,44 @@ pub fn feedable_techniques(registry: &TechniqueRegistry) -> Vec<String> {
         .collect()
 }
 
+/// `[ao]` TOML text (the section's keys at the top level, as [`crate::AmbientOcclusion::from_toml`]
+/// takes them) parsed and checked for aograph's built-in techniques without a device: the
+/// technique and each parameter known and in range, the radius a number, and the technique fed
+/// by depth, normals and motion alone. An application checks settings where its user types them
+/// (a bevy component, a config file) and hands the frame's settings over later; what only the
+/// device decides (r16float intermediates) is checked when they are applied.
+pub fn check_settings_toml(text: &str) -> EmbedResult<AoConfig> {
+    let registry = TechniqueRegistry::with_builtins();
+    let config = parse_config(text, &registry)?;
+    check_settings(&registry, &config, &ViewBlockOnly)?;
+    Ok(config)
+}
+
+/// The frame inputs settings are checked against: what an [`crate::AmbientOcclusion`] has bound,
+/// or, before there is one, the View block alone (every embedding supplies it).
+pub(crate) trait SuppliedInputs {
+    /// The name of the first input `declared` lists that is not supplied.
+    fn missing(&self, declared: &DeclaredInputs) -> Option<&'static str>;
+}
+
+impl SuppliedInputs for InputBindings {
+    fn missing(&self, declared: &DeclaredInputs) -> Option<&'static str> {
+        InputBindings::missing(self, declared)
+    }
+}
+
+/// The View block, which every embedding supplies, and nothing else.
+struct ViewBlockOnly;
+
+impl SuppliedInputs for ViewBlockOnly {
+    fn missing(&self, declared: &DeclaredInputs) -> Option<&'static str> {
+        declared
+            .iter()
+            .find(|(t, _)| *t != TypeId::of::<ViewBlock>())
+            .map(|(_, name)| name)
+    }
+}
+
 /// Parses `[ao]` TOML text (the section's keys at the top level).
 pub(crate) fn parse_config(text: &str, registry: &TechniqueRegistry) -> EmbedResult<AoConfig> {
     let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
@@ -60,6 +98,33 @@ pub(crate) fn resolve(
     config: &AoConfig,
     inputs: &InputBindings,
 ) -> EmbedResult<(Arc<dyn ConfiguredTechnique>, f32, GraphSettings)> {
+    let (technique, radius) = check_settings(registry, config, inputs)?;
+    let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+    if config.intermediate_format == aograph_ao_passes::IntermediateFormat::R16Float
+        && !gpu.supports(wgpu::TextureFormat::R16Float, usage)
+    {
+        return Err(EmbedError::InvalidSetting {
+            name: "intermediate_format".into(),
+            value: "\"r16float\"".into(),
+            allowed: format!(
+                "\"r32float\" on this device ({}): it cannot write r16float storage textures \
+                 (enable TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES on the device if the adapter \
+                 has it)",
+                gpu.describe()
+            ),
+        });
+    }
+    Ok((technique, radius, config.graph_settings()))
+}
+
+/// The configured technique and its radius, checked without a device: the technique and its
+/// parameters resolved, the radius a number, every channel one the adapters make, every frame
+/// input one `inputs` supplies.
+pub(crate) fn check_settings(
+    registry: &TechniqueRegistry,
+    config: &AoConfig,
+    inputs: &dyn SuppliedInputs,
+) -> EmbedResult<(Arc<dyn ConfiguredTechnique>, f32)> {
     config.validate(registry)?;
     let radius = match config.radius {
         RadiusSetting::Units(r) => r.get(),
@@ -78,21 +143,6 @@ pub(crate) fn resolve(
             });
         }
     };
-    let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
-    if config.intermediate_format == aograph_ao_passes::IntermediateFormat::R16Float
-        && !gpu.supports(wgpu::TextureFormat::R16Float, usage)
-    {
-        return Err(EmbedError::InvalidSetting {
-            name: "intermediate_format".into(),
-            value: "\"r16float\"".into(),
-            allowed: format!(
-                "\"r32float\" on this device ({}): it cannot write r16float storage textures \
-                 (enable TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES on the device if the adapter \
-                 has it)",
-                gpu.describe()
-            ),
-        });
-    }
     let technique = config.resolve(registry)?;
     if let Some(c) = technique.channels().iter().find(|c| !producible(*c)) {
         return Err(EmbedError::UnsupportedTechnique {
@@ -109,7 +159,7 @@ pub(crate) fn resolve(
     }
     let declared = aograph_ao_passes::contract::declared_inputs(technique.as_ref())?;
     check_inputs(registry, technique.name(), &declared, inputs)?;
-    Ok((technique, radius, config.graph_settings()))
+    Ok((technique, radius))
 }
 
 /// Refuses `technique` when it declared a frame input `inputs` does not supply, naming it.
@@ -117,7 +167,7 @@ pub(crate) fn check_inputs(
     registry: &TechniqueRegistry,
     technique: &str,
     declared: &DeclaredInputs,
-    inputs: &InputBindings,
+    inputs: &dyn SuppliedInputs,
 ) -> EmbedResult<()> {
     let Some(input) = inputs.missing(declared) else {
         return Ok(());

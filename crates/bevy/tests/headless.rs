@@ -1,0 +1,92 @@
+//! aograph's AO inside a real bevy app on lavapipe, headless: what bevy's PBR pass reads at
+//! binding 17 is aograph's AO of the camera's own prepass, bevy's SSAO passes do not run,
+//! switching back to seen settings creates no pipeline, and no render error is recorded.
+
+mod support;
+
+use aograph_bevy::AographAo;
+use bevy::prelude::*;
+use support::Harness;
+
+const GTAO: &str = "technique = \"gtao\"\nradius = 0.5";
+const MSSAO: &str = "technique = \"mssao\"\nradius = 0.5";
+
+/// 16:9 and not a multiple of 8 or 16 (bevy's and aograph's workgroup sizes).
+const WIDTH: u32 = 200;
+const HEIGHT: u32 = 113;
+
+#[test]
+fn bevy_reads_aographs_ao_and_switching_back_creates_no_pipeline() {
+    let mut app = Harness::new(WIDTH, HEIGHT, AographAo::from_toml(GTAO).unwrap());
+    app.run_until_technique("gtao", 4);
+    let frame = app.probe_frame(GTAO);
+    assert_eq!((frame.width, frame.height), (WIDTH, HEIGHT));
+
+    // Binding 17 holds aograph's AO of this very prepass: a fresh aograph-embed on the same
+    // depth, normals and matrices gives the same values, to bevy's R16Float (one unit in the
+    // last place below 1 is 2^-11 = 4.9e-4; 1e-3 leaves room and is far below any AO
+    // difference: bevy's own texture, left in place, differs by up to 1).
+    let worst = frame
+        .bound
+        .iter()
+        .zip(&frame.fresh)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst <= 1e-3,
+        "binding 17 differs from aograph's AO by up to {worst}"
+    );
+
+    // On open floor, with no geometry within the radius, nothing occludes: exactly 1 but for
+    // the 10-bit packed normals bevy's prepass stores (a tilt of ~2e-3 rad).
+    let (fx, fy) = app.pixel_of(Vec3::new(-4.0, 0.0, 3.0));
+    let open = frame.at(&frame.bound, fx, fy);
+    assert!(
+        (open - 1.0).abs() < 0.02,
+        "open floor AO {open} at ({fx}, {fy})"
+    );
+    // A floor point 5 cm from the cube's face sees the face fill a quarter of its hemisphere
+    // within the radius: clearly occluded.
+    let (cx, cy) = app.pixel_of(Vec3::new(0.0, 0.0, 1.05));
+    let crease = frame.at(&frame.bound, cx, cy);
+    assert!(
+        crease < 0.8,
+        "crease AO {crease} at ({cx}, {cy}) is not darker"
+    );
+
+    // gtao -> mssao -> gtao: the way back creates no pipeline.
+    app.set_ao(AographAo::from_toml(MSSAO).unwrap());
+    app.run_until_technique("mssao", 30);
+    let after_mssao = app.status().camera(app.camera).unwrap().pipelines_created;
+    app.set_ao(AographAo::from_toml(GTAO).unwrap());
+    app.run_until_technique("gtao", 2);
+    app.update();
+    let back = app.status().camera(app.camera).unwrap();
+    assert_eq!(
+        back.pipelines_created, after_mssao,
+        "switching back to gtao created pipelines"
+    );
+    assert!(back.pipelines_created > 0);
+
+    assert_eq!(app.status().errors(), vec![], "aograph recorded an error");
+    assert_eq!(
+        app.render_errors(),
+        Vec::<String>::new(),
+        "bevy recorded a render error"
+    );
+}
+
+#[test]
+fn bad_settings_are_an_err_where_the_user_sets_them() {
+    let unknown = AographAo::from_toml("technique = \"gtoa\"\nradius = 0.5").unwrap_err();
+    assert!(unknown.to_string().contains("gtoa"), "{unknown}");
+    let negative = AographAo::from_toml("technique = \"gtao\"\nradius = -1.0").unwrap_err();
+    assert!(negative.to_string().contains("radius"), "{negative}");
+    let auto = AographAo::from_toml("technique = \"gtao\"\nradius = \"auto\"").unwrap_err();
+    assert!(auto.to_string().contains("radius"), "{auto}");
+    let traced = AographAo::from_toml("technique = \"rtao\"\nradius = 0.5").unwrap_err();
+    assert!(traced.to_string().contains("rtao"), "{traced}");
+    let parameter =
+        AographAo::from_toml("technique = \"gtao\"\nradius = 0.5\n[gtao]\nslices = 0").unwrap_err();
+    assert!(parameter.to_string().contains("slices"), "{parameter}");
+}
