@@ -96,10 +96,19 @@ impl DepthConvention {
                  (-1, 0) nor an orthographic projection's (0, 1)"
             )));
         };
-        if !(convention.near > 0.0 && convention.near.is_finite()) {
+        // A perspective's near plane lies in front of the eye; an orthographic one may sit on
+        // the camera's plane (bevy's default 3D orthographic projection has near = 0), where
+        // linear depth 0 is only the plane itself.
+        let near_allowed = if convention.orthographic {
+            convention.near >= 0.0
+        } else {
+            convention.near > 0.0
+        };
+        if !(near_allowed && convention.near.is_finite()) {
             return Err(EmbedError::Projection(format!(
-                "its near plane comes out at {} (it must lie in front of the camera); aograph \
-                 reads wgpu's 0..1 clip depth, not OpenGL's -1..1",
+                "its near plane comes out at {} (it must lie in front of the camera, or on its \
+                 plane for an orthographic projection); aograph reads wgpu's 0..1 clip depth, not \
+                 OpenGL's -1..1",
                 convention.near
             )));
         }
@@ -194,5 +203,22 @@ mod tests {
             view.to_string().contains("in front of the camera"),
             "{view}"
         );
+        let behind = Mat4::orthographic_rh(-4.0, 4.0, -3.0, 3.0, -1.0, 10.0);
+        let behind = DepthConvention::of(behind).unwrap_err();
+        assert!(behind.to_string().contains("on its plane"), "{behind}");
+    }
+
+    #[test]
+    fn an_orthographic_near_plane_may_sit_on_the_camera() {
+        // bevy's default 3D orthographic projection: reversed Z, near 0, far 1000.
+        let bevy_ortho = Mat4::orthographic_rh(-4.0, 4.0, -3.0, 3.0, 1000.0, 0.0);
+        let c = DepthConvention::of(bevy_ortho).unwrap();
+        assert!(c.orthographic && c.reversed_z, "{c:?}");
+        assert_eq!(c.near, 0.0);
+        // far = P32 / P22 from f32 entries: to f32 rounding of 1/1000.
+        assert!((c.far - 1000.0).abs() < 1e-3, "{}", c.far);
+        // A perspective's may not: its depth would divide by zero there.
+        let at_eye = Mat4::perspective_infinite_reverse_rh(1.0, 1.0, 0.0);
+        assert!(DepthConvention::of(at_eye).is_err());
     }
 }

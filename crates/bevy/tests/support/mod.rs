@@ -68,6 +68,18 @@ impl Harness {
     /// A scene of a 2 m cube on a 20 m floor, lit, seen by a camera rendering into a
     /// `width` x `height` image with `ao` on it.
     pub fn new(width: u32, height: u32, ao: AographAo) -> Self {
+        Self::with_camera(width, height, ao, |_| {})
+    }
+
+    /// As [`Harness::new`], with `camera` adding to or changing the camera entity (a
+    /// projection, a viewport).
+    pub fn with_camera(
+        width: u32,
+        height: u32,
+        ao: AographAo,
+        camera: impl FnOnce(&mut EntityWorldMut),
+    ) -> Self {
+        let setup = camera;
         let mut app = App::new();
         app.add_plugins(
             DefaultPlugins
@@ -134,6 +146,7 @@ impl Harness {
                 ao,
             ))
             .id();
+        setup(&mut world.entity_mut(camera));
         Self {
             apps,
             camera,
@@ -241,7 +254,8 @@ impl Harness {
         }
     }
 
-    /// Where a world point lands in the image, in pixels.
+    /// Where a world point lands in the camera's AO texture, in pixels (the viewport's
+    /// rectangle: bevy's `world_to_viewport` answers in the render target's pixels).
     pub fn pixel_of(&mut self, point: Vec3) -> (u32, u32) {
         let camera = self.camera;
         let mut query = self.world().query::<(&Camera, &GlobalTransform)>();
@@ -249,7 +263,11 @@ impl Harness {
         let p = cam
             .world_to_viewport(transform, point)
             .expect("the point is in view");
-        (p.x as u32, p.y as u32)
+        let corner = cam
+            .viewport
+            .as_ref()
+            .map_or(UVec2::ZERO, |v| v.physical_position);
+        (p.x as u32 - corner.x, p.y as u32 - corner.y)
     }
 }
 
