@@ -13,3 +13,5 @@ cargo fmt --all -- --check
 cargo clippy --all-targets --locked -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked --quiet
 cargo test --locked "$@"
+# The windowed example builds (it needs a display to run).
+cargo clippy --example bevy_ao --features window-example --locked -- -D warnings

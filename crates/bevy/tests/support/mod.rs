@@ -30,7 +30,9 @@ use bevy::window::ExitCondition;
 #[derive(Default)]
 pub struct Probe {
     /// Read-backs recorded this frame, mapped after it: (binding 17's AO, fresh AO), size.
-    pending: Option<(wgpu::Buffer, wgpu::Buffer, u32, u32)>,
+    pending: Option<(wgpu::Buffer, Option<wgpu::Buffer>, u32, u32)>,
+    /// Read binding 17 on the next frame.
+    armed: bool,
     /// Settings for the fresh AmbientOcclusion (the camera's, when the test asks).
     pub reference_toml: Option<String>,
     reference: Option<AmbientOcclusion>,
@@ -73,16 +75,17 @@ impl Harness {
 
     /// As [`Harness::new`], with `camera` adding to or changing the camera entity (a
     /// projection, a viewport).
-    pub fn with_camera(
-        width: u32,
-        height: u32,
-        ao: AographAo,
-        camera: impl FnOnce(&mut EntityWorldMut),
-    ) -> Self {
-        let setup = camera;
+    /// The headless app: bevy's default plugins without a window, pipelines compiled
+    /// synchronously, each update rendering its own frame, aograph's plugin, bevy's render
+    /// errors kept, and the probe in Core3d. `asset_root`: where bevy's asset server reads.
+    fn apps(asset_root: Option<String>) -> (SubApps, SharedProbe) {
         let mut app = App::new();
         app.add_plugins(
             DefaultPlugins
+                .set(AssetPlugin {
+                    file_path: asset_root.unwrap_or_else(|| "assets".into()),
+                    ..default()
+                })
                 .set(WindowPlugin {
                     primary_window: None,
                     exit_condition: ExitCondition::DontExit,
@@ -112,7 +115,17 @@ impl Harness {
             .add_systems(Core3d, probe_ao.after(Core3dSystems::MainPass));
         app.finish();
         app.cleanup();
-        let mut apps = std::mem::take(app.sub_apps_mut());
+        (std::mem::take(app.sub_apps_mut()), probe)
+    }
+
+    pub fn with_camera(
+        width: u32,
+        height: u32,
+        ao: AographAo,
+        camera: impl FnOnce(&mut EntityWorldMut),
+    ) -> Self {
+        let setup = camera;
+        let (mut apps, probe) = Self::apps(None);
         let world = apps.main.world_mut();
         let mut image =
             Image::new_target_texture(width, height, TextureFormat::Rgba8UnormSrgb, None);
@@ -152,6 +165,98 @@ impl Harness {
             camera,
             probe,
         }
+    }
+
+    /// A glTF file loaded by bevy's own loader, lit, seen by a camera with depth, normal and
+    /// motion prepasses and no AO yet, rendering into a `width` x `height` image; frames are
+    /// pumped until the scene's meshes are drawn.
+    pub fn gltf(
+        width: u32,
+        height: u32,
+        file: &std::path::Path,
+        transform: Transform,
+        projection: Projection,
+    ) -> Self {
+        use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass, NormalPrepass};
+        let folder = file.parent().expect("a file in a folder");
+        let name = file.file_name().expect("a file name").to_string_lossy();
+        let (mut apps, probe) = Self::apps(Some(folder.to_string_lossy().into_owned()));
+        let world = apps.main.world_mut();
+        let mut image =
+            Image::new_target_texture(width, height, TextureFormat::Rgba8UnormSrgb, None);
+        image.asset_usage = RenderAssetUsages::RENDER_WORLD;
+        let image = world.resource_mut::<Assets<Image>>().add(image);
+        let scene: Handle<bevy::world_serialization::WorldAsset> = world
+            .resource::<AssetServer>()
+            .load(GltfAssetLabel::Scene(0).from_asset(name.into_owned()));
+        world.spawn(bevy::world_serialization::WorldAssetRoot(scene.clone()));
+        world.spawn((
+            DirectionalLight::default(),
+            Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+        let camera = world
+            .spawn((
+                Camera3d::default(),
+                RenderTarget::from(image),
+                Msaa::Off,
+                transform,
+                projection,
+                DepthPrepass,
+                NormalPrepass,
+                MotionVectorPrepass,
+            ))
+            .id();
+        let mut harness = Self {
+            apps,
+            camera,
+            probe,
+        };
+        for _ in 0..600 {
+            harness.update();
+            let world = harness.world();
+            let loaded = world
+                .resource::<AssetServer>()
+                .is_loaded_with_dependencies(&scene);
+            let meshes = world.query::<&Mesh3d>().iter(world).count();
+            if loaded && meshes > 0 {
+                break;
+            }
+        }
+        // A few frames more: the meshes' GPU data and pipelines.
+        for _ in 0..3 {
+            harness.update();
+        }
+        harness
+    }
+
+    /// bevy's own SSAO on the camera at `quality` (aograph's removed).
+    pub fn set_bevy_ssao(&mut self, quality: bevy::pbr::ScreenSpaceAmbientOcclusionQualityLevel) {
+        let camera = self.camera;
+        let mut entity = self.world().entity_mut(camera);
+        entity.remove::<AographAo>();
+        entity.insert(bevy::pbr::ScreenSpaceAmbientOcclusion {
+            quality_level: quality,
+            ..default()
+        });
+    }
+
+    /// No AO on the camera (its prepasses stay).
+    pub fn clear_ao(&mut self) {
+        let camera = self.camera;
+        let mut entity = self.world().entity_mut(camera);
+        entity.remove::<(AographAo, bevy::pbr::ScreenSpaceAmbientOcclusion)>();
+    }
+
+    /// Wall milliseconds of `frames` whole frames, each waited for (on a software device
+    /// such as lavapipe this is CPU time, the GPU's work included).
+    pub fn time_frames(&mut self, frames: u32) -> Vec<f64> {
+        (0..frames)
+            .map(|_| {
+                let start = std::time::Instant::now();
+                self.update();
+                start.elapsed().as_secs_f64() * 1e3
+            })
+            .collect()
     }
 
     pub fn world(&mut self) -> &mut World {
@@ -214,15 +319,25 @@ impl Harness {
     /// Renders one frame with the probe on: binding 17's AO and a fresh aograph-embed's AO of
     /// the same prepass with `reference_toml`.
     pub fn probe_frame(&mut self, reference_toml: &str) -> AoFrame {
+        self.probe_with(Some(reference_toml))
+    }
+
+    /// Renders one frame and reads binding 17 only (`fresh` is empty).
+    pub fn probe_bound(&mut self) -> AoFrame {
+        self.probe_with(None)
+    }
+
+    fn probe_with(&mut self, reference_toml: Option<&str>) -> AoFrame {
         {
             let mut probe = self.probe.0.lock().unwrap();
-            probe.reference_toml = Some(reference_toml.to_owned());
+            probe.armed = true;
+            probe.reference_toml = reference_toml.map(str::to_owned);
             probe.reference = None;
         }
         self.update();
         let (bound, fresh, width, height) = {
             let mut probe = self.probe.0.lock().unwrap();
-            probe.reference_toml = None;
+            probe.armed = false;
             probe.pending.take().unwrap_or_else(|| {
                 panic!(
                     "the probe did not run this frame: {:?}, render errors {:?}",
@@ -250,7 +365,7 @@ impl Harness {
             width,
             height,
             bound: read(&bound),
-            fresh: read(&fresh),
+            fresh: fresh.as_ref().map(read).unwrap_or_default(),
         }
     }
 
@@ -293,25 +408,23 @@ fn probe_ao(
 ) {
     let (extracted, prepass, resources, jitter) = view.into_inner();
     let mut probe = probe.0.lock().unwrap();
-    let Some(toml) = probe.reference_toml.clone() else {
+    if !probe.armed {
         return;
-    };
-    let device = device.wgpu_device().clone();
-    let inputs =
-        ao_inputs(prepass, extracted, jitter, time.elapsed_secs()).expect("a depth prepass");
-    if probe.reference.is_none() {
-        let mut ao = AmbientOcclusion::from_toml(&adapter, &device, &queue, &toml)
-            .expect("the reference settings");
-        ao.set_output_format(AoOutputFormat::R32Float);
-        probe.reference = Some(ao);
     }
+    let device = device.wgpu_device().clone();
     let encoder = ctx.command_encoder();
-    let fresh = probe
-        .reference
-        .as_mut()
-        .unwrap()
-        .encode(encoder, &inputs)
-        .expect("the fresh AO encodes");
+    let fresh = probe.reference_toml.clone().map(|toml| {
+        let inputs =
+            ao_inputs(prepass, extracted, jitter, time.elapsed_secs()).expect("a depth prepass");
+        if probe.reference.is_none() {
+            let mut ao = AmbientOcclusion::from_toml(&adapter, &device, &queue, &toml)
+                .expect("the reference settings");
+            ao.set_output_format(AoOutputFormat::R32Float);
+            probe.reference = Some(ao);
+        }
+        let ao = probe.reference.as_mut().expect("made above");
+        ao.encode(encoder, &inputs).expect("the fresh AO encodes")
+    });
     if probe.pipeline.is_none() {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("read_r"),
@@ -328,7 +441,7 @@ fn probe_ao(
         let layout = pipeline.get_bind_group_layout(0);
         probe.pipeline = Some((pipeline, layout));
     }
-    let (pipeline, layout) = probe.pipeline.clone().unwrap();
+    let (pipeline, layout) = probe.pipeline.clone().expect("made above");
     let bound_texture: &wgpu::Texture = &resources.screen_space_ambient_occlusion_texture.texture;
     let (width, height) = (bound_texture.width(), bound_texture.height());
     let mut read = |texture: &wgpu::Texture| -> wgpu::Buffer {
@@ -370,6 +483,6 @@ fn probe_ao(
         readback
     };
     let bound = read(bound_texture);
-    let fresh = read(&fresh.texture);
+    let fresh = fresh.map(|f| read(&f.texture));
     probe.pending = Some((bound, fresh, width, height));
 }

@@ -1,0 +1,177 @@
+//! aograph's AO in a bevy app with a window: a glTF scene loaded by bevy, seen from the camera
+//! aograph's tools choose for the file, with the technique cycled by the space bar and a line
+//! of text naming it and its GPU time.
+//!
+//! ```text
+//! cargo run --release --features window-example --example bevy_ao -- [SCENE.gltf]
+//! ```
+//! (default: the repository's tests/scenes/teapot.gltf). Space: next technique (the last is
+//! bevy's own SSAO, for comparison).
+
+use std::path::PathBuf;
+
+use aograph_app_config::{PreparedScene, RadiusSetting};
+use aograph_bevy::{AographAo, AographAoPlugin, AographAoStatus};
+use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass, NormalPrepass};
+use bevy::pbr::{ScreenSpaceAmbientOcclusion, ScreenSpaceAmbientOcclusionQualityLevel};
+use bevy::prelude::*;
+
+/// What the space bar steps through: aograph's techniques by their `[ao]` settings, then
+/// bevy's own SSAO (`None`).
+const CYCLE: [Option<&str>; 9] = [
+    Some("technique = \"gtao\""),
+    Some("technique = \"gtao\"\n[gtao]\nresolution = \"half\"\ntemporal = true"),
+    Some("technique = \"vbao\""),
+    Some("technique = \"mssao\""),
+    Some("technique = \"hbao\""),
+    Some("technique = \"pyramid-hbao\""),
+    Some("technique = \"ssao\""),
+    Some("technique = \"tssao\""),
+    None,
+];
+
+#[derive(Resource)]
+struct Cycle {
+    index: usize,
+    radius: f32,
+}
+
+#[derive(Component)]
+struct Caption;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let file = std::env::args()
+        .nth(1)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/scenes/teapot.gltf")
+        });
+    let file = file.canonicalize()?;
+    // aograph's view of the file: the camera and radius `aograph render` would use.
+    let scene = aograph_scene::load_scene(&file)?;
+    let view = aograph_scene::views::find_view(&scene, "default").ok_or("no default view")?;
+    let prepared = PreparedScene::new(&scene, &view, RadiusSetting::Auto);
+    let camera = prepared.scene.camera_at(0.0);
+    let v = |a: [f32; 3]| Vec3::from_array(a);
+    let transform = Transform::from_translation(v(camera.position.to_array()))
+        .looking_at(v(camera.target.to_array()), v(camera.up.to_array()));
+    let radius = prepared.radius.get();
+    let folder = file
+        .parent()
+        .ok_or("a file in a folder")?
+        .to_string_lossy()
+        .into_owned();
+    let name = file
+        .file_name()
+        .ok_or("a file name")?
+        .to_string_lossy()
+        .into_owned();
+
+    App::new()
+        .add_plugins(DefaultPlugins.set(AssetPlugin {
+            file_path: folder,
+            ..default()
+        }))
+        .add_plugins(AographAoPlugin)
+        .insert_resource(Cycle { index: 0, radius })
+        .add_systems(
+            Startup,
+            move |mut commands: Commands, assets: Res<AssetServer>| {
+                commands.spawn(bevy::world_serialization::WorldAssetRoot(
+                    assets.load(GltfAssetLabel::Scene(0).from_asset(name.clone())),
+                ));
+                commands.spawn((
+                    DirectionalLight::default(),
+                    Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+                ));
+                let ao = settings(CYCLE[0], radius).expect("the first settings are valid");
+                commands.spawn((
+                    Camera3d::default(),
+                    Msaa::Off,
+                    transform,
+                    DepthPrepass,
+                    NormalPrepass,
+                    MotionVectorPrepass,
+                    ao,
+                ));
+                commands.spawn((
+                    Caption,
+                    Text::new(""),
+                    Node {
+                        position_type: PositionType::Absolute,
+                        top: px(8),
+                        left: px(8),
+                        ..default()
+                    },
+                ));
+            },
+        )
+        .add_systems(Update, (cycle, caption))
+        .run();
+    Ok(())
+}
+
+fn settings(toml: Option<&str>, radius: f32) -> Option<AographAo> {
+    let toml = toml?;
+    match AographAo::from_toml(&format!("radius = {radius}\n{toml}")) {
+        Ok(ao) => Some(ao),
+        Err(e) => {
+            error!("{e}");
+            None
+        }
+    }
+}
+
+fn cycle(
+    keys: Res<ButtonInput<KeyCode>>,
+    mut state: ResMut<Cycle>,
+    mut commands: Commands,
+    cameras: Query<Entity, With<Camera3d>>,
+) {
+    if !keys.just_pressed(KeyCode::Space) {
+        return;
+    }
+    state.index = (state.index + 1) % CYCLE.len();
+    for camera in &cameras {
+        let mut camera = commands.entity(camera);
+        match settings(CYCLE[state.index], state.radius) {
+            Some(ao) => {
+                camera.insert(ao);
+            }
+            None => {
+                camera
+                    .remove::<AographAo>()
+                    .insert(ScreenSpaceAmbientOcclusion {
+                        quality_level: ScreenSpaceAmbientOcclusionQualityLevel::High,
+                        radius: state.radius,
+                        ..default()
+                    });
+            }
+        }
+    }
+}
+
+fn caption(
+    status: Res<AographAoStatus>,
+    cameras: Query<(Entity, Option<&AographAo>), With<Camera3d>>,
+    mut text: Single<&mut Text, With<Caption>>,
+) {
+    let Some((camera, ao)) = cameras.iter().next() else {
+        return;
+    };
+    text.0 = match (ao, status.camera(camera)) {
+        (None, _) => "bevy's own SSAO (High) [space: next]".into(),
+        (Some(_), Some(s)) => {
+            let time = s.gpu_ms.map_or("GPU time: no timestamps".into(), |ms| {
+                format!("{ms:.2} ms GPU (timestamps)")
+            });
+            let preparing = if s.preparing {
+                ", preparing the next"
+            } else {
+                ""
+            };
+            format!("aograph {}: {time}{preparing} [space: next]", s.technique)
+        }
+        (Some(ao), None) => format!("aograph {} [space: next]", ao.technique()),
+    };
+}

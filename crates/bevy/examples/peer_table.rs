@@ -1,0 +1,257 @@
+//! The peer comparison: bevy's own SSAO at its four quality levels and aograph's techniques,
+//! on the same bevy frames, scored against aograph's ray-traced reference of the same file and
+//! camera, and timed the same way.
+//!
+//! ```text
+//! cargo run --release --example peer_table -- OUT_DIR SCENE.gltf [SCENE.gltf ...]
+//! ```
+//! (environment: `WIDTH`, `HEIGHT`, `RAYS`, `FRAMES`.) For each file: aograph loads it and
+//! places its camera and radius R as `aograph bench` does (the "default" view, R = "auto");
+//! its reference traces RAYS cosine-weighted rays per pixel (binary visibility within R). bevy
+//! loads the same file with its own glTF loader and renders it from that camera; binding 17's
+//! AO (what bevy's PBR pass reads) is read back for each configuration and scored over the
+//! reference's non-sky pixels with the bench's metrics. bevy's SSAO gets the same R.
+//!
+//! Time: the wall time of whole frames, each waited for, minus that of the same frames without
+//! AO (median of FRAMES each). On a software device such as lavapipe that is CPU time, the
+//! GPU's work included, and it is labelled so; no device-specific timestamps enter, so bevy's
+//! passes and aograph's are timed alike.
+//!
+//! Writes OUT_DIR/peer.md (a table per scene) and OUT_DIR/peer-pareto.{svg,png}.
+
+#[path = "../tests/support/mod.rs"]
+mod support;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use aograph_app_config::{PreparedScene, RadiusSetting};
+use aograph_bench::metrics::{MetricOptions, compare};
+use aograph_bench::run::{FrameTimes, RunRecord};
+use aograph_bench::stats::Spread;
+use aograph_bevy::AographAo;
+use aograph_graph::{Extent, GpuContext};
+use aograph_renderer::frame_reference::{
+    FrameView, ReferenceSettings, reference_surfaces, trace_surfaces,
+};
+use bevy::pbr::ScreenSpaceAmbientOcclusionQualityLevel as Quality;
+use bevy::prelude::*;
+use support::Harness;
+
+/// aograph's techniques compared (aograph_embed::feedable_techniques, the temporal tssao left
+/// out: its score depends on how many frames it has accumulated), at their defaults.
+const AOGRAPH: [&str; 6] = ["gtao", "vbao", "mssao", "hbao", "pyramid-hbao", "ssao"];
+const BEVY: [(&str, Quality); 4] = [
+    ("low", Quality::Low),
+    ("medium", Quality::Medium),
+    ("high", Quality::High),
+    ("ultra", Quality::Ultra),
+];
+const TIME_LABEL: &str = "CPU ms per frame on lavapipe (whole frame minus the frame without AO)";
+
+fn env(name: &str, default: u32) -> u32 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [out, scenes @ ..] = args.as_slice() else {
+        return Err("usage: peer_table OUT_DIR SCENE.gltf [SCENE.gltf ...]".into());
+    };
+    if scenes.is_empty() {
+        return Err("usage: peer_table OUT_DIR SCENE.gltf [SCENE.gltf ...]".into());
+    }
+    let out = PathBuf::from(out);
+    std::fs::create_dir_all(&out)?;
+    let (width, height) = (env("WIDTH", 320), env("HEIGHT", 180));
+    let (rays, frames) = (env("RAYS", 64), env("FRAMES", 8));
+    let gpu = Arc::new(GpuContext::new()?);
+    let mut records = Vec::new();
+    let mut markdown = format!(
+        "Made by `cargo run --release --example peer_table` in crates/bevy at {width}x{height}, \
+         {rays} reference rays per pixel, {frames} timed frames per row, on {}.\n",
+        gpu.describe()
+    );
+    for scene in scenes {
+        let rows = score_scene(&gpu, Path::new(scene), width, height, rays, frames)?;
+        markdown.push_str(&table(scene, &rows));
+        records.extend(rows);
+    }
+    std::fs::write(out.join("peer.md"), &markdown)?;
+    let techniques: Vec<String> = std::iter::once("bevy-ssao".to_owned())
+        .chain(AOGRAPH.iter().map(|t| t.to_string()))
+        .collect();
+    aograph_bench::plot::write_pareto(
+        &out.join("peer-pareto.svg"),
+        &out.join("peer-pareto.png"),
+        &records,
+        &techniques,
+        TIME_LABEL,
+    )?;
+    print!("{markdown}");
+    Ok(())
+}
+
+fn score_scene(
+    gpu: &Arc<GpuContext>,
+    file: &Path,
+    width: u32,
+    height: u32,
+    rays: u32,
+    frames: u32,
+) -> Result<Vec<RunRecord>, Box<dyn std::error::Error>> {
+    // aograph's view of the file: the bench's camera and radius, and its reference.
+    let scene = aograph_scene::load_scene(file)?;
+    let view = aograph_scene::views::find_view(&scene, "default").ok_or("no default view")?;
+    let prepared = PreparedScene::new(&scene, &view, RadiusSetting::Auto);
+    let radius = prepared.radius.get();
+    let camera = prepared.scene.camera_at(0.0);
+    let fov = camera
+        .fov_y()
+        .ok_or("the peer table compares perspective views only")?;
+    let frame = FrameView {
+        scene: prepared.scene.clone(),
+        camera: camera.clone(),
+        time: 0.0,
+        extent: Extent::new(width, height),
+    };
+    let settings = ReferenceSettings::new(radius, rays);
+    let (surfaces, depth) = reference_surfaces(
+        gpu.clone(),
+        aograph_renderer::shader_library(),
+        &frame,
+        settings.normals,
+    )?;
+    let reference =
+        trace_surfaces(gpu, &prepared.scene, 0.0, &surfaces, &settings, false)?.accessibility;
+
+    // bevy's frames of the same file from the same camera.
+    let v = |a: [f32; 3]| Vec3::from_array(a);
+    let transform = Transform::from_translation(v(camera.position.to_array()))
+        .looking_at(v(camera.target.to_array()), v(camera.up.to_array()));
+    let projection = Projection::Perspective(PerspectiveProjection {
+        fov,
+        near: camera.near(),
+        aspect_ratio: width as f32 / height as f32,
+        ..default()
+    });
+    let mut app = Harness::gltf(width, height, file, transform, projection);
+    let no_ao = median(&app.time_frames(frames));
+
+    let name = file
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .into_owned();
+    let mut rows = Vec::new();
+    let mut score = |app: &mut Harness, technique: &str, label: &str| {
+        app.update();
+        let ao = app.probe_bound();
+        let times = app.time_frames(frames);
+        let ms: Vec<f64> = times.iter().map(|t| (t - no_ao).max(1e-4)).collect();
+        let metrics = compare(
+            &ao.bound,
+            &reference,
+            &depth,
+            width,
+            height,
+            &MetricOptions::default(),
+        );
+        metrics.map(|metrics| {
+            rows.push(record(
+                &name, technique, label, width, height, radius, rays, frames, &ms, metrics,
+            ));
+        })
+    };
+    for (label, quality) in BEVY {
+        app.set_bevy_ssao(quality);
+        // bevy's radius is the same R (its default is 0.7285 view-space units).
+        let camera_entity = app.camera;
+        app.world()
+            .entity_mut(camera_entity)
+            .get_mut::<bevy::pbr::ScreenSpaceAmbientOcclusion>()
+            .ok_or("bevy's SSAO component")?
+            .radius = radius;
+        for _ in 0..3 {
+            app.update();
+        }
+        score(&mut app, "bevy-ssao", label)?;
+    }
+    for technique in AOGRAPH {
+        let ao = AographAo::from_toml(&format!("technique = \"{technique}\"\nradius = {radius}"))?;
+        app.set_ao(ao);
+        app.run_until_technique(technique, 120);
+        score(&mut app, technique, "defaults")?;
+    }
+    let errors = app.status().errors();
+    if !errors.is_empty() {
+        return Err(format!("aograph recorded errors: {errors:?}").into());
+    }
+    Ok(rows)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn record(
+    scene: &str,
+    technique: &str,
+    label: &str,
+    width: u32,
+    height: u32,
+    radius: f32,
+    rays: u32,
+    frames: u32,
+    ms: &[f64],
+    metrics: aograph_bench::metrics::Metrics,
+) -> RunRecord {
+    RunRecord {
+        scene: scene.to_owned(),
+        view: "default".into(),
+        technique: technique.to_owned(),
+        baseline: false,
+        label: label.to_owned(),
+        params: Default::default(),
+        width,
+        height,
+        radius,
+        radius_px: None,
+        reach_px: None,
+        reference_mean: None,
+        rays,
+        frames,
+        warmup: 1,
+        times: FrameTimes {
+            timing_source: "cpu-wall".into(),
+            total_ms: Spread::of(ms),
+            frame_ms: Spread::of(ms),
+            passes: Vec::new(),
+        },
+        texture_bytes: 0,
+        texture_bytes_unshared: 0,
+        metrics,
+        image: None,
+        roofline: Vec::new(),
+        radiance: None,
+        ceilings: None,
+        convergence: Vec::new(),
+    }
+}
+
+fn median(values: &[f64]) -> f64 {
+    Spread::of(values).median
+}
+
+fn table(scene: &str, rows: &[RunRecord]) -> String {
+    let mut s = format!(
+        "\n### {scene}\n\n| AO | settings | MAE | SSIM | ms (CPU, lavapipe) |\n|---|---|---|---|---|\n"
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {} | {:.4} | {:.4} | {:.2} |\n",
+            r.technique, r.label, r.metrics.mae, r.metrics.ssim, r.times.total_ms.median
+        ));
+    }
+    s
+}
