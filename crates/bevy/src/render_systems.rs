@@ -17,6 +17,7 @@ use bevy::core_pipeline::prepass::ViewPrepassTextures;
 use bevy::pbr::{ScreenSpaceAmbientOcclusionResources, SsaoPipelineId};
 use bevy::prelude::*;
 use bevy::render::camera::TemporalJitter;
+use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::sync_world::MainEntity;
 use bevy::render::texture::CachedTexture;
@@ -208,7 +209,14 @@ pub(crate) fn encode_ao(
         Err(TryLockError::Poisoned(p)) => p.into_inner(),
     };
     let target = &resources.screen_space_ambient_occlusion_texture.texture;
-    match ao.encode_into(ctx.command_encoder(), &inputs, target) {
+    // bevy's render diagnostics (RenderDiagnosticsPlugin) time aograph's passes as one span,
+    // `render/aograph_ao/elapsed_gpu`, beside bevy's own `render/ssao/...`.
+    let diagnostics = ctx.diagnostic_recorder();
+    let diagnostics = diagnostics.as_deref();
+    let span = diagnostics.time_span(ctx.command_encoder(), "aograph_ao");
+    let encoded = ao.encode_into(ctx.command_encoder(), &inputs, target);
+    span.end(ctx.command_encoder());
+    match encoded {
         Ok(()) => {
             let gpu_ms = ao
                 .latest_timings()

@@ -18,6 +18,7 @@ use bevy::core_pipeline::schedule::{Core3d, Core3dSystems};
 use bevy::pbr::ScreenSpaceAmbientOcclusionResources;
 use bevy::prelude::*;
 use bevy::render::camera::TemporalJitter;
+use bevy::render::diagnostic::RenderDiagnosticsPlugin;
 use bevy::render::error_handler::{RenderErrorHandler, RenderErrorPolicy};
 use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
 use bevy::render::render_resource::TextureFormat;
@@ -99,7 +100,7 @@ impl Harness {
                 // so a frame's read-back is ready when `update` returns.
                 .disable::<PipelinedRenderingPlugin>(),
         )
-        .add_plugins(AographAoPlugin)
+        .add_plugins((AographAoPlugin, RenderDiagnosticsPlugin))
         .init_resource::<RenderErrors>()
         .insert_resource(RenderErrorHandler(|error, main_world, _render_world| {
             if let Some(mut errors) = main_world.get_resource_mut::<RenderErrors>() {
@@ -257,6 +258,29 @@ impl Harness {
                 start.elapsed().as_secs_f64() * 1e3
             })
             .collect()
+    }
+
+    /// GPU milliseconds of bevy's render-diagnostics span `span` (`ssao` for bevy's SSAO,
+    /// `aograph_ao` for aograph's passes) over `frames` frames, from timestamp queries; `None`
+    /// where the device has none (bevy then records CPU time only).
+    pub fn span_gpu_ms(&mut self, span: &str, frames: u32) -> Option<Vec<f64>> {
+        use bevy::diagnostic::{DiagnosticPath, DiagnosticsStore};
+        let path = DiagnosticPath::from_components(["render", span, "elapsed_gpu"]);
+        if let Some(d) = self
+            .world()
+            .resource_mut::<DiagnosticsStore>()
+            .get_mut(&path)
+        {
+            d.clear_history();
+        }
+        // Timestamps reach the main world a few frames after their frame.
+        for _ in 0..frames + 4 {
+            self.update();
+        }
+        let store = self.world().resource::<DiagnosticsStore>();
+        let values: Vec<f64> = store.get(&path)?.values().copied().collect();
+        let n = values.len().min(frames as usize);
+        (n > 0).then(|| values[values.len() - n..].to_vec())
     }
 
     pub fn world(&mut self) -> &mut World {
