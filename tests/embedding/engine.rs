@@ -48,11 +48,21 @@ pub(crate) fn a_prepared_plan_makes_the_switch_frame_create_no_pipeline() {
     // Prepared from another thread while the frame loop is elsewhere: the switch frame
     // creates none. `AmbientOcclusion` is Send + Sync; the worker borrows it mutably.
     let layout_format = AoOutputFormat::default();
+    assert!(!ao.is_prepared(&mssao, layout, layout_format));
+    assert!(
+        ao.is_prepared(&pyramid, layout, layout_format),
+        "the frame ran it"
+    );
     std::thread::scope(|s| {
         s.spawn(|| ao.prepare(&mssao, layout, layout_format).unwrap())
             .join()
             .unwrap()
     });
+    assert!(ao.is_prepared(&mssao, layout, layout_format));
+    assert!(
+        !ao.is_prepared(&mssao, layout, AoOutputFormat::R32Float),
+        "another output"
+    );
     let before = ao.pipelines_created();
     let plans = ao.plan_count();
     ao.set_config(&mssao).unwrap();

@@ -303,3 +303,35 @@ pub(crate) fn a_resize_builds_a_plan_for_the_new_size_and_going_back_builds_noth
     assert_eq!(ao.pipelines_created(), pipelines);
     assert!(gpu.take_errors().is_empty());
 }
+
+#[test]
+pub(crate) fn settings_are_checked_without_a_device_as_from_toml_would_check_them() {
+    let gtao = aograph_embed::check_settings_toml(
+        "technique = \"gtao\"\nradius = 0.5\n[gtao]\nslices = 3",
+    )
+    .unwrap();
+    assert_eq!(
+        (
+            gtao.technique.as_str(),
+            gtao.params["gtao"]["slices"].as_integer()
+        ),
+        ("gtao", Some(3))
+    );
+    for (text, named) in [
+        ("technique = \"gtoa\"\nradius = 0.5", "gtoa"),
+        ("technique = \"gtao\"\nradius = -1", "radius"),
+        ("technique = \"gtao\"\nradius = \"auto\"", "radius"),
+        (
+            "technique = \"gtao\"\nradius = 0.5\n[gtao]\nslices = 0",
+            "slices",
+        ),
+        // rtao traces the scene's triangles, which an application's frame does not carry.
+        ("technique = \"rtao\"\nradius = 0.5", "rtao"),
+        ("technique = \"gtao\"\nradius = [", "TOML"),
+    ] {
+        let error = aograph_embed::check_settings_toml(text)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(named), "{text:?}: {error}");
+    }
+}

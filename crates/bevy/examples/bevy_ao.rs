@@ -10,11 +10,15 @@
 
 use std::path::PathBuf;
 
-use aograph_app_config::{PreparedScene, RadiusSetting};
+#[path = "common/aograph_view.rs"]
+mod aograph_view;
+
 use aograph_bevy::{AographAo, AographAoPlugin, AographAoStatus};
 use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass, NormalPrepass};
 use bevy::pbr::{ScreenSpaceAmbientOcclusion, ScreenSpaceAmbientOcclusionQualityLevel};
 use bevy::prelude::*;
+
+use aograph_view::AographView;
 
 /// What the space bar steps through: aograph's techniques by their `[ao]` settings, then
 /// bevy's own SSAO (`None`).
@@ -47,15 +51,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/scenes/teapot.gltf")
         });
     let file = file.canonicalize()?;
-    // aograph's view of the file: the camera and radius `aograph render` would use.
-    let scene = aograph_scene::load_scene(&file)?;
-    let view = aograph_scene::views::find_view(&scene, "default").ok_or("no default view")?;
-    let prepared = PreparedScene::new(&scene, &view, RadiusSetting::Auto);
-    let camera = prepared.scene.camera_at(0.0);
-    let v = |a: [f32; 3]| Vec3::from_array(a);
-    let transform = Transform::from_translation(v(camera.position.to_array()))
-        .looking_at(v(camera.target.to_array()), v(camera.up.to_array()));
-    let radius = prepared.radius.get();
+    // aograph's view of the file: the camera and radius `aograph render` would use (bevy
+    // keeps the projection's aspect ratio the window's).
+    let view = AographView::of(&file)?;
+    let (transform, radius) = (view.transform(), view.radius);
+    let projection = view.projection(16.0 / 9.0)?;
+    println!("aograph's radius: {}", view.prepared.radius_note);
     let folder = file
         .parent()
         .ok_or("a file in a folder")?
@@ -89,6 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     Camera3d::default(),
                     Msaa::Off,
                     transform,
+                    projection.clone(),
                     DepthPrepass,
                     NormalPrepass,
                     MotionVectorPrepass,

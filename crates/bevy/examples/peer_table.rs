@@ -3,7 +3,7 @@
 //! camera, and timed the same way.
 //!
 //! ```text
-//! cargo run --release --example peer_table -- OUT_DIR SCENE.gltf [SCENE.gltf ...]
+//! cargo run --example peer_table -- OUT_DIR SCENE.gltf [SCENE.gltf ...]
 //! ```
 //! (environment: `WIDTH`, `HEIGHT`, `RAYS`, `FRAMES`.) For each file: aograph loads it and
 //! places its camera and radius R as `aograph bench` does (the "default" view, R = "auto");
@@ -20,13 +20,14 @@
 //!
 //! Writes OUT_DIR/peer.md (a table per scene) and OUT_DIR/peer-pareto.{svg,png}.
 
+#[path = "common/aograph_view.rs"]
+mod aograph_view;
 #[path = "../tests/support/mod.rs"]
 mod support;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use aograph_app_config::{PreparedScene, RadiusSetting};
 use aograph_bench::metrics::{MetricOptions, compare};
 use aograph_bench::run::{FrameTimes, RunRecord};
 use aograph_bench::stats::Spread;
@@ -35,6 +36,7 @@ use aograph_graph::{Extent, GpuContext};
 use aograph_renderer::frame_reference::{
     FrameView, ReferenceSettings, reference_surfaces, trace_surfaces,
 };
+use aograph_view::AographView;
 use bevy::pbr::ScreenSpaceAmbientOcclusionQualityLevel as Quality;
 use bevy::prelude::*;
 use support::Harness;
@@ -116,17 +118,11 @@ fn score_scene(
     frames: u32,
 ) -> Result<Vec<RunRecord>, Box<dyn std::error::Error>> {
     // aograph's view of the file: the bench's camera and radius, and its reference.
-    let scene = aograph_scene::load_scene(file)?;
-    let view = aograph_scene::views::find_view(&scene, "default").ok_or("no default view")?;
-    let prepared = PreparedScene::new(&scene, &view, RadiusSetting::Auto);
-    let radius = prepared.radius.get();
-    let camera = prepared.scene.camera_at(0.0);
-    let fov = camera
-        .fov_y()
-        .ok_or("the peer table compares perspective views only")?;
+    let view = AographView::of(file)?;
+    let radius = view.radius;
     let frame = FrameView {
-        scene: prepared.scene.clone(),
-        camera,
+        scene: view.prepared.scene.clone(),
+        camera: view.camera,
         time: 0.0,
         extent: Extent::new(width, height),
     };
@@ -138,18 +134,11 @@ fn score_scene(
         settings.normals,
     )?;
     let reference =
-        trace_surfaces(gpu, &prepared.scene, 0.0, &surfaces, &settings, false)?.accessibility;
+        trace_surfaces(gpu, &view.prepared.scene, 0.0, &surfaces, &settings, false)?.accessibility;
 
     // bevy's frames of the same file from the same camera.
-    let v = |a: [f32; 3]| Vec3::from_array(a);
-    let transform = Transform::from_translation(v(camera.position.to_array()))
-        .looking_at(v(camera.target.to_array()), v(camera.up.to_array()));
-    let projection = Projection::Perspective(PerspectiveProjection {
-        fov,
-        near: camera.near(),
-        aspect_ratio: width as f32 / height as f32,
-        ..default()
-    });
+    let transform = view.transform();
+    let projection = view.projection(width as f32 / height as f32)?;
     let mut app = Harness::gltf(width, height, file, transform, projection);
     // Frames without AO, after a warm-up (the first frames still create bevy's pipelines and
     // shadow maps); measured again after every configuration ran, and the mean of the two

@@ -22,18 +22,23 @@ use crate::error::AographBevyError;
 /// It brings the depth, normal and motion-vector prepasses aograph reads, and bevy's
 /// [`ScreenSpaceAmbientOcclusion`] marker: bevy's PBR shaders read AO only where that marker
 /// is, from the texture this plugin fills (bevy's own SSAO passes do not run for the camera).
-/// As for bevy's SSAO, the camera must have `Msaa::Off`.
+/// As for bevy's SSAO, the camera must have `Msaa::Off`, which this component brings when the
+/// camera is spawned with it and no `Msaa` of its own (otherwise an error in
+/// [`crate::AographAoStatus`] says so, and the camera gets no AO).
 ///
-/// Change the component (insert a new one) to switch technique or parameters: settings seen
-/// before on the camera switch at once, without a new pipeline; new ones are prepared on bevy's
-/// async compute pool while the previous ones keep rendering.
+/// Change the component (insert a new one) to switch technique or parameters: settings whose
+/// plan the camera holds for its current size switch at once, without a new pipeline; others
+/// are prepared on bevy's async compute pool, not on the render thread, and the camera's AO
+/// texture keeps the last frame's AO until they are ready. Removing the component gives the
+/// camera back to bevy's own SSAO.
 #[derive(Component, Clone, Debug, ExtractComponent)]
 #[extract_app(RenderApp)]
 #[require(
     ScreenSpaceAmbientOcclusion,
     DepthPrepass,
     NormalPrepass,
-    MotionVectorPrepass
+    MotionVectorPrepass,
+    Msaa = Msaa::Off
 )]
 pub struct AographAo {
     settings: Arc<AoSettings>,

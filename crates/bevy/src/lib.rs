@@ -72,6 +72,10 @@ impl Plugin for AographAoPlugin {
             .init_resource::<render_systems::AographCameras>()
             .add_systems(
                 Render,
+                render_systems::refuse_msaa.in_set(RenderSystems::PrepareAssets),
+            )
+            .add_systems(
+                Render,
                 render_systems::hand_over_ao_texture
                     .in_set(RenderSystems::PrepareBindGroups)
                     .before(bevy::pbr::prepare_mesh_view_bind_groups),

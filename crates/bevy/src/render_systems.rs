@@ -10,7 +10,7 @@
 //! [`AographAoStatus`], and the frame keeps the previous AO.
 
 use std::collections::HashMap;
-use std::sync::TryLockError;
+use std::collections::hash_map::Entry;
 
 use aograph_embed::{AmbientOcclusion, AoOutputFormat, InputLayout};
 use bevy::core_pipeline::prepass::ViewPrepassTextures;
@@ -25,15 +25,17 @@ use bevy::render::view::{ExtractedView, Msaa};
 
 use crate::camera_ao::{CameraAo, Switch};
 use crate::component::AographAo;
+use crate::error::AographBevyError;
 use crate::frame_inputs::ao_inputs;
 use crate::status::AographAoStatus;
 
-/// An aograph camera bevy made no SSAO resources for (bevy's SSAO extraction skips cameras
-/// with MSAA on): its entity and MSAA.
-type CameraWithoutSsao = (&'static MainEntity, Option<&'static Msaa>);
+/// An aograph camera with MSAA off that bevy made no SSAO resources for (inactive cameras have
+/// none): its entity, and whether it has a view this frame.
+type CameraWithoutSsao = (&'static MainEntity, Has<ExtractedView>);
 type WithoutSsaoFilter = (
     With<AographAo>,
     Without<ScreenSpaceAmbientOcclusionResources>,
+    Without<MsaaRefused>,
 );
 /// What encoding one view's AO reads: its camera, matrices, prepass, AO texture, TAA jitter.
 type AoView = (
@@ -49,14 +51,45 @@ type AoView = (
 pub(crate) struct AographCameras(HashMap<Entity, CameraAo>);
 
 /// Usages of the AO texture: aograph writes it in a render pass, bevy's PBR pass samples it,
-/// and an application (or a test) may copy it out. bevy still makes its SSAO bind groups for
+/// an application (or a test) may copy it out, and it is written 1 when made. bevy still makes its SSAO bind groups for
 /// the view (its system for them cannot be ordered against), binding this texture as its
 /// denoiser's storage output, so it has that usage too; bevy's format for it (R16Float where
 /// the device writes it as storage, else R32Float) is storage-capable by construction.
 const AO_TEXTURE_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER_ATTACHMENT
     .union(wgpu::TextureUsages::TEXTURE_BINDING)
     .union(wgpu::TextureUsages::STORAGE_BINDING)
+    .union(wgpu::TextureUsages::COPY_DST)
     .union(wgpu::TextureUsages::COPY_SRC);
+
+/// Marks, for this frame, a camera whose MSAA is on: aograph leaves it alone.
+#[derive(Component)]
+pub(crate) struct MsaaRefused;
+
+/// Runs before the frame's AO systems. A camera with MSAA on gets no AO from aograph (bevy
+/// reads no prepass AO can come from), and an error saying why.
+pub(crate) fn refuse_msaa(
+    mut commands: Commands,
+    status: Res<AographAoStatus>,
+    cameras: Query<(Entity, &MainEntity, &Msaa, Has<MsaaRefused>), With<AographAo>>,
+) {
+    for (entity, camera, msaa, marked) in &cameras {
+        let mut entity = commands.entity(entity);
+        if *msaa == Msaa::Off {
+            if marked {
+                entity.remove::<MsaaRefused>();
+            }
+            continue;
+        }
+        record_error(
+            &status,
+            camera.id(),
+            &AographBevyError::MsaaOn(format!("{msaa:?}")),
+        );
+        if !marked {
+            entity.insert(MsaaRefused);
+        }
+    }
+}
 
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn hand_over_ao_texture(
@@ -66,58 +99,63 @@ pub(crate) fn hand_over_ao_texture(
     adapter: Res<RenderAdapter>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
-    mut views: Query<(
-        Entity,
-        &MainEntity,
-        &AographAo,
-        &ExtractedView,
-        &mut ScreenSpaceAmbientOcclusionResources,
-    )>,
+    mut views: Query<
+        (
+            Entity,
+            &MainEntity,
+            &AographAo,
+            &ExtractedView,
+            &mut ScreenSpaceAmbientOcclusionResources,
+        ),
+        Without<MsaaRefused>,
+    >,
     without_ssao: Query<CameraWithoutSsao, WithoutSsaoFilter>,
+    with_aograph: Query<&MainEntity, With<AographAo>>,
 ) {
-    for (camera, msaa) in &without_ssao {
-        if msaa.is_some_and(|m| *m != Msaa::Off) {
-            let message = format!(
-                "the camera has Msaa::{:?}: aograph reads its prepass, which needs Msaa::Off (as \
-                 bevy's own SSAO does)",
-                msaa.copied().unwrap_or_default()
-            );
-            record_error(&status, camera.id(), message);
+    for (camera, active) in &without_ssao {
+        // An inactive camera has no view this frame: nothing to say.
+        if active {
+            record_error(&status, camera.id(), &AographBevyError::NoSsaoResources);
         }
     }
-    let mut seen = Vec::new();
+    // A camera keeps its state (plans, pipelines, history) while it has an AographAo, even on
+    // frames without a view (inactive, minimised); it is dropped, with its status, when the
+    // component goes.
+    let wanted: Vec<Entity> = with_aograph.iter().map(|m| m.id()).collect();
+    cameras.0.retain(|camera, _| wanted.contains(camera));
+    status.retain(&wanted);
+
     for (entity, camera, settings, view, mut resources) in &mut views {
         let camera = camera.id();
-        seen.push(camera);
-        // bevy's own SSAO system runs only for views with a pipeline id: none for this one.
-        commands.entity(entity).remove::<SsaoPipelineId>();
-        let bevy_texture = &resources.screen_space_ambient_occlusion_texture.texture;
-        let Some(output) = AoOutputFormat::of(bevy_texture.format()) else {
+        let bevy_format = resources
+            .screen_space_ambient_occlusion_texture
+            .texture
+            .format();
+        let Some(output) = AoOutputFormat::of(bevy_format) else {
             record_error(
                 &status,
                 camera,
-                format!("bevy's AO texture has format {:?}", bevy_texture.format()),
+                &AographBevyError::AoTextureFormat(bevy_format),
             );
             continue;
         };
         let state = match cameras.0.entry(camera) {
-            std::collections::hash_map::Entry::Occupied(o) => o.into_mut(),
-            std::collections::hash_map::Entry::Vacant(v) => {
-                match new_camera_ao(&adapter, &device, &queue, settings) {
-                    Ok(ao) => v.insert(ao),
-                    Err(message) => {
-                        record_error(&status, camera, message);
-                        continue;
-                    }
+            Entry::Occupied(o) => o.into_mut(),
+            Entry::Vacant(v) => match new_camera_ao(&adapter, &device, &queue, settings) {
+                Ok(ao) => v.insert(ao),
+                Err(error) => {
+                    // bevy's own SSAO stays in place for this camera meanwhile.
+                    record_error(&status, camera, &error);
+                    continue;
                 }
-            }
+            },
         };
         match state.follow(settings.settings(), output) {
             Switch::Current => status.update(camera, |s| s.preparing = false),
             Switch::Preparing => status.update(camera, |s| s.preparing = true),
-            Switch::Refused(message) => {
+            Switch::Refused(error) => {
                 status.update(camera, |s| s.preparing = false);
-                record_error(&status, camera, message);
+                record_error(&status, camera, &error);
             }
             Switch::StillRefused => {}
         }
@@ -129,33 +167,66 @@ pub(crate) fn hand_over_ao_texture(
             (t.width(), t.height(), t.format()) == (width, height, output.wgpu())
         });
         if !fits {
-            let texture = device
-                .wgpu_device()
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some("aograph_ao_texture"),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: output.wgpu(),
-                    usage: AO_TEXTURE_USAGE,
-                    view_formats: &[],
-                });
-            let view = texture.create_view(&Default::default());
-            state.output = Some((texture, view));
+            state.output = Some(unoccluded_texture(&device, &queue, width, height, output));
         }
-        if let Some((texture, view)) = &state.output {
-            resources.screen_space_ambient_occlusion_texture = CachedTexture {
-                texture: texture.clone().into(),
-                default_view: view.clone().into(),
-            };
-        }
+        let Some((texture, view)) = &state.output else {
+            continue;
+        };
+        resources.screen_space_ambient_occlusion_texture = CachedTexture {
+            texture: texture.clone().into(),
+            default_view: view.clone().into(),
+        };
+        // bevy's own SSAO system runs only for views with a pipeline id: none for this one,
+        // now that binding 17 is aograph's.
+        commands.entity(entity).remove::<SsaoPipelineId>();
     }
-    cameras.0.retain(|camera, _| seen.contains(camera));
+}
+
+/// A new AO texture of the viewport's size in bevy's format, reading 1 (nothing occluded)
+/// until aograph's first frame writes it: a frame that writes no AO (settings being prepared,
+/// an error) never darkens indirect light.
+fn unoccluded_texture(
+    device: &RenderDevice,
+    queue: &RenderQueue,
+    width: u32,
+    height: u32,
+    output: AoOutputFormat,
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = device
+        .wgpu_device()
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("aograph_ao_texture"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: output.wgpu(),
+            usage: AO_TEXTURE_USAGE,
+            view_formats: &[],
+        });
+    let one: &[u8] = match output {
+        AoOutputFormat::R8Unorm => &[255],
+        // 1.0 as IEEE half and single precision, little-endian.
+        AoOutputFormat::R16Float => &[0x00, 0x3c],
+        AoOutputFormat::R32Float => &[0x00, 0x00, 0x80, 0x3f],
+    };
+    let row = one.repeat(width as usize);
+    queue.write_texture(
+        texture.as_image_copy(),
+        &row.repeat(height as usize),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(row.len() as u32),
+            rows_per_image: Some(height),
+        },
+        texture.size(),
+    );
+    let view = texture.create_view(&Default::default());
+    (texture, view)
 }
 
 fn new_camera_ao(
@@ -163,18 +234,16 @@ fn new_camera_ao(
     device: &RenderDevice,
     queue: &RenderQueue,
     settings: &AographAo,
-) -> Result<CameraAo, String> {
-    let mut ao = AmbientOcclusion::new(adapter, device.wgpu_device(), queue, settings.config())
-        .map_err(|e| e.to_string())?;
+) -> Result<CameraAo, AographBevyError> {
+    let mut ao = AmbientOcclusion::new(adapter, device.wgpu_device(), queue, settings.config())?;
     if device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
-        ao.set_timing(aograph_graph::TimingMode::GpuTimestamps)
-            .map_err(|e| e.to_string())?;
+        ao.set_timing(aograph_graph::TimingMode::GpuTimestamps)?;
     }
     Ok(CameraAo::new(ao, settings.settings().clone()))
 }
 
 pub(crate) fn encode_ao(
-    view: ViewQuery<AoView, With<AographAo>>,
+    view: ViewQuery<AoView, (With<AographAo>, Without<MsaaRefused>)>,
     mut cameras: ResMut<AographCameras>,
     status: Res<AographAoStatus>,
     time: Res<Time>,
@@ -186,27 +255,19 @@ pub(crate) fn encode_ao(
         return;
     };
     let Some(inputs) = ao_inputs(prepass, extracted, jitter, time.elapsed_secs()) else {
-        record_error(
-            &status,
-            camera,
-            "the camera has no depth prepass (AographAo brings DepthPrepass: was it removed?)"
-                .into(),
-        );
+        record_error(&status, camera, &AographBevyError::NoDepthPrepass);
         return;
     };
     let layout = match InputLayout::of(&inputs) {
         Ok(layout) => layout,
         Err(e) => {
-            record_error(&status, camera, e.to_string());
+            record_error(&status, camera, &e.into());
             return;
         }
     };
-    let ao_lock = state.ao.clone();
-    let mut ao = match ao_lock.try_lock() {
-        Ok(ao) => ao,
-        // Settings are being prepared: this frame keeps the previous AO.
-        Err(TryLockError::WouldBlock) => return,
-        Err(TryLockError::Poisoned(p)) => p.into_inner(),
+    // Settings are being prepared: this frame keeps the previous AO.
+    let Some(mut ao) = state.try_ao() else {
+        return;
     };
     let target = &resources.screen_space_ambient_occlusion_texture.texture;
     // bevy's render diagnostics (RenderDiagnosticsPlugin) time aograph's passes as one span,
@@ -225,20 +286,26 @@ pub(crate) fn encode_ao(
             let pipelines = ao.pipelines_created();
             drop(ao);
             state.ran(layout);
+            let refusing = state.refusing();
             status.update(camera, |s| {
                 s.frames += 1;
                 s.pipelines_created = pipelines;
                 if gpu_ms.is_some() {
                     s.gpu_ms = gpu_ms;
                 }
+                // A frame ran with the settings wanted: an earlier error no longer holds.
+                if !refusing {
+                    s.error = None;
+                }
             });
         }
-        Err(e) => record_error(&status, camera, e.to_string()),
+        Err(e) => record_error(&status, camera, &e.into()),
     }
 }
 
 /// Logs an error the first time it is seen for a camera and keeps it in the status.
-fn record_error(status: &AographAoStatus, camera: Entity, message: String) {
+fn record_error(status: &AographAoStatus, camera: Entity, error: &AographBevyError) {
+    let message = error.to_string();
     let mut new = false;
     status.update(camera, |s| {
         if s.error.as_deref() != Some(message.as_str()) {

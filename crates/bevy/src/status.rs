@@ -2,8 +2,8 @@
 //! frames run now, the AO passes' GPU time, pipelines created, and any error. One shared value
 //! sits in both worlds, so the main world reads it without extraction.
 //!
-//! Invariant: the render world writes it once per frame per camera and never blocks on it for
-//! longer than a copy.
+//! Invariant: the render world holds its lock only to copy a few values in or out, never
+//! across GPU work; a camera's entry goes when its AographAo does.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -22,16 +22,19 @@ pub struct AographAoStatus {
 pub struct CameraAoStatus {
     /// The technique the frames run now (a switch to new settings shows once it is prepared).
     pub technique: String,
-    /// Settings are being prepared off the render thread; the previous ones still render.
+    /// Settings are being prepared off the render thread; meanwhile the AO texture keeps the
+    /// last frame's AO.
     pub preparing: bool,
     /// GPU milliseconds of the AO passes of a recent frame (timestamp queries; `None` where
     /// the device has none, or before the first timings arrive).
     pub gpu_ms: Option<f64>,
-    /// Compute and render pipelines aograph created for this camera so far.
+    /// Compute and render pipelines aograph created for this camera since its AographAo was
+    /// added.
     pub pipelines_created: u64,
     /// Frames whose AO aograph wrote.
     pub frames: u64,
-    /// The last error, if any (the frame it happened in kept the previous AO).
+    /// The last error, if any, until a frame runs the wanted settings (a frame with an error
+    /// keeps the previous AO).
     pub error: Option<String>,
 }
 
@@ -47,6 +50,11 @@ impl AographAoStatus {
             .iter()
             .filter_map(|(e, s)| s.error.clone().map(|m| (*e, m)))
             .collect()
+    }
+
+    /// Drops the status of every camera not in `cameras` (their AographAo is gone).
+    pub(crate) fn retain(&self, cameras: &[Entity]) {
+        self.lock().retain(|camera, _| cameras.contains(camera));
     }
 
     pub(crate) fn update(&self, camera: Entity, f: impl FnOnce(&mut CameraAoStatus)) {

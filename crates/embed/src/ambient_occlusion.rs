@@ -409,6 +409,29 @@ impl AmbientOcclusion {
         Ok(())
     }
 
+    /// Whether the plan for `config` on frames shaped like `layout` writing `output` is built
+    /// and kept (by [`AmbientOcclusion::prepare`] or an earlier frame), so that switching to
+    /// it creates no pipeline. Plans can be dropped again when more than a bounded number of
+    /// settings and layouts have been seen; this answers for now.
+    pub fn is_prepared(
+        &self,
+        config: &AoConfig,
+        layout: InputLayout,
+        output: AoOutputFormat,
+    ) -> bool {
+        let settings = config.graph_settings();
+        self.seen_settings
+            .iter()
+            .position(|s| *s == settings)
+            .is_some_and(|settings| {
+                self.plans.contains_key(&PlanKey {
+                    settings,
+                    layout,
+                    output,
+                })
+            })
+    }
+
     /// Compute pipelines and render pipelines created so far (a switch back to settings seen
     /// before adds none).
     pub fn pipelines_created(&self) -> u64 {

@@ -74,8 +74,6 @@ impl Harness {
         Self::with_camera(width, height, ao, |_| {})
     }
 
-    /// As [`Harness::new`], with `camera` adding to or changing the camera entity (a
-    /// projection, a viewport).
     /// The headless app: bevy's default plugins without a window, pipelines compiled
     /// synchronously, each update rendering its own frame, aograph's plugin, bevy's render
     /// errors kept, and the probe in Core3d. `asset_root`: where bevy's asset server reads.
@@ -119,6 +117,8 @@ impl Harness {
         (std::mem::take(app.sub_apps_mut()), probe)
     }
 
+    /// As [`Harness::new`], with `camera` adding to or changing the camera entity (a
+    /// projection, a viewport).
     pub fn with_camera(
         width: u32,
         height: u32,
@@ -128,10 +128,7 @@ impl Harness {
         let setup = camera;
         let (mut apps, probe) = Self::apps(None);
         let world = apps.main.world_mut();
-        let mut image =
-            Image::new_target_texture(width, height, TextureFormat::Rgba8UnormSrgb, None);
-        image.asset_usage = RenderAssetUsages::RENDER_WORLD;
-        let image = world.resource_mut::<Assets<Image>>().add(image);
+        let image = target_and_light(world, width, height);
         let floor = world
             .resource_mut::<Assets<Mesh>>()
             .add(Plane3d::default().mesh().size(20.0, 20.0));
@@ -146,10 +143,6 @@ impl Harness {
             Mesh3d(cube),
             MeshMaterial3d(white),
             Transform::from_xyz(0.0, 1.0, 0.0),
-        ));
-        world.spawn((
-            DirectionalLight::default(),
-            Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
         ));
         let camera = world
             .spawn((
@@ -183,18 +176,11 @@ impl Harness {
         let name = file.file_name().expect("a file name").to_string_lossy();
         let (mut apps, probe) = Self::apps(Some(folder.to_string_lossy().into_owned()));
         let world = apps.main.world_mut();
-        let mut image =
-            Image::new_target_texture(width, height, TextureFormat::Rgba8UnormSrgb, None);
-        image.asset_usage = RenderAssetUsages::RENDER_WORLD;
-        let image = world.resource_mut::<Assets<Image>>().add(image);
+        let image = target_and_light(world, width, height);
         let scene: Handle<bevy::world_serialization::WorldAsset> = world
             .resource::<AssetServer>()
             .load(GltfAssetLabel::Scene(0).from_asset(name.into_owned()));
         world.spawn(bevy::world_serialization::WorldAssetRoot(scene.clone()));
-        world.spawn((
-            DirectionalLight::default(),
-            Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
         let camera = world
             .spawn((
                 Camera3d::default(),
@@ -212,17 +198,15 @@ impl Harness {
             camera,
             probe,
         };
-        for _ in 0..600 {
+        let drawn = (0..600).any(|_| {
             harness.update();
             let world = harness.world();
             let loaded = world
                 .resource::<AssetServer>()
                 .is_loaded_with_dependencies(&scene);
-            let meshes = world.query::<&Mesh3d>().iter(world).count();
-            if loaded && meshes > 0 {
-                break;
-            }
-        }
+            loaded && world.query::<&Mesh3d>().iter(world).count() > 0
+        });
+        assert!(drawn, "bevy did not load {} in 600 frames", file.display());
         // A few frames more: the meshes' GPU data and pipelines.
         for _ in 0..3 {
             harness.update();
@@ -408,6 +392,18 @@ impl Harness {
             .map_or(UVec2::ZERO, |v| v.physical_position);
         (p.x as u32 - corner.x, p.y as u32 - corner.y)
     }
+}
+
+/// The image a camera renders into, `width` x `height`, and a directional light over the
+/// origin: what every harness scene has.
+fn target_and_light(world: &mut World, width: u32, height: u32) -> Handle<Image> {
+    let mut image = Image::new_target_texture(width, height, TextureFormat::Rgba8UnormSrgb, None);
+    image.asset_usage = RenderAssetUsages::RENDER_WORLD;
+    world.spawn((
+        DirectionalLight::default(),
+        Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.resource_mut::<Assets<Image>>().add(image)
 }
 
 fn le_f32s(bytes: &[u8]) -> Vec<f32> {
