@@ -15,3 +15,4 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked --quiet
 cargo test --locked "$@"
 # The windowed example builds (it needs a display to run).
 cargo clippy --example bevy_ao --features window-example --locked -- -D warnings
+echo "bevy-test: toolchain, lints, docs, tests and the windowed example's check took ${SECONDS} s"

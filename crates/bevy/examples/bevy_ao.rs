@@ -6,7 +6,8 @@
 //! cargo run --release --features window-example --example bevy_ao -- [SCENE.gltf]
 //! ```
 //! (default: the repository's tests/scenes/teapot.gltf). Space: next technique (the last is
-//! bevy's own SSAO, for comparison).
+//! bevy's own SSAO, for comparison). With `BEVY_AO_SCREENSHOT=file.png` set it saves the
+//! window at frame 90 and exits (docs/guide/bevy.md's picture).
 
 use std::path::PathBuf;
 
@@ -108,7 +109,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ));
             },
         )
-        .add_systems(Update, (cycle, caption))
+        .add_systems(Update, (cycle, caption, screenshot))
         .run();
     Ok(())
 }
@@ -176,4 +177,27 @@ fn caption(
         }
         (Some(ao), None) => format!("aograph {} [space: next]", ao.technique()),
     };
+}
+
+/// With `BEVY_AO_SCREENSHOT` set: the window at frame 90 to that file, then exit.
+fn screenshot(
+    frames: Res<bevy::diagnostic::FrameCount>,
+    mut commands: Commands,
+    mut exit: MessageWriter<AppExit>,
+) {
+    use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+    let Some(path) = std::env::var_os("BEVY_AO_SCREENSHOT") else {
+        return;
+    };
+    match frames.0 {
+        90 => {
+            commands
+                .spawn(Screenshot::primary_window())
+                .observe(save_to_disk(PathBuf::from(path)));
+        }
+        100 => {
+            exit.write(AppExit::Success);
+        }
+        _ => {}
+    }
 }
