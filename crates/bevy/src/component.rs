@@ -22,9 +22,9 @@ use crate::error::AographBevyError;
 /// It brings the depth, normal and motion-vector prepasses aograph reads, and bevy's
 /// [`ScreenSpaceAmbientOcclusion`] marker: bevy's PBR shaders read AO only where that marker
 /// is, from the texture this plugin fills (bevy's own SSAO passes do not run for the camera).
-/// As for bevy's SSAO, the camera must have `Msaa::Off`, which this component brings when the
-/// camera is spawned with it and no `Msaa` of its own (otherwise an error in
-/// [`crate::AographAoStatus`] says so, and the camera gets no AO).
+/// As for bevy's SSAO, put `Msaa::Off` on the camera (`Camera3d` brings `Msaa::Sample4`, and
+/// that wins over a requirement here): with MSAA on, an error in [`crate::AographAoStatus`]
+/// says so, and the camera gets no AO.
 ///
 /// Change the component (insert a new one) to switch technique or parameters: settings whose
 /// plan the camera holds for its current size switch at once, without a new pipeline; others
@@ -37,8 +37,7 @@ use crate::error::AographBevyError;
     ScreenSpaceAmbientOcclusion,
     DepthPrepass,
     NormalPrepass,
-    MotionVectorPrepass,
-    Msaa = Msaa::Off
+    MotionVectorPrepass
 )]
 pub struct AographAo {
     settings: Arc<AoSettings>,
