@@ -138,20 +138,7 @@ impl OwnRenderer {
     ) -> Self {
         use wgpu::util::DeviceExt;
         let texture = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
+            aograph_graph::plain_texture(device, label, (width, height), format, usage)
         };
         let depth = texture(
             "own depth",

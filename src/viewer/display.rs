@@ -130,20 +130,13 @@ pub struct DisplayTextures {
 impl DisplayTextures {
     pub fn new(gpu: &GpuContext, size: Extent) -> Self {
         let texture = |label, format, usage| {
-            gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size.width,
-                    height: size.height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
+            aograph_graph::plain_texture(
+                &gpu.device,
+                label,
+                (size.width, size.height),
                 format,
                 usage,
-                view_formats: &[],
-            })
+            )
         };
         use wgpu::TextureUsages as U;
         let view = texture(

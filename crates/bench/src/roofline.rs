@@ -103,20 +103,13 @@ pub fn measure_peaks(gpu: &Arc<GpuContext>) -> AppResult<DevicePeaks> {
     let mut exec = Executor::with_shaders(gpu.clone(), shaders);
     exec.set_timing(aograph_renderer::renderer::timing_mode(gpu)?)?;
     let texture = |format, usage| {
-        gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("peak input"),
-            size: wgpu::Extent3d {
-                width: PEAK_SIDE,
-                height: PEAK_SIDE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
+        aograph_graph::plain_texture(
+            &gpu.device,
+            "peak input",
+            (PEAK_SIDE, PEAK_SIDE),
             format,
             usage,
-            view_formats: &[],
-        })
+        )
     };
     use wgpu::TextureUsages as U;
     let src_texture = texture(

@@ -192,22 +192,13 @@ fn unoccluded_texture(
     height: u32,
     output: AoOutputFormat,
 ) -> (wgpu::Texture, wgpu::TextureView) {
-    let texture = device
-        .wgpu_device()
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("aograph_ao_texture"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: output.wgpu(),
-            usage: AO_TEXTURE_USAGE,
-            view_formats: &[],
-        });
+    let texture = aograph_graph::plain_texture(
+        device.wgpu_device(),
+        "aograph_ao_texture",
+        (width, height),
+        output.wgpu(),
+        AO_TEXTURE_USAGE,
+    );
     let one: &[u8] = match output {
         AoOutputFormat::R8Unorm => &[255],
         // 1.0 as IEEE half and single precision, little-endian.

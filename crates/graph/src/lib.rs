@@ -69,6 +69,7 @@ mod name_lookups;
 mod nearest_name;
 mod pass_builder;
 mod pipeline;
+mod plain_texture;
 mod plan_state;
 mod pool;
 mod readback;
@@ -103,6 +104,7 @@ pub use lifetime::{Lifetime, PhysicalTexture, texture_bytes};
 pub use name_lookups::name_lookup_count;
 pub use nearest_name::{did_you_mean, nearest_name};
 pub use pass_builder::PassBuilder;
+pub use plain_texture::plain_texture;
 pub use pool::PoolKey;
 pub use readback::{TextureReadback, read_texture};
 pub use resource::{

@@ -7,6 +7,7 @@
 //! Invariant: the depth and normal textures are the output's size and are what aograph-embed
 //! reads; the shading pass reads them and the AO texel for texel, so all three share a size.
 
+use aograph_graph::plain_texture;
 use glam::{Mat4, Vec3};
 
 use crate::scene_mesh::{SceneMesh, Vertex};
@@ -21,37 +22,13 @@ pub const NORMALS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float
 /// `RENDER_ATTACHMENT | COPY_SRC` (the native example, the tests, and the page's copy-out
 /// mode).
 pub fn offscreen_target(device: &wgpu::Device, size: (u32, u32)) -> wgpu::Texture {
-    page_texture(
+    plain_texture(
         device,
         "page frame",
         size,
         OFFSCREEN_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
     )
-}
-
-/// A 2D texture of the page's size, one mip, one sample.
-fn page_texture(
-    device: &wgpu::Device,
-    label: &str,
-    (width, height): (u32, u32),
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
 }
 
 /// The format of [`offscreen_target`].
@@ -97,7 +74,7 @@ impl PageRenderer {
         use wgpu::util::DeviceExt;
         // TEXTURE_BINDING: aograph and the shading pass read them.
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let texture = |label, format| page_texture(device, label, (width, height), format, usage);
+        let texture = |label, format| plain_texture(device, label, (width, height), format, usage);
         let depth = texture("page depth", DEPTH_FORMAT);
         let normals = texture("page normals", NORMALS_FORMAT);
         let module = |path: &str| {
